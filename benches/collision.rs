@@ -1,0 +1,2 @@
+//! Collision micro-benchmarks (filled in with the collision module).
+fn main() {}

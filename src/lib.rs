@@ -1,0 +1,7 @@
+//! Tamias2D: a deterministic 2D rigid-body physics engine in I32F32 fixed point.
+#![forbid(unsafe_code)]
+#![cfg_attr(not(test), deny(clippy::float_arithmetic))]
+
+pub mod math;
+
+pub use math::{Real, RealError};
