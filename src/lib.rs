@@ -4,4 +4,4 @@
 
 pub mod math;
 
-pub use math::{Real, RealError};
+pub use math::{Real, RealError, Rot, Transform, Vect, BB};

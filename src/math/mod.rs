@@ -1,6 +1,14 @@
 //! Deterministic fixed-point math: the scalar [`Real`], vectors, rotations,
 //! affine transforms and bounding boxes.
+pub mod bb;
 pub mod real;
+pub mod rot;
+pub mod transform;
 pub mod trig;
+pub mod vect;
 
+pub use bb::BB;
 pub use real::{Real, RealError};
+pub use rot::Rot;
+pub use transform::Transform;
+pub use vect::Vect;
