@@ -2,6 +2,9 @@
 #![forbid(unsafe_code)]
 #![cfg_attr(not(test), deny(clippy::float_arithmetic))]
 
+pub mod arena;
+pub mod body;
 pub mod math;
+pub mod shape;
 
 pub use math::{Real, RealError, Rot, Transform, Vect, BB};

@@ -21,13 +21,23 @@ pub struct BB {
 impl BB {
     /// A box from its four sides; swapped sides are put in order.
     pub fn new(l: Real, b: Real, r: Real, t: Real) -> BB {
-        BB { l: l.min(r), b: b.min(t), r: l.max(r), t: b.max(t) }
+        BB {
+            l: l.min(r),
+            b: b.min(t),
+            r: l.max(r),
+            t: b.max(t),
+        }
     }
 
     /// The box centred on `c` with half-extents `hw`, `hh`.
     pub fn for_extents(c: Vect, hw: Real, hh: Real) -> BB {
         let (hw, hh) = (hw.abs(), hh.abs());
-        BB { l: c.x - hw, b: c.y - hh, r: c.x + hw, t: c.y + hh }
+        BB {
+            l: c.x - hw,
+            b: c.y - hh,
+            r: c.x + hw,
+            t: c.y + hh,
+        }
     }
 
     /// The box around a circle.
@@ -37,7 +47,12 @@ impl BB {
 
     /// The box around one point.
     pub fn for_point(p: Vect) -> BB {
-        BB { l: p.x, b: p.y, r: p.x, t: p.y }
+        BB {
+            l: p.x,
+            b: p.y,
+            r: p.x,
+            t: p.y,
+        }
     }
 
     /// True if the boxes overlap (touching counts).
@@ -58,17 +73,32 @@ impl BB {
 
     /// The smallest box containing both.
     pub fn merge(&self, o: &BB) -> BB {
-        BB { l: self.l.min(o.l), b: self.b.min(o.b), r: self.r.max(o.r), t: self.t.max(o.t) }
+        BB {
+            l: self.l.min(o.l),
+            b: self.b.min(o.b),
+            r: self.r.max(o.r),
+            t: self.t.max(o.t),
+        }
     }
 
     /// The smallest box containing `self` and `v`.
     pub fn expand(&self, v: Vect) -> BB {
-        BB { l: self.l.min(v.x), b: self.b.min(v.y), r: self.r.max(v.x), t: self.t.max(v.y) }
+        BB {
+            l: self.l.min(v.x),
+            b: self.b.min(v.y),
+            r: self.r.max(v.x),
+            t: self.t.max(v.y),
+        }
     }
 
     /// Grown by `d` on every side.
     pub fn grow(&self, d: Real) -> BB {
-        BB { l: self.l - d, b: self.b - d, r: self.r + d, t: self.t + d }
+        BB {
+            l: self.l - d,
+            b: self.b - d,
+            r: self.r + d,
+            t: self.t + d,
+        }
     }
 
     /// The centre.

@@ -215,7 +215,10 @@ impl Real {
                 _ => Real::MIN,
             };
         }
-        Real(saturate(div_round((self.0 as i128) << FRAC_BITS, rhs.0 as i128)))
+        Real(saturate(div_round(
+            (self.0 as i128) << FRAC_BITS,
+            rhs.0 as i128,
+        )))
     }
 
     /// `a·b + c·d` with a single rounding (exact 128-bit accumulation).
@@ -507,9 +510,18 @@ mod tests {
 
     #[test]
     fn div_rounds_to_nearest() {
-        assert_eq!(Real::ONE / Real::from_int(3), Real::from_bits(1_431_655_765));
-        assert_eq!(Real::TWO / Real::from_int(3), Real::from_bits(2_863_311_531));
-        assert_eq!(-Real::TWO / Real::from_int(3), Real::from_bits(-2_863_311_531));
+        assert_eq!(
+            Real::ONE / Real::from_int(3),
+            Real::from_bits(1_431_655_765)
+        );
+        assert_eq!(
+            Real::TWO / Real::from_int(3),
+            Real::from_bits(2_863_311_531)
+        );
+        assert_eq!(
+            -Real::TWO / Real::from_int(3),
+            Real::from_bits(-2_863_311_531)
+        );
         assert_eq!(Real::ratio(1, 60), Real::from_bits(71_582_788));
     }
 
@@ -543,6 +555,9 @@ mod tests {
         let a = Real::DELTA;
         // 0.5 ulp + 0.5 ulp = 1 ulp exactly; two roundings would give 2.
         assert_eq!(Real::mul_add2(a, Real::HALF, a, Real::HALF), Real::DELTA);
-        assert_eq!(Real::mul_div(Real::from_int(3), Real::from_int(4), Real::from_int(6)), Real::TWO);
+        assert_eq!(
+            Real::mul_div(Real::from_int(3), Real::from_int(4), Real::from_int(6)),
+            Real::TWO
+        );
     }
 }

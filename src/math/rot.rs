@@ -25,7 +25,10 @@ impl Default for Rot {
 
 impl Rot {
     /// No rotation.
-    pub const IDENTITY: Rot = Rot { c: Real::ONE, s: Real::ZERO };
+    pub const IDENTITY: Rot = Rot {
+        c: Real::ONE,
+        s: Real::ZERO,
+    };
 
     /// The rotation by `angle` radians (any angle; see `math::trig`).
     pub fn from_angle(angle: Real) -> Rot {
@@ -68,7 +71,7 @@ impl Rot {
 
     /// `self` followed by `other` (angles add).
     #[inline]
-    pub fn mul(self, other: Rot) -> Rot {
+    pub fn compose(self, other: Rot) -> Rot {
         let v = self.as_vect().rotate(other.as_vect());
         Rot { c: v.x, s: v.y }
     }
@@ -76,7 +79,10 @@ impl Rot {
     /// The inverse rotation.
     #[inline]
     pub fn inv(self) -> Rot {
-        Rot { c: self.c, s: -self.s }
+        Rot {
+            c: self.c,
+            s: -self.s,
+        }
     }
 
     /// Advances by the small angle `w·dt` without trig: `q ← q·(1 + i·w·dt)`,

@@ -45,17 +45,32 @@ impl Transform {
 
     /// A pure translation.
     pub fn translate(t: Vect) -> Transform {
-        Transform { tx: t.x, ty: t.y, ..Transform::IDENTITY }
+        Transform {
+            tx: t.x,
+            ty: t.y,
+            ..Transform::IDENTITY
+        }
     }
 
     /// A scale about the origin.
     pub fn scale(sx: Real, sy: Real) -> Transform {
-        Transform { a: sx, d: sy, ..Transform::IDENTITY }
+        Transform {
+            a: sx,
+            d: sy,
+            ..Transform::IDENTITY
+        }
     }
 
     /// Rotation then translation: the placement of a rigid body.
     pub fn rigid(position: Vect, rot: Rot) -> Transform {
-        Transform { a: rot.c, b: rot.s, c: -rot.s, d: rot.c, tx: position.x, ty: position.y }
+        Transform {
+            a: rot.c,
+            b: rot.s,
+            c: -rot.s,
+            d: rot.c,
+            tx: position.x,
+            ty: position.y,
+        }
     }
 
     /// Applies the transform to a point.
@@ -70,11 +85,14 @@ impl Transform {
     /// Applies the linear part only (no translation) to a vector.
     #[inline]
     pub fn vect(&self, v: Vect) -> Vect {
-        Vect::new(Real::mul_add2(self.a, v.x, self.c, v.y), Real::mul_add2(self.b, v.x, self.d, v.y))
+        Vect::new(
+            Real::mul_add2(self.a, v.x, self.c, v.y),
+            Real::mul_add2(self.b, v.x, self.d, v.y),
+        )
     }
 
     /// `self ∘ other`: applies `other` first.
-    pub fn mul(&self, o: &Transform) -> Transform {
+    pub fn compose(&self, o: &Transform) -> Transform {
         Transform {
             a: Real::mul_add2(self.a, o.a, self.c, o.b),
             b: Real::mul_add2(self.b, o.a, self.d, o.b),

@@ -68,28 +68,10 @@ impl Vect {
         self == other
     }
 
-    /// MIS `vectAdd` (saturating).
-    #[inline(always)]
-    pub fn add(self, other: Vect) -> Vect {
-        Vect::new(self.x + other.x, self.y + other.y)
-    }
-
-    /// MIS `vectSub` (saturating).
-    #[inline(always)]
-    pub fn sub(self, other: Vect) -> Vect {
-        Vect::new(self.x - other.x, self.y - other.y)
-    }
-
     /// MIS `vectMult`: scalar multiple.
     #[inline(always)]
     pub fn mult(self, s: Real) -> Vect {
         Vect::new(self.x * s, self.y * s)
-    }
-
-    /// MIS `vectNeg`.
-    #[inline(always)]
-    pub fn neg(self) -> Vect {
-        Vect::new(-self.x, -self.y)
     }
 
     /// MIS `vectDot`, rounded once.
@@ -281,19 +263,21 @@ fn wide_ratio(n: i128, d: u128) -> Real {
     Real::from_bits(if n < 0 { q.saturating_neg() } else { q })
 }
 
+/// MIS `vectAdd` (saturating).
 impl Add for Vect {
     type Output = Vect;
     #[inline(always)]
     fn add(self, rhs: Vect) -> Vect {
-        Vect::add(self, rhs)
+        Vect::new(self.x + rhs.x, self.y + rhs.y)
     }
 }
 
+/// MIS `vectSub` (saturating).
 impl Sub for Vect {
     type Output = Vect;
     #[inline(always)]
     fn sub(self, rhs: Vect) -> Vect {
-        Vect::sub(self, rhs)
+        Vect::new(self.x - rhs.x, self.y - rhs.y)
     }
 }
 
@@ -311,11 +295,12 @@ impl SubAssign for Vect {
     }
 }
 
+/// MIS `vectNeg` (saturating).
 impl Neg for Vect {
     type Output = Vect;
     #[inline(always)]
     fn neg(self) -> Vect {
-        Vect::neg(self)
+        Vect::new(-self.x, -self.y)
     }
 }
 
@@ -406,9 +391,15 @@ mod tests {
         assert_eq!(v(3, 4).clamp(Real::from_int(10)), v(3, 4));
         // 0.6 and 0.8 are not exact in binary: within 4 ulp of (3, 4).
         let c = v(30, 40).clamp(Real::from_int(5)) - v(3, 4);
-        assert!(c.x.abs() <= Real::from_bits(4) && c.y.abs() <= Real::from_bits(4), "{c:?}");
+        assert!(
+            c.x.abs() <= Real::from_bits(4) && c.y.abs() <= Real::from_bits(4),
+            "{c:?}"
+        );
         assert_eq!(v(3, 4).clamp(-Real::ONE), Vect::ZERO);
-        assert_eq!(v(0, 0).lerp(v(10, 20), real!(0.25)), Vect::new(real!(2.5), Real::from_int(5)));
+        assert_eq!(
+            v(0, 0).lerp(v(10, 20), real!(0.25)),
+            Vect::new(real!(2.5), Real::from_int(5))
+        );
         assert!(v(0, 0).near(v(3, 4), real!(5.01)));
         assert!(!v(0, 0).near(v(3, 4), Real::from_int(5)));
     }

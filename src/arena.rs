@@ -1,0 +1,296 @@
+//! Generational arenas: the storage of bodies and shapes.
+//!
+//! A handle is `(index, generation)`. Removing an object bumps its slot's
+//! generation and pushes the slot on a free list, so a stale handle never
+//! reaches the object that later reuses the slot. The free list is part of the
+//! simulation state (and of snapshots): a world restored from a snapshot hands
+//! out exactly the handles the original would have handed out.
+use core::marker::PhantomData;
+
+use serde::{Deserialize, Serialize};
+
+/// A generational handle to an object of type `T` in an [`Arena`].
+#[derive(Serialize, Deserialize)]
+#[serde(bound = "")]
+pub struct Handle<T> {
+    index: u32,
+    generation: u32,
+    #[serde(skip)]
+    _marker: PhantomData<fn() -> T>,
+}
+
+impl<T> Handle<T> {
+    /// A handle from its raw parts (for deserialisation and tests; a wrong
+    /// generation simply resolves to nothing).
+    pub const fn from_raw_parts(index: u32, generation: u32) -> Handle<T> {
+        Handle {
+            index,
+            generation,
+            _marker: PhantomData,
+        }
+    }
+
+    /// The slot index. Stable for the object's lifetime; used to order pairs
+    /// canonically.
+    pub const fn index(self) -> u32 {
+        self.index
+    }
+
+    /// The slot's generation when the object was inserted.
+    pub const fn generation(self) -> u32 {
+        self.generation
+    }
+}
+
+impl<T> Clone for Handle<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<T> Copy for Handle<T> {}
+impl<T> PartialEq for Handle<T> {
+    fn eq(&self, o: &Self) -> bool {
+        self.index == o.index && self.generation == o.generation
+    }
+}
+impl<T> Eq for Handle<T> {}
+impl<T> PartialOrd for Handle<T> {
+    fn partial_cmp(&self, o: &Self) -> Option<core::cmp::Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl<T> Ord for Handle<T> {
+    fn cmp(&self, o: &Self) -> core::cmp::Ordering {
+        (self.index, self.generation).cmp(&(o.index, o.generation))
+    }
+}
+impl<T> core::hash::Hash for Handle<T> {
+    fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
+        self.index.hash(h);
+        self.generation.hash(h);
+    }
+}
+impl<T> core::fmt::Debug for Handle<T> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "#{}v{}", self.index, self.generation)
+    }
+}
+
+/// One arena slot.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Slot<T> {
+    generation: u32,
+    value: Option<T>,
+}
+
+/// Error of an arena operation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArenaError {
+    /// The arena already holds `u32::MAX` slots.
+    Full,
+}
+
+/// A generational arena with a LIFO free list.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Arena<T> {
+    slots: Vec<Slot<T>>,
+    /// Free slot indices; the last one is reused first.
+    free: Vec<u32>,
+    len: u32,
+}
+
+impl<T> Default for Arena<T> {
+    fn default() -> Self {
+        Arena {
+            slots: Vec::new(),
+            free: Vec::new(),
+            len: 0,
+        }
+    }
+}
+
+impl<T> Arena<T> {
+    /// An empty arena.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Number of live objects.
+    pub fn len(&self) -> usize {
+        self.len as usize
+    }
+
+    /// True if there is no live object.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Number of slots (live and free): one past the largest index ever used.
+    pub fn capacity_slots(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// Inserts `value`, reusing the most recently freed slot first.
+    pub fn insert(&mut self, value: T) -> Result<Handle<T>, ArenaError> {
+        if let Some(index) = self.free.pop() {
+            if let Some(slot) = self.slots.get_mut(index as usize) {
+                slot.value = Some(value);
+                self.len += 1;
+                return Ok(Handle::from_raw_parts(index, slot.generation));
+            }
+        }
+        let index = u32::try_from(self.slots.len()).map_err(|_| ArenaError::Full)?;
+        if index == u32::MAX {
+            return Err(ArenaError::Full);
+        }
+        self.slots.push(Slot {
+            generation: 0,
+            value: Some(value),
+        });
+        self.len += 1;
+        Ok(Handle::from_raw_parts(index, 0))
+    }
+
+    /// Removes and returns the object, or `None` for a stale handle.
+    pub fn remove(&mut self, h: Handle<T>) -> Option<T> {
+        let slot = self.slots.get_mut(h.index as usize)?;
+        if slot.generation != h.generation || slot.value.is_none() {
+            return None;
+        }
+        // Generations wrap after 2^32 reuses of one slot; documented limit.
+        slot.generation = slot.generation.wrapping_add(1);
+        self.len -= 1;
+        self.free.push(h.index);
+        slot.value.take()
+    }
+
+    /// The object, or `None` for a stale handle.
+    pub fn get(&self, h: Handle<T>) -> Option<&T> {
+        let slot = self.slots.get(h.index as usize)?;
+        if slot.generation == h.generation {
+            slot.value.as_ref()
+        } else {
+            None
+        }
+    }
+
+    /// The object mutably, or `None` for a stale handle.
+    pub fn get_mut(&mut self, h: Handle<T>) -> Option<&mut T> {
+        let slot = self.slots.get_mut(h.index as usize)?;
+        if slot.generation == h.generation {
+            slot.value.as_mut()
+        } else {
+            None
+        }
+    }
+
+    /// True if the handle refers to a live object.
+    pub fn contains(&self, h: Handle<T>) -> bool {
+        self.get(h).is_some()
+    }
+
+    /// The live object in slot `index`, with its handle.
+    pub fn get_by_index(&self, index: u32) -> Option<(Handle<T>, &T)> {
+        let slot = self.slots.get(index as usize)?;
+        slot.value
+            .as_ref()
+            .map(|v| (Handle::from_raw_parts(index, slot.generation), v))
+    }
+
+    /// Live objects in slot order (the canonical iteration order).
+    pub fn iter(&self) -> impl Iterator<Item = (Handle<T>, &T)> {
+        self.slots.iter().enumerate().filter_map(|(i, s)| {
+            s.value
+                .as_ref()
+                .map(|v| (Handle::from_raw_parts(i as u32, s.generation), v))
+        })
+    }
+
+    /// Live objects mutably, in slot order.
+    pub fn iter_mut(&mut self) -> impl Iterator<Item = (Handle<T>, &mut T)> {
+        self.slots.iter_mut().enumerate().filter_map(|(i, s)| {
+            let g = s.generation;
+            s.value
+                .as_mut()
+                .map(|v| (Handle::from_raw_parts(i as u32, g), v))
+        })
+    }
+
+    /// Checks the internal invariants: the free list names exactly the empty
+    /// slots, each once, and `len` counts the full ones. Used by snapshot
+    /// loading and by tests; returns a description of the first violation.
+    pub fn validate(&self) -> Result<(), String> {
+        let full = self.slots.iter().filter(|s| s.value.is_some()).count();
+        if full != self.len as usize {
+            return Err(format!("arena length {} but {} live slots", self.len, full));
+        }
+        let mut seen = vec![false; self.slots.len()];
+        for &i in &self.free {
+            let Some(flag) = seen.get_mut(i as usize) else {
+                return Err(format!("free list names slot {i} past the end"));
+            };
+            if *flag {
+                return Err(format!("free list names slot {i} twice"));
+            }
+            *flag = true;
+            if self
+                .slots
+                .get(i as usize)
+                .is_some_and(|s| s.value.is_some())
+            {
+                return Err(format!("free list names live slot {i}"));
+            }
+        }
+        let empty = self.slots.len() - full;
+        if empty != self.free.len() {
+            return Err(format!(
+                "{} empty slots but {} on the free list",
+                empty,
+                self.free.len()
+            ));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stale_handle_resolves_to_nothing_after_reuse() {
+        let mut a = Arena::new();
+        let h1 = a.insert(1).unwrap();
+        assert_eq!(a.remove(h1), Some(1));
+        let h2 = a.insert(2).unwrap();
+        assert_eq!(h1.index(), h2.index());
+        assert_ne!(h1, h2);
+        assert_eq!(a.get(h1), None);
+        assert_eq!(a.get(h2), Some(&2));
+        assert_eq!(a.remove(h1), None);
+        a.validate().unwrap();
+    }
+
+    #[test]
+    fn iteration_is_in_slot_order_and_free_list_is_lifo() {
+        let mut a = Arena::new();
+        let hs: Vec<_> = (0..5).map(|i| a.insert(i).unwrap()).collect();
+        a.remove(hs[1]);
+        a.remove(hs[3]);
+        assert_eq!(a.iter().map(|(_, v)| *v).collect::<Vec<_>>(), vec![0, 2, 4]);
+        assert_eq!(a.insert(9).unwrap().index(), 3);
+        assert_eq!(a.insert(8).unwrap().index(), 1);
+        assert_eq!(a.len(), 5);
+        a.validate().unwrap();
+    }
+
+    #[test]
+    fn clone_hands_out_the_same_handles() {
+        let mut a = Arena::new();
+        let h = a.insert(1).unwrap();
+        a.insert(2).unwrap();
+        a.remove(h);
+        let mut b = a.clone();
+        assert_eq!(a.insert(7).unwrap(), b.insert(7).unwrap());
+    }
+}

@@ -1,0 +1,1 @@
+//! Convex hull (placeholder: being written).

@@ -1,0 +1,390 @@
+//! The MIS Shape module (§7): what a body collides with.
+//!
+//! A [`Shape`] is geometry ([`Geometry`]: circle, segment or convex polygon,
+//! in body-local coordinates) plus the data every shape kind shares: the
+//! owning body, material (friction, elasticity, surface velocity), collision
+//! filter and type, sensor flag, and mass or density.
+//!
+//! Constructors follow the MIS/Chipmunk names (`circle_shape_new`,
+//! `segment_shape_new`, `poly_shape_new`, `poly_shape_new_raw`,
+//! `box_shape_new`, `box_shape_new2`) and validate their input: bad input is a
+//! [`ShapeError`], never a panic.
+pub mod geometry;
+pub mod hull;
+pub mod mass;
+pub mod poly;
+
+use core::fmt;
+
+use serde::{Deserialize, Serialize};
+
+pub use geometry::{Circle, Geometry, Poly, Segment, ShapeKind, MAX_POLY_VERTICES};
+
+use crate::body::BodyHandle;
+use crate::math::{Real, Vect, BB};
+
+/// A collision type: selects collision handlers (MIS `CollisionType`).
+pub type CollisionType = u32;
+
+/// The wildcard collision type (Chipmunk `CP_WILDCARD_COLLISION_TYPE`, `~0`).
+pub const WILDCARD_COLLISION_TYPE: CollisionType = u32::MAX;
+
+/// Collision filter (Chipmunk `cpShapeFilter`). Two shapes are rejected if
+/// they share a non-zero `group`, or if either one's `categories` misses the
+/// other's `mask`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct ShapeFilter {
+    /// Shapes in the same non-zero group never collide.
+    pub group: u32,
+    /// Bits: the categories this shape belongs to.
+    pub categories: u32,
+    /// Bits: the categories this shape collides with.
+    pub mask: u32,
+}
+
+impl ShapeFilter {
+    /// Collides with everything (Chipmunk `CP_SHAPE_FILTER_ALL`).
+    pub const ALL: ShapeFilter = ShapeFilter {
+        group: 0,
+        categories: u32::MAX,
+        mask: u32::MAX,
+    };
+    /// Collides with nothing (Chipmunk `CP_SHAPE_FILTER_NONE`).
+    pub const NONE: ShapeFilter = ShapeFilter {
+        group: 0,
+        categories: 0,
+        mask: 0,
+    };
+
+    /// True if the filters reject the pair.
+    #[inline]
+    pub fn rejects(&self, other: &ShapeFilter) -> bool {
+        (self.group != 0 && self.group == other.group)
+            || (self.categories & other.mask) == 0
+            || (other.categories & self.mask) == 0
+    }
+}
+
+impl Default for ShapeFilter {
+    fn default() -> Self {
+        ShapeFilter::ALL
+    }
+}
+
+/// Surface material: the arbiter multiplies the two shapes' values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct Material {
+    /// Coulomb friction coefficient, ≥ 0.
+    pub friction: Real,
+    /// Restitution (elasticity), ≥ 0; 1 is a perfect bounce.
+    pub elasticity: Real,
+    /// Surface velocity (conveyor belts), in world coordinates.
+    pub surface_velocity: Vect,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            friction: Real::ZERO,
+            elasticity: Real::ZERO,
+            surface_velocity: Vect::ZERO,
+        }
+    }
+}
+
+/// Mass properties of a shape (Chipmunk `cpShapeMassInfo`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct MassInfo {
+    /// Mass.
+    pub mass: Real,
+    /// Moment of inertia per unit mass about the centroid.
+    pub moment_per_mass: Real,
+    /// Centroid in body coordinates.
+    pub cog: Vect,
+    /// Area (including the rounding radius).
+    pub area: Real,
+}
+
+/// How the shape's mass is given.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum MassSpec {
+    /// Massless (static terrain, or a body whose mass is set explicitly).
+    None,
+    /// A fixed mass.
+    Mass(Real),
+    /// Mass = density · area.
+    Density(Real),
+}
+
+/// Errors of shape construction and the MIS getters/setters.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ShapeError {
+    /// MIS NotCircleShape: a circle routine was given another kind.
+    NotCircleShape,
+    /// A segment routine was given another kind.
+    NotSegmentShape,
+    /// MIS NotPolyShape: a polygon routine was given another kind.
+    NotPolyShape,
+    /// MIS IndexOutOfBounds: vertex `index` of a polygon with `count` vertices.
+    IndexOutOfBounds {
+        /// Requested index.
+        index: usize,
+        /// Number of vertices.
+        count: usize,
+    },
+    /// A radius, size, mass or density was negative.
+    Negative(&'static str),
+    /// The points span no area (fewer than 3 distinct, non-collinear points).
+    DegeneratePolygon,
+    /// The points' convex hull has more than [`MAX_POLY_VERTICES`] vertices.
+    TooManyVertices(usize),
+    /// `poly_shape_new_raw` input is not convex and counter-clockwise.
+    NotConvex,
+    /// A value saturated: the input is outside the representable range.
+    OutOfRange(&'static str),
+}
+
+impl fmt::Display for ShapeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ShapeError::NotCircleShape => f.write_str("shape is not a circle"),
+            ShapeError::NotSegmentShape => f.write_str("shape is not a segment"),
+            ShapeError::NotPolyShape => f.write_str("shape is not a polygon"),
+            ShapeError::IndexOutOfBounds { index, count } => {
+                write!(
+                    f,
+                    "vertex index {index} out of bounds for a polygon of {count} vertices"
+                )
+            }
+            ShapeError::Negative(what) => write!(f, "{what} must not be negative"),
+            ShapeError::DegeneratePolygon => {
+                f.write_str("polygon needs at least 3 distinct, non-collinear points")
+            }
+            ShapeError::TooManyVertices(n) => write!(
+                f,
+                "polygon hull has {n} vertices, more than the maximum of {MAX_POLY_VERTICES}"
+            ),
+            ShapeError::NotConvex => f.write_str("vertices are not convex and counter-clockwise"),
+            ShapeError::OutOfRange(what) => write!(f, "{what} is outside the representable range"),
+        }
+    }
+}
+
+impl std::error::Error for ShapeError {}
+
+/// A collision shape attached to a body.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct Shape {
+    pub(crate) body: BodyHandle,
+    pub(crate) geometry: Geometry,
+    /// Friction, elasticity and surface velocity.
+    pub material: Material,
+    /// Collision filter.
+    pub filter: ShapeFilter,
+    /// Selects the collision handler.
+    pub collision_type: CollisionType,
+    /// Sensors report contacts to handlers but never push bodies apart.
+    pub sensor: bool,
+    pub(crate) mass_spec: MassSpec,
+}
+
+impl Shape {
+    /// A shape from validated geometry with default material and filter.
+    pub(crate) fn from_geometry(body: BodyHandle, geometry: Geometry) -> Shape {
+        Shape {
+            body,
+            geometry,
+            material: Material::default(),
+            filter: ShapeFilter::ALL,
+            collision_type: 0,
+            sensor: false,
+            mass_spec: MassSpec::None,
+        }
+    }
+
+    /// MIS `circleShapeNew`: a circle of `radius` centred at `offset` (body
+    /// coordinates). Errors on a negative radius.
+    pub fn circle_shape_new(
+        body: BodyHandle,
+        radius: Real,
+        offset: Vect,
+    ) -> Result<Shape, ShapeError> {
+        check_radius(radius)?;
+        Ok(Shape::from_geometry(
+            body,
+            Geometry::Circle(Circle::new(radius, offset)),
+        ))
+    }
+
+    /// Chipmunk `segmentShapeNew`: a segment (capsule) from `a` to `b`.
+    pub fn segment_shape_new(
+        body: BodyHandle,
+        a: Vect,
+        b: Vect,
+        radius: Real,
+    ) -> Result<Shape, ShapeError> {
+        check_radius(radius)?;
+        Ok(Shape::from_geometry(
+            body,
+            Geometry::Segment(Segment::new(a, b, radius)),
+        ))
+    }
+
+    /// The body the shape is attached to.
+    pub fn body(&self) -> BodyHandle {
+        self.body
+    }
+
+    /// The local geometry.
+    pub fn geometry(&self) -> &Geometry {
+        &self.geometry
+    }
+
+    /// The kind of geometry.
+    pub fn kind(&self) -> ShapeKind {
+        self.geometry.kind()
+    }
+
+    /// Bounding box of the local geometry.
+    pub fn local_bb(&self) -> BB {
+        self.geometry.bb()
+    }
+
+    /// MIS `get_center` for circles / `circleShapeGetOffset`: the circle's centre offset.
+    pub fn circle_offset(&self) -> Result<Vect, ShapeError> {
+        match &self.geometry {
+            Geometry::Circle(c) => Ok(c.offset),
+            Geometry::Segment(_) | Geometry::Poly(_) => Err(ShapeError::NotCircleShape),
+        }
+    }
+
+    /// MIS `circleShapeGetRadius`.
+    pub fn circle_radius(&self) -> Result<Real, ShapeError> {
+        match &self.geometry {
+            Geometry::Circle(c) => Ok(c.radius),
+            Geometry::Segment(_) | Geometry::Poly(_) => Err(ShapeError::NotCircleShape),
+        }
+    }
+
+    /// MIS `circleShapeSetRadius` (Chipmunk's unsafe setter, made safe): the
+    /// owning body's mass is recomputed by the space.
+    pub fn set_circle_radius(&mut self, radius: Real) -> Result<(), ShapeError> {
+        check_radius(radius)?;
+        match &mut self.geometry {
+            Geometry::Circle(c) => {
+                c.radius = radius;
+                Ok(())
+            }
+            Geometry::Segment(_) | Geometry::Poly(_) => Err(ShapeError::NotCircleShape),
+        }
+    }
+
+    /// Chipmunk `circleShapeSetOffset`.
+    pub fn set_circle_offset(&mut self, offset: Vect) -> Result<(), ShapeError> {
+        match &mut self.geometry {
+            Geometry::Circle(c) => {
+                c.offset = offset;
+                Ok(())
+            }
+            Geometry::Segment(_) | Geometry::Poly(_) => Err(ShapeError::NotCircleShape),
+        }
+    }
+
+    /// The segment geometry.
+    pub fn segment(&self) -> Result<&Segment, ShapeError> {
+        match &self.geometry {
+            Geometry::Segment(s) => Ok(s),
+            Geometry::Circle(_) | Geometry::Poly(_) => Err(ShapeError::NotSegmentShape),
+        }
+    }
+
+    /// Chipmunk `segmentShapeSetEndpoints`.
+    pub fn set_segment_endpoints(&mut self, a: Vect, b: Vect) -> Result<(), ShapeError> {
+        match &mut self.geometry {
+            Geometry::Segment(s) => {
+                let (ta, tb) = (s.a_tangent, s.b_tangent);
+                *s = Segment {
+                    a_tangent: ta,
+                    b_tangent: tb,
+                    ..Segment::new(a, b, s.radius)
+                };
+                Ok(())
+            }
+            Geometry::Circle(_) | Geometry::Poly(_) => Err(ShapeError::NotSegmentShape),
+        }
+    }
+
+    /// Chipmunk `segmentShapeSetRadius`.
+    pub fn set_segment_radius(&mut self, radius: Real) -> Result<(), ShapeError> {
+        check_radius(radius)?;
+        match &mut self.geometry {
+            Geometry::Segment(s) => {
+                s.radius = radius;
+                Ok(())
+            }
+            Geometry::Circle(_) | Geometry::Poly(_) => Err(ShapeError::NotSegmentShape),
+        }
+    }
+
+    /// Chipmunk `segmentShapeSetNeighbors`: `prev` joins at `a`, `next` at `b`
+    /// (smooth terrain: no catching on the seams).
+    pub fn set_segment_neighbors(&mut self, prev: Vect, next: Vect) -> Result<(), ShapeError> {
+        match &mut self.geometry {
+            Geometry::Segment(s) => {
+                *s = s.with_neighbors(prev, next);
+                Ok(())
+            }
+            Geometry::Circle(_) | Geometry::Poly(_) => Err(ShapeError::NotSegmentShape),
+        }
+    }
+
+    /// Gives the shape a fixed mass (Chipmunk `cpShapeSetMass`).
+    pub fn set_mass(&mut self, mass: Real) -> Result<(), ShapeError> {
+        if mass.is_negative() {
+            return Err(ShapeError::Negative("mass"));
+        }
+        self.mass_spec = MassSpec::Mass(mass);
+        Ok(())
+    }
+
+    /// Gives the shape a density; mass = density · area (Chipmunk `cpShapeSetDensity`).
+    pub fn set_density(&mut self, density: Real) -> Result<(), ShapeError> {
+        if density.is_negative() {
+            return Err(ShapeError::Negative("density"));
+        }
+        self.mass_spec = MassSpec::Density(density);
+        Ok(())
+    }
+
+    /// How the mass is specified.
+    pub fn mass_spec(&self) -> MassSpec {
+        self.mass_spec
+    }
+
+    /// Builder form of the material setters.
+    pub fn with_material(mut self, friction: Real, elasticity: Real) -> Result<Shape, ShapeError> {
+        if friction.is_negative() {
+            return Err(ShapeError::Negative("friction"));
+        }
+        if elasticity.is_negative() {
+            return Err(ShapeError::Negative("elasticity"));
+        }
+        self.material.friction = friction;
+        self.material.elasticity = elasticity;
+        Ok(self)
+    }
+
+    /// Mass properties: area, centroid and moment per unit mass from the
+    /// geometry, mass from the mass specification.
+    pub fn mass_info(&self) -> MassInfo {
+        mass::shape_mass_info(&self.geometry, self.mass_spec)
+    }
+}
+
+fn check_radius(radius: Real) -> Result<(), ShapeError> {
+    if radius.is_negative() {
+        Err(ShapeError::Negative("radius"))
+    } else {
+        Ok(())
+    }
+}

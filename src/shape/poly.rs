@@ -1,0 +1,1 @@
+//! Polygon constructors (placeholder: being written).
