@@ -141,7 +141,6 @@ impl Poly {
     /// Builds a polygon from vertices that are already convex and
     /// counter-clockwise, without checks. Callers in this crate validate
     /// first (see `shape::poly`); `verts.len()` must be in `1..=MAX`.
-    #[allow(dead_code)] // used by shape::poly (in progress)
     pub(crate) fn from_ccw_unchecked(verts: &[Vect], radius: Real) -> Poly {
         let mut p = Poly {
             count: 0,
