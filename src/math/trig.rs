@@ -245,7 +245,9 @@ pub fn atan2(y: Real, x: Real) -> Real {
     if xb < 0 {
         theta = PI_Q62.saturating_sub(theta);
     }
-    let r = ((theta + (1 << 29)) >> 30) as i64;
+    // Clamped to `Real::PI` (π truncated, 0.52 ulp below π) so that the
+    // result always lies in `[-Real::PI, Real::PI]`.
+    let r = (((theta + (1 << 29)) >> 30) as i64).min(Real::PI.to_bits());
     Real::from_bits(if yb < 0 { -r } else { r })
 }
 
@@ -285,7 +287,10 @@ mod tests {
 
     #[test]
     fn constants_match_real() {
-        assert_eq!(((PI_Q62 + (1 << 29)) >> 30) as i64, Real::PI.to_bits());
+        // Real::PI is π truncated (…704.52 → …704); PI_Q62 rounds to …705.
+        assert_eq!(((PI_Q62 + (1 << 29)) >> 30) as i64, 13_493_037_705);
+        assert_eq!((PI_Q62 as f64 / 2f64.powi(62)), std::f64::consts::PI);
+        assert_eq!(FRAC_PI_2_Q62 * 2 + 1, PI_Q62);
         assert_eq!(q62_to_q32(FRAC_PI_2_Q62 as i64), Real::FRAC_PI_2.to_bits());
         assert_eq!(
             ((FRAC_PI_2_Q94 + (1 << 61)) >> 62) as i64,
@@ -361,7 +366,9 @@ mod tests {
         assert!(err_ulp(got, 1f64.atan2(ULP)) <= 0.51);
         assert!(got < Real::FRAC_PI_2);
         assert!(err_ulp(atan2(Real::DELTA, Real::ONE), ULP) <= 0.51);
-        assert!(err_ulp(atan2(Real::DELTA, -Real::MAX), std::f64::consts::PI) <= 0.51);
+        // π − 2^-63 rad: clamped to Real::PI (π truncated).
+        assert_eq!(atan2(Real::DELTA, -Real::MAX), Real::PI);
+        assert_eq!(atan2(-Real::DELTA, -Real::MAX), -Real::PI);
         assert_eq!(atan2(Real::MAX, Real::DELTA), Real::FRAC_PI_2);
         assert_eq!(atan2(Real::DELTA, Real::MAX), Real::ZERO);
     }
@@ -376,8 +383,8 @@ mod tests {
         assert_eq!(atan2(min, Real::ZERO), -Real::FRAC_PI_2);
         assert_eq!(atan2(Real::ZERO, min), Real::PI);
         assert_eq!(atan2(min, Real::DELTA), -Real::FRAC_PI_2);
-        assert!(err_ulp(atan2(min, -Real::DELTA), -std::f64::consts::FRAC_PI_2) <= 0.51);
-        assert!(atan2(min, -Real::DELTA) < -Real::FRAC_PI_2);
+        // −π/2 − 2^-63 rad rounds to −π/2.
+        assert_eq!(atan2(min, -Real::DELTA), -Real::FRAC_PI_2);
         assert_eq!(atan2(Real::DELTA, min), Real::PI);
         for (y, x) in [(min, Real::ONE), (Real::from_int(-7), min), (min, r(-0.001))] {
             assert!(err_ulp(atan2(y, x), y.to_f64().atan2(x.to_f64())) <= 0.51);
