@@ -1,9 +1,517 @@
-//! The MIS Rigid Body module (placeholder: being written).
+//! The MIS Rigid Body module (§6): mass, position, velocity, forces.
+//!
+//! Representation choices:
+//! * `p` is the world position of the **centre of gravity** (Chipmunk's `p`),
+//!   so the solver works at the centroid; [`Body::position`] is the body
+//!   origin, `p − rot·cog`.
+//! * Orientation is a unit complex number ([`Rot`]): rotating a vector is two
+//!   multiply-adds and integration needs no trig in the common case. The
+//!   continuous angle (which counts whole turns) is kept beside it for the MIS
+//!   `angle` state variable; `rot` is what the simulation uses.
+//! * Inverse mass and moment are cached: the solver multiplies, never divides.
+//!
+//! Invariants (MIS §6.4.2): mass, moment ≥ 0; a dynamic body simulated by a
+//! space has mass > 0 and moment > 0 (set explicitly or summed from shapes).
+//! Setters check them and return [`BodyError::IllegalBody`] instead of
+//! panicking. Fixed point has no NaN or infinity, so "finite" holds by type.
+use core::fmt;
+
+use serde::{Deserialize, Serialize};
+
 use crate::arena::Handle;
+use crate::math::{Real, Rot, Vect};
+
+/// Handle of a body in a [`Space`](crate::space::Space).
+pub type BodyHandle = Handle<Body>;
+
+/// How a body moves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum BodyType {
+    /// Moved by forces, gravity and collisions.
+    Dynamic,
+    /// Infinite mass, moved only by its velocity (set by the game).
+    Kinematic,
+    /// Never moves.
+    Static,
+}
+
+/// Errors of body operations.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum BodyError {
+    /// MIS IllegalBody: the operation would break an invariant of §6.4.2.
+    IllegalBody(&'static str),
+}
+
+impl fmt::Display for BodyError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            BodyError::IllegalBody(why) => write!(f, "illegal body: {why}"),
+        }
+    }
+}
+
+impl std::error::Error for BodyError {}
 
 /// A rigid body.
-#[derive(Clone, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-pub struct Body {}
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct Body {
+    pub(crate) body_type: BodyType,
+    pub(crate) mass: Real,
+    pub(crate) mass_inv: Real,
+    pub(crate) moment: Real,
+    pub(crate) moment_inv: Real,
+    /// True when mass and moment were set by the user; otherwise they are
+    /// summed from the shapes' mass or density.
+    pub(crate) explicit_mass: bool,
+    /// Centre of gravity in body coordinates.
+    pub(crate) cog: Vect,
+    /// World position of the centre of gravity.
+    pub(crate) p: Vect,
+    pub(crate) v: Vect,
+    pub(crate) f: Vect,
+    /// Continuous angle (counts turns); `rot` is derived from it at set time
+    /// and advanced alongside it during integration.
+    pub(crate) a: Real,
+    pub(crate) rot: Rot,
+    pub(crate) w: Real,
+    pub(crate) t: Real,
+    /// Pseudo-velocities from bias impulses; cleared after each position update.
+    pub(crate) v_bias: Vect,
+    pub(crate) w_bias: Real,
+}
 
-/// Handle of a body in a space.
-pub type BodyHandle = Handle<Body>;
+/// `|θ|` below which [`small_angle_rot`] uses its series (error < 1 ulp).
+const SERIES_MAX_ANGLE: Real = Real::from_bits(1 << 30); // 0.25 rad
+
+/// Rotation by a small angle without the general trig routine: the Taylor
+/// series of cos to θ⁸ and sin to θ⁷ is below 1 ulp for |θ| ≤ 0.25.
+fn small_angle_rot(theta: Real) -> Rot {
+    if theta.abs() > SERIES_MAX_ANGLE {
+        return Rot::from_angle(theta);
+    }
+    let t2 = theta * theta;
+    // Horner form; the coefficient constants are 1/k! rounded to nearest.
+    const C2: Real = Real::from_bits(2_147_483_648); // 1/2
+    const C4: Real = Real::from_bits(178_956_971); // 1/24
+    const C6: Real = Real::from_bits(5_965_232); // 1/720
+    const C8: Real = Real::from_bits(106_522); // 1/40320
+    const S3: Real = Real::from_bits(715_827_883); // 1/6
+    const S5: Real = Real::from_bits(35_791_394); // 1/120
+    const S7: Real = Real::from_bits(852_176); // 1/5040
+    let c = Real::ONE - t2 * (C2 - t2 * (C4 - t2 * (C6 - t2 * C8)));
+    let s = theta * (Real::ONE - t2 * (S3 - t2 * (S5 - t2 * S7)));
+    Rot { c, s }
+}
+
+/// Largest tolerated drift of `|rot|²` from 1 before renormalising (2^-24):
+/// renormalising costs a square root, drift grows by about an ulp per step.
+const ROT_DRIFT_LIMIT: Real = Real::from_bits(1 << 8);
+
+impl Body {
+    fn with_type(body_type: BodyType, mass: Real, moment: Real) -> Body {
+        Body {
+            body_type,
+            mass,
+            mass_inv: inverse_or_zero(mass),
+            moment,
+            moment_inv: inverse_or_zero(moment),
+            explicit_mass: false,
+            cog: Vect::ZERO,
+            p: Vect::ZERO,
+            v: Vect::ZERO,
+            f: Vect::ZERO,
+            a: Real::ZERO,
+            rot: Rot::IDENTITY,
+            w: Real::ZERO,
+            t: Real::ZERO,
+            v_bias: Vect::ZERO,
+            w_bias: Real::ZERO,
+        }
+    }
+
+    /// MIS `bodyInit`: a dynamic body with the given mass and moment. Zero
+    /// for both means "sum them from the shapes' mass or density" (Chipmunk).
+    pub fn new(mass: Real, moment: Real) -> Result<Body, BodyError> {
+        check_non_negative(mass, "mass must be ≥ 0")?;
+        check_non_negative(moment, "moment must be ≥ 0")?;
+        let mut b = Body::with_type(BodyType::Dynamic, mass, moment);
+        b.explicit_mass = mass.is_positive() || moment.is_positive();
+        Ok(b)
+    }
+
+    /// A kinematic body (infinite mass, moved by its velocity only).
+    pub fn new_kinematic() -> Body {
+        Body::with_type(BodyType::Kinematic, Real::ZERO, Real::ZERO)
+    }
+
+    /// A static body (never moves).
+    pub fn new_static() -> Body {
+        Body::with_type(BodyType::Static, Real::ZERO, Real::ZERO)
+    }
+
+    /// The body type.
+    pub fn body_type(&self) -> BodyType {
+        self.body_type
+    }
+
+    /// True for dynamic bodies.
+    pub fn is_dynamic(&self) -> bool {
+        self.body_type == BodyType::Dynamic
+    }
+
+    /// Mass (0 for kinematic and static bodies: their inverse mass is 0).
+    pub fn mass(&self) -> Real {
+        self.mass
+    }
+
+    /// Inverse mass (0 for infinite mass).
+    pub fn mass_inv(&self) -> Real {
+        self.mass_inv
+    }
+
+    /// Sets an explicit mass (Chipmunk `cpBodySetMass`). Dynamic bodies only;
+    /// must be > 0.
+    pub fn set_mass(&mut self, mass: Real) -> Result<(), BodyError> {
+        if self.body_type != BodyType::Dynamic {
+            return Err(BodyError::IllegalBody("only dynamic bodies have a mass"));
+        }
+        if !mass.is_positive() {
+            return Err(BodyError::IllegalBody("mass must be > 0"));
+        }
+        self.mass = mass;
+        self.mass_inv = mass.recip();
+        self.explicit_mass = true;
+        Ok(())
+    }
+
+    /// Moment of inertia about the centre of gravity.
+    pub fn moment(&self) -> Real {
+        self.moment
+    }
+
+    /// Inverse moment (0 for infinite moment).
+    pub fn moment_inv(&self) -> Real {
+        self.moment_inv
+    }
+
+    /// Sets an explicit moment of inertia (Chipmunk `cpBodySetMoment`).
+    /// Dynamic bodies only; must be > 0.
+    pub fn set_moment(&mut self, moment: Real) -> Result<(), BodyError> {
+        if self.body_type != BodyType::Dynamic {
+            return Err(BodyError::IllegalBody("only dynamic bodies have a moment"));
+        }
+        if !moment.is_positive() {
+            return Err(BodyError::IllegalBody("moment must be > 0"));
+        }
+        self.moment = moment;
+        self.moment_inv = moment.recip();
+        self.explicit_mass = true;
+        Ok(())
+    }
+
+    /// Centre of gravity in body coordinates.
+    pub fn center_of_gravity(&self) -> Vect {
+        self.cog
+    }
+
+    /// Sets the centre of gravity, keeping the body origin in place.
+    pub fn set_center_of_gravity(&mut self, cog: Vect) {
+        let origin = self.position();
+        self.cog = cog;
+        self.set_position(origin);
+    }
+
+    /// MIS `set_pos` / Chipmunk `cpBodyGetPosition`: world position of the body origin.
+    pub fn position(&self) -> Vect {
+        self.p - self.rot.apply(self.cog)
+    }
+
+    /// Moves the body origin to `pos`.
+    pub fn set_position(&mut self, pos: Vect) {
+        self.p = pos + self.rot.apply(self.cog);
+    }
+
+    /// World position of the centre of gravity.
+    pub fn center(&self) -> Vect {
+        self.p
+    }
+
+    /// Linear velocity of the centre of gravity.
+    pub fn velocity(&self) -> Vect {
+        self.v
+    }
+
+    /// Sets the linear velocity.
+    pub fn set_velocity(&mut self, v: Vect) {
+        self.v = v;
+    }
+
+    /// Accumulated force (cleared after each velocity update).
+    pub fn force(&self) -> Vect {
+        self.f
+    }
+
+    /// Replaces the accumulated force.
+    pub fn set_force(&mut self, f: Vect) {
+        self.f = f;
+    }
+
+    /// MIS `angle`: continuous rotation angle in radians (counts whole turns).
+    pub fn angle(&self) -> Real {
+        self.a
+    }
+
+    /// MIS `set_angle`: rotates the body about its centre of gravity.
+    pub fn set_angle(&mut self, angle: Real) {
+        self.a = angle;
+        self.rot = Rot::from_angle(angle);
+    }
+
+    /// Orientation as a unit complex number.
+    pub fn rotation(&self) -> Rot {
+        self.rot
+    }
+
+    /// Angular velocity (rad/s, counter-clockwise positive).
+    pub fn angular_velocity(&self) -> Real {
+        self.w
+    }
+
+    /// Sets the angular velocity.
+    pub fn set_angular_velocity(&mut self, w: Real) {
+        self.w = w;
+    }
+
+    /// Accumulated torque (cleared after each velocity update).
+    pub fn torque(&self) -> Real {
+        self.t
+    }
+
+    /// Replaces the accumulated torque.
+    pub fn set_torque(&mut self, t: Real) {
+        self.t = t;
+    }
+
+    /// MIS `apply_force`: adds `force` at the centre of gravity.
+    pub fn apply_force(&mut self, force: Vect) {
+        self.f += force;
+    }
+
+    /// MIS `apply_torque`: adds `torque`.
+    pub fn apply_torque(&mut self, torque: Real) {
+        self.t += torque;
+    }
+
+    /// MIS `set_angular_accler`: sets the torque so that the angular
+    /// acceleration of the next velocity update is `alpha` (τ = I·α).
+    pub fn set_angular_acceleration(&mut self, alpha: Real) {
+        self.t = self.moment * alpha;
+    }
+
+    /// Adds `force` applied at world point `point` (force and torque).
+    pub fn apply_force_at_world_point(&mut self, force: Vect, point: Vect) {
+        self.f += force;
+        self.t += (point - self.p).cross(force);
+    }
+
+    /// Adds `force` (body coordinates) applied at body point `point`.
+    pub fn apply_force_at_local_point(&mut self, force: Vect, point: Vect) {
+        let wf = self.rot.apply(force);
+        let wp = self.local_to_world(point);
+        self.apply_force_at_world_point(wf, wp);
+    }
+
+    /// Applies an impulse at a world point: changes velocity at once.
+    pub fn apply_impulse_at_world_point(&mut self, impulse: Vect, point: Vect) {
+        let r = point - self.p;
+        self.v += impulse * self.mass_inv;
+        self.w += self.moment_inv * r.cross(impulse);
+    }
+
+    /// Applies an impulse (body coordinates) at a body point.
+    pub fn apply_impulse_at_local_point(&mut self, impulse: Vect, point: Vect) {
+        let wi = self.rot.apply(impulse);
+        let wp = self.local_to_world(point);
+        self.apply_impulse_at_world_point(wi, wp);
+    }
+
+    /// Velocity of the body at a world point.
+    pub fn velocity_at_world_point(&self, point: Vect) -> Vect {
+        let r = point - self.p;
+        self.v + r.perp() * self.w
+    }
+
+    /// Velocity of the body at a body point.
+    pub fn velocity_at_local_point(&self, point: Vect) -> Vect {
+        self.velocity_at_world_point(self.local_to_world(point))
+    }
+
+    /// Body coordinates → world coordinates.
+    pub fn local_to_world(&self, point: Vect) -> Vect {
+        self.p + self.rot.apply(point - self.cog)
+    }
+
+    /// World coordinates → body coordinates.
+    pub fn world_to_local(&self, point: Vect) -> Vect {
+        self.rot.apply_inv(point - self.p) + self.cog
+    }
+
+    /// Kinetic energy ½mv² + ½Iω² (Chipmunk `cpBodyKineticEnergy`); 0 for
+    /// infinite mass. Saturates for very fast heavy bodies.
+    pub fn kinetic_energy(&self) -> Real {
+        if self.body_type != BodyType::Dynamic {
+            return Real::ZERO;
+        }
+        let vsq = self.v.dot(self.v);
+        let wsq = self.w * self.w;
+        (self.mass * vsq + self.moment * wsq) * Real::HALF
+    }
+
+    /// Default velocity integration (Chipmunk `cpBodyUpdateVelocity`):
+    /// `v ← v·damping + (g + f/m)·dt`, `ω ← ω·damping + τ/I·dt`, then the
+    /// force and torque accumulators are cleared. `damping` is the per-step
+    /// factor (the space precomputes `damping^dt`). Only dynamic bodies move.
+    pub fn update_velocity(&mut self, gravity: Vect, damping: Real, dt: Real) {
+        if self.body_type == BodyType::Dynamic {
+            self.v = self.v * damping + (gravity + self.f * self.mass_inv) * dt;
+            self.w = self.w * damping + self.t * self.moment_inv * dt;
+        }
+        self.f = Vect::ZERO;
+        self.t = Real::ZERO;
+    }
+
+    /// Default position integration (MIS `update`, Chipmunk
+    /// `cpBodyUpdatePosition`): `p ← p + (v + v_bias)·dt`, angle likewise,
+    /// then the bias velocities are cleared. Static bodies never move.
+    pub fn update_position(&mut self, dt: Real) {
+        if self.body_type != BodyType::Static {
+            self.p += (self.v + self.v_bias) * dt;
+            let dtheta = (self.w + self.w_bias) * dt;
+            self.rotate_by(dtheta);
+        }
+        self.v_bias = Vect::ZERO;
+        self.w_bias = Real::ZERO;
+    }
+
+    /// Advances the orientation by `dtheta` radians: exact small-angle
+    /// rotation, renormalised only when rounding drift exceeds 2^-24.
+    pub(crate) fn rotate_by(&mut self, dtheta: Real) {
+        if dtheta.is_zero() {
+            return;
+        }
+        self.a += dtheta;
+        self.rot = self.rot.compose(small_angle_rot(dtheta));
+        let drift = (self.rot.as_vect().dot(self.rot.as_vect()) - Real::ONE).abs();
+        if drift > ROT_DRIFT_LIMIT {
+            self.rot = self.rot.normalize();
+        }
+    }
+
+    /// Sets mass properties summed from shapes (space-internal).
+    pub(crate) fn set_mass_properties(&mut self, mass: Real, moment: Real, cog: Vect) {
+        let origin = self.position();
+        self.mass = mass;
+        self.mass_inv = inverse_or_zero(mass);
+        self.moment = moment;
+        self.moment_inv = inverse_or_zero(moment);
+        self.cog = cog;
+        self.set_position(origin);
+    }
+
+    /// Checks the MIS §6.4.2 invariants for a body about to be simulated.
+    pub fn validate(&self) -> Result<(), BodyError> {
+        check_non_negative(self.mass, "mass must be ≥ 0")?;
+        check_non_negative(self.moment, "moment must be ≥ 0")?;
+        if self.body_type != BodyType::Dynamic
+            && (!self.mass_inv.is_zero() || !self.moment_inv.is_zero())
+        {
+            return Err(BodyError::IllegalBody("non-dynamic body with finite mass"));
+        }
+        let len_sq = self.rot.as_vect().dot(self.rot.as_vect());
+        if (len_sq - Real::ONE).abs() > Real::from_bits(1 << 12) {
+            return Err(BodyError::IllegalBody("rotation is not a unit complex number"));
+        }
+        Ok(())
+    }
+}
+
+fn inverse_or_zero(v: Real) -> Real {
+    if v.is_positive() {
+        v.recip()
+    } else {
+        Real::ZERO
+    }
+}
+
+fn check_non_negative(v: Real, why: &'static str) -> Result<(), BodyError> {
+    if v.is_negative() {
+        Err(BodyError::IllegalBody(why))
+    } else {
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::float_arithmetic)]
+mod tests {
+    use super::*;
+    use crate::real;
+
+    #[test]
+    fn small_angle_series_constants_are_nearest() {
+        for (bits, k) in [(178_956_971i64, 24.0), (5_965_232, 720.0), (106_522, 40320.0)] {
+            assert!((bits as f64 - 4294967296.0 / k).abs() <= 0.5, "1/{k}");
+        }
+        for (bits, k) in [(715_827_883i64, 6.0), (35_791_394, 120.0), (852_176, 5040.0)] {
+            assert!((bits as f64 - 4294967296.0 / k).abs() <= 0.5, "1/{k}");
+        }
+    }
+
+    #[test]
+    fn new_rejects_negative_mass_and_moment() {
+        assert!(Body::new(-Real::ONE, Real::ONE).is_err());
+        assert!(Body::new(Real::ONE, -Real::ONE).is_err());
+        let mut b = Body::new(Real::ONE, Real::ONE).unwrap();
+        assert!(b.set_mass(Real::ZERO).is_err());
+        assert!(Body::new_static().set_mass(Real::ONE).is_err());
+    }
+
+    #[test]
+    fn impulse_at_offset_spins_the_body() {
+        let mut b = Body::new(Real::TWO, Real::from_int(4)).unwrap();
+        b.apply_impulse_at_world_point(Vect::from_ints(0, 2), Vect::from_ints(1, 0));
+        assert_eq!(b.velocity(), Vect::from_ints(0, 1));
+        assert_eq!(b.angular_velocity(), real!(0.5));
+        assert_eq!(b.velocity_at_world_point(Vect::from_ints(2, 0)), Vect::new(Real::ZERO, real!(2)));
+    }
+
+    #[test]
+    fn local_world_round_trip_with_cog() {
+        let mut b = Body::new(Real::ONE, Real::ONE).unwrap();
+        b.set_center_of_gravity(Vect::from_ints(1, 0));
+        b.set_position(Vect::from_ints(5, 5));
+        assert_eq!(b.position(), Vect::from_ints(5, 5));
+        assert_eq!(b.center(), Vect::from_ints(6, 5));
+        let p = Vect::from_ints(3, -2);
+        assert_eq!(b.world_to_local(b.local_to_world(p)), p);
+    }
+
+    #[test]
+    fn integrator_is_semi_implicit_euler() {
+        let mut b = Body::new(Real::ONE, Real::ONE).unwrap();
+        let g = Vect::from_ints(0, -10);
+        let dt = real!(0.5);
+        b.update_velocity(g, Real::ONE, dt);
+        b.update_position(dt);
+        assert_eq!(b.velocity(), Vect::from_ints(0, -5));
+        assert_eq!(b.position(), Vect::new(Real::ZERO, real!(-2.5)));
+    }
+
+    #[test]
+    fn kinetic_energy_counts_both_parts() {
+        let mut b = Body::new(Real::TWO, Real::from_int(3)).unwrap();
+        b.set_velocity(Vect::from_ints(3, 4));
+        b.set_angular_velocity(Real::TWO);
+        assert_eq!(b.kinetic_energy(), Real::from_int(25 + 6));
+    }
+}
