@@ -4,7 +4,9 @@
 
 pub mod arena;
 pub mod body;
+pub mod broadphase;
 pub mod math;
 pub mod shape;
+pub mod solver;
 
 pub use math::{Real, RealError, Rot, Transform, Vect, BB};

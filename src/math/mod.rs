@@ -1,6 +1,7 @@
 //! Deterministic fixed-point math: the scalar [`Real`], vectors, rotations,
 //! affine transforms and bounding boxes.
 pub mod bb;
+pub mod exp;
 pub mod real;
 pub mod rot;
 pub mod transform;

@@ -1,0 +1,175 @@
+//! Arbiters: the persistent state of one touching shape pair.
+//!
+//! An arbiter lives as long as its two shapes touch, plus
+//! `collision_persistence` steps after they stop (so a pair that separates
+//! for a frame keeps its warm-start impulses). Each step the narrowphase
+//! contacts are matched to last step's by **feature id**: a contact between
+//! the same two features (vertex, edge) inherits the accumulated impulses
+//! (warm starting), which is what lets stacks come to rest in few iterations.
+//!
+//! Arbiters are kept in a `Vec` sorted by `(shape_a, shape_b)` slot indices —
+//! the canonical pair order — so lookup is a binary search and the solver's
+//! order depends only on the state.
+use serde::{Deserialize, Serialize};
+
+use crate::body::BodyHandle;
+use crate::collision::{CollisionInfo, MAX_CONTACTS_PER_ARBITER};
+use crate::math::{Real, Vect};
+use crate::shape::Shape;
+use crate::solver::ContactConstraint;
+use crate::space::ShapeHandle;
+
+/// Where an arbiter is in its life.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum ArbiterState {
+    /// Touching for the first step: the begin handler runs.
+    FirstCollision,
+    /// Touching, begin already accepted.
+    Normal,
+    /// A begin handler returned false: ignored until the shapes separate.
+    Ignore,
+    /// Not touching this step; kept for warm starting until it expires.
+    Cached,
+}
+
+/// The persistent contact state of a shape pair (Chipmunk `cpArbiter`).
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct Arbiter {
+    pub(crate) shape_a: ShapeHandle,
+    pub(crate) shape_b: ShapeHandle,
+    pub(crate) body_a: BodyHandle,
+    pub(crate) body_b: BodyHandle,
+    /// Contact normal, from shape a to shape b.
+    pub(crate) normal: Vect,
+    pub(crate) count: u8,
+    pub(crate) contacts: [ContactConstraint; MAX_CONTACTS_PER_ARBITER],
+    /// Restitution (product of the shapes' elasticities unless a handler changed it).
+    pub restitution: Real,
+    /// Friction (product of the shapes' frictions unless a handler changed it).
+    pub friction: Real,
+    /// Relative surface velocity, tangential part (conveyor belts).
+    pub surface_velocity: Vect,
+    /// GJK warm-start cache for the next narrowphase of this pair.
+    pub(crate) collision_id: u32,
+    /// Step stamp of the last step the shapes touched.
+    pub(crate) stamp: u64,
+    pub(crate) state: ArbiterState,
+    /// True while the pair involves a sensor (callbacks only, no solving).
+    pub(crate) sensor: bool,
+}
+
+impl Arbiter {
+    /// A fresh arbiter for a touching pair.
+    pub(crate) fn new(sa: ShapeHandle, a: &Shape, sb: ShapeHandle, b: &Shape) -> Arbiter {
+        Arbiter {
+            shape_a: sa,
+            shape_b: sb,
+            body_a: a.body,
+            body_b: b.body,
+            normal: Vect::ZERO,
+            count: 0,
+            contacts: [ContactConstraint::default(); MAX_CONTACTS_PER_ARBITER],
+            restitution: Real::ZERO,
+            friction: Real::ZERO,
+            surface_velocity: Vect::ZERO,
+            collision_id: 0,
+            stamp: 0,
+            state: ArbiterState::FirstCollision,
+            sensor: a.sensor || b.sensor,
+        }
+    }
+
+    /// Takes this step's narrowphase result: new contacts inherit the
+    /// accumulated impulses of last step's contacts with the same feature id;
+    /// material values are recomputed (handlers may override them afterwards).
+    /// `pa`/`pb` are the bodies' centres of gravity.
+    pub(crate) fn update(&mut self, info: &CollisionInfo, a: &Shape, b: &Shape, pa: Vect, pb: Vect) {
+        let old = self.contacts;
+        let old_count = usize::from(self.count).min(MAX_CONTACTS_PER_ARBITER);
+        self.normal = info.normal;
+        self.collision_id = info.id;
+        self.count = 0;
+        for (slot, c) in self.contacts.iter_mut().zip(info.contacts()) {
+            let mut new = ContactConstraint {
+                r1: c.point_a - pa,
+                r2: c.point_b - pb,
+                dist: c.distance,
+                id: c.id,
+                ..ContactConstraint::default()
+            };
+            if let Some(prev) = old.iter().take(old_count).find(|o| o.id == c.id) {
+                new.jn_acc = prev.jn_acc;
+                new.jt_acc = prev.jt_acc;
+            }
+            *slot = new;
+            self.count += 1;
+        }
+        self.restitution = a.material.elasticity * b.material.elasticity;
+        self.friction = a.material.friction * b.material.friction;
+        // Only the tangential part of the relative surface velocity matters.
+        let sv = b.material.surface_velocity - a.material.surface_velocity;
+        let t = self.normal.perp();
+        self.surface_velocity = t * sv.dot(t);
+    }
+
+    /// The two shapes, in the arbiter's order.
+    pub fn shapes(&self) -> (ShapeHandle, ShapeHandle) {
+        (self.shape_a, self.shape_b)
+    }
+
+    /// The two bodies, in the arbiter's order.
+    pub fn bodies(&self) -> (BodyHandle, BodyHandle) {
+        (self.body_a, self.body_b)
+    }
+
+    /// Number of contacts (0..=2).
+    pub fn count(&self) -> usize {
+        usize::from(self.count).min(MAX_CONTACTS_PER_ARBITER)
+    }
+
+    /// Contact normal, pointing from shape a to shape b.
+    pub fn normal(&self) -> Vect {
+        self.normal
+    }
+
+    /// The contacts' solver state.
+    pub fn contacts(&self) -> &[ContactConstraint] {
+        self.contacts.get(..self.count()).unwrap_or(&[])
+    }
+
+    /// Penetration depth of contact `i` (positive when overlapping).
+    pub fn depth(&self, i: usize) -> Option<Real> {
+        self.contacts().get(i).map(|c| -c.dist)
+    }
+
+    /// True on the first step the shapes touch.
+    pub fn is_first_contact(&self) -> bool {
+        self.state == ArbiterState::FirstCollision
+    }
+
+    /// The lifecycle state.
+    pub fn state(&self) -> ArbiterState {
+        self.state
+    }
+
+    /// Total impulse applied this step (Chipmunk `cpArbiterTotalImpulse`).
+    pub fn total_impulse(&self) -> Vect {
+        self.contacts().iter().fold(Vect::ZERO, |acc, c| acc + self.normal.rotate(Vect::new(c.jn_acc, c.jt_acc)))
+    }
+
+    /// Kinetic energy lost to the collision this step (Chipmunk
+    /// `cpArbiterTotalKE`): `Σ (1−e)/(1+e)·jn²/n_mass + jt²/t_mass`.
+    pub fn total_kinetic_energy(&self) -> Real {
+        let e_coef = (Real::ONE - self.restitution) / (Real::ONE + self.restitution);
+        self.contacts().iter().fold(Real::ZERO, |sum, c| {
+            let jn = c.jn_acc;
+            let jt = c.jt_acc;
+            sum + e_coef * jn * jn / c.n_mass + jt * jt / c.t_mass
+        })
+    }
+
+    /// Key of the canonical order.
+    pub(crate) fn key(&self) -> (u32, u32) {
+        (self.shape_a.index(), self.shape_b.index())
+    }
+}

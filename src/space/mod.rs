@@ -1,0 +1,531 @@
+//! The MIS Space module (§8): the world that owns bodies, shapes and
+//! arbiters, and steps them.
+//!
+//! A [`Space`] is two things:
+//! * [`WorldState`]: everything that affects future steps — settings, the
+//!   body and shape arenas (with their free lists), the arbiters with their
+//!   cached impulses, the step counter and time steps. It is plain data
+//!   (`Clone`, serde), which is what snapshots and rollback copy.
+//! * Things that are *not* state: per-step caches (world-space geometry,
+//!   broadphase buffers), collision handlers and post-step callbacks
+//!   (closures cannot be serialized; a game re-attaches them by collision
+//!   type after loading a snapshot).
+pub mod handlers;
+pub mod query;
+mod step;
+
+use core::fmt;
+
+use serde::{Deserialize, Serialize};
+
+pub use handlers::{ArbiterContext, CollisionHandler, PostStepFn};
+
+use crate::arbiter::{Arbiter, ArbiterState};
+use crate::arena::{Arena, Handle};
+use crate::body::{Body, BodyError, BodyHandle, BodyType};
+use crate::broadphase::{Broadphase, StaticTree};
+use crate::math::{exp, Real, Vect, BB};
+use crate::shape::{CollisionType, Geometry, Shape, ShapeError};
+
+/// Handle of a shape in a space.
+pub type ShapeHandle = Handle<Shape>;
+
+/// Simulation settings (Chipmunk's space parameters and defaults).
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct Settings {
+    /// Solver iterations per step (Chipmunk default 10).
+    pub iterations: u32,
+    /// Gravity acceleration.
+    pub gravity: Vect,
+    /// Fraction of velocity kept after one second (1 = no damping), applied
+    /// per step as `damping^dt`.
+    pub damping: Real,
+    /// Overlap allowed without correction (Chipmunk default 0.1).
+    pub collision_slop: Real,
+    /// Fraction of overlap left uncorrected after one second (Chipmunk
+    /// default `(1 − 0.1)^60`: 10% per 1/60 s step).
+    pub collision_bias: Real,
+    /// Steps an arbiter is kept after its shapes separate (default 3).
+    pub collision_persistence: u32,
+}
+
+/// `0.9^60`, Chipmunk's default collision bias, computed exactly in `Real`
+/// arithmetic at compile time (no float `pow`).
+pub const DEFAULT_COLLISION_BIAS: Real = {
+    let base = Real::lit("0.9");
+    let mut acc = Real::ONE;
+    let mut i = 0;
+    while i < 60 {
+        acc = acc.mul_const(base);
+        i += 1;
+    }
+    acc
+};
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            iterations: 10,
+            gravity: Vect::ZERO,
+            damping: Real::ONE,
+            collision_slop: Real::lit("0.1"),
+            collision_bias: DEFAULT_COLLISION_BIAS,
+            collision_persistence: 3,
+        }
+    }
+}
+
+/// Errors of space operations. Each leaves the space unchanged.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum SpaceError {
+    /// The body handle is stale or from another space.
+    StaleBody(BodyHandle),
+    /// The shape handle is stale or from another space.
+    StaleShape(ShapeHandle),
+    /// A body invariant is violated.
+    Body(BodyError),
+    /// A shape is invalid.
+    Shape(ShapeError),
+    /// `dt` was negative.
+    NegativeTimeStep,
+    /// A setting is out of its range.
+    InvalidSetting(&'static str),
+    /// An arena is full (2^32 − 1 objects).
+    Full,
+    /// The operation is not allowed while the step runs (use a post-step callback).
+    Locked,
+}
+
+impl fmt::Display for SpaceError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SpaceError::StaleBody(h) => write!(f, "body handle {h:?} is stale or from another space"),
+            SpaceError::StaleShape(h) => write!(f, "shape handle {h:?} is stale or from another space"),
+            SpaceError::Body(e) => write!(f, "{e}"),
+            SpaceError::Shape(e) => write!(f, "{e}"),
+            SpaceError::NegativeTimeStep => f.write_str("time step must not be negative"),
+            SpaceError::InvalidSetting(why) => write!(f, "invalid setting: {why}"),
+            SpaceError::Full => f.write_str("too many objects in the space"),
+            SpaceError::Locked => f.write_str("space is locked during the step; use a post-step callback"),
+        }
+    }
+}
+
+impl std::error::Error for SpaceError {}
+
+impl From<BodyError> for SpaceError {
+    fn from(e: BodyError) -> Self {
+        SpaceError::Body(e)
+    }
+}
+
+impl From<ShapeError> for SpaceError {
+    fn from(e: ShapeError) -> Self {
+        SpaceError::Shape(e)
+    }
+}
+
+/// Everything that affects future steps: what a snapshot holds.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct WorldState {
+    /// Settings.
+    pub settings: Settings,
+    /// Bodies.
+    pub bodies: Arena<Body>,
+    /// Shapes.
+    pub shapes: Arena<Shape>,
+    /// Arbiters, sorted by `(shape_a, shape_b)` slot index.
+    pub arbiters: Vec<Arbiter>,
+    /// Number of steps taken.
+    pub stamp: u64,
+    /// `dt` of the last step (0 before the first).
+    pub current_dt: Real,
+    /// `dt` of the step before (scales warm starting).
+    pub prev_dt: Real,
+}
+
+/// Per-shape world-space cache, rebuilt each step.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ShapeCache {
+    pub(crate) geometry: Geometry,
+    pub(crate) bb: BB,
+}
+
+/// Per-`dt` constants: the only `pow`, reciprocal and such of a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct DtConstants {
+    pub(crate) dt: Real,
+    pub(crate) dt_inv: Real,
+    /// `damping^dt`.
+    pub(crate) damping: Real,
+    /// `1 − collision_bias^dt`.
+    pub(crate) bias_coef: Real,
+}
+
+/// Caches derived from the state; never serialized.
+#[derive(Default)]
+pub(crate) struct Caches {
+    /// Indexed by shape slot; `None` for free slots.
+    pub(crate) shapes: Vec<Option<ShapeCache>>,
+    pub(crate) broadphase: Broadphase,
+    pub(crate) static_tree: StaticTree,
+    pub(crate) statics_dirty: bool,
+    pub(crate) solver_bodies: Vec<crate::solver::SolverBody>,
+    /// Constants of the last step's `dt` (cleared when settings change).
+    pub(crate) dt_constants: Option<DtConstants>,
+    pub(crate) proxies: Vec<crate::broadphase::Proxy>,
+}
+
+/// The world: bodies, shapes, arbiters, settings and handlers.
+pub struct Space {
+    pub(crate) state: WorldState,
+    pub(crate) caches: Caches,
+    pub(crate) handlers: handlers::HandlerTable,
+    pub(crate) post_step: Vec<(u64, PostStepFn)>,
+    pub(crate) locked: bool,
+}
+
+impl Default for Space {
+    fn default() -> Self {
+        Space::new()
+    }
+}
+
+impl fmt::Debug for Space {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Space").field("state", &self.state).finish_non_exhaustive()
+    }
+}
+
+impl Clone for Space {
+    /// Clones the simulation state; handlers and post-step callbacks are not
+    /// cloned (closures), the clone has none.
+    fn clone(&self) -> Space {
+        Space::from_state(self.state.clone())
+    }
+}
+
+impl Space {
+    /// MIS `spaceInit`: an empty space with Chipmunk's default settings.
+    pub fn new() -> Space {
+        Space::from_state(WorldState::default())
+    }
+
+    /// A space from a state (handlers empty; caches rebuilt on the next step).
+    /// Callers that take untrusted input validate the state first.
+    pub fn from_state(state: WorldState) -> Space {
+        Space {
+            state,
+            caches: Caches { statics_dirty: true, ..Caches::default() },
+            handlers: handlers::HandlerTable::default(),
+            post_step: Vec::new(),
+            locked: false,
+        }
+    }
+
+    /// The simulation state (for snapshots and checksums).
+    pub fn state(&self) -> &WorldState {
+        &self.state
+    }
+
+    /// Replaces the simulation state in place, keeping handlers (rollback).
+    pub fn restore_state(&mut self, state: &WorldState) {
+        self.state.clone_from(state);
+        self.caches.statics_dirty = true;
+        self.caches.dt_constants = None;
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &Settings {
+        &self.state.settings
+    }
+
+    /// Replaces the settings after checking them.
+    pub fn set_settings(&mut self, settings: Settings) -> Result<(), SpaceError> {
+        if settings.damping.is_negative() {
+            return Err(SpaceError::InvalidSetting("damping must be ≥ 0"));
+        }
+        if settings.collision_bias.is_negative() || settings.collision_bias > Real::ONE {
+            return Err(SpaceError::InvalidSetting("collision bias must be in [0, 1]"));
+        }
+        if settings.collision_slop.is_negative() {
+            return Err(SpaceError::InvalidSetting("collision slop must be ≥ 0"));
+        }
+        self.state.settings = settings;
+        self.caches.dt_constants = None;
+        Ok(())
+    }
+
+    /// MIS `spaceSetGravity`.
+    pub fn set_gravity(&mut self, gravity: Vect) {
+        self.state.settings.gravity = gravity;
+        self.caches.dt_constants = None;
+    }
+
+    /// Gravity.
+    pub fn gravity(&self) -> Vect {
+        self.state.settings.gravity
+    }
+
+    /// Sets the number of solver iterations.
+    pub fn set_iterations(&mut self, iterations: u32) {
+        self.state.settings.iterations = iterations;
+    }
+
+    /// Number of steps taken (MIS `stamp`).
+    pub fn stamp(&self) -> u64 {
+        self.state.stamp
+    }
+
+    /// `dt` of the last step.
+    pub fn current_time_step(&self) -> Real {
+        self.state.current_dt
+    }
+
+    /// True while the step runs (handlers see a locked space).
+    pub fn is_locked(&self) -> bool {
+        self.locked
+    }
+
+    /// MIS `spaceAddBody`: adds a body and returns its handle.
+    pub fn add_body(&mut self, body: Body) -> Result<BodyHandle, SpaceError> {
+        self.check_unlocked()?;
+        body.validate()?;
+        let is_static = body.body_type() == BodyType::Static;
+        let h = self.state.bodies.insert(body).map_err(|_| SpaceError::Full)?;
+        if is_static {
+            self.caches.statics_dirty = true;
+        }
+        Ok(h)
+    }
+
+    /// Removes a body, its shapes and their arbiters (separate handlers run
+    /// for touching pairs). Returns the body.
+    pub fn remove_body(&mut self, h: BodyHandle) -> Result<Body, SpaceError> {
+        self.check_unlocked()?;
+        if !self.state.bodies.contains(h) {
+            return Err(SpaceError::StaleBody(h));
+        }
+        let owned: Vec<ShapeHandle> =
+            self.state.shapes.iter().filter(|(_, s)| s.body == h).map(|(sh, _)| sh).collect();
+        for sh in owned {
+            self.remove_shape(sh)?;
+        }
+        self.caches.statics_dirty = true;
+        self.state.bodies.remove(h).ok_or(SpaceError::StaleBody(h))
+    }
+
+    /// Adds a shape to the body it names; recomputes the body's mass from its
+    /// shapes unless the mass was set explicitly.
+    pub fn add_shape(&mut self, shape: Shape) -> Result<ShapeHandle, SpaceError> {
+        self.check_unlocked()?;
+        let bh = shape.body;
+        let body_type = self.state.bodies.get(bh).ok_or(SpaceError::StaleBody(bh))?.body_type();
+        let h = self.state.shapes.insert(shape).map_err(|_| SpaceError::Full)?;
+        if body_type != BodyType::Dynamic {
+            self.caches.statics_dirty = true;
+        }
+        self.update_mass_from_shapes(bh);
+        Ok(h)
+    }
+
+    /// Removes a shape and its arbiters (separate handlers run for pairs that
+    /// were touching).
+    pub fn remove_shape(&mut self, h: ShapeHandle) -> Result<Shape, SpaceError> {
+        self.check_unlocked()?;
+        if !self.state.shapes.contains(h) {
+            return Err(SpaceError::StaleShape(h));
+        }
+        let mut removed = Vec::new();
+        self.state.arbiters.retain(|arb| {
+            let hit = arb.shape_a == h || arb.shape_b == h;
+            if hit {
+                removed.push(arb.clone());
+            }
+            !hit
+        });
+        for mut arb in removed {
+            if arb.state != ArbiterState::Cached {
+                self.handlers.separate(&mut arb, &self.state.bodies, &self.state.shapes, &mut self.post_step);
+            }
+        }
+        let shape = self.state.shapes.remove(h).ok_or(SpaceError::StaleShape(h))?;
+        self.caches.statics_dirty = true;
+        self.update_mass_from_shapes(shape.body);
+        Ok(shape)
+    }
+
+    /// A body.
+    pub fn body(&self, h: BodyHandle) -> Option<&Body> {
+        self.state.bodies.get(h)
+    }
+
+    /// A body, mutably. Moving a static body this way is noticed: the static
+    /// index is rebuilt on the next step.
+    pub fn body_mut(&mut self, h: BodyHandle) -> Option<&mut Body> {
+        let body = self.state.bodies.get_mut(h)?;
+        if body.body_type() != BodyType::Dynamic {
+            self.caches.statics_dirty = true;
+        }
+        Some(body)
+    }
+
+    /// A shape.
+    pub fn shape(&self, h: ShapeHandle) -> Option<&Shape> {
+        self.state.shapes.get(h)
+    }
+
+    /// Changes a shape through `f` (material, filter, geometry setters),
+    /// then refreshes the owning body's mass. Errors from `f` leave the
+    /// shape unchanged.
+    pub fn modify_shape<R>(
+        &mut self,
+        h: ShapeHandle,
+        f: impl FnOnce(&mut Shape) -> Result<R, ShapeError>,
+    ) -> Result<R, SpaceError> {
+        self.check_unlocked()?;
+        let shape = self.state.shapes.get_mut(h).ok_or(SpaceError::StaleShape(h))?;
+        let mut copy = shape.clone();
+        let out = f(&mut copy)?;
+        let body = copy.body;
+        if !self.state.bodies.contains(body) {
+            return Err(SpaceError::StaleBody(body));
+        }
+        *shape = copy;
+        self.caches.statics_dirty = true;
+        self.update_mass_from_shapes(body);
+        Ok(out)
+    }
+
+    /// MIS `spaceGetBodies`: the bodies in canonical (slot) order.
+    pub fn bodies(&self) -> impl Iterator<Item = (BodyHandle, &Body)> {
+        self.state.bodies.iter()
+    }
+
+    /// The shapes in canonical (slot) order.
+    pub fn shapes(&self) -> impl Iterator<Item = (ShapeHandle, &Shape)> {
+        self.state.shapes.iter()
+    }
+
+    /// The shapes of one body, in slot order.
+    pub fn body_shapes(&self, h: BodyHandle) -> impl Iterator<Item = (ShapeHandle, &Shape)> {
+        self.state.shapes.iter().filter(move |(_, s)| s.body == h)
+    }
+
+    /// The arbiters in canonical order (touching and cached pairs).
+    pub fn arbiters(&self) -> &[Arbiter] {
+        &self.state.arbiters
+    }
+
+    /// MIS `spaceAddCollisionHandler`: the handler for shapes of types
+    /// `(a, b)`, created empty ("do nothing") if needed. Callbacks see the
+    /// arbiter with shape a of type `a`.
+    pub fn add_collision_handler(&mut self, a: CollisionType, b: CollisionType) -> &mut CollisionHandler {
+        self.handlers.pair_mut(a, b)
+    }
+
+    /// Chipmunk `cpSpaceAddWildcardHandler`: called for every pair that has
+    /// a shape of type `t` and no exact pair handler.
+    pub fn add_wildcard_handler(&mut self, t: CollisionType) -> &mut CollisionHandler {
+        self.handlers.wildcard_mut(t)
+    }
+
+    /// Chipmunk `cpSpaceAddPostStepCallback`: runs `f` after the current (or
+    /// next) step, once per `key`; returns false if `key` is already queued.
+    pub fn add_post_step_callback(&mut self, key: u64, f: PostStepFn) -> bool {
+        handlers::queue_post_step(&mut self.post_step, key, f)
+    }
+
+    fn check_unlocked(&self) -> Result<(), SpaceError> {
+        if self.locked {
+            Err(SpaceError::Locked)
+        } else {
+            Ok(())
+        }
+    }
+
+    /// Sums mass, centre of gravity and moment from the body's shapes
+    /// (Chipmunk `cpBodyAccumulateMassFromShapes`), for dynamic bodies whose
+    /// mass was not set explicitly.
+    fn update_mass_from_shapes(&mut self, bh: BodyHandle) {
+        let Some(body) = self.state.bodies.get(bh) else { return };
+        if body.body_type() != BodyType::Dynamic || body.explicit_mass {
+            return;
+        }
+        let mut mass = Real::ZERO;
+        let mut cog = Vect::ZERO;
+        let mut moment = Real::ZERO;
+        for (_, s) in self.state.shapes.iter().filter(|(_, s)| s.body == bh) {
+            let info = s.mass_info();
+            if !info.mass.is_positive() {
+                continue;
+            }
+            let total = mass + info.mass;
+            // Shift the running centre to the combined one (parallel axis).
+            let new_cog = cog.lerp(info.cog, info.mass / total);
+            moment = moment
+                + mass * (cog - new_cog).length_sq()
+                + info.mass * (info.moment_per_mass + (info.cog - new_cog).length_sq());
+            cog = new_cog;
+            mass = total;
+        }
+        if let Some(body) = self.state.bodies.get_mut(bh) {
+            body.set_mass_properties(mass, moment, cog);
+        }
+    }
+
+    /// Per-`dt` constants, recomputed only when `dt` or the settings change.
+    pub(crate) fn dt_constants(&mut self, dt: Real) -> DtConstants {
+        if let Some(c) = self.caches.dt_constants.filter(|c| c.dt == dt) {
+            return c;
+        }
+        let s = &self.state.settings;
+        let c = DtConstants {
+            dt,
+            dt_inv: dt.recip(),
+            damping: exp::pow(s.damping, dt),
+            bias_coef: Real::ONE - exp::pow(s.collision_bias, dt),
+        };
+        self.caches.dt_constants = Some(c);
+        c
+    }
+
+    /// Checks the space's invariants: arenas, shape→body links, arbiter
+    /// order and references. Run by tests after every operation, and by
+    /// snapshot loading.
+    pub fn validate(&self) -> Result<(), String> {
+        validate_state(&self.state)
+    }
+}
+
+/// Checks a [`WorldState`]'s invariants (see [`Space::validate`]).
+pub fn validate_state(state: &WorldState) -> Result<(), String> {
+    state.bodies.validate().map_err(|e| format!("bodies: {e}"))?;
+    state.shapes.validate().map_err(|e| format!("shapes: {e}"))?;
+    for (h, b) in state.bodies.iter() {
+        b.validate().map_err(|e| format!("body {h:?}: {e}"))?;
+    }
+    for (h, s) in state.shapes.iter() {
+        if !state.bodies.contains(s.body) {
+            return Err(format!("shape {h:?} names missing body {:?}", s.body));
+        }
+    }
+    let mut prev: Option<(u32, u32)> = None;
+    for arb in &state.arbiters {
+        let key = arb.key();
+        if key.0 >= key.1 || prev.is_some_and(|p| p >= key) {
+            return Err(format!("arbiter {key:?} out of canonical order"));
+        }
+        prev = Some(key);
+        let (Some(a), Some(b)) = (state.shapes.get(arb.shape_a), state.shapes.get(arb.shape_b)) else {
+            return Err(format!("arbiter {key:?} names a missing shape"));
+        };
+        if a.body != arb.body_a || b.body != arb.body_b {
+            return Err(format!("arbiter {key:?} bodies do not match its shapes"));
+        }
+        if arb.count() != usize::from(arb.count) {
+            return Err(format!("arbiter {key:?} has too many contacts"));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,358 @@
+//! One simulation step (MIS `spaceStep`), in the MIS/Chipmunk order:
+//!
+//! 1. integrate positions with last step's velocities (plus bias velocities);
+//! 2. move shapes into world space and update their bounding boxes;
+//! 3. broadphase: candidate pairs in canonical order;
+//! 4. narrowphase: filter, collide, match arbiters by feature id (warm start),
+//!    run begin / pre-solve handlers;
+//! 5. expire arbiters of pairs that stopped touching (separate handlers);
+//! 6. pre-step: effective masses, bias and bounce (all divisions here);
+//! 7. integrate velocities (gravity, damping, forces);
+//! 8. apply cached impulses (warm start), scaled by `dt / prev_dt`;
+//! 9. solver iterations: bias, normal and friction impulses;
+//! 10. post-solve handlers; 11. post-step callbacks.
+//!
+//! Every loop runs in arena or arbiter order; nothing depends on a hash,
+//! an address or a thread.
+use core::mem;
+
+use crate::arbiter::{Arbiter, ArbiterState};
+use crate::body::BodyType;
+use crate::broadphase::{Proxy, StaticTree};
+use crate::collision::collide;
+use crate::math::Real;
+use crate::solver::{self, ContactParams, SolverBody};
+
+use super::{DtConstants, ShapeCache, Space, SpaceError};
+
+impl Space {
+    /// MIS `spaceStep`: advances the world by `dt`. `dt == 0` does nothing;
+    /// a negative `dt` is an error and changes nothing.
+    pub fn step(&mut self, dt: Real) -> Result<(), SpaceError> {
+        if dt.is_negative() {
+            return Err(SpaceError::NegativeTimeStep);
+        }
+        if dt.is_zero() {
+            return Ok(());
+        }
+        self.check_unlocked()?;
+        self.locked = true;
+        self.state.stamp += 1;
+        self.state.prev_dt = self.state.current_dt;
+        self.state.current_dt = dt;
+        let k = self.dt_constants(dt);
+
+        self.integrate_positions(dt);
+        self.update_shape_caches();
+        self.find_pairs();
+        let mut active = self.collide_pairs();
+        self.load_solver_bodies();
+        self.pre_step(&active, &k);
+        self.integrate_velocities(&k);
+        self.warm_start(&active);
+        for _ in 0..self.state.settings.iterations {
+            self.solve_iteration(&active);
+        }
+        self.store_solver_bodies();
+        self.post_solve(&mut active);
+
+        self.locked = false;
+        self.run_post_step_callbacks();
+        Ok(())
+    }
+
+    /// Stage 1: `p += (v + v_bias)·dt` and the same for the angle.
+    fn integrate_positions(&mut self, dt: Real) {
+        for (_, body) in self.state.bodies.iter_mut() {
+            body.update_position(dt);
+        }
+    }
+
+    /// Stage 2: world-space geometry and bounding box of every shape.
+    fn update_shape_caches(&mut self) {
+        let caches = &mut self.caches.shapes;
+        caches.clear();
+        let bodies = &self.state.bodies;
+        for i in 0..self.state.shapes.capacity_slots() {
+            let entry = self.state.shapes.get_by_index(i as u32).and_then(|(_, s)| {
+                let body = bodies.get(s.body)?;
+                let geometry = s.geometry.to_world(body.position(), body.rotation());
+                Some(ShapeCache { geometry, bb: geometry.bb() })
+            });
+            caches.push(entry);
+        }
+    }
+
+    /// Stage 3: moving shapes are swept, static shapes come from the static
+    /// tree (rebuilt only when statics changed).
+    fn find_pairs(&mut self) {
+        let shapes = &self.state.shapes;
+        let bodies = &self.state.bodies;
+        let is_static = |i: usize| {
+            shapes
+                .get_by_index(i as u32)
+                .and_then(|(_, s)| bodies.get(s.body))
+                .is_some_and(|b| b.body_type() == BodyType::Static)
+        };
+        if self.caches.statics_dirty {
+            let statics: Vec<Proxy> = self
+                .caches
+                .shapes
+                .iter()
+                .enumerate()
+                .filter_map(|(i, c)| c.as_ref().filter(|_| is_static(i)).map(|c| Proxy { index: i as u32, bb: c.bb }))
+                .collect();
+            self.caches.static_tree = StaticTree::build(statics);
+            self.caches.statics_dirty = false;
+        }
+        let proxies = &mut self.caches.proxies;
+        proxies.clear();
+        for (i, c) in self.caches.shapes.iter().enumerate() {
+            if let Some(c) = c.as_ref().filter(|_| !is_static(i)) {
+                proxies.push(Proxy { index: i as u32, bb: c.bb });
+            }
+        }
+        self.caches.broadphase.find_pairs(&self.caches.proxies, &self.caches.static_tree);
+    }
+
+    /// Stages 4–5: narrowphase and arbiter matching. Old and new arbiters
+    /// are both sorted by pair key, so matching is one merge pass; arbiters
+    /// whose pair is not touching are retired on the way (separate handler,
+    /// expiry). Returns the indices of the arbiters to solve this step.
+    fn collide_pairs(&mut self) -> Vec<u32> {
+        let old = mem::take(&mut self.state.arbiters);
+        let mut old = old.into_iter().peekable();
+        let mut arbiters: Vec<Arbiter> = Vec::with_capacity(self.caches.broadphase.pairs.len());
+        let mut active = Vec::new();
+        let stamp = self.state.stamp;
+        let pairs = mem::take(&mut self.caches.broadphase.pairs);
+        for &(ia, ib) in &pairs {
+            // Arbiters of pairs that the broadphase no longer reports.
+            while let Some(arb) = old.next_if(|a| a.key() < (ia, ib)) {
+                arbiters.extend(self.retire(arb));
+            }
+            let existing = old.next_if(|a| a.key() == (ia, ib));
+            let touching = self.narrowphase(ia, ib, existing.as_ref()).and_then(|info| {
+                let (ha, sa) = self.state.shapes.get_by_index(ia)?;
+                let (hb, sb) = self.state.shapes.get_by_index(ib)?;
+                let ca = self.state.bodies.get(sa.body)?.center();
+                let cb = self.state.bodies.get(sb.body)?.center();
+                let mut arb = existing.clone().unwrap_or_else(|| Arbiter::new(ha, sa, hb, sb));
+                arb.update(&info, sa, sb, ca, cb);
+                Some(arb)
+            });
+            let Some(mut arb) = touching else {
+                if let Some(arb) = existing {
+                    arbiters.extend(self.retire(arb));
+                }
+                continue;
+            };
+            if arb.state == ArbiterState::Cached {
+                arb.state = ArbiterState::FirstCollision;
+            }
+            arb.stamp = stamp;
+            if self.run_contact_handlers(&mut arb) {
+                active.push(arbiters.len() as u32);
+            }
+            arbiters.push(arb);
+        }
+        for arb in old {
+            arbiters.extend(self.retire(arb));
+        }
+        self.caches.broadphase.pairs = pairs;
+        self.state.arbiters = arbiters;
+        active
+    }
+
+    /// An arbiter whose shapes did not touch this step: the separate handler
+    /// runs once (it becomes `Cached`), and it is dropped once it has not
+    /// touched for `collision_persistence` steps.
+    fn retire(&mut self, mut arb: Arbiter) -> Option<Arbiter> {
+        if arb.state != ArbiterState::Cached {
+            self.handlers.separate(&mut arb, &self.state.bodies, &self.state.shapes, &mut self.post_step);
+            arb.state = ArbiterState::Cached;
+        }
+        let idle = self.state.stamp.saturating_sub(arb.stamp);
+        (idle < u64::from(self.state.settings.collision_persistence)).then_some(arb)
+    }
+
+    /// Filters a candidate pair and collides it; `None` if rejected or not touching.
+    fn narrowphase(&self, ia: u32, ib: u32, existing: Option<&Arbiter>) -> Option<crate::collision::CollisionInfo> {
+        let (_, sa) = self.state.shapes.get_by_index(ia)?;
+        let (_, sb) = self.state.shapes.get_by_index(ib)?;
+        if sa.body == sb.body || sa.filter.rejects(&sb.filter) || (sa.sensor && sb.sensor) {
+            return None;
+        }
+        let ba = self.state.bodies.get(sa.body)?;
+        let bb = self.state.bodies.get(sb.body)?;
+        if !ba.is_dynamic() && !bb.is_dynamic() {
+            return None;
+        }
+        let ca = self.caches.shapes.get(ia as usize)?.as_ref()?;
+        let cb = self.caches.shapes.get(ib as usize)?.as_ref()?;
+        let info = collide(&ca.geometry, &cb.geometry, existing.map_or(0, |a| a.collision_id));
+        (info.count > 0).then_some(info)
+    }
+
+    /// Begin and pre-solve handlers; true if the arbiter goes to the solver.
+    fn run_contact_handlers(&mut self, arb: &mut Arbiter) -> bool {
+        let (bodies, shapes, q) = (&self.state.bodies, &self.state.shapes, &mut self.post_step);
+        if arb.state == ArbiterState::FirstCollision && !self.handlers.begin(arb, bodies, shapes, q) {
+            arb.state = ArbiterState::Ignore;
+        }
+        if arb.state == ArbiterState::Ignore {
+            return false;
+        }
+        let accept = self.handlers.pre_solve(arb, bodies, shapes, q);
+        accept && !arb.sensor
+    }
+
+    /// Copies velocities and inverse masses into the contiguous solver array
+    /// (indexed by body slot).
+    fn load_solver_bodies(&mut self) {
+        let sb = &mut self.caches.solver_bodies;
+        sb.clear();
+        sb.resize(self.state.bodies.capacity_slots(), SolverBody::default());
+        for (h, body) in self.state.bodies.iter() {
+            if let Some(slot) = sb.get_mut(h.index() as usize) {
+                let dynamic = body.body_type() == BodyType::Dynamic;
+                *slot = SolverBody {
+                    v: body.velocity(),
+                    w: body.angular_velocity(),
+                    v_bias: body.v_bias,
+                    w_bias: body.w_bias,
+                    m_inv: if dynamic { body.mass_inv() } else { Real::ZERO },
+                    i_inv: if dynamic { body.moment_inv() } else { Real::ZERO },
+                };
+            }
+        }
+    }
+
+    /// Stage 6: effective masses, bias and bounce for every active contact.
+    fn pre_step(&mut self, active: &[u32], k: &DtConstants) {
+        let s = &self.state.settings;
+        let params = ContactParams {
+            dt_inv: k.dt_inv,
+            slop: s.collision_slop,
+            bias_coef: k.bias_coef,
+            max_bias: Real::MAX,
+        };
+        let bodies = &self.caches.solver_bodies;
+        for &i in active {
+            let Some(arb) = self.state.arbiters.get_mut(i as usize) else { continue };
+            let (Some(a), Some(b)) =
+                (bodies.get(arb.body_a.index() as usize), bodies.get(arb.body_b.index() as usize))
+            else {
+                continue;
+            };
+            let (n, e) = (arb.normal, arb.restitution);
+            let count = arb.count();
+            for c in arb.contacts.iter_mut().take(count) {
+                solver::pre_step(c, a, b, n, e, &params);
+            }
+        }
+    }
+
+    /// Stage 7: gravity, damping and forces; clears force accumulators.
+    fn integrate_velocities(&mut self, k: &DtConstants) {
+        let g = self.state.settings.gravity;
+        for (h, body) in self.state.bodies.iter_mut() {
+            body.update_velocity(g, k.damping, k.dt);
+            if let Some(slot) = self.caches.solver_bodies.get_mut(h.index() as usize) {
+                slot.v = body.velocity();
+                slot.w = body.angular_velocity();
+            }
+        }
+    }
+
+    /// Stage 8: re-apply last step's accumulated impulses.
+    fn warm_start(&mut self, active: &[u32]) {
+        let prev = self.state.prev_dt;
+        let dt_coef = if prev.is_zero() { Real::ZERO } else { self.state.current_dt / prev };
+        for &i in active {
+            let Some(arb) = self.state.arbiters.get(i as usize) else { continue };
+            let Some((a, b)) = pair_mut(&mut self.caches.solver_bodies, arb.body_a.index(), arb.body_b.index())
+            else {
+                continue;
+            };
+            for c in arb.contacts() {
+                solver::warm_start(c, a, b, arb.normal, dt_coef);
+            }
+        }
+    }
+
+    /// Stage 9: one Gauss–Seidel pass over the active contacts.
+    fn solve_iteration(&mut self, active: &[u32]) {
+        for &i in active {
+            let Some(arb) = self.state.arbiters.get_mut(i as usize) else { continue };
+            let Some((a, b)) = pair_mut(&mut self.caches.solver_bodies, arb.body_a.index(), arb.body_b.index())
+            else {
+                continue;
+            };
+            let (n, u, sv) = (arb.normal, arb.friction, arb.surface_velocity);
+            let count = arb.count();
+            for c in arb.contacts.iter_mut().take(count) {
+                solver::apply_contact_impulse(c, a, b, n, u, sv);
+            }
+        }
+    }
+
+    /// Copies solved velocities back into the bodies.
+    fn store_solver_bodies(&mut self) {
+        for (h, body) in self.state.bodies.iter_mut() {
+            if body.body_type() != BodyType::Dynamic {
+                continue;
+            }
+            if let Some(s) = self.caches.solver_bodies.get(h.index() as usize) {
+                body.v = s.v;
+                body.w = s.w;
+                body.v_bias = s.v_bias;
+                body.w_bias = s.w_bias;
+            }
+        }
+    }
+
+    /// Stage 10: post-solve handlers, then first contacts become normal.
+    fn post_solve(&mut self, active: &mut Vec<u32>) {
+        if !self.handlers.is_empty() {
+            for &i in active.iter() {
+                let Some(arb) = self.state.arbiters.get_mut(i as usize) else { continue };
+                self.handlers.post_solve(arb, &self.state.bodies, &self.state.shapes, &mut self.post_step);
+            }
+        }
+        let stamp = self.state.stamp;
+        for arb in self.state.arbiters.iter_mut() {
+            if arb.stamp == stamp && arb.state == ArbiterState::FirstCollision {
+                arb.state = ArbiterState::Normal;
+            }
+        }
+        active.clear();
+    }
+
+    /// Stage 11: post-step callbacks, in the order they were queued.
+    fn run_post_step_callbacks(&mut self) {
+        // Callbacks may queue more callbacks; those run after this step too.
+        while !self.post_step.is_empty() {
+            let queue = mem::take(&mut self.post_step);
+            for (_, f) in queue {
+                f(self);
+            }
+        }
+    }
+}
+
+/// Two distinct entries of the solver array, mutably.
+fn pair_mut(v: &mut [SolverBody], i: u32, j: u32) -> Option<(&mut SolverBody, &mut SolverBody)> {
+    let (i, j) = (i as usize, j as usize);
+    if i == j {
+        return None;
+    }
+    if i < j {
+        let (lo, hi) = v.split_at_mut(j);
+        Some((lo.get_mut(i)?, hi.first_mut()?))
+    } else {
+        let (lo, hi) = v.split_at_mut(i);
+        let b = lo.get_mut(j)?;
+        Some((hi.first_mut()?, b))
+    }
+}
