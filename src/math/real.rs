@@ -111,7 +111,7 @@ impl Real {
     pub const MAX: Real = Real(i64::MAX);
     /// The smallest value, −2^31.
     pub const MIN: Real = Real(i64::MIN);
-    /// π rounded to nearest.
+    /// π truncated to 32 fractional bits (`fixed`'s constant; 0.52 ulp below π).
     pub const PI: Real = Real(I32F32::PI.to_bits());
     /// 2π rounded to nearest.
     pub const TAU: Real = Real(I32F32::TAU.to_bits());
