@@ -157,8 +157,8 @@ impl Vect {
     }
 
     /// MIS `vectNormalize`: the unit vector along `self`; zero stays zero.
-    /// Divides by the exact 128-bit length, so huge and tiny vectors both
-    /// normalise to within 1 ulp per component.
+    /// The components are scaled up to 62 bits before the 128-bit root, so
+    /// huge and tiny vectors alike normalise to within about 1 ulp per component.
     pub fn normalize(self) -> Vect {
         let (v, _) = self.normalize_with_length();
         v
@@ -166,18 +166,21 @@ impl Vect {
 
     /// `(normalize(self), length(self))` sharing the one square root.
     pub fn normalize_with_length(self) -> (Vect, Real) {
-        let sq = length_sq_wide(self);
-        if sq == 0 {
+        let (x, y) = (self.x.to_bits() as i128, self.y.to_bits() as i128);
+        let mag = x.unsigned_abs().max(y.unsigned_abs());
+        if mag == 0 {
             return (Vect::ZERO, Real::ZERO);
         }
-        // Length in units of 2^-32, kept at 128 bits so no precision is lost.
+        // Scale both components up so the larger has its top bit at bit 62:
+        // direction is scale-free, and the root then has ~31 significant bits
+        // however short the vector is.
+        let shift = mag.leading_zeros().saturating_sub(128 - 63);
+        let (xs, ys) = (x << shift, y << shift);
+        let sq = (xs * xs) as u128 + (ys * ys) as u128;
         let len = sq.isqrt();
-        let scale = |c: Real| -> Real {
-            let n = (c.to_bits() as i128) << FRAC_BITS;
-            Real::from_bits(div_round_wide(n, len))
-        };
-        let len_real = Real::from_bits(i64::try_from(len).unwrap_or(i64::MAX));
-        (Vect::new(scale(self.x), scale(self.y)), len_real)
+        let scale = |c: i128| -> Real { Real::from_bits(div_round_wide(c << FRAC_BITS, len)) };
+        let len_real = Real::from_bits(i64::try_from(len >> shift).unwrap_or(i64::MAX));
+        (Vect::new(scale(xs), scale(ys)), len_real)
     }
 
     /// MIS `vectClamp`: `self` if its length is at most `len`, otherwise
@@ -381,6 +384,9 @@ mod tests {
         assert_eq!(Vect::ZERO.normalize(), Vect::ZERO);
         let tiny = Vect::new(Real::DELTA, Real::ZERO);
         assert_eq!(tiny.normalize(), Vect::X);
+        // A diagonal of 1 ulp: (√½, √½), not (1, 1).
+        let diag = Vect::new(Real::DELTA, Real::DELTA).normalize();
+        assert!((diag.x.to_f64() - 0.5f64.sqrt()).abs() < 1e-9, "{diag:?}");
         let huge = Vect::new(Real::MIN, Real::MIN);
         let n = huge.normalize();
         assert!((n.x.to_f64() + 0.5f64.sqrt()).abs() < 1e-9);

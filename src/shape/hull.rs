@@ -1,1 +1,295 @@
-//! Convex hull (placeholder: being written).
+//! Convex hull of a point set (Chipmunk `cpConvexHull`), used by
+//! `poly_shape_new` to turn arbitrary points into a convex polygon.
+//!
+//! # Method
+//! QuickHull, as Chipmunk does it: start with the chord from the leftmost to
+//! the rightmost point, keep the points outside it, take the farthest one as a
+//! new hull vertex and recurse on the two new chords. Points within
+//! `tolerance` of a chord are dropped, and so are collinear points (a point
+//! must be *strictly* outside a chord to survive).
+//!
+//! Built this way because:
+//! * **Exact orientation.** Every side test is [`orientation`]: the cross
+//!   product of raw `i64` bits on `i128`, with no rounding, so the hull is
+//!   exactly convex and exactly contains every input point (with
+//!   `tolerance = 0`). `Vect::cross` rounds to 2^-32 and would call a sliver
+//!   of area 2^-33 "collinear".
+//! * **Deterministic output.** The hull starts at the point with the smallest
+//!   x (then smallest y), runs counter-clockwise, and ties between equally far
+//!   pivots go to the one nearest the chord's start. The result therefore
+//!   depends only on the *set* of points, not on their order.
+//! * **No recursion.** The recursion runs on an explicit stack, and each point
+//!   goes to at most one sub-problem, so any input size finishes in O(n²)
+//!   worst case (O(n log n) typical) without risk of stack overflow.
+//!
+//! # Range
+//! Orientation is exact while all coordinate differences fit in a `Real`,
+//! i.e. while the points span less than 2^31 on each axis. Wider sets (far
+//! outside the documented envelope) use saturated differences: the result is
+//! still a defined list of input points, but may not be their exact hull.
+use crate::math::{Real, Vect};
+
+/// Raw-bit difference `a − b` (units of 2^-32), saturated to `i64`: exact
+/// while `|a − b| < 2^31`.
+#[inline]
+fn diff(a: Real, b: Real) -> i128 {
+    i128::from(a.to_bits().saturating_sub(b.to_bits()))
+}
+
+/// Exact orientation of the triangle `a, b, c`: `(b − a) × (c − a)` in units
+/// of 2^-64 (twice the signed area). Positive when `c` lies left of `a → b`
+/// (a counter-clockwise turn), negative when right, zero when collinear.
+///
+/// Exact (no rounding) while the coordinate differences are below 2^31 in
+/// magnitude; beyond that the differences saturate. Never overflows: each
+/// product of two `i64` is at most 2^126 in magnitude, so their difference
+/// stays below 2^127.
+#[inline]
+pub fn orientation(a: Vect, b: Vect, c: Vect) -> i128 {
+    let (abx, aby) = (diff(b.x, a.x), diff(b.y, a.y));
+    let (acx, acy) = (diff(c.x, a.x), diff(c.y, a.y));
+    // |products| ≤ 2^126 (see above): the subtraction cannot overflow.
+    (abx * acy).saturating_sub(aby * acx)
+}
+
+/// `tolerance · |b − a|` in units of 2^-64: the orientation value a point
+/// needs to exceed to be more than `tolerance` away from the line `a b`.
+/// `tolerance` is ≥ 0 here.
+fn threshold(a: Vect, b: Vect, tolerance: Real) -> i128 {
+    if tolerance.is_zero() {
+        return 0;
+    }
+    let dx = diff(b.x, a.x).unsigned_abs();
+    let dy = diff(b.y, a.y).unsigned_abs();
+    // dx, dy ≤ 2^63, so dx² + dy² ≤ 2^127 fits u128; the floor root ≤ 2^63.5.
+    let len = (dx * dx + dy * dy).isqrt();
+    let tol = u128::from(tolerance.to_bits().unsigned_abs());
+    // tol < 2^63 and len < 2^64: the product is below 2^127.
+    i128::try_from(tol.saturating_mul(len)).unwrap_or(i128::MAX)
+}
+
+/// The points strictly more than `tolerance` to the right of `a → b` (exact
+/// orientation test; collinear points are not outside).
+fn outside(points: impl Iterator<Item = Vect>, a: Vect, b: Vect, tolerance: Real) -> Vec<Vect> {
+    let limit = threshold(a, b, tolerance);
+    points.filter(|p| orientation(b, a, *p) > limit).collect()
+}
+
+/// The point of `points` farthest right of `a → b`; ties (points on one line
+/// parallel to the chord) go to the one nearest `a` along the chord, so the
+/// choice never depends on the input order.
+fn farthest(a: Vect, b: Vect, points: &[Vect]) -> Option<Vect> {
+    let (dx, dy) = (diff(b.x, a.x), diff(b.y, a.y));
+    // Each product is at most 2^126 in magnitude; the sum saturates.
+    let along = |p: &Vect| (diff(p.x, a.x) * dx).saturating_add(diff(p.y, a.y) * dy);
+    points
+        .iter()
+        .max_by(|p, q| {
+            orientation(b, a, **p)
+                .cmp(&orientation(b, a, **q))
+                .then_with(|| along(q).cmp(&along(p)))
+        })
+        .copied()
+}
+
+/// One unit of the QuickHull work list.
+enum Task {
+    /// Emit the hull vertices strictly between `a` and `b` (exclusive), found
+    /// among `points` (all strictly right of `a → b`).
+    Chain(Vect, Vect, Vec<Vect>),
+    /// Emit one hull vertex.
+    Vertex(Vect),
+}
+
+/// Appends to `hull`, in order, the hull vertices strictly between `a` and
+/// `b` found among `points` (which all lie right of `a → b`).
+fn reduce(a: Vect, b: Vect, points: Vec<Vect>, tolerance: Real, hull: &mut Vec<Vect>) {
+    let mut stack = vec![Task::Chain(a, b, points)];
+    while let Some(task) = stack.pop() {
+        match task {
+            Task::Vertex(v) => hull.push(v),
+            Task::Chain(a, b, points) => {
+                let Some(pivot) = farthest(a, b, &points) else {
+                    continue;
+                };
+                // Each point goes to at most one side, so the work list never
+                // holds more points than the input (even if saturated
+                // orientations were inconsistent). The pivot itself has
+                // orientation 0 against both new chords and is dropped.
+                let left_limit = threshold(a, pivot, tolerance);
+                let right_limit = threshold(pivot, b, tolerance);
+                let mut left = Vec::new();
+                let mut right = Vec::new();
+                for p in points {
+                    if orientation(pivot, a, p) > left_limit {
+                        left.push(p);
+                    } else if orientation(b, pivot, p) > right_limit {
+                        right.push(p);
+                    }
+                }
+                // Popped in reverse: left chain, pivot, right chain.
+                stack.push(Task::Chain(pivot, b, right));
+                stack.push(Task::Vertex(pivot));
+                stack.push(Task::Chain(a, pivot, left));
+            }
+        }
+    }
+}
+
+/// The leftmost (smallest x, then smallest y) and rightmost (largest x, then
+/// largest y) points, or `None` for no points.
+fn extremes(points: &[Vect]) -> Option<(Vect, Vect)> {
+    let key = |p: &&Vect| (p.x, p.y);
+    let first = points.iter().min_by_key(key)?;
+    let last = points.iter().max_by_key(key)?;
+    Some((*first, *last))
+}
+
+/// MIS/Chipmunk `convexHull`: the convex hull of `points`, counter-clockwise,
+/// starting at the point with the smallest x (then smallest y).
+///
+/// Points within `tolerance` of a hull edge (as QuickHull meets them) are
+/// dropped, and so are collinear points and duplicates; a negative
+/// `tolerance` counts as 0. With `tolerance = 0` every input point lies
+/// exactly inside or on the result (see the module docs for the range).
+///
+/// Degenerate inputs give what is meaningful: no points → empty, all points
+/// equal → that one point, all points on one line → its two end points.
+/// The output vertices are always input points.
+pub fn convex_hull(points: &[Vect], tolerance: Real) -> Vec<Vect> {
+    let Some((start, end)) = extremes(points) else {
+        return Vec::new();
+    };
+    if start == end {
+        return vec![start];
+    }
+    let tolerance = tolerance.max(Real::ZERO);
+    // Right of start → end is below the chord: the counter-clockwise way
+    // from the leftmost point runs along the bottom first.
+    let below = outside(points.iter().copied(), start, end, tolerance);
+    let above = outside(points.iter().copied(), end, start, tolerance);
+    let mut hull = vec![start];
+    reduce(start, end, below, tolerance, &mut hull);
+    hull.push(end);
+    reduce(end, start, above, tolerance, &mut hull);
+    hull
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::real;
+
+    fn v(x: i32, y: i32) -> Vect {
+        Vect::from_ints(x, y)
+    }
+
+    #[test]
+    fn hull_square_with_interior_and_duplicates_is_the_corners_ccw() {
+        let pts = [
+            v(1, 1),
+            v(0, 0),
+            v(2, 0),
+            v(2, 2),
+            v(0, 2),
+            v(1, 1),
+            v(2, 2),
+            v(0, 0),
+            v(1, 0), // on an edge: collinear, dropped
+            v(0, 1),
+        ];
+        assert_eq!(
+            convex_hull(&pts, Real::ZERO),
+            vec![v(0, 0), v(2, 0), v(2, 2), v(0, 2)]
+        );
+    }
+
+    #[test]
+    fn hull_degenerate_inputs_give_zero_one_or_two_points() {
+        assert!(convex_hull(&[], Real::ZERO).is_empty());
+        assert_eq!(convex_hull(&[v(3, 4)], Real::ZERO), vec![v(3, 4)]);
+        assert_eq!(convex_hull(&[v(3, 4), v(3, 4)], Real::ZERO), vec![v(3, 4)]);
+        let line = [v(2, 2), v(0, 0), v(1, 1), v(3, 3), v(-1, -1)];
+        assert_eq!(convex_hull(&line, Real::ZERO), vec![v(-1, -1), v(3, 3)]);
+        // Vertical line: start is the lowest point.
+        let vertical = [v(0, 5), v(0, -2), v(0, 1)];
+        assert_eq!(convex_hull(&vertical, Real::ZERO), vec![v(0, -2), v(0, 5)]);
+    }
+
+    #[test]
+    fn hull_starts_at_smallest_x_then_smallest_y() {
+        let pts = [v(0, 3), v(5, 0), v(0, -1), v(5, 4)];
+        assert_eq!(
+            convex_hull(&pts, Real::ZERO),
+            vec![v(0, -1), v(5, 0), v(5, 4), v(0, 3)]
+        );
+    }
+
+    #[test]
+    fn hull_tolerance_drops_nearly_collinear_points() {
+        // (1, -0.01) is 0.01 outside the bottom edge.
+        let pts = [
+            v(0, 0),
+            Vect::new(Real::ONE, real!(-0.01)),
+            v(2, 0),
+            v(1, 2),
+        ];
+        assert_eq!(convex_hull(&pts, Real::ZERO).len(), 4);
+        assert_eq!(
+            convex_hull(&pts, real!(0.02)),
+            vec![v(0, 0), v(2, 0), v(1, 2)]
+        );
+        // Negative tolerance counts as zero.
+        assert_eq!(convex_hull(&pts, -Real::ONE).len(), 4);
+    }
+
+    #[test]
+    fn orientation_is_exact_below_one_ulp_of_cross() {
+        // Area 2^-64: Vect::cross would round it to zero.
+        let a = Vect::ZERO;
+        let b = Vect::new(Real::DELTA, Real::ZERO);
+        let c = Vect::new(Real::ZERO, Real::DELTA);
+        assert_eq!(orientation(a, b, c), 1);
+        assert_eq!(orientation(a, c, b), -1);
+        assert_eq!((b - a).cross(c - a), Real::ZERO);
+        // Extreme magnitudes do not overflow.
+        let big = Vect::new(Real::MAX, Real::MAX);
+        let low = Vect::new(Real::MIN, Real::MIN);
+        assert_eq!(orientation(low, big, big), 0);
+    }
+
+    #[test]
+    fn hull_extreme_coordinates_do_not_panic() {
+        let (lo, hi) = (Real::MIN, Real::MAX);
+        let pts = [
+            Vect::new(lo, lo),
+            Vect::new(hi, lo),
+            Vect::new(hi, hi),
+            Vect::new(lo, hi),
+            Vect::new(lo, lo),
+            Vect::ZERO,
+            Vect::new(hi, Real::ZERO),
+        ];
+        for tol in [Real::ZERO, Real::ONE, Real::MAX] {
+            let h = convex_hull(&pts, tol);
+            assert!(!h.is_empty() && h.len() <= pts.len());
+            assert!(h.iter().all(|p| pts.contains(p)));
+        }
+    }
+
+    #[test]
+    fn hull_independent_of_input_order() {
+        let pts = [
+            v(0, 0),
+            v(4, 0),
+            v(4, 4),
+            v(0, 4),
+            v(2, 5),
+            v(2, -1),
+            v(1, 1),
+        ];
+        let mut rev = pts;
+        rev.reverse();
+        assert_eq!(convex_hull(&pts, Real::ZERO), convex_hull(&rev, Real::ZERO));
+    }
+}
