@@ -77,7 +77,7 @@ impl<T> core::fmt::Debug for Handle<T> {
 }
 
 /// One arena slot.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct Slot<T> {
     generation: u32,
     value: Option<T>,
@@ -97,6 +97,22 @@ pub struct Arena<T> {
     /// Free slot indices; the last one is reused first.
     free: Vec<u32>,
     len: u32,
+}
+
+/// Hashes value by value: `Hash` for a `[u32]` slice would feed the hasher
+/// native-endian bytes, which differ between platforms.
+impl<T: core::hash::Hash> core::hash::Hash for Arena<T> {
+    fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
+        h.write_u64(self.slots.len() as u64);
+        for slot in &self.slots {
+            slot.hash(h);
+        }
+        h.write_u64(self.free.len() as u64);
+        for &i in &self.free {
+            h.write_u32(i);
+        }
+        h.write_u32(self.len);
+    }
 }
 
 impl<T> Default for Arena<T> {

@@ -5,6 +5,7 @@
 pub mod arena;
 pub mod body;
 pub mod broadphase;
+pub mod checksum;
 pub mod math;
 pub mod shape;
 pub mod solver;

@@ -126,7 +126,7 @@ impl From<ShapeError> for SpaceError {
 }
 
 /// Everything that affects future steps: what a snapshot holds.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct WorldState {
     /// Settings.
     pub settings: Settings,
@@ -488,6 +488,13 @@ impl Space {
         };
         self.caches.dt_constants = Some(c);
         c
+    }
+
+    /// A portable 64-bit checksum of the whole simulation state (see
+    /// [`checksum`](crate::checksum)); equal states give equal checksums on
+    /// every platform.
+    pub fn checksum(&self) -> u64 {
+        crate::checksum::checksum_of(&self.state)
     }
 
     /// Checks the space's invariants: arenas, shape→body links, arbiter

@@ -1,0 +1,119 @@
+//! A cheap, portable 64-bit checksum of the simulation state, for desync
+//! detection every frame.
+//!
+//! The state types derive `Hash`; [`WordHasher`] consumes the integers that
+//! `Hash` feeds it **as integer values**, one 64-bit word at a time (never as
+//! bytes in memory order, never with `usize` width), so the digest is the
+//! same on 32- and 64-bit, little- and big-endian targets. The mixing is a
+//! multiply–xorshift in the style of FxHash/SplitMix: not cryptographic, but
+//! every bit of every word reaches the result.
+//!
+//! Caveat for state types: `Hash` for slices of primitive integers
+//! (`[u32]`, `[i64]`) writes native-endian *bytes*; state types hash such
+//! slices element by element instead (see `Arena`'s `Hash`).
+use core::hash::{Hash, Hasher};
+
+/// Deterministic word-at-a-time hasher (see the module docs).
+#[derive(Clone, Copy, Debug)]
+pub struct WordHasher {
+    state: u64,
+}
+
+impl Default for WordHasher {
+    fn default() -> Self {
+        WordHasher { state: 0x243F_6A88_85A3_08D3 } // π's fraction bits: any odd seed works
+    }
+}
+
+impl WordHasher {
+    #[inline(always)]
+    fn word(&mut self, w: u64) {
+        let x = (self.state ^ w).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        self.state = x ^ (x >> 29);
+    }
+}
+
+impl Hasher for WordHasher {
+    fn finish(&self) -> u64 {
+        // Final avalanche (SplitMix64's finaliser).
+        let mut z = self.state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        // Only strings reach this path; bytes are order-defined already.
+        for chunk in bytes.chunks(8) {
+            let mut w = [0u8; 8];
+            for (d, s) in w.iter_mut().zip(chunk) {
+                *d = *s;
+            }
+            self.word(u64::from_le_bytes(w));
+        }
+        self.word(bytes.len() as u64);
+    }
+    fn write_u8(&mut self, v: u8) {
+        self.word(u64::from(v));
+    }
+    fn write_u16(&mut self, v: u16) {
+        self.word(u64::from(v));
+    }
+    fn write_u32(&mut self, v: u32) {
+        self.word(u64::from(v));
+    }
+    fn write_u64(&mut self, v: u64) {
+        self.word(v);
+    }
+    fn write_u128(&mut self, v: u128) {
+        self.word(v as u64);
+        self.word((v >> 64) as u64);
+    }
+    fn write_usize(&mut self, v: usize) {
+        self.word(v as u64);
+    }
+    fn write_i8(&mut self, v: i8) {
+        self.word(v as i64 as u64);
+    }
+    fn write_i16(&mut self, v: i16) {
+        self.word(v as i64 as u64);
+    }
+    fn write_i32(&mut self, v: i32) {
+        self.word(v as i64 as u64);
+    }
+    fn write_i64(&mut self, v: i64) {
+        self.word(v as u64);
+    }
+    fn write_i128(&mut self, v: i128) {
+        self.write_u128(v as u128);
+    }
+    fn write_isize(&mut self, v: isize) {
+        self.word(v as i64 as u64);
+    }
+}
+
+/// The checksum of any `Hash` value under [`WordHasher`].
+pub fn checksum_of<T: Hash + ?Sized>(value: &T) -> u64 {
+    let mut h = WordHasher::default();
+    value.hash(&mut h);
+    h.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn usize_and_u64_hash_alike_so_32_and_64_bit_agree() {
+        let mut a = WordHasher::default();
+        a.write_usize(7);
+        let mut b = WordHasher::default();
+        b.write_u64(7);
+        assert_eq!(a.finish(), b.finish());
+    }
+
+    #[test]
+    fn order_and_value_change_the_digest() {
+        assert_ne!(checksum_of(&(1i64, 2i64)), checksum_of(&(2i64, 1i64)));
+        assert_ne!(checksum_of(&1i64), checksum_of(&2i64));
+    }
+}
