@@ -2,12 +2,15 @@
 #![forbid(unsafe_code)]
 #![cfg_attr(not(test), deny(clippy::float_arithmetic))]
 
+pub mod arbiter;
 pub mod arena;
 pub mod body;
 pub mod broadphase;
 pub mod checksum;
+pub mod collision;
 pub mod math;
 pub mod shape;
 pub mod solver;
+pub mod space;
 
 pub use math::{Real, RealError, Rot, Transform, Vect, BB};
