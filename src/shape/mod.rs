@@ -13,6 +13,7 @@ pub mod geometry;
 pub mod hull;
 pub mod mass;
 pub mod poly;
+pub mod query;
 
 use core::fmt;
 

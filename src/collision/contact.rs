@@ -1,0 +1,272 @@
+//! Closest points on an edge of the Minkowski difference, and contact points
+//! from two support edges (MIS `closestT`, `lerpT`, `closestPointsNew`,
+//! `ClosestPoints`, `contactPoints`).
+//!
+//! An edge of `B − A` is parameterised as `p(t) = (v0(1 − t) + v1(1 + t)) / 2`
+//! with `t ∈ [−1, 1]` (the MIS form: the midpoint is `t = 0`, the ends are
+//! exactly `v0` and `v1`). The same `t` applied to the A and B support points
+//! gives the closest points on each shape.
+//!
+//! Contact points come from clipping: the support edge of A along the normal
+//! and the support edge of B against it are projected on the tangent axis, and
+//! each end of their common interval gives one contact pair (so at most two).
+//! This is Chipmunk's manifold construction, which keeps the feature ids of
+//! the edge endpoints so contacts can be matched from step to step.
+//!
+//! Cost: `closest_points_new` does one 128-bit division and one 128-bit square
+//! root, `contact_points` at most eight `mul_div`s; GJK and EPA call them once per pair.
+use super::wide;
+use super::{CollisionId, CollisionInfo, Edge, MinkowskiPoint};
+use crate::math::{Real, Vect};
+
+/// Closest points between two shape cores (MIS `ClosestPoints`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ClosestPoints {
+    /// Point on A's core.
+    pub a: Vect,
+    /// Point on B's core.
+    pub b: Vect,
+    /// Unit normal from A toward B: the direction to move B to separate the
+    /// shapes (or to bring them closer, when `d > 0`).
+    pub n: Vect,
+    /// Signed core distance along `n`: positive when the cores are apart,
+    /// negative (minus the penetration depth) when they overlap.
+    pub d: Real,
+    /// Warm-start id: the vertex indices of the edge's two Minkowski points,
+    /// `(v0.id & 0xFFFF) << 16 | (v1.id & 0xFFFF)`.
+    pub id: CollisionId,
+    /// True if GJK or EPA stopped at its iteration cap (the answer is the best
+    /// found so far).
+    pub hit_iteration_cap: bool,
+}
+
+/// MIS `closestT`: the `t ∈ [−1, 1]` of the point of segment `a b` closest to
+/// the origin. With `δ = b − a`, `|p(t)|²` is least at
+/// `t = −δ·(a + b) / |δ|²`; clamped to the segment. A zero-length segment
+/// gives 0. One rounding (exact 128-bit numerator and denominator).
+#[inline]
+pub fn closest_t(a: Vect, b: Vect) -> Real {
+    let delta = b - a;
+    let num = wide::dot(delta, a + b);
+    wide::unit_ratio(num.saturating_neg(), wide::len_sq(delta))
+}
+
+/// MIS `lerpT`: `p(t) = a(1 − t)/2 + b(1 + t)/2` with `t` clamped to
+/// `[−1, 1]`. Each component is rounded once; the weights sum to exactly 1,
+/// so `t = ±1` gives exactly `a` or `b`, and `a == b` gives exactly `a`.
+#[inline]
+pub fn lerp_t(a: Vect, b: Vect, t: Real) -> Vect {
+    let t = t.clamp(-Real::ONE, Real::ONE);
+    let ht = t * Real::HALF;
+    let (wa, wb) = (Real::HALF - ht, Real::HALF + ht);
+    Vect::new(
+        Real::mul_add2(a.x, wa, b.x, wb),
+        Real::mul_add2(a.y, wa, b.y, wb),
+    )
+}
+
+/// Packs two Minkowski ids into a warm-start id.
+#[inline]
+pub(crate) fn pack_id(v0: &MinkowskiPoint, v1: &MinkowskiPoint) -> CollisionId {
+    ((v0.id & 0xFFFF) << 16) | (v1.id & 0xFFFF)
+}
+
+/// MIS `closestPointsNew`: closest points for the edge `v0 → v1` of the
+/// Minkowski difference, which GJK orients with the origin on its left (EPA
+/// passes its closest hull edge reversed, so the same holds).
+///
+/// The normal is the edge normal `rperp(v1 − v0)` when the closest point is
+/// inside the edge or the origin is on or behind the edge line (overlap); the
+/// distance is then `n · p`. At a vertex of a separated pair the normal is
+/// `p / |p|` and the distance `|p|`: the separating axis of two corners is not
+/// an edge normal. If both `v1 − v0` and `p` are zero, `n` is `(1, 0)` (callers
+/// with more context may replace it).
+pub fn closest_points_new(v0: &MinkowskiPoint, v1: &MinkowskiPoint) -> ClosestPoints {
+    let t = closest_t(v0.ab, v1.ab);
+    let p = lerp_t(v0.ab, v1.ab, t);
+    let a = lerp_t(v0.a, v1.a, t);
+    let b = lerp_t(v0.b, v1.b, t);
+    let id = pack_id(v0, v1);
+    let edge_normal = (v1.ab - v0.ab).rperp();
+    let interior = t > -Real::ONE && t < Real::ONE;
+    let use_edge = edge_normal != Vect::ZERO && (interior || wide::dot(edge_normal, p) <= 0);
+    let (n, d) = if use_edge {
+        let n = wide::unit_or(edge_normal, Vect::X);
+        (n, n.dot(p))
+    } else {
+        wide::normalize(p).unwrap_or((Vect::X, Real::ZERO))
+    };
+    ClosestPoints {
+        a,
+        b,
+        n,
+        d,
+        id,
+        hit_iteration_cap: false,
+    }
+}
+
+/// Feature id of a contact between feature `fa` of A and `fb` of B.
+#[inline]
+pub(crate) fn contact_id(fa: u32, fb: u32) -> u32 {
+    ((fa & 0xFFFF) << 16) | (fb & 0xFFFF)
+}
+
+/// The point of edge `a → b` whose tangent coordinate is `s`, clamped to the
+/// edge (`sa`, `sb` are the coordinates of `a` and `b`). Each component is
+/// `a + (b − a)·(s − sa)/(sb − sa)` rounded once (`mul_div`), and the clamped
+/// ends are exactly `a` or `b`. An edge parallel to the normal (zero extent
+/// along the tangent) gives its endpoint furthest along `toward`, the side
+/// facing the other shape.
+#[inline]
+fn point_on_edge(a: Vect, b: Vect, (sa, sb): (Real, Real), s: Real, toward: Vect) -> Vect {
+    let (num, den) = (s - sa, sb - sa);
+    if den.is_zero() {
+        if wide::dot(b - a, toward) > 0 {
+            b
+        } else {
+            a
+        }
+    } else if num.is_zero() || num.is_negative() != den.is_negative() {
+        a
+    } else if num.abs() >= den.abs() {
+        b
+    } else {
+        let d = b - a;
+        a + Vect::new(d.x.mul_div(num, den), d.y.mul_div(num, den))
+    }
+}
+
+/// MIS `contactPoints`: if the shapes touch (`points.d ≤ r₁ + r₂`), sets the
+/// normal and pushes up to two contacts found by clipping the support edge
+/// `e1` of A (facing `n`) against the support edge `e2` of B (facing `−n`).
+///
+/// Derivation. Let `s(p) = p × n`, the coordinate of `p` along `rperp(n)`.
+/// Both edges run counter-clockwise around their shape, so `e1` runs in
+/// decreasing `s` and `e2` in increasing `s`; their overlap is
+/// `[max(s(e1.b), s(e2.a)), min(s(e1.a), s(e2.b))]`. At the upper end the pair
+/// is (e1 at `s(e2.b)`, e2 at `s(e1.a)`), at the lower end (e1 at `s(e2.a)`,
+/// e2 at `s(e1.b)`), each clamped onto its edge, so disjoint projections still
+/// give the nearest endpoints (an edge parallel to `n` contributes its end
+/// nearest the other shape). Each point is moved out by its radius along
+/// `±n`; a pair is a contact if its separation `(p2 − p1)·n ≤ 0`. A second pair
+/// identical to the first (corner against corner) is dropped.
+pub fn contact_points(e1: &Edge, e2: &Edge, points: &ClosestPoints, info: &mut CollisionInfo) {
+    let min_dist = e1.radius + e2.radius;
+    if points.d > min_dist {
+        return;
+    }
+    let n = points.n;
+    info.normal = n;
+    let (s1a, s1b) = (e1.a.p.cross(n), e1.b.p.cross(n));
+    let (s2a, s2b) = (e2.a.p.cross(n), e2.b.p.cross(n));
+    let (out1, out2) = (n.mult(e1.radius), n.mult(e2.radius));
+    let ends = [
+        (s2b, s1a, contact_id(e1.a.index, e2.b.index)),
+        (s2a, s1b, contact_id(e1.b.index, e2.a.index)),
+    ];
+    let mut first: Option<(Vect, Vect)> = None;
+    for (s_on_1, s_on_2, id) in ends {
+        let p1 = point_on_edge(e1.a.p, e1.b.p, (s1a, s1b), s_on_1, n) + out1;
+        let p2 = point_on_edge(e2.a.p, e2.b.p, (s2a, s2b), s_on_2, -n) - out2;
+        let dist = (p2 - p1).dot(n);
+        if dist <= Real::ZERO && first != Some((p1, p2)) {
+            info.push_contact(p1, p2, dist, id);
+            first = Some((p1, p2));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::collision::{EdgePoint, SupportPoint};
+    use crate::real;
+
+    fn mp(a: Vect, b: Vect, ia: u32, ib: u32) -> MinkowskiPoint {
+        MinkowskiPoint::new(
+            SupportPoint { p: a, index: ia },
+            SupportPoint { p: b, index: ib },
+        )
+    }
+
+    #[test]
+    fn closest_t_and_lerp_t_hit_ends_exactly() {
+        let a = Vect::from_ints(-3, 2);
+        let b = Vect::from_ints(5, 2);
+        let t = closest_t(a, b);
+        // Closest point (0, 2): t = (0 − (−3))/8·2 − 1 = −0.25.
+        assert_eq!(t, real!(-0.25));
+        assert_eq!(lerp_t(a, b, t), Vect::from_ints(0, 2));
+        assert_eq!(lerp_t(a, b, -Real::ONE), a);
+        assert_eq!(lerp_t(a, b, Real::ONE), b);
+        assert_eq!(lerp_t(a, a, real!(0.3)), a);
+        assert_eq!(
+            closest_t(Vect::from_ints(1, 0), Vect::from_ints(2, 0)),
+            -Real::ONE
+        );
+        assert_eq!(closest_t(a, a), Real::ZERO);
+    }
+
+    #[test]
+    fn closest_points_new_edge_and_vertex_cases() {
+        // Edge of B − A at y = 2 from x = 3 to x = −3 (origin on the left).
+        let v0 = mp(Vect::ZERO, Vect::from_ints(3, 2), 0, 0);
+        let v1 = mp(Vect::ZERO, Vect::from_ints(-3, 2), 0, 1);
+        let c = closest_points_new(&v0, &v1);
+        assert_eq!((c.n, c.d), (Vect::Y, Real::TWO));
+        assert_eq!(c.b, Vect::from_ints(0, 2));
+        assert_eq!(c.id, 1);
+        // Vertex case: closest point (3, 4), normal along it.
+        let v0 = mp(Vect::ZERO, Vect::from_ints(3, 4), 0, 0);
+        let v1 = mp(Vect::ZERO, Vect::from_ints(3, 9), 0, 1);
+        let c = closest_points_new(&v0, &v1);
+        assert_eq!(c.d, Real::from_int(5));
+        assert_eq!(c.b, Vect::from_ints(3, 4));
+    }
+
+    #[test]
+    fn contact_points_clip_two_overlapping_edges() {
+        // A's top edge (y = 0, from x = 2 to x = −2), B's bottom edge
+        // (y = −0.5, from x = −1 to x = 1): B sinks 0.5 into A.
+        let e1 = Edge {
+            a: EdgePoint {
+                p: Vect::from_ints(2, 0),
+                index: 1,
+            },
+            b: EdgePoint {
+                p: Vect::from_ints(-2, 0),
+                index: 2,
+            },
+            radius: Real::ZERO,
+            normal: Vect::Y,
+        };
+        let e2 = Edge {
+            a: EdgePoint {
+                p: Vect::new(-Real::ONE, -Real::HALF),
+                index: 3,
+            },
+            b: EdgePoint {
+                p: Vect::new(Real::ONE, -Real::HALF),
+                index: 0,
+            },
+            radius: Real::ZERO,
+            normal: -Vect::Y,
+        };
+        let pts = ClosestPoints {
+            n: Vect::Y,
+            d: -Real::HALF,
+            ..ClosestPoints::default()
+        };
+        let mut info = CollisionInfo::new(0);
+        contact_points(&e1, &e2, &pts, &mut info);
+        assert_eq!(info.count, 2);
+        let c = info.contacts();
+        assert_eq!(c[0].point_a, Vect::from_ints(1, 0));
+        assert_eq!(c[0].point_b, Vect::new(Real::ONE, -Real::HALF));
+        assert_eq!(c[0].distance, -Real::HALF);
+        assert_eq!(c[0].id, 1 << 16);
+        assert_eq!(c[1].point_a, Vect::from_ints(-1, 0));
+        assert_eq!(c[1].id, (2 << 16) | 3);
+    }
+}

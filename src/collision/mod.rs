@@ -1,0 +1,445 @@
+//! The MIS Collision Solver (§10), narrow phase: contacts between two shapes.
+//!
+//! [`collide`] takes two world-space geometries and returns a
+//! [`CollisionInfo`]: a unit normal from `a` toward `b` and up to
+//! [`MAX_CONTACTS_PER_ARBITER`] contacts, each a pair of surface points with
+//! their signed separation and a feature id that stays the same while the
+//! same features touch (so the solver can warm-start from last step's
+//! impulses). [`shapes_collide`] is the MIS/Chipmunk convenience form.
+//!
+//! Pipeline, and why:
+//! 1. **Order the pair.** The pair functions exist for circle < segment <
+//!    poly; a pair in the other order is swapped and the answer swapped back.
+//!    Two shapes of the same kind are ordered by their coordinates, so
+//!    `collide(b, a)` runs exactly the computation of `collide(a, b)` and its
+//!    answer is the exact mirror (normal negated bit for bit).
+//! 2. **Move next to the origin.** Both shapes are translated by minus the
+//!    first shape's anchor (centre, endpoint `a` or vertex 0) before any
+//!    product is formed, and the contact points are translated back at the
+//!    end. Fixed-point addition is exact, so translating a scene moves every
+//!    contact point by exactly the same vector and leaves normals, distances
+//!    and ids bit-identical; the products also stay small (no saturation far
+//!    from the origin, where `x²` would overflow past 46,340).
+//! 3. **Dispatch** on the kinds with an exhaustive `match` to one of the six
+//!    pair functions ([`pairs`]): closed forms for circle–circle and
+//!    circle–segment, GJK ([`gjk`]) with EPA ([`epa`]) and edge clipping
+//!    ([`contact_points`]) for the rest.
+//!
+//! Nothing here panics, allocates or loops without a bound; GJK and EPA stop
+//! at [`WARN_GJK_ITERATIONS`] / [`WARN_EPA_ITERATIONS`] and report it in
+//! [`CollisionInfo::hit_iteration_cap`].
+mod contact;
+mod epa;
+mod gjk;
+mod pairs;
+mod support;
+mod wide;
+
+use core::cmp::Ordering;
+
+use serde::{Deserialize, Serialize};
+
+pub use contact::{closest_points_new, closest_t, contact_points, lerp_t, ClosestPoints};
+pub use epa::epa;
+pub use gjk::gjk;
+pub use pairs::{
+    circle_to_circle, circle_to_poly, circle_to_segment, poly_to_poly, segment_to_poly,
+    segment_to_segment,
+};
+pub use support::{
+    circle_support_point, poly_support_index, poly_support_point, segment_support_point, support,
+    support_edge_for_poly, support_edge_for_segment, Edge, EdgePoint, MinkowskiPoint,
+    SupportContext, SupportPoint, SupportShape,
+};
+
+use crate::math::{Real, Vect};
+use crate::shape::{Circle, Geometry, Poly, Segment};
+
+/// Contacts one pair can produce (Chipmunk `CP_MAX_CONTACTS_PER_ARBITER`).
+pub const MAX_CONTACTS_PER_ARBITER: usize = 2;
+
+/// GJK iteration cap (MIS `WARN_GJK_ITERATIONS`). Two polygons of at most 8
+/// vertices have a Minkowski difference of at most 16 vertices, and GJK on
+/// exact predicates visits each edge at most once, so 30 is never reached in
+/// practice; Chipmunk uses the same number as its hard limit.
+pub const WARN_GJK_ITERATIONS: u32 = 30;
+
+/// EPA iteration cap (MIS `WARN_EPA_ITERATIONS`); the same reasoning as GJK.
+pub const WARN_EPA_ITERATIONS: u32 = 30;
+
+/// GJK warm-start cache (MIS `CollisionID`): the vertex indices of the last
+/// closest edge of the Minkowski difference, one byte each,
+/// `a₀ << 24 | b₀ << 16 | a₁ << 8 | b₁` (indices on shape `a` and `b` of the
+/// caller). 0 means "no cache". Store the id a [`collide`] call returns and
+/// pass it to the next call for the same pair; any value is safe (an id that
+/// names missing vertices is ignored).
+pub type CollisionId = u32;
+
+/// One contact: a pair of points on the two surfaces.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct Contact {
+    /// World-space point on the surface of `a` (rounding radius included).
+    pub point_a: Vect,
+    /// World-space point on the surface of `b`.
+    pub point_b: Vect,
+    /// Signed separation `(point_b − point_a) · normal`: negative when the
+    /// shapes overlap (Chipmunk's convention), 0 when they just touch.
+    pub distance: Real,
+    /// Feature id, `(feature on a) << 16 | (feature on b)`, where a feature is
+    /// a vertex / endpoint index (0 for a circle). The same touching features
+    /// keep the same id from step to step.
+    pub id: u32,
+}
+
+/// The result of [`collide`] (MIS `CollisionInfo`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct CollisionInfo {
+    /// Unit normal from `a` toward `b` (zero when `count == 0`).
+    pub normal: Vect,
+    /// Number of valid entries of `contacts` (≤ [`MAX_CONTACTS_PER_ARBITER`]).
+    pub count: usize,
+    /// The contacts; entries past `count` are zero.
+    pub contacts: [Contact; MAX_CONTACTS_PER_ARBITER],
+    /// Warm-start id for the next call on this pair.
+    pub id: CollisionId,
+    /// True if GJK or EPA stopped at its iteration cap; the answer is then
+    /// the best found, not necessarily the exact one.
+    pub hit_iteration_cap: bool,
+}
+
+impl CollisionInfo {
+    /// An empty info carrying the warm-start id `id`.
+    pub fn new(id: CollisionId) -> CollisionInfo {
+        CollisionInfo {
+            id,
+            ..CollisionInfo::default()
+        }
+    }
+
+    /// The valid contacts.
+    pub fn contacts(&self) -> &[Contact] {
+        self.contacts.get(..self.count).unwrap_or(&[])
+    }
+
+    /// MIS `collisionInfoPushContact`. A third contact cannot be produced by
+    /// the pair functions; it would be ignored rather than overflow.
+    pub fn push_contact(&mut self, point_a: Vect, point_b: Vect, distance: Real, id: u32) {
+        if let Some(slot) = self.contacts.get_mut(self.count) {
+            *slot = Contact {
+                point_a,
+                point_b,
+                distance,
+                id,
+            };
+            self.count += 1;
+        }
+    }
+
+    /// Moves every contact point by `offset`.
+    fn translate(&mut self, offset: Vect) {
+        for c in self.contacts.iter_mut().take(self.count) {
+            c.point_a += offset;
+            c.point_b += offset;
+        }
+    }
+
+    /// The same collision seen from the other shape: normal negated, points
+    /// and feature-id halves swapped, warm-start id converted.
+    fn mirrored(mut self) -> CollisionInfo {
+        self.normal = -self.normal;
+        for c in self.contacts.iter_mut().take(self.count) {
+            core::mem::swap(&mut c.point_a, &mut c.point_b);
+            c.id = c.id.rotate_left(16);
+        }
+        self.id = swap_id_shapes(self.id);
+        self
+    }
+}
+
+/// A warm-start id with the roles of the two shapes exchanged (the A and B
+/// bytes of each Minkowski point swap places).
+#[inline]
+fn swap_id_shapes(id: CollisionId) -> CollisionId {
+    ((id & 0x00FF_00FF) << 8) | ((id >> 8) & 0x00FF_00FF)
+}
+
+/// One point pair of a [`ContactPointSet`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct ContactPoint {
+    /// Point on the surface of `a`.
+    pub point_a: Vect,
+    /// Point on the surface of `b`.
+    pub point_b: Vect,
+    /// Signed separation along the normal (negative when overlapping).
+    pub distance: Real,
+}
+
+/// Contacts between two shapes without ids (MIS/Chipmunk `ContactPointSet`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct ContactPointSet {
+    /// Number of valid points.
+    pub count: usize,
+    /// Unit normal from `a` toward `b` (zero when `count == 0`).
+    pub normal: Vect,
+    /// The points; entries past `count` are zero.
+    pub points: [ContactPoint; MAX_CONTACTS_PER_ARBITER],
+}
+
+/// MIS `shapesCollide`: the contacts of two world-space geometries.
+pub fn shapes_collide(a: &Geometry, b: &Geometry) -> ContactPointSet {
+    let info = collide(a, b, 0);
+    let mut set = ContactPointSet {
+        count: info.count,
+        normal: info.normal,
+        ..ContactPointSet::default()
+    };
+    for (dst, src) in set.points.iter_mut().zip(info.contacts()) {
+        *dst = ContactPoint {
+            point_a: src.point_a,
+            point_b: src.point_b,
+            distance: src.distance,
+        };
+    }
+    set
+}
+
+/// MIS `collide`: contacts between two world-space geometries, in the
+/// caller's order (`normal` from `a` toward `b`). `id` is the warm-start id
+/// the previous call on this pair returned, or 0.
+pub fn collide(a: &Geometry, b: &Geometry, id: CollisionId) -> CollisionInfo {
+    let swap = comes_after(a, b);
+    let (first, second) = if swap { (b, a) } else { (a, b) };
+    let id = if swap { swap_id_shapes(id) } else { id };
+    let anchor = anchor_of(first);
+    let (first, second) = (moved(first, anchor), moved(second, anchor));
+    let mut info = CollisionInfo::new(id);
+    if !is_empty(&first) && !is_empty(&second) {
+        dispatch(&first, &second, &mut info);
+    }
+    info.translate(anchor);
+    if info.count == 0 {
+        info.normal = Vect::ZERO;
+    }
+    if swap {
+        info.mirrored()
+    } else {
+        info
+    }
+}
+
+/// Runs the pair function for `(a, b)`; pairs out of kind order (which
+/// `collide` never passes) are handled by mirroring.
+fn dispatch(a: &Geometry, b: &Geometry, info: &mut CollisionInfo) {
+    use Geometry::{Circle as C, Poly as P, Segment as S};
+    let mirror = |info: &mut CollisionInfo, f: &dyn Fn(&mut CollisionInfo)| {
+        let mut m = CollisionInfo::new(swap_id_shapes(info.id));
+        f(&mut m);
+        *info = m.mirrored();
+    };
+    match (a, b) {
+        (C(x), C(y)) => circle_to_circle(x, y, info),
+        (C(x), S(y)) => circle_to_segment(x, y, info),
+        (C(x), P(y)) => circle_to_poly(x, y, info),
+        (S(x), S(y)) => segment_to_segment(x, y, info),
+        (S(x), P(y)) => segment_to_poly(x, y, info),
+        (P(x), P(y)) => poly_to_poly(x, y, info),
+        (S(x), C(y)) => mirror(info, &|m| circle_to_segment(y, x, m)),
+        (P(x), C(y)) => mirror(info, &|m| circle_to_poly(y, x, m)),
+        (P(x), S(y)) => mirror(info, &|m| segment_to_poly(y, x, m)),
+    }
+}
+
+/// True if the pair must be swapped into canonical order: by kind, then (same
+/// kind) by coordinates, lexicographically. Comparing coordinates is
+/// unchanged by translating both shapes, so the order is too.
+fn comes_after(a: &Geometry, b: &Geometry) -> bool {
+    match a.kind().cmp(&b.kind()) {
+        Ordering::Less => false,
+        Ordering::Greater => true,
+        Ordering::Equal => compare_same_kind(a, b) == Ordering::Greater,
+    }
+}
+
+/// A total order on the data of two geometries of the same kind.
+fn compare_same_kind(a: &Geometry, b: &Geometry) -> Ordering {
+    fn flat(vs: &[Vect]) -> impl Iterator<Item = Real> + '_ {
+        vs.iter().flat_map(|v| [v.x, v.y])
+    }
+    match (a, b) {
+        (Geometry::Circle(x), Geometry::Circle(y)) => flat(&[x.offset])
+            .chain([x.radius])
+            .cmp(flat(&[y.offset]).chain([y.radius])),
+        (Geometry::Segment(x), Geometry::Segment(y)) => {
+            let key = |s: &Segment| {
+                [
+                    s.a,
+                    s.b,
+                    s.normal,
+                    s.a_tangent,
+                    s.b_tangent,
+                    Vect::new(s.radius, Real::ZERO),
+                ]
+            };
+            flat(&key(x)).cmp(flat(&key(y)))
+        }
+        (Geometry::Poly(x), Geometry::Poly(y)) => flat(x.verts())
+            .chain(flat(x.normals()))
+            .chain([x.radius()])
+            .cmp(flat(y.verts()).chain(flat(y.normals())).chain([y.radius()])),
+        // Different kinds never reach here; order them by kind for totality.
+        (Geometry::Circle(_) | Geometry::Segment(_) | Geometry::Poly(_), _) => {
+            a.kind().cmp(&b.kind())
+        }
+    }
+}
+
+/// The point the computation is made relative to.
+fn anchor_of(g: &Geometry) -> Vect {
+    match g {
+        Geometry::Circle(c) => c.offset,
+        Geometry::Segment(s) => s.a,
+        Geometry::Poly(p) => p.vert(0),
+    }
+}
+
+/// True for a polygon without vertices (possible only from corrupt data).
+fn is_empty(g: &Geometry) -> bool {
+    match g {
+        Geometry::Poly(p) => p.count() == 0,
+        Geometry::Circle(_) | Geometry::Segment(_) => false,
+    }
+}
+
+/// The geometry translated by `−anchor` (directions are unchanged).
+fn moved(g: &Geometry, anchor: Vect) -> Geometry {
+    match g {
+        Geometry::Circle(c) => Geometry::Circle(Circle {
+            offset: c.offset - anchor,
+            ..*c
+        }),
+        Geometry::Segment(s) => Geometry::Segment(Segment {
+            a: s.a - anchor,
+            b: s.b - anchor,
+            ..*s
+        }),
+        Geometry::Poly(p) => Geometry::Poly(moved_poly(p, anchor)),
+    }
+}
+
+fn moved_poly(p: &Poly, anchor: Vect) -> Poly {
+    let mut out = *p;
+    let n = p.count();
+    for v in out.verts.iter_mut().take(n) {
+        *v -= anchor;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::real;
+
+    fn boxed(w: i32, h: i32, at: Vect) -> Geometry {
+        let p =
+            Poly::new_box(Real::from_int(w), Real::from_int(h), Real::ZERO).unwrap_or_else(|_| {
+                Poly::from_ccw_unchecked(&[Vect::ZERO, Vect::X, Vect::Y], Real::ZERO)
+            });
+        Geometry::Poly(moved_poly(&p, -at))
+    }
+
+    #[test]
+    fn swapped_kinds_mirror_exactly() {
+        let ball = Geometry::Circle(Circle::new(Real::ONE, Vect::new(real!(0.3), real!(1.7))));
+        let crate_box = boxed(2, 2, Vect::ZERO);
+        let ab = collide(&ball, &crate_box, 0);
+        let ba = collide(&crate_box, &ball, 0);
+        assert_eq!(ab.count, 1);
+        assert_eq!(ab.normal, -ba.normal);
+        assert_eq!(ab.contacts()[0].point_a, ba.contacts()[0].point_b);
+        assert_eq!(ab.contacts()[0].distance, ba.contacts()[0].distance);
+    }
+
+    #[test]
+    fn same_kind_swap_mirrors_exactly_with_ids() {
+        let a = boxed(2, 2, Vect::ZERO);
+        let b = boxed(2, 2, Vect::new(real!(0.5), real!(1.8)));
+        let ab = collide(&a, &b, 0);
+        let ba = collide(&b, &a, 0);
+        assert_eq!(ab.count, 2);
+        assert_eq!(ab.normal, -ba.normal);
+        for (x, y) in ab.contacts().iter().zip(ba.contacts()) {
+            assert_eq!(
+                (x.point_a, x.point_b, x.distance),
+                (y.point_b, y.point_a, y.distance)
+            );
+            assert_eq!(x.id, y.id.rotate_left(16));
+        }
+        assert_eq!(ab.id, swap_id_shapes(ba.id));
+        // Warm-started calls agree with cold ones, in both orders.
+        assert_eq!(collide(&a, &b, ab.id), ab);
+        assert_eq!(collide(&b, &a, ba.id), ba);
+    }
+
+    #[test]
+    fn translation_moves_points_exactly() {
+        let a = boxed(2, 2, Vect::ZERO);
+        let b = Geometry::Segment(Segment::new(
+            Vect::new(real!(-0.5), real!(0.9)),
+            Vect::new(real!(2.5), real!(1.3)),
+            real!(0.1),
+        ));
+        let shift = Vect::new(Real::from_int(1 << 29), Real::from_int(-(1 << 29)));
+        let far_a = collide(&a, &b, 0);
+        let ta = boxed(2, 2, shift);
+        let tb = Geometry::Segment(Segment::new(
+            Vect::new(real!(-0.5), real!(0.9)) + shift,
+            Vect::new(real!(2.5), real!(1.3)) + shift,
+            real!(0.1),
+        ));
+        let far_b = collide(&ta, &tb, 0);
+        assert!(far_a.count > 0);
+        assert_eq!(far_a.normal, far_b.normal);
+        for (x, y) in far_a.contacts().iter().zip(far_b.contacts()) {
+            assert_eq!(x.point_a + shift, y.point_a);
+            assert_eq!(x.point_b + shift, y.point_b);
+            assert_eq!((x.distance, x.id), (y.distance, y.id));
+        }
+    }
+
+    #[test]
+    fn degenerate_inputs_do_not_panic() {
+        let dot = Geometry::Circle(Circle::new(Real::ZERO, Vect::ZERO));
+        let info = collide(&dot, &dot, 0);
+        assert_eq!((info.count, info.normal), (1, Vect::X));
+        let point_seg = Geometry::Segment(Segment::new(Vect::ZERO, Vect::ZERO, Real::ZERO));
+        let _ = collide(&point_seg, &point_seg, 0);
+        let _ = collide(&point_seg, &dot, 0);
+        let _ = collide(&point_seg, &boxed(1, 1, Vect::ZERO), 0);
+        let max = Vect::new(Real::MAX, Real::MAX);
+        let min = Vect::new(Real::MIN, Real::MIN);
+        let far = Geometry::Segment(Segment::new(min, max, Real::MAX));
+        let _ = collide(&far, &boxed(1, 1, max), 0);
+        let _ = collide(&boxed(1, 1, min), &boxed(1, 1, max), 0xFFFF_FFFF);
+        let info = collide(
+            &Geometry::Circle(Circle::new(Real::ONE, min)),
+            &Geometry::Circle(Circle::new(Real::ONE, max)),
+            0,
+        );
+        assert_eq!(info.count, 0);
+        let empty = Geometry::Poly(Poly::from_ccw_unchecked(&[], Real::ZERO));
+        assert_eq!(collide(&empty, &boxed(1, 1, Vect::ZERO), 0).count, 0);
+        assert_eq!(shapes_collide(&empty, &dot).count, 0);
+    }
+
+    #[test]
+    fn shapes_collide_matches_collide() {
+        let a = boxed(2, 2, Vect::ZERO);
+        let b = Geometry::Circle(Circle::new(Real::ONE, Vect::new(real!(1.5), Real::ZERO)));
+        let set = shapes_collide(&a, &b);
+        let info = collide(&a, &b, 0);
+        assert_eq!((set.count, set.normal), (info.count, info.normal));
+        assert_eq!(set.points[0].distance, info.contacts[0].distance);
+        assert_eq!(set.normal, Vect::X);
+    }
+}

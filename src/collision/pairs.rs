@@ -1,0 +1,368 @@
+//! The six shape-pair functions (MIS `ShapeToShape`, the `CollisionFuncs`
+//! table): circle–circle, circle–segment, segment–segment, circle–poly,
+//! segment–poly, poly–poly. Each takes the pair in kind order
+//! (circle < segment < poly) and fills a [`CollisionInfo`] whose normal points
+//! from the first shape toward the second.
+//!
+//! Circle–circle and circle–segment have closed forms (a point against a
+//! point or a segment), so they skip GJK. The other pairs run GJK on the
+//! cores, subtract the rounding radii from the core distance, and, except for
+//! circle–poly (one contact at the closest points), clip the two support
+//! edges against each other for up to two contacts.
+//!
+//! Segments with neighbours (`a_tangent`/`b_tangent` non-zero) reject a
+//! contact found at an endpoint whose normal points into the neighbour: the
+//! other shape is then over the neighbouring segment, which reports the
+//! contact itself. Without this rule a body sliding along a chain of
+//! segments catches on every seam (Chipmunk's smooth-terrain rule).
+//!
+//! The functions work in whatever frame they are given; [`collide`](super::collide)
+//! calls them on shapes moved next to the origin.
+use super::contact::{contact_points, ClosestPoints};
+use super::gjk::gjk;
+use super::support::{support_edge_for_poly, support_edge_for_segment, SupportContext};
+use super::wide;
+use super::CollisionInfo;
+use crate::math::{Real, Vect};
+use crate::shape::{Circle, Poly, Segment};
+
+/// `(r as unsigned raw)²`, exact, in units of 2^-64 (negative radii count as 0).
+#[inline]
+fn sq(r: Real) -> u128 {
+    let raw = u128::try_from(r.max(Real::ZERO).to_bits()).unwrap_or(0);
+    raw * raw
+}
+
+/// Records GJK's warm-start id and cap flag in the info.
+#[inline]
+fn note(info: &mut CollisionInfo, points: &ClosestPoints) {
+    info.id = points.id;
+    info.hit_iteration_cap |= points.hit_iteration_cap;
+}
+
+/// False if `n` (pointing from the segment toward the other shape when
+/// `seg_is_first`, the reverse otherwise) leaves endpoint `at` of `seg`
+/// towards that endpoint's neighbour.
+fn segment_allows(seg: &Segment, at: Vect, n: Vect, seg_is_first: bool) -> bool {
+    let outward = if seg_is_first { n } else { -n };
+    let into = |tangent: Vect| wide::dot(outward, tangent) > 0;
+    let rejected = (at == seg.a && into(seg.a_tangent)) || (at == seg.b && into(seg.b_tangent));
+    !rejected
+}
+
+/// MIS `CircleToCircle`: closed form. Coincident centres use the normal `+x`.
+pub fn circle_to_circle(a: &Circle, b: &Circle, info: &mut CollisionInfo) {
+    let min_dist = a.radius + b.radius;
+    let delta = b.offset - a.offset;
+    if wide::len_sq(delta) > sq(min_dist) {
+        return;
+    }
+    let (n, dist) = wide::normalize(delta).unwrap_or((Vect::X, Real::ZERO));
+    info.normal = n;
+    let pa = a.offset + n.mult(a.radius);
+    let pb = b.offset - n.mult(b.radius);
+    info.push_contact(pa, pb, dist - min_dist, 0);
+}
+
+/// MIS `CircleToSegment`: closed form against the nearest point of the
+/// segment core. A centre exactly on the core uses the segment normal.
+pub fn circle_to_segment(a: &Circle, b: &Segment, info: &mut CollisionInfo) {
+    let seg = b.b - b.a;
+    // Nearest point a + seg·t, t = (c − a)·seg / |seg|² from exact 128-bit
+    // numerator and denominator, one rounding per component; the clamped
+    // ends are exactly the endpoints (the neighbour rule tests for them).
+    let (num, den) = (wide::dot(a.offset - b.a, seg), wide::len_sq(seg));
+    let closest = if num <= 0 {
+        b.a
+    } else if num.unsigned_abs() >= den {
+        b.b
+    } else {
+        b.a + wide::scale_by_ratio(seg, num, den)
+    };
+    let min_dist = a.radius + b.radius;
+    let delta = closest - a.offset;
+    if wide::len_sq(delta) > sq(min_dist) {
+        return;
+    }
+    let (n, dist) = wide::normalize(delta).unwrap_or_else(|| {
+        let n = if b.normal == Vect::ZERO {
+            Vect::X
+        } else {
+            b.normal
+        };
+        (n, Real::ZERO)
+    });
+    if !segment_allows(b, closest, n, false) {
+        return;
+    }
+    info.normal = n;
+    let pa = a.offset + n.mult(a.radius);
+    let pb = closest - n.mult(b.radius);
+    info.push_contact(pa, pb, dist - min_dist, 0);
+}
+
+/// MIS `SegmentToSegment`: GJK on the two cores, then edge clipping.
+pub fn segment_to_segment(a: &Segment, b: &Segment, info: &mut CollisionInfo) {
+    let points = gjk(&SupportContext::new(a, b), info.id);
+    note(info, &points);
+    let n = points.n;
+    if points.d <= a.radius + b.radius
+        && segment_allows(a, points.a, n, true)
+        && segment_allows(b, points.b, n, false)
+    {
+        let e1 = support_edge_for_segment(a, n);
+        let e2 = support_edge_for_segment(b, -n);
+        contact_points(&e1, &e2, &points, info);
+    }
+}
+
+/// MIS `CircleToPoly`: GJK from the centre to the polygon core; one contact.
+pub fn circle_to_poly(a: &Circle, b: &Poly, info: &mut CollisionInfo) {
+    let points = gjk(&SupportContext::new(a, b), info.id);
+    note(info, &points);
+    let min_dist = a.radius + b.radius();
+    if points.d <= min_dist {
+        let n = points.n;
+        info.normal = n;
+        let pa = points.a + n.mult(a.radius);
+        let pb = points.b - n.mult(b.radius());
+        info.push_contact(pa, pb, points.d - min_dist, 0);
+    }
+}
+
+/// MIS `SegmentToPoly`: GJK, the neighbour rule, then edge clipping.
+pub fn segment_to_poly(a: &Segment, b: &Poly, info: &mut CollisionInfo) {
+    let points = gjk(&SupportContext::new(a, b), info.id);
+    note(info, &points);
+    let n = points.n;
+    if points.d <= a.radius + b.radius() && segment_allows(a, points.a, n, true) {
+        let e1 = support_edge_for_segment(a, n);
+        let e2 = support_edge_for_poly(b, -n);
+        contact_points(&e1, &e2, &points, info);
+    }
+}
+
+/// MIS `PolyToPoly`: GJK (EPA when the cores overlap), then edge clipping.
+pub fn poly_to_poly(a: &Poly, b: &Poly, info: &mut CollisionInfo) {
+    let points = gjk(&SupportContext::new(a, b), info.id);
+    note(info, &points);
+    let n = points.n;
+    if points.d <= a.radius() + b.radius() {
+        let e1 = support_edge_for_poly(a, n);
+        let e2 = support_edge_for_poly(b, -n);
+        contact_points(&e1, &e2, &points, info);
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::float_arithmetic)]
+mod tests {
+    use super::*;
+    use crate::real;
+
+    fn circle(r: Real, x: Real, y: Real) -> Circle {
+        Circle::new(r, Vect::new(x, y))
+    }
+
+    fn rect(l: i32, b: i32, r: i32, t: i32) -> Poly {
+        let v = [
+            Vect::from_ints(r, b),
+            Vect::from_ints(r, t),
+            Vect::from_ints(l, t),
+            Vect::from_ints(l, b),
+        ];
+        Poly::from_ccw_unchecked(&v, Real::ZERO)
+    }
+
+    #[test]
+    fn circle_circle_overlap_depth_and_points() {
+        let a = circle(Real::ONE, Real::ZERO, Real::ZERO);
+        let b = circle(Real::ONE, real!(1.5), Real::ZERO);
+        let mut info = CollisionInfo::new(0);
+        circle_to_circle(&a, &b, &mut info);
+        assert_eq!(info.count, 1);
+        assert_eq!(info.normal, Vect::X);
+        let c = info.contacts()[0];
+        assert_eq!(c.distance, -Real::HALF);
+        assert_eq!(c.point_a, Vect::X);
+        assert_eq!(c.point_b, Vect::new(Real::HALF, Real::ZERO));
+    }
+
+    #[test]
+    fn circle_circle_touching_counts_apart_does_not() {
+        let a = circle(Real::ONE, Real::ZERO, Real::ZERO);
+        let mut info = CollisionInfo::new(0);
+        circle_to_circle(&a, &circle(Real::ONE, Real::TWO, Real::ZERO), &mut info);
+        assert_eq!((info.count, info.contacts()[0].distance), (1, Real::ZERO));
+        let mut info = CollisionInfo::new(0);
+        circle_to_circle(
+            &a,
+            &circle(Real::ONE, Real::TWO + Real::DELTA, Real::ZERO),
+            &mut info,
+        );
+        assert_eq!(info.count, 0);
+    }
+
+    #[test]
+    fn coincident_circles_pick_plus_x() {
+        let a = circle(Real::ONE, Real::ZERO, Real::ZERO);
+        let mut info = CollisionInfo::new(0);
+        circle_to_circle(&a, &a, &mut info);
+        assert_eq!(
+            (info.normal, info.contacts()[0].distance),
+            (Vect::X, -Real::TWO)
+        );
+        let p = circle(Real::ZERO, Real::ZERO, Real::ZERO);
+        let mut info = CollisionInfo::new(0);
+        circle_to_circle(&p, &p, &mut info);
+        assert_eq!((info.count, info.normal), (1, Vect::X));
+    }
+
+    #[test]
+    fn circle_resting_on_segment() {
+        let ground = Segment::new(Vect::from_ints(-10, 0), Vect::from_ints(10, 0), real!(0.5));
+        let ball = circle(Real::ONE, Real::from_int(3), real!(1.25));
+        let mut info = CollisionInfo::new(0);
+        circle_to_segment(&ball, &ground, &mut info);
+        assert_eq!(info.count, 1);
+        assert_eq!(info.normal, -Vect::Y);
+        let c = info.contacts()[0];
+        assert_eq!(c.distance, real!(-0.25));
+        assert_eq!(c.point_a, Vect::new(Real::from_int(3), real!(0.25)));
+        assert_eq!(c.point_b, Vect::new(Real::from_int(3), Real::HALF));
+    }
+
+    #[test]
+    fn segment_neighbours_reject_seam_contacts() {
+        // Chain (−2,0) → (0,0) → (2,0); the ball sits over the first segment,
+        // just past the seam, touching the second one only at its endpoint a.
+        let second = Segment::new(Vect::ZERO, Vect::from_ints(2, 0), Real::ZERO);
+        let ball = circle(Real::ONE, real!(-0.3), real!(0.8));
+        let mut info = CollisionInfo::new(0);
+        circle_to_segment(&ball, &second, &mut info);
+        assert_eq!(info.count, 1, "no neighbours: endpoint contact");
+        let chained = second.with_neighbors(Vect::from_ints(-2, 0), Vect::from_ints(4, 0));
+        let mut info = CollisionInfo::new(0);
+        circle_to_segment(&ball, &chained, &mut info);
+        assert_eq!(info.count, 0, "neighbour on the left takes it");
+        // A convex corner (hill top): the neighbour falls away, so keep it.
+        let hill = second.with_neighbors(Vect::from_ints(-2, -1), Vect::from_ints(4, -1));
+        let mut info = CollisionInfo::new(0);
+        circle_to_segment(
+            &circle(Real::ONE, real!(-0.1), real!(0.5)),
+            &hill,
+            &mut info,
+        );
+        assert_eq!(info.count, 1);
+        // The same rule for a box sliding over the seam (segment first).
+        let crate_box = rect(-1, 0, 0, 1);
+        let sunk = Poly::from_ccw_unchecked(
+            &crate_box
+                .verts()
+                .iter()
+                .map(|v| *v + Vect::new(real!(0.05), real!(-0.1)))
+                .collect::<Vec<_>>(),
+            Real::ZERO,
+        );
+        let mut info = CollisionInfo::new(0);
+        segment_to_poly(&second, &sunk, &mut info);
+        assert!(info.count > 0, "free segment end catches the box");
+        assert_eq!(
+            info.normal,
+            -Vect::X,
+            "the catch: a normal against the motion"
+        );
+        let mut info = CollisionInfo::new(0);
+        segment_to_poly(&chained, &sunk, &mut info);
+        assert_eq!(info.count, 0, "chained segment lets it slide");
+    }
+
+    #[test]
+    fn box_resting_on_box_gives_two_contacts() {
+        let ground = rect(-5, -1, 5, 0);
+        // 2×1 box sunk 0.25 into the ground.
+        let v = [
+            Vect::new(Real::ONE, real!(-0.25)),
+            Vect::new(Real::ONE, real!(0.75)),
+            Vect::new(-Real::ONE, real!(0.75)),
+            Vect::new(-Real::ONE, real!(-0.25)),
+        ];
+        let top = Poly::from_ccw_unchecked(&v, Real::ZERO);
+        let mut info = CollisionInfo::new(0);
+        poly_to_poly(&ground, &top, &mut info);
+        assert_eq!(info.count, 2);
+        assert_eq!(info.normal, Vect::Y);
+        for c in info.contacts() {
+            assert_eq!(c.distance, real!(-0.25));
+            assert_eq!(c.point_a.y, Real::ZERO);
+            assert_eq!(c.point_b.y, real!(-0.25));
+        }
+        let xs: Vec<_> = info.contacts().iter().map(|c| c.point_a.x).collect();
+        assert_eq!(xs, vec![Real::ONE, -Real::ONE]);
+        // Ids name (ground vertex, box vertex): ground top edge 1 → 2, box bottom 3 → 0.
+        let ids: Vec<_> = info.contacts().iter().map(|c| c.id).collect();
+        assert_eq!(ids, vec![1 << 16, (2 << 16) | 3]);
+    }
+
+    #[test]
+    fn rounded_boxes_touch_through_radius() {
+        let mut a = rect(0, 0, 1, 1);
+        a.radius = real!(0.25);
+        let mut b = rect(0, 0, 1, 1);
+        b.radius = real!(0.25);
+        for v in b.verts.iter_mut() {
+            *v += Vect::new(real!(1.4), Real::ZERO);
+        }
+        let mut info = CollisionInfo::new(0);
+        poly_to_poly(&a, &b, &mut info);
+        assert_eq!(info.count, 2);
+        assert_eq!(info.normal, Vect::X);
+        for c in info.contacts() {
+            assert_eq!(c.distance, real!(-0.1));
+            assert_eq!(c.point_a.x, real!(1.25));
+            assert_eq!(c.point_b.x, real!(1.15));
+        }
+    }
+
+    #[test]
+    fn crossing_segments_and_parallel_capsules() {
+        let a = Segment::new(Vect::from_ints(-1, 0), Vect::from_ints(1, 0), real!(0.125));
+        let b = Segment::new(Vect::from_ints(0, -1), Vect::from_ints(0, 1), real!(0.125));
+        let mut info = CollisionInfo::new(0);
+        segment_to_segment(&a, &b, &mut info);
+        assert!(info.count >= 1);
+        let h = real!(0.1875);
+        let c = Segment::new(
+            Vect::new(Real::ZERO, h),
+            Vect::new(Real::TWO, h),
+            real!(0.125),
+        );
+        let mut info = CollisionInfo::new(0);
+        segment_to_segment(&a, &c, &mut info);
+        assert_eq!(info.count, 2);
+        assert_eq!(info.normal, Vect::Y);
+        for p in info.contacts() {
+            assert_eq!(p.distance, real!(-0.0625));
+        }
+    }
+
+    #[test]
+    fn circle_against_poly_face_and_corner() {
+        let b = rect(0, 0, 2, 2);
+        let above = circle(Real::HALF, Real::ONE, real!(2.25));
+        let mut info = CollisionInfo::new(0);
+        circle_to_poly(&above, &b, &mut info);
+        assert_eq!(info.count, 1);
+        assert_eq!(info.normal, -Vect::Y);
+        assert_eq!(info.contacts()[0].distance, real!(-0.25));
+        let corner = circle(Real::ONE, real!(2.5), real!(2.5));
+        let mut info = CollisionInfo::new(0);
+        circle_to_poly(&corner, &b, &mut info);
+        assert_eq!(info.count, 1);
+        let d = info.contacts()[0].distance.to_f64();
+        assert!((d - (0.5f64.sqrt() - 1.0)).abs() < 1e-9, "{d}");
+        let (nx, ny) = info.normal.to_f64();
+        assert!((nx + 0.5f64.sqrt()).abs() < 1e-9 && (ny + 0.5f64.sqrt()).abs() < 1e-9);
+        assert_eq!(info.contacts()[0].point_b, Vect::from_ints(2, 2));
+    }
+}
