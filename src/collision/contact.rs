@@ -13,8 +13,9 @@
 //! This is Chipmunk's manifold construction, which keeps the feature ids of
 //! the edge endpoints so contacts can be matched from step to step.
 //!
-//! Cost: `closest_points_new` does one 128-bit division and one 128-bit square
-//! root, `contact_points` at most eight `mul_div`s; GJK and EPA call them once per pair.
+//! Cost: `closest_points_new` does one 128-bit division (`closest_t`) and one
+//! multiply-only normalisation; `contact_points` at most eight `mul_div`s
+//! (only for clip points inside an edge). GJK and EPA call them once per pair.
 use super::wide;
 use super::{CollisionId, CollisionInfo, Edge, MinkowskiPoint};
 use crate::math::{Real, Vect};
@@ -137,8 +138,8 @@ fn point_on_edge(a: Vect, b: Vect, (sa, sb): (Real, Real), s: Real, toward: Vect
     }
 }
 
-/// MIS `contactPoints`: if the shapes touch (`points.d ≤ r₁ + r₂`), sets the
-/// normal and pushes up to two contacts found by clipping the support edge
+/// MIS `contactPoints`: if the shapes touch (`points.d ≤ r₁ + r₂`), pushes up
+/// to two contacts (and sets the normal if it pushed any) found by clipping the support edge
 /// `e1` of A (facing `n`) against the support edge `e2` of B (facing `−n`).
 ///
 /// Derivation. Let `s(p) = p × n`, the coordinate of `p` along `rperp(n)`.
@@ -157,7 +158,6 @@ pub fn contact_points(e1: &Edge, e2: &Edge, points: &ClosestPoints, info: &mut C
         return;
     }
     let n = points.n;
-    info.normal = n;
     let (s1a, s1b) = (e1.a.p.cross(n), e1.b.p.cross(n));
     let (s2a, s2b) = (e2.a.p.cross(n), e2.b.p.cross(n));
     let (out1, out2) = (n.mult(e1.radius), n.mult(e2.radius));
@@ -174,6 +174,9 @@ pub fn contact_points(e1: &Edge, e2: &Edge, points: &ClosestPoints, info: &mut C
             info.push_contact(p1, p2, dist, id);
             first = Some((p1, p2));
         }
+    }
+    if info.count > 0 {
+        info.normal = n;
     }
 }
 

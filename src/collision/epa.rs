@@ -54,6 +54,7 @@ struct Hull {
 
 impl Hull {
     /// The triangle `(v0, v1, v2)`, which must be counter-clockwise.
+    #[inline(always)]
     fn triangle(v0: MinkowskiPoint, v1: MinkowskiPoint, v2: MinkowskiPoint) -> Hull {
         let mut hull = Hull {
             pts: [MinkowskiPoint::default(); HULL_CAP],

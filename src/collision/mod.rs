@@ -91,8 +91,9 @@ pub struct Contact {
     pub id: u32,
 }
 
-/// The result of [`collide`] (MIS `CollisionInfo`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+/// The result of [`collide`] (MIS `CollisionInfo`). A per-step value, not
+/// snapshot state (it holds a `usize`); arbiters keep the [`Contact`]s and `id`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct CollisionInfo {
     /// Unit normal from `a` toward `b` (zero when `count == 0`).
     pub normal: Vect,
@@ -175,7 +176,7 @@ pub struct ContactPoint {
 }
 
 /// Contacts between two shapes without ids (MIS/Chipmunk `ContactPointSet`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct ContactPointSet {
     /// Number of valid points.
     pub count: usize,

@@ -87,7 +87,8 @@ pub(crate) fn scale_by_ratio(v: Vect, num: i128, den: u128) -> Vect {
 
 /// Starting guesses for [`rsqrt_q60`]: entry `b` (for `b` in 8..32) is
 /// `1/√x` in Q60 at the middle of the bucket `x ∈ [b/32, (b+1)/32)`, i.e.
-/// `√(2^126 / (2b + 1))`, computed at compile time with integers.
+/// `√(2^126 / (2b + 1))`, computed at compile time with integers (the
+/// indexing and the cast run in const evaluation: b < 32, r < 2^62).
 const RSQRT_SEED: [u64; 32] = {
     let mut t = [0u64; 32];
     let mut b = 8;
@@ -238,7 +239,7 @@ mod tests {
             state
         };
         for i in 0..200_000u32 {
-            let bits = (i % 64) as u32;
+            let bits = i % 64;
             let x = (next() as i64) >> bits;
             let y = (next() as i64) >> (next() % 64) as u32;
             let v = Vect::new(Real::from_bits(x), Real::from_bits(y));
