@@ -9,6 +9,7 @@ pub mod broadphase;
 pub mod checksum;
 pub mod collision;
 pub mod math;
+pub mod scenes;
 pub mod shape;
 pub mod solver;
 pub mod space;
