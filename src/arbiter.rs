@@ -83,7 +83,14 @@ impl Arbiter {
     /// accumulated impulses of last step's contacts with the same feature id;
     /// material values are recomputed (handlers may override them afterwards).
     /// `pa`/`pb` are the bodies' centres of gravity.
-    pub(crate) fn update(&mut self, info: &CollisionInfo, a: &Shape, b: &Shape, pa: Vect, pb: Vect) {
+    pub(crate) fn update(
+        &mut self,
+        info: &CollisionInfo,
+        a: &Shape,
+        b: &Shape,
+        pa: Vect,
+        pb: Vect,
+    ) {
         let old = self.contacts;
         let old_count = usize::from(self.count).min(MAX_CONTACTS_PER_ARBITER);
         self.normal = info.normal;
@@ -154,17 +161,8 @@ impl Arbiter {
 
     /// Total impulse applied this step (Chipmunk `cpArbiterTotalImpulse`).
     pub fn total_impulse(&self) -> Vect {
-        self.contacts().iter().fold(Vect::ZERO, |acc, c| acc + self.normal.rotate(Vect::new(c.jn_acc, c.jt_acc)))
-    }
-
-    /// Kinetic energy lost to the collision this step (Chipmunk
-    /// `cpArbiterTotalKE`): `Σ (1−e)/(1+e)·jn²/n_mass + jt²/t_mass`.
-    pub fn total_kinetic_energy(&self) -> Real {
-        let e_coef = (Real::ONE - self.restitution) / (Real::ONE + self.restitution);
-        self.contacts().iter().fold(Real::ZERO, |sum, c| {
-            let jn = c.jn_acc;
-            let jt = c.jt_acc;
-            sum + e_coef * jn * jn / c.n_mass + jt * jt / c.t_mass
+        self.contacts().iter().fold(Vect::ZERO, |acc, c| {
+            acc + self.normal.rotate(Vect::new(c.jn_acc, c.jt_acc))
         })
     }
 

@@ -429,7 +429,9 @@ impl Body {
         }
         let len_sq = self.rot.as_vect().dot(self.rot.as_vect());
         if (len_sq - Real::ONE).abs() > Real::from_bits(1 << 12) {
-            return Err(BodyError::IllegalBody("rotation is not a unit complex number"));
+            return Err(BodyError::IllegalBody(
+                "rotation is not a unit complex number",
+            ));
         }
         Ok(())
     }
@@ -459,10 +461,18 @@ mod tests {
 
     #[test]
     fn small_angle_series_constants_are_nearest() {
-        for (bits, k) in [(178_956_971i64, 24.0), (5_965_232, 720.0), (106_522, 40320.0)] {
+        for (bits, k) in [
+            (178_956_971i64, 24.0),
+            (5_965_232, 720.0),
+            (106_522, 40320.0),
+        ] {
             assert!((bits as f64 - 4294967296.0 / k).abs() <= 0.5, "1/{k}");
         }
-        for (bits, k) in [(715_827_883i64, 6.0), (35_791_394, 120.0), (852_176, 5040.0)] {
+        for (bits, k) in [
+            (715_827_883i64, 6.0),
+            (35_791_394, 120.0),
+            (852_176, 5040.0),
+        ] {
             assert!((bits as f64 - 4294967296.0 / k).abs() <= 0.5, "1/{k}");
         }
     }
@@ -482,7 +492,10 @@ mod tests {
         b.apply_impulse_at_world_point(Vect::from_ints(0, 2), Vect::from_ints(1, 0));
         assert_eq!(b.velocity(), Vect::from_ints(0, 1));
         assert_eq!(b.angular_velocity(), real!(0.5));
-        assert_eq!(b.velocity_at_world_point(Vect::from_ints(2, 0)), Vect::new(Real::ZERO, real!(2)));
+        assert_eq!(
+            b.velocity_at_world_point(Vect::from_ints(2, 0)),
+            Vect::new(Real::ZERO, real!(2))
+        );
     }
 
     #[test]

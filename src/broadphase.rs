@@ -48,7 +48,10 @@ impl StaticTree {
     /// longer axis, ties broken by shape index).
     pub fn build(mut proxies: Vec<Proxy>) -> StaticTree {
         proxies.sort_unstable_by_key(|p| p.index);
-        let mut tree = StaticTree { proxies, nodes: Vec::new() };
+        let mut tree = StaticTree {
+            proxies,
+            nodes: Vec::new(),
+        };
         if !tree.proxies.is_empty() {
             let n = tree.proxies.len();
             tree.build_node(0, n);
@@ -58,13 +61,28 @@ impl StaticTree {
 
     fn build_node(&mut self, start: usize, end: usize) -> u32 {
         let slice = self.proxies.get(start..end).unwrap_or(&[]);
-        let bb = slice.iter().skip(1).fold(slice.first().map(|p| p.bb).unwrap_or_default(), |acc, p| acc.merge(&p.bb));
+        let bb = slice
+            .iter()
+            .skip(1)
+            .fold(slice.first().map(|p| p.bb).unwrap_or_default(), |acc, p| {
+                acc.merge(&p.bb)
+            });
         let id = self.nodes.len() as u32;
         if end - start <= LEAF_SIZE {
-            self.nodes.push(Node { bb, first: start as u32, second: end as u32, leaf: true });
+            self.nodes.push(Node {
+                bb,
+                first: start as u32,
+                second: end as u32,
+                leaf: true,
+            });
             return id;
         }
-        self.nodes.push(Node { bb, first: 0, second: 0, leaf: false });
+        self.nodes.push(Node {
+            bb,
+            first: 0,
+            second: 0,
+            leaf: false,
+        });
         let wide = (bb.r - bb.l) >= (bb.t - bb.b);
         if let Some(slice) = self.proxies.get_mut(start..end) {
             // Twice the centre, to stay exact: l + r.
@@ -111,7 +129,11 @@ impl StaticTree {
                 continue;
             }
             if node.leaf {
-                for p in self.proxies.get(node.first as usize..node.second as usize).unwrap_or(&[]) {
+                for p in self
+                    .proxies
+                    .get(node.first as usize..node.second as usize)
+                    .unwrap_or(&[])
+                {
                     if p.bb.intersects(bb) {
                         f(p.index);
                     }
@@ -181,12 +203,20 @@ mod tests {
     use crate::math::{Real, Vect};
 
     fn proxy(i: u32, x: i32, y: i32) -> Proxy {
-        Proxy { index: i, bb: BB::for_circle(Vect::from_ints(x, y), Real::ONE) }
+        Proxy {
+            index: i,
+            bb: BB::for_circle(Vect::from_ints(x, y), Real::ONE),
+        }
     }
 
     #[test]
     fn finds_exactly_the_overlapping_pairs_in_canonical_order() {
-        let moving = vec![proxy(5, 0, 0), proxy(2, 1, 0), proxy(9, 10, 0), proxy(7, 1, 1)];
+        let moving = vec![
+            proxy(5, 0, 0),
+            proxy(2, 1, 0),
+            proxy(9, 10, 0),
+            proxy(7, 1, 1),
+        ];
         let statics = StaticTree::build(vec![proxy(1, 11, 0), proxy(3, 50, 50)]);
         let mut bp = Broadphase::default();
         bp.find_pairs(&moving, &statics);
@@ -195,13 +225,24 @@ mod tests {
 
     #[test]
     fn static_tree_query_matches_brute_force() {
-        let statics: Vec<Proxy> = (0..100).map(|i| proxy(i, (i as i32 % 10) * 3, (i as i32 / 10) * 3)).collect();
+        let statics: Vec<Proxy> = (0..100)
+            .map(|i| proxy(i, (i as i32 % 10) * 3, (i as i32 / 10) * 3))
+            .collect();
         let tree = StaticTree::build(statics.clone());
-        let q = BB::new(Real::from_int(4), Real::from_int(4), Real::from_int(10), Real::from_int(7));
+        let q = BB::new(
+            Real::from_int(4),
+            Real::from_int(4),
+            Real::from_int(10),
+            Real::from_int(7),
+        );
         let mut got = Vec::new();
         tree.query(&q, |i| got.push(i));
         got.sort_unstable();
-        let want: Vec<u32> = statics.iter().filter(|p| p.bb.intersects(&q)).map(|p| p.index).collect();
+        let want: Vec<u32> = statics
+            .iter()
+            .filter(|p| p.bb.intersects(&q))
+            .map(|p| p.index)
+            .collect();
         assert_eq!(got, want);
     }
 }

@@ -21,7 +21,9 @@ pub struct WordHasher {
 
 impl Default for WordHasher {
     fn default() -> Self {
-        WordHasher { state: 0x243F_6A88_85A3_08D3 } // π's fraction bits: any odd seed works
+        WordHasher {
+            state: 0x243F_6A88_85A3_08D3,
+        } // π's fraction bits: any odd seed works
     }
 }
 

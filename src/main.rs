@@ -33,7 +33,9 @@ fn main() -> ExitCode {
             },
             None => Err("usage: tamias run <scene> [steps]".to_string()),
         },
-        Some(other) => Err(format!("unknown command {other:?}; try `tamias list` or `tamias run <scene>`")),
+        Some(other) => Err(format!(
+            "unknown command {other:?}; try `tamias list` or `tamias run <scene>`"
+        )),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -45,13 +47,24 @@ fn main() -> ExitCode {
 }
 
 fn run(name: &str, steps: Option<u32>) -> Result<(), String> {
-    let desc = scenes::builtin(name).ok_or_else(|| format!("unknown scene {name:?}; `tamias list` shows them"))?;
+    let desc = scenes::builtin(name)
+        .ok_or_else(|| format!("unknown scene {name:?}; `tamias list` shows them"))?;
     let mut scene = desc.build().map_err(|e| e.to_string())?;
     let steps = steps.unwrap_or(scene.steps);
-    let start_positions: Vec<_> =
-        scene.space.bodies().map(|(h, b)| (h, b.position(), b.body_type())).collect();
-    let dynamic = start_positions.iter().filter(|(_, _, t)| *t == BodyType::Dynamic).count();
-    println!("scene {name}: {} bodies ({dynamic} dynamic), {steps} steps of dt = {}", start_positions.len(), scene.dt);
+    let start_positions: Vec<_> = scene
+        .space
+        .bodies()
+        .map(|(h, b)| (h, b.position(), b.body_type()))
+        .collect();
+    let dynamic = start_positions
+        .iter()
+        .filter(|(_, _, t)| *t == BodyType::Dynamic)
+        .count();
+    println!(
+        "scene {name}: {} bodies ({dynamic} dynamic), {steps} steps of dt = {}",
+        start_positions.len(),
+        scene.dt
+    );
 
     let mut times = Vec::with_capacity(steps as usize);
     for _ in 0..steps {
@@ -70,8 +83,15 @@ fn run(name: &str, steps: Option<u32>) -> Result<(), String> {
             max_move = max_move.max((x * x + y * y).sqrt());
         }
     }
-    println!("time per step: median {:.3} ms, total {:.2} s", median * 1e3, total);
-    println!("arbiters: {}, largest body displacement: {max_move:.4}", scene.space.arbiters().len());
+    println!(
+        "time per step: median {:.3} ms, total {:.2} s",
+        median * 1e3,
+        total
+    );
+    println!(
+        "arbiters: {}, largest body displacement: {max_move:.4}",
+        scene.space.arbiters().len()
+    );
     println!("checksum: {:#018x}", scene.space.checksum());
     Ok(())
 }

@@ -70,7 +70,13 @@ pub fn relative_velocity(a: &SolverBody, b: &SolverBody, r1: Vect, r2: Vect) -> 
 
 /// MIS `normal_relative_velocity`: `relative_velocity · n`.
 #[inline(always)]
-pub fn normal_relative_velocity(a: &SolverBody, b: &SolverBody, r1: Vect, r2: Vect, n: Vect) -> Real {
+pub fn normal_relative_velocity(
+    a: &SolverBody,
+    b: &SolverBody,
+    r1: Vect,
+    r2: Vect,
+    n: Vect,
+) -> Real {
     relative_velocity(a, b, r1, r2).dot(n)
 }
 
@@ -112,7 +118,13 @@ pub fn k_scalar_body(body: &SolverBody, r: Vect, n: Vect) -> Real {
 /// MIS `k_scalar`: the effective inverse mass of the pair along `n`;
 /// [`UnsolvableCollision`] when it is zero.
 #[inline]
-pub fn k_scalar(a: &SolverBody, b: &SolverBody, r1: Vect, r2: Vect, n: Vect) -> Result<Real, UnsolvableCollision> {
+pub fn k_scalar(
+    a: &SolverBody,
+    b: &SolverBody,
+    r1: Vect,
+    r2: Vect,
+    n: Vect,
+) -> Result<Real, UnsolvableCollision> {
     let k = k_scalar_body(a, r1, n) + k_scalar_body(b, r2, n);
     if k.is_positive() {
         Ok(k)
@@ -121,8 +133,11 @@ pub fn k_scalar(a: &SolverBody, b: &SolverBody, r1: Vect, r2: Vect, n: Vect) -> 
     }
 }
 
-/// One contact's solver state (persistent parts are warm-started).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+/// The persistent part of one contact: where it is and the impulses it has
+/// accumulated (carried to the next step for warm starting).
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
 pub struct ContactConstraint {
     /// Contact point relative to body a's centre of gravity.
     pub r1: Vect,
@@ -132,20 +147,10 @@ pub struct ContactConstraint {
     pub dist: Real,
     /// Feature id: matches this contact with last step's for warm starting.
     pub id: u32,
-    /// `1/k(n)`.
-    pub n_mass: Real,
-    /// `1/k(t)`.
-    pub t_mass: Real,
-    /// Target bias (pseudo-)velocity.
-    pub bias: Real,
-    /// Restitution target velocity.
-    pub bounce: Real,
     /// Accumulated normal impulse (warm-started).
     pub jn_acc: Real,
     /// Accumulated friction impulse (warm-started).
     pub jt_acc: Real,
-    /// Accumulated bias impulse (not warm-started).
-    pub j_bias: Real,
 }
 
 /// Step-wide constants of the contact solver.
@@ -161,72 +166,221 @@ pub struct ContactParams {
     pub max_bias: Real,
 }
 
-/// Pre-step for one contact: effective masses, bias and bounce. The only
-/// divisions of the contact solver happen here.
-pub fn pre_step(c: &mut ContactConstraint, a: &SolverBody, b: &SolverBody, n: Vect, e: Real, params: &ContactParams) {
-    // A zero k (two infinite masses) gives mass 0: the contact applies no impulse.
-    c.n_mass = k_scalar(a, b, c.r1, c.r2, n).map_or(Real::ZERO, Real::recip);
-    c.t_mass = k_scalar(a, b, c.r1, c.r2, n.perp()).map_or(Real::ZERO, Real::recip);
-    let overlap = (c.dist + params.slop).min(Real::ZERO);
-    c.bias = (-params.bias_coef * overlap * params.dt_inv).min(params.max_bias);
-    c.j_bias = Real::ZERO;
-    c.bounce = normal_relative_velocity(a, b, c.r1, c.r2, n) * e;
+/// The arbiter-wide inputs of a contact's pre-step.
+#[derive(Clone, Copy, Debug)]
+pub struct PairParams {
+    /// Solver index of body a.
+    pub a: u32,
+    /// Solver index of body b.
+    pub b: u32,
+    /// Unit normal from a to b.
+    pub n: Vect,
+    /// Restitution.
+    pub e: Real,
+    /// Friction coefficient.
+    pub friction: Real,
+    /// Relative surface velocity (tangential).
+    pub surface_vr: Vect,
 }
 
-/// Applies the cached (warm-start) impulse, scaled by `dt_coef = dt/prev_dt`.
-pub fn warm_start(c: &ContactConstraint, a: &mut SolverBody, b: &mut SolverBody, n: Vect, dt_coef: Real) {
-    let j = n.rotate(Vect::new(c.jn_acc, c.jt_acc)) * dt_coef;
-    apply_impulses(a, b, c.r1, c.r2, j);
-}
-
-/// One iteration for one contact: bias, normal and friction impulses.
+/// One contact prepared for the iterations: everything the inner loop needs,
+/// side by side, with every division and cross product done once.
 ///
-/// With `t = perp(n)`: normal `jn = −(bounce + vr·n)·n_mass`, accumulated and
-/// clamped ≥ 0; friction `jt = −(vr·t + surface_vr·t)·t_mass`, accumulated
-/// and clamped to `±μ·jn_acc`; bias `jb = (bias − vb·n)·n_mass` on the
-/// pseudo-velocities, accumulated and clamped ≥ 0.
-#[inline]
-pub fn apply_contact_impulse(
-    c: &mut ContactConstraint,
-    a: &mut SolverBody,
-    b: &mut SolverBody,
-    n: Vect,
-    friction: Real,
-    surface_vr: Vect,
-) {
-    // Bias (position correction) on pseudo-velocities.
-    let vb1 = a.v_bias + c.r1.perp() * a.w_bias;
-    let vb2 = b.v_bias + c.r2.perp() * b.w_bias;
-    let vbn = (vb2 - vb1).dot(n);
-    let jbn = (c.bias - vbn) * c.n_mass;
-    let jbn_old = c.j_bias;
-    c.j_bias = (jbn_old + jbn).max(Real::ZERO);
-    apply_bias_impulses(a, b, c.r1, c.r2, n * (c.j_bias - jbn_old));
+/// With `t = perp(n)`, the velocity along a direction `d` at the contact is
+/// `(v_b − v_a)·d + ω_b (r2 × d) − ω_a (r1 × d)`, so storing `r × n` and
+/// `r × t` turns each relative velocity into one 4-term dot product (one
+/// rounding), and storing `I⁻¹ (r × d)` turns each angular impulse into one
+/// multiplication.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SolverContact {
+    /// Solver index of body a.
+    pub a: u32,
+    /// Solver index of body b.
+    pub b: u32,
+    /// Index of the arbiter and of the contact in it (for the write-back).
+    pub arbiter: u32,
+    /// Contact slot in the arbiter.
+    pub slot: u32,
+    /// Unit normal from a to b.
+    pub n: Vect,
+    /// `r1 × n`, `r2 × n`, `r1 × t`, `r2 × t`.
+    pub rn_a: Real,
+    pub rn_b: Real,
+    pub rt_a: Real,
+    pub rt_b: Real,
+    /// `I_a⁻¹ (r1 × n)` and friends: angular velocity change per unit impulse.
+    pub kn_a: Real,
+    pub kn_b: Real,
+    pub kt_a: Real,
+    pub kt_b: Real,
+    /// Inverse masses.
+    pub m_a: Real,
+    pub m_b: Real,
+    /// `1/k(n)`, `1/k(t)`.
+    pub n_mass: Real,
+    pub t_mass: Real,
+    /// Target bias velocity and restitution target.
+    pub bias: Real,
+    pub bounce: Real,
+    /// Friction coefficient and tangential surface velocity.
+    pub friction: Real,
+    pub surface_t: Real,
+    /// Accumulated impulses.
+    pub jn_acc: Real,
+    pub jt_acc: Real,
+    pub j_bias: Real,
+}
 
-    // Normal and friction on real velocities.
-    let vr = relative_velocity(a, b, c.r1, c.r2) + surface_vr;
-    let vrn = vr.dot(n);
-    let vrt = vr.dot(n.perp());
+impl SolverContact {
+    /// Pre-step for one contact (Chipmunk `preStep`): effective masses
+    /// `1/k`, bias `−bias_coef·min(0, dist + slop)/dt` and bounce
+    /// `e·(vr·n)` from the velocities before gravity. The only divisions of
+    /// the contact solver happen here.
+    pub fn new(
+        c: &ContactConstraint,
+        bodies: &[SolverBody],
+        pair: &PairParams,
+        params: &ContactParams,
+    ) -> SolverContact {
+        let zero = SolverBody::default();
+        let a = bodies.get(pair.a as usize).unwrap_or(&zero);
+        let b = bodies.get(pair.b as usize).unwrap_or(&zero);
+        let n = pair.n;
+        let t = n.perp();
+        let (rn_a, rn_b) = (c.r1.cross(n), c.r2.cross(n));
+        let (rt_a, rt_b) = (c.r1.cross(t), c.r2.cross(t));
+        // A zero k (two infinite masses) gives mass 0: the contact applies no impulse.
+        let n_mass = k_scalar(a, b, c.r1, c.r2, n).map_or(Real::ZERO, Real::recip);
+        let t_mass = k_scalar(a, b, c.r1, c.r2, t).map_or(Real::ZERO, Real::recip);
+        let overlap = (c.dist + params.slop).min(Real::ZERO);
+        SolverContact {
+            a: pair.a,
+            b: pair.b,
+            arbiter: 0,
+            slot: 0,
+            n,
+            rn_a,
+            rn_b,
+            rt_a,
+            rt_b,
+            kn_a: a.i_inv * rn_a,
+            kn_b: b.i_inv * rn_b,
+            kt_a: a.i_inv * rt_a,
+            kt_b: b.i_inv * rt_b,
+            m_a: a.m_inv,
+            m_b: b.m_inv,
+            n_mass,
+            t_mass,
+            bias: (-params.bias_coef * overlap * params.dt_inv).min(params.max_bias),
+            bounce: normal_relative_velocity(a, b, c.r1, c.r2, n) * pair.e,
+            friction: pair.friction,
+            surface_t: pair.surface_vr.dot(t),
+            jn_acc: c.jn_acc,
+            jt_acc: c.jt_acc,
+            j_bias: Real::ZERO,
+        }
+    }
 
-    let jn = -(c.bounce + vrn) * c.n_mass;
-    let jn_old = c.jn_acc;
-    c.jn_acc = (jn_old + jn).max(Real::ZERO);
+    /// Applies the impulse `n·jn + t·jt` to the velocities (−a, +b).
+    #[inline(always)]
+    fn apply(&self, a: &mut SolverBody, b: &mut SolverBody, jn: Real, jt: Real) {
+        let n = self.n;
+        // P = n·jn + perp(n)·jt, with perp(n) = (−n.y, n.x).
+        let p = Vect::new(
+            Real::mul_sub2(n.x, jn, n.y, jt),
+            Real::mul_add2(n.y, jn, n.x, jt),
+        );
+        a.v -= p * self.m_a;
+        a.w -= Real::mul_add2(self.kn_a, jn, self.kt_a, jt);
+        b.v += p * self.m_b;
+        b.w += Real::mul_add2(self.kn_b, jn, self.kt_b, jt);
+    }
 
-    let jt_max = friction * c.jn_acc;
-    let jt = -vrt * c.t_mass;
-    let jt_old = c.jt_acc;
-    c.jt_acc = (jt_old + jt).clamp(-jt_max, jt_max);
+    /// Applies the cached (warm-start) impulse, scaled by `dt_coef = dt/prev_dt`.
+    pub fn warm_start(&self, bodies: &mut [SolverBody], dt_coef: Real) {
+        let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
+            return;
+        };
+        self.apply(&mut a, &mut b, self.jn_acc * dt_coef, self.jt_acc * dt_coef);
+        store_pair(bodies, self.a, a, self.b, b);
+    }
 
-    let j = n.rotate(Vect::new(c.jn_acc - jn_old, c.jt_acc - jt_old));
-    apply_impulses(a, b, c.r1, c.r2, j);
+    /// One iteration (Chipmunk `applyImpulse`): bias, normal and friction.
+    ///
+    /// * bias: `jb = (bias − vb·n)·n_mass` on the pseudo-velocities,
+    ///   accumulated and clamped ≥ 0;
+    /// * normal: `jn = −(bounce + vr·n)·n_mass`, accumulated and clamped ≥ 0;
+    /// * friction: `jt = −(vr·t + surface_vr·t)·t_mass`, accumulated and
+    ///   clamped to `±μ·jn_acc`.
+    #[inline]
+    pub fn solve(&mut self, bodies: &mut [SolverBody]) {
+        let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
+            return;
+        };
+        let n = self.n;
+
+        let dvb = b.v_bias - a.v_bias;
+        let vbn = Real::dot4(
+            [dvb.x, dvb.y, b.w_bias, a.w_bias],
+            [n.x, n.y, self.rn_b, -self.rn_a],
+        );
+        let jb_old = self.j_bias;
+        self.j_bias = (jb_old + (self.bias - vbn) * self.n_mass).max(Real::ZERO);
+        let djb = self.j_bias - jb_old;
+        if !djb.is_zero() {
+            let p = n * djb;
+            a.v_bias -= p * self.m_a;
+            a.w_bias -= self.kn_a * djb;
+            b.v_bias += p * self.m_b;
+            b.w_bias += self.kn_b * djb;
+        }
+
+        let dv = b.v - a.v;
+        let vn = Real::dot4([dv.x, dv.y, b.w, a.w], [n.x, n.y, self.rn_b, -self.rn_a]);
+        let vt =
+            Real::dot4([dv.x, dv.y, b.w, a.w], [-n.y, n.x, self.rt_b, -self.rt_a]) + self.surface_t;
+
+        let jn_old = self.jn_acc;
+        self.jn_acc = (jn_old - (self.bounce + vn) * self.n_mass).max(Real::ZERO);
+        let jt_max = self.friction * self.jn_acc;
+        let jt_old = self.jt_acc;
+        self.jt_acc = (jt_old - vt * self.t_mass).clamp(-jt_max, jt_max);
+
+        self.apply(&mut a, &mut b, self.jn_acc - jn_old, self.jt_acc - jt_old);
+        store_pair(bodies, self.a, a, self.b, b);
+    }
+}
+
+/// Copies out two distinct solver bodies (`None` if equal or out of range).
+#[inline(always)]
+fn load_pair(bodies: &[SolverBody], a: u32, b: u32) -> Option<(SolverBody, SolverBody)> {
+    if a == b {
+        return None;
+    }
+    Some((*bodies.get(a as usize)?, *bodies.get(b as usize)?))
+}
+
+#[inline(always)]
+fn store_pair(bodies: &mut [SolverBody], ia: u32, a: SolverBody, ib: u32, b: SolverBody) {
+    if let Some(slot) = bodies.get_mut(ia as usize) {
+        *slot = a;
+    }
+    if let Some(slot) = bodies.get_mut(ib as usize) {
+        *slot = b;
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::real;
 
     fn body(m_inv: i32, i_inv: i32) -> SolverBody {
-        SolverBody { m_inv: Real::from_int(m_inv), i_inv: Real::from_int(i_inv), ..Default::default() }
+        SolverBody {
+            m_inv: Real::from_int(m_inv),
+            i_inv: Real::from_int(i_inv),
+            ..Default::default()
+        }
     }
 
     #[test]
@@ -237,40 +391,89 @@ mod tests {
         let n = Vect::X;
         // (r × n)² = 1 for a; b has no rotation.
         assert_eq!(k_scalar(&a, &b, r, r, n), Ok(Real::from_int(4)));
-        assert_eq!(k_scalar(&body(0, 0), &body(0, 0), r, r, n), Err(UnsolvableCollision));
+        assert_eq!(
+            k_scalar(&body(0, 0), &body(0, 0), r, r, n),
+            Err(UnsolvableCollision)
+        );
     }
 
     #[test]
     fn impulses_are_equal_and_opposite() {
         let mut a = body(1, 0);
         let mut b = body(1, 0);
-        apply_impulses(&mut a, &mut b, Vect::ZERO, Vect::ZERO, Vect::from_ints(2, 0));
+        apply_impulses(
+            &mut a,
+            &mut b,
+            Vect::ZERO,
+            Vect::ZERO,
+            Vect::from_ints(2, 0),
+        );
         assert_eq!(a.v, Vect::from_ints(-2, 0));
         assert_eq!(b.v, Vect::from_ints(2, 0));
         let vr = relative_velocity(&a, &b, Vect::ZERO, Vect::ZERO);
         assert_eq!(vr, Vect::from_ints(4, 0));
-        assert_eq!(normal_relative_velocity(&a, &b, Vect::ZERO, Vect::ZERO, Vect::X), Real::from_int(4));
+        assert_eq!(
+            normal_relative_velocity(&a, &b, Vect::ZERO, Vect::ZERO, Vect::X),
+            Real::from_int(4)
+        );
     }
 
     #[test]
     fn normal_impulse_stops_approach_without_pulling() {
         // Two unit masses approaching at 2 along the normal: one iteration stops them.
-        let mut a = body(1, 0);
-        let mut b = body(1, 0);
-        a.v = Vect::from_ints(1, 0);
-        b.v = Vect::from_ints(-1, 0);
-        let params = ContactParams { dt_inv: Real::from_int(60), slop: Real::ZERO, bias_coef: Real::ZERO, max_bias: Real::MAX };
-        let mut c = ContactConstraint::default();
-        pre_step(&mut c, &a, &b, Vect::X, Real::ZERO, &params);
-        apply_contact_impulse(&mut c, &mut a, &mut b, Vect::X, Real::ZERO, Vect::ZERO);
-        assert_eq!(a.v, Vect::ZERO);
-        assert_eq!(b.v, Vect::ZERO);
+        let mut bodies = [body(1, 0), body(1, 0)];
+        bodies[0].v = Vect::from_ints(1, 0);
+        bodies[1].v = Vect::from_ints(-1, 0);
+        let params = ContactParams {
+            dt_inv: Real::from_int(60),
+            slop: Real::ZERO,
+            bias_coef: Real::ZERO,
+            max_bias: Real::MAX,
+        };
+        let pair = PairParams {
+            a: 0,
+            b: 1,
+            n: Vect::X,
+            e: Real::ZERO,
+            friction: Real::ZERO,
+            surface_vr: Vect::ZERO,
+        };
+        let mut c = SolverContact::new(&ContactConstraint::default(), &bodies, &pair, &params);
+        c.solve(&mut bodies);
+        assert_eq!(bodies[0].v, Vect::ZERO);
+        assert_eq!(bodies[1].v, Vect::ZERO);
         assert_eq!(c.jn_acc, Real::ONE);
         // Separating: no impulse (accumulated impulse cannot go negative).
-        a.v = Vect::from_ints(-1, 0);
+        bodies[0].v = Vect::from_ints(-1, 0);
         c.jn_acc = Real::ZERO;
-        apply_contact_impulse(&mut c, &mut a, &mut b, Vect::X, Real::ZERO, Vect::ZERO);
+        c.solve(&mut bodies);
         assert_eq!(c.jn_acc, Real::ZERO);
-        assert_eq!(a.v, Vect::from_ints(-1, 0));
+        assert_eq!(bodies[0].v, Vect::from_ints(-1, 0));
+    }
+
+    #[test]
+    fn friction_is_bounded_by_the_normal_impulse() {
+        // Body b slides along +x on a static a, pressed down by 1 unit of normal impulse.
+        let mut bodies = [body(0, 0), body(1, 0)];
+        bodies[1].v = Vect::new(Real::from_int(5), -Real::ONE);
+        let params = ContactParams {
+            dt_inv: Real::from_int(60),
+            slop: Real::ZERO,
+            bias_coef: Real::ZERO,
+            max_bias: Real::MAX,
+        };
+        let pair = PairParams {
+            a: 0,
+            b: 1,
+            n: Vect::Y,
+            e: Real::ZERO,
+            friction: Real::HALF,
+            surface_vr: Vect::ZERO,
+        };
+        let mut c = SolverContact::new(&ContactConstraint::default(), &bodies, &pair, &params);
+        c.solve(&mut bodies);
+        assert_eq!(c.jn_acc, Real::ONE);
+        assert_eq!(c.jt_acc.abs(), Real::HALF);
+        assert_eq!(bodies[1].v, Vect::new(real!(4.5), Real::ZERO));
     }
 }

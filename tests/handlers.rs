@@ -25,19 +25,31 @@ fn world(y: i32, e: Real) -> World {
     let mut space = Space::new();
     space.set_gravity(Vect::from_ints(0, -10));
     let ground = space.add_body(Body::new_static()).unwrap();
-    let mut seg = Shape::segment_shape_new(ground, Vect::from_ints(-10, 0), Vect::from_ints(10, 0), Real::ZERO)
-        .unwrap()
-        .with_material(Real::ONE, e)
-        .unwrap();
+    let mut seg = Shape::segment_shape_new(
+        ground,
+        Vect::from_ints(-10, 0),
+        Vect::from_ints(10, 0),
+        Real::ZERO,
+    )
+    .unwrap()
+    .with_material(Real::ONE, e)
+    .unwrap();
     seg.collision_type = GROUND;
     space.add_shape(seg).unwrap();
     let mut b = Body::new(Real::ONE, real!(0.125)).unwrap();
     b.set_position(Vect::from_ints(0, y));
     let ball = space.add_body(b).unwrap();
-    let mut c = Shape::circle_shape_new(ball, Real::HALF, Vect::ZERO).unwrap().with_material(Real::ONE, e).unwrap();
+    let mut c = Shape::circle_shape_new(ball, Real::HALF, Vect::ZERO)
+        .unwrap()
+        .with_material(Real::ONE, e)
+        .unwrap();
     c.collision_type = BALL;
     let ball_shape = space.add_shape(c).unwrap();
-    World { space, ball, ball_shape }
+    World {
+        space,
+        ball,
+        ball_shape,
+    }
 }
 
 fn counter() -> Rc<Cell<u32>> {
@@ -67,7 +79,12 @@ fn bouncing_ball_begins_and_separates_in_pairs() {
     // A perfectly elastic ball bounces again and again: each touch is one
     // begin, each lift-off one separate.
     assert!(begins.get() >= 3, "begins = {}", begins.get());
-    let touching = u32::from(w.space.arbiters().iter().any(|a| a.state() != ArbiterState::Cached));
+    let touching = u32::from(
+        w.space
+            .arbiters()
+            .iter()
+            .any(|a| a.state() != ArbiterState::Cached),
+    );
     assert_eq!(begins.get(), separates.get() + touching);
 }
 
@@ -98,7 +115,10 @@ fn pre_solve_false_lets_the_ball_fall_through() {
     w.space.add_collision_handler(BALL, GROUND).pre_solve = Some(Box::new(|_| false));
     run(&mut w.space, 120);
     let y = w.space.body(w.ball).unwrap().position().y;
-    assert!(y < Real::from_int(-5), "ball should have fallen through, y = {y}");
+    assert!(
+        y < Real::from_int(-5),
+        "ball should have fallen through, y = {y}"
+    );
 }
 
 #[test]
@@ -151,7 +171,10 @@ fn post_solve_sees_the_impulse_that_holds_the_ball_up() {
     // Resting: the contact impulse per step carries the weight, m·g·dt = 1/6.
     let j = last.get().length();
     let weight = Real::from_int(10) * Real::ratio(1, 60);
-    assert!((j - weight).abs() < real!(0.001), "impulse {j} vs weight·dt {weight}");
+    assert!(
+        (j - weight).abs() < real!(0.001),
+        "impulse {j} vs weight·dt {weight}"
+    );
 }
 
 #[test]
@@ -174,7 +197,11 @@ fn removing_the_ball_from_a_post_step_callback_is_safe_and_calls_separate() {
     run(&mut w.space, 120);
     assert!(w.space.body(ball).is_none());
     assert_eq!(w.space.shape(w.ball_shape), None);
-    assert_eq!(separates.get(), 1, "removal of a touching pair calls separate");
+    assert_eq!(
+        separates.get(),
+        1,
+        "removal of a touching pair calls separate"
+    );
     assert!(w.space.arbiters().is_empty());
     w.space.validate().unwrap();
 }
@@ -193,11 +220,12 @@ fn post_step_keys_are_deduplicated() {
 #[test]
 fn sensors_report_but_do_not_collide() {
     let mut w = world(1, Real::ZERO);
-    w.space.modify_shape(w.ball_shape, |s| {
-        s.sensor = true;
-        Ok(())
-    })
-    .unwrap();
+    w.space
+        .modify_shape(w.ball_shape, |s| {
+            s.sensor = true;
+            Ok(())
+        })
+        .unwrap();
     let (begins, posts) = (counter(), counter());
     let b = begins.clone();
     let p = posts.clone();
@@ -219,5 +247,8 @@ fn locked_space_rejects_changes_from_handlers_paths() {
     let mut w = world(1, Real::ZERO);
     assert!(!w.space.is_locked());
     assert!(w.space.remove_shape(w.ball_shape).is_ok());
-    assert!(w.space.remove_shape(w.ball_shape).is_err(), "removing twice is an error");
+    assert!(
+        w.space.remove_shape(w.ball_shape).is_err(),
+        "removing twice is an error"
+    );
 }

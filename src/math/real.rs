@@ -72,14 +72,38 @@ const fn saturate(v: i128) -> i64 {
 }
 
 /// Shifts a 128-bit product right by [`FRAC_BITS`], rounding to nearest with
-/// ties away from zero (symmetric under negation).
+/// ties away from zero (symmetric under negation), and saturates to `i64`.
+/// `p` must be at most 2^127 − 2^31 in magnitude: true for one product of
+/// two `i64` (≤ 2^126); sums of products saturate before calling this.
 #[inline(always)]
-const fn round_shift(p: i128) -> i128 {
+const fn round_shift_sat(p: i128) -> i64 {
     // Adding half minus one for negatives makes the arithmetic shift (a floor)
     // round ties away from zero on both sides.
     let half = 1i128 << (FRAC_BITS - 1);
-    let bias = if p < 0 { half - 1 } else { half };
-    (p + bias) >> FRAC_BITS
+    let r = (p + half - (p < 0) as i128) >> FRAC_BITS;
+    // r fits in i64 iff its upper 64 bits are the sign extension of the lower.
+    let lo = r as i64;
+    let hi = (r >> 64) as i64;
+    if hi == (lo >> 63) {
+        lo
+    } else if hi < 0 {
+        i64::MIN
+    } else {
+        i64::MAX
+    }
+}
+
+/// Clamps a sum of products so that [`round_shift_sat`] may take it.
+#[inline(always)]
+const fn clamp_sum(p: i128) -> i128 {
+    const LIM: i128 = i128::MAX - (1 << 32);
+    if p > LIM {
+        LIM
+    } else if p < -LIM {
+        -LIM
+    } else {
+        p
+    }
 }
 
 /// Rounds `n / d` to nearest, ties away from zero; `d` must be non-zero.
@@ -202,7 +226,7 @@ impl Real {
     /// Round-to-nearest, saturating multiplication.
     #[inline(always)]
     pub const fn mul_const(self, rhs: Real) -> Real {
-        Real(saturate(round_shift(self.0 as i128 * rhs.0 as i128)))
+        Real(round_shift_sat(self.0 as i128 * rhs.0 as i128))
     }
 
     /// Round-to-nearest, saturating division; see the module docs for `/ 0`.
@@ -225,15 +249,29 @@ impl Real {
     /// The building block of dot and cross products.
     #[inline(always)]
     pub const fn mul_add2(a: Real, b: Real, c: Real, d: Real) -> Real {
-        let p = a.0 as i128 * b.0 as i128 + c.0 as i128 * d.0 as i128;
-        Real(saturate(round_shift(p)))
+        let p = (a.0 as i128 * b.0 as i128).saturating_add(c.0 as i128 * d.0 as i128);
+        Real(round_shift_sat(clamp_sum(p)))
     }
 
     /// `a·b − c·d` with a single rounding.
     #[inline(always)]
     pub const fn mul_sub2(a: Real, b: Real, c: Real, d: Real) -> Real {
-        let p = a.0 as i128 * b.0 as i128 - c.0 as i128 * d.0 as i128;
-        Real(saturate(round_shift(p)))
+        let p = (a.0 as i128 * b.0 as i128).saturating_sub(c.0 as i128 * d.0 as i128);
+        Real(round_shift_sat(clamp_sum(p)))
+    }
+
+    /// `x₀y₀ + x₁y₁ + x₂y₂ + x₃y₃` with a single rounding: the solver's
+    /// relative velocity along a direction in one operation.
+    #[inline(always)]
+    pub const fn dot4(x: [Real; 4], y: [Real; 4]) -> Real {
+        // Each product is below 2^126 in magnitude; saturating adds keep the
+        // sum defined even in the (unphysical) case that it exceeds i128.
+        let p0 = x[0].0 as i128 * y[0].0 as i128;
+        let p1 = x[1].0 as i128 * y[1].0 as i128;
+        let p2 = x[2].0 as i128 * y[2].0 as i128;
+        let p3 = x[3].0 as i128 * y[3].0 as i128;
+        let sum = p0.saturating_add(p1).saturating_add(p2).saturating_add(p3);
+        Real(round_shift_sat(clamp_sum(sum)))
     }
 
     /// `self · num / den` with one rounding and no intermediate overflow.

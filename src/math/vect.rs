@@ -106,8 +106,8 @@ impl Vect {
             return Vect::ZERO;
         }
         // t = (self·other)/|other|², with both on 128 bits: no overflow, one rounding.
-        let dot = self.x.to_bits() as i128 * other.x.to_bits() as i128
-            + self.y.to_bits() as i128 * other.y.to_bits() as i128;
+        let dot = (self.x.to_bits() as i128 * other.x.to_bits() as i128)
+            .saturating_add(self.y.to_bits() as i128 * other.y.to_bits() as i128);
         let t = wide_ratio(dot, len_sq);
         other.mult(t)
     }

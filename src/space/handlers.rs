@@ -114,9 +114,17 @@ impl ArbiterContext<'_> {
         for (slot, c) in set.points.iter_mut().zip(arb.contacts()) {
             let (a, b) = (pa + c.r1, pb + c.r2);
             *slot = if self.swapped {
-                ContactPoint { point_a: b, point_b: a, distance: c.dist }
+                ContactPoint {
+                    point_a: b,
+                    point_b: a,
+                    distance: c.dist,
+                }
             } else {
-                ContactPoint { point_a: a, point_b: b, distance: c.dist }
+                ContactPoint {
+                    point_a: a,
+                    point_b: b,
+                    distance: c.dist,
+                }
             };
         }
         set
@@ -156,15 +164,20 @@ pub(crate) struct HandlerTable {
 
 impl HandlerTable {
     pub(crate) fn pair_mut(&mut self, a: CollisionType, b: CollisionType) -> &mut CollisionHandler {
-        self.pairs.entry((a, b)).or_insert_with(|| CollisionHandler {
-            type_a: a,
-            type_b: b,
-            ..collision_handler_do_nothing()
-        })
+        self.pairs
+            .entry((a, b))
+            .or_insert_with(|| CollisionHandler {
+                type_a: a,
+                type_b: b,
+                ..collision_handler_do_nothing()
+            })
     }
 
     pub(crate) fn wildcard_mut(&mut self, t: CollisionType) -> &mut CollisionHandler {
-        self.wildcards.entry(t).or_insert_with(|| CollisionHandler { type_a: t, ..collision_handler_do_nothing() })
+        self.wildcards.entry(t).or_insert_with(|| CollisionHandler {
+            type_a: t,
+            ..collision_handler_do_nothing()
+        })
     }
 
     /// True if no handler is registered (the step skips dispatch entirely).
@@ -185,7 +198,13 @@ impl HandlerTable {
         }
         let ta = shapes.get(arbiter.shape_a).map_or(0, |s| s.collision_type);
         let tb = shapes.get(arbiter.shape_b).map_or(0, |s| s.collision_type);
-        let mut ctx = ArbiterContext { arbiter, bodies, shapes, post_step, swapped: false };
+        let mut ctx = ArbiterContext {
+            arbiter,
+            bodies,
+            shapes,
+            post_step,
+            swapped: false,
+        };
         if let Some(h) = self.pairs.get_mut(&(ta, tb)) {
             return run(h, event, &mut ctx);
         }

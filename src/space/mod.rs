@@ -99,14 +99,20 @@ pub enum SpaceError {
 impl fmt::Display for SpaceError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            SpaceError::StaleBody(h) => write!(f, "body handle {h:?} is stale or from another space"),
-            SpaceError::StaleShape(h) => write!(f, "shape handle {h:?} is stale or from another space"),
+            SpaceError::StaleBody(h) => {
+                write!(f, "body handle {h:?} is stale or from another space")
+            }
+            SpaceError::StaleShape(h) => {
+                write!(f, "shape handle {h:?} is stale or from another space")
+            }
             SpaceError::Body(e) => write!(f, "{e}"),
             SpaceError::Shape(e) => write!(f, "{e}"),
             SpaceError::NegativeTimeStep => f.write_str("time step must not be negative"),
             SpaceError::InvalidSetting(why) => write!(f, "invalid setting: {why}"),
             SpaceError::Full => f.write_str("too many objects in the space"),
-            SpaceError::Locked => f.write_str("space is locked during the step; use a post-step callback"),
+            SpaceError::Locked => {
+                f.write_str("space is locked during the step; use a post-step callback")
+            }
         }
     }
 }
@@ -171,6 +177,11 @@ pub(crate) struct Caches {
     pub(crate) static_tree: StaticTree,
     pub(crate) statics_dirty: bool,
     pub(crate) solver_bodies: Vec<crate::solver::SolverBody>,
+    pub(crate) solver_contacts: Vec<crate::solver::SolverContact>,
+    /// Last step's arbiter buffer, kept for its allocation.
+    pub(crate) arbiter_spare: Vec<Arbiter>,
+    /// Indices of the arbiters solved this step.
+    pub(crate) active: Vec<u32>,
     /// Constants of the last step's `dt` (cleared when settings change).
     pub(crate) dt_constants: Option<DtConstants>,
     pub(crate) proxies: Vec<crate::broadphase::Proxy>,
@@ -193,7 +204,9 @@ impl Default for Space {
 
 impl fmt::Debug for Space {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_struct("Space").field("state", &self.state).finish_non_exhaustive()
+        f.debug_struct("Space")
+            .field("state", &self.state)
+            .finish_non_exhaustive()
     }
 }
 
@@ -216,7 +229,10 @@ impl Space {
     pub fn from_state(state: WorldState) -> Space {
         Space {
             state,
-            caches: Caches { statics_dirty: true, ..Caches::default() },
+            caches: Caches {
+                statics_dirty: true,
+                ..Caches::default()
+            },
             handlers: handlers::HandlerTable::default(),
             post_step: Vec::new(),
             locked: false,
@@ -246,7 +262,9 @@ impl Space {
             return Err(SpaceError::InvalidSetting("damping must be ≥ 0"));
         }
         if settings.collision_bias.is_negative() || settings.collision_bias > Real::ONE {
-            return Err(SpaceError::InvalidSetting("collision bias must be in [0, 1]"));
+            return Err(SpaceError::InvalidSetting(
+                "collision bias must be in [0, 1]",
+            ));
         }
         if settings.collision_slop.is_negative() {
             return Err(SpaceError::InvalidSetting("collision slop must be ≥ 0"));
@@ -292,7 +310,11 @@ impl Space {
         self.check_unlocked()?;
         body.validate()?;
         let is_static = body.body_type() == BodyType::Static;
-        let h = self.state.bodies.insert(body).map_err(|_| SpaceError::Full)?;
+        let h = self
+            .state
+            .bodies
+            .insert(body)
+            .map_err(|_| SpaceError::Full)?;
         if is_static {
             self.caches.statics_dirty = true;
         }
@@ -306,8 +328,13 @@ impl Space {
         if !self.state.bodies.contains(h) {
             return Err(SpaceError::StaleBody(h));
         }
-        let owned: Vec<ShapeHandle> =
-            self.state.shapes.iter().filter(|(_, s)| s.body == h).map(|(sh, _)| sh).collect();
+        let owned: Vec<ShapeHandle> = self
+            .state
+            .shapes
+            .iter()
+            .filter(|(_, s)| s.body == h)
+            .map(|(sh, _)| sh)
+            .collect();
         for sh in owned {
             self.remove_shape(sh)?;
         }
@@ -320,8 +347,17 @@ impl Space {
     pub fn add_shape(&mut self, shape: Shape) -> Result<ShapeHandle, SpaceError> {
         self.check_unlocked()?;
         let bh = shape.body;
-        let body_type = self.state.bodies.get(bh).ok_or(SpaceError::StaleBody(bh))?.body_type();
-        let h = self.state.shapes.insert(shape).map_err(|_| SpaceError::Full)?;
+        let body_type = self
+            .state
+            .bodies
+            .get(bh)
+            .ok_or(SpaceError::StaleBody(bh))?
+            .body_type();
+        let h = self
+            .state
+            .shapes
+            .insert(shape)
+            .map_err(|_| SpaceError::Full)?;
         if body_type != BodyType::Dynamic {
             self.caches.statics_dirty = true;
         }
@@ -346,10 +382,19 @@ impl Space {
         });
         for mut arb in removed {
             if arb.state != ArbiterState::Cached {
-                self.handlers.separate(&mut arb, &self.state.bodies, &self.state.shapes, &mut self.post_step);
+                self.handlers.separate(
+                    &mut arb,
+                    &self.state.bodies,
+                    &self.state.shapes,
+                    &mut self.post_step,
+                );
             }
         }
-        let shape = self.state.shapes.remove(h).ok_or(SpaceError::StaleShape(h))?;
+        let shape = self
+            .state
+            .shapes
+            .remove(h)
+            .ok_or(SpaceError::StaleShape(h))?;
         self.caches.statics_dirty = true;
         self.update_mass_from_shapes(shape.body);
         Ok(shape)
@@ -384,7 +429,11 @@ impl Space {
         f: impl FnOnce(&mut Shape) -> Result<R, ShapeError>,
     ) -> Result<R, SpaceError> {
         self.check_unlocked()?;
-        let shape = self.state.shapes.get_mut(h).ok_or(SpaceError::StaleShape(h))?;
+        let shape = self
+            .state
+            .shapes
+            .get_mut(h)
+            .ok_or(SpaceError::StaleShape(h))?;
         let mut copy = shape.clone();
         let out = f(&mut copy)?;
         let body = copy.body;
@@ -420,7 +469,11 @@ impl Space {
     /// MIS `spaceAddCollisionHandler`: the handler for shapes of types
     /// `(a, b)`, created empty ("do nothing") if needed. Callbacks see the
     /// arbiter with shape a of type `a`.
-    pub fn add_collision_handler(&mut self, a: CollisionType, b: CollisionType) -> &mut CollisionHandler {
+    pub fn add_collision_handler(
+        &mut self,
+        a: CollisionType,
+        b: CollisionType,
+    ) -> &mut CollisionHandler {
         self.handlers.pair_mut(a, b)
     }
 
@@ -448,7 +501,9 @@ impl Space {
     /// (Chipmunk `cpBodyAccumulateMassFromShapes`), for dynamic bodies whose
     /// mass was not set explicitly.
     fn update_mass_from_shapes(&mut self, bh: BodyHandle) {
-        let Some(body) = self.state.bodies.get(bh) else { return };
+        let Some(body) = self.state.bodies.get(bh) else {
+            return;
+        };
         if body.body_type() != BodyType::Dynamic || body.explicit_mass {
             return;
         }
@@ -507,8 +562,14 @@ impl Space {
 
 /// Checks a [`WorldState`]'s invariants (see [`Space::validate`]).
 pub fn validate_state(state: &WorldState) -> Result<(), String> {
-    state.bodies.validate().map_err(|e| format!("bodies: {e}"))?;
-    state.shapes.validate().map_err(|e| format!("shapes: {e}"))?;
+    state
+        .bodies
+        .validate()
+        .map_err(|e| format!("bodies: {e}"))?;
+    state
+        .shapes
+        .validate()
+        .map_err(|e| format!("shapes: {e}"))?;
     for (h, b) in state.bodies.iter() {
         b.validate().map_err(|e| format!("body {h:?}: {e}"))?;
     }
@@ -524,7 +585,8 @@ pub fn validate_state(state: &WorldState) -> Result<(), String> {
             return Err(format!("arbiter {key:?} out of canonical order"));
         }
         prev = Some(key);
-        let (Some(a), Some(b)) = (state.shapes.get(arb.shape_a), state.shapes.get(arb.shape_b)) else {
+        let (Some(a), Some(b)) = (state.shapes.get(arb.shape_a), state.shapes.get(arb.shape_b))
+        else {
             return Err(format!("arbiter {key:?} names a missing shape"));
         };
         if a.body != arb.body_a || b.body != arb.body_b {

@@ -21,9 +21,9 @@ use crate::body::BodyType;
 use crate::broadphase::{Proxy, StaticTree};
 use crate::collision::collide;
 use crate::math::Real;
-use crate::solver::{self, ContactParams, SolverBody};
+use crate::solver::{ContactParams, PairParams, SolverBody, SolverContact};
 
-use super::{DtConstants, ShapeCache, Space, SpaceError};
+use super::{Caches, DtConstants, ShapeCache, Space, SpaceError};
 
 impl Space {
     /// MIS `spaceStep`: advances the world by `dt`. `dt == 0` does nothing;
@@ -45,16 +45,17 @@ impl Space {
         self.integrate_positions(dt);
         self.update_shape_caches();
         self.find_pairs();
-        let mut active = self.collide_pairs();
+        let active = self.collide_pairs();
         self.load_solver_bodies();
         self.pre_step(&active, &k);
         self.integrate_velocities(&k);
-        self.warm_start(&active);
+        self.warm_start();
         for _ in 0..self.state.settings.iterations {
-            self.solve_iteration(&active);
+            self.solve_iteration();
         }
-        self.store_solver_bodies();
-        self.post_solve(&mut active);
+        self.store_solver_results();
+        self.post_solve(&active);
+        self.caches.active = active;
 
         self.locked = false;
         self.run_post_step_callbacks();
@@ -77,7 +78,10 @@ impl Space {
             let entry = self.state.shapes.get_by_index(i as u32).and_then(|(_, s)| {
                 let body = bodies.get(s.body)?;
                 let geometry = s.geometry.to_world(body.position(), body.rotation());
-                Some(ShapeCache { geometry, bb: geometry.bb() })
+                Some(ShapeCache {
+                    geometry,
+                    bb: geometry.bb(),
+                })
             });
             caches.push(entry);
         }
@@ -100,7 +104,12 @@ impl Space {
                 .shapes
                 .iter()
                 .enumerate()
-                .filter_map(|(i, c)| c.as_ref().filter(|_| is_static(i)).map(|c| Proxy { index: i as u32, bb: c.bb }))
+                .filter_map(|(i, c)| {
+                    c.as_ref().filter(|_| is_static(i)).map(|c| Proxy {
+                        index: i as u32,
+                        bb: c.bb,
+                    })
+                })
                 .collect();
             self.caches.static_tree = StaticTree::build(statics);
             self.caches.statics_dirty = false;
@@ -109,10 +118,15 @@ impl Space {
         proxies.clear();
         for (i, c) in self.caches.shapes.iter().enumerate() {
             if let Some(c) = c.as_ref().filter(|_| !is_static(i)) {
-                proxies.push(Proxy { index: i as u32, bb: c.bb });
+                proxies.push(Proxy {
+                    index: i as u32,
+                    bb: c.bb,
+                });
             }
         }
-        self.caches.broadphase.find_pairs(&self.caches.proxies, &self.caches.static_tree);
+        self.caches
+            .broadphase
+            .find_pairs(&self.caches.proxies, &self.caches.static_tree);
     }
 
     /// Stages 4–5: narrowphase and arbiter matching. Old and new arbiters
@@ -120,33 +134,42 @@ impl Space {
     /// whose pair is not touching are retired on the way (separate handler,
     /// expiry). Returns the indices of the arbiters to solve this step.
     fn collide_pairs(&mut self) -> Vec<u32> {
-        let old = mem::take(&mut self.state.arbiters);
-        let mut old = old.into_iter().peekable();
-        let mut arbiters: Vec<Arbiter> = Vec::with_capacity(self.caches.broadphase.pairs.len());
-        let mut active = Vec::new();
+        // Double-buffered: last step's list is drained into this step's,
+        // and both allocations are kept for the next step.
+        let mut old = mem::take(&mut self.state.arbiters);
+        let mut arbiters = mem::take(&mut self.caches.arbiter_spare);
+        arbiters.clear();
+        let mut active = mem::take(&mut self.caches.active);
+        active.clear();
         let stamp = self.state.stamp;
         let pairs = mem::take(&mut self.caches.broadphase.pairs);
+        let mut old_iter = old.drain(..).peekable();
         for &(ia, ib) in &pairs {
             // Arbiters of pairs that the broadphase no longer reports.
-            while let Some(arb) = old.next_if(|a| a.key() < (ia, ib)) {
+            while let Some(arb) = old_iter.next_if(|a| a.key() < (ia, ib)) {
                 arbiters.extend(self.retire(arb));
             }
-            let existing = old.next_if(|a| a.key() == (ia, ib));
-            let touching = self.narrowphase(ia, ib, existing.as_ref()).and_then(|info| {
-                let (ha, sa) = self.state.shapes.get_by_index(ia)?;
-                let (hb, sb) = self.state.shapes.get_by_index(ib)?;
-                let ca = self.state.bodies.get(sa.body)?.center();
-                let cb = self.state.bodies.get(sb.body)?.center();
-                let mut arb = existing.clone().unwrap_or_else(|| Arbiter::new(ha, sa, hb, sb));
-                arb.update(&info, sa, sb, ca, cb);
-                Some(arb)
-            });
-            let Some(mut arb) = touching else {
+            let existing = old_iter.next_if(|a| a.key() == (ia, ib));
+            let Some(info) = self.narrowphase(ia, ib, existing.as_ref()) else {
                 if let Some(arb) = existing {
                     arbiters.extend(self.retire(arb));
                 }
                 continue;
             };
+            let (Some((ha, sa)), Some((hb, sb))) = (
+                self.state.shapes.get_by_index(ia),
+                self.state.shapes.get_by_index(ib),
+            ) else {
+                continue;
+            };
+            let (Some(body_a), Some(body_b)) = (
+                self.state.bodies.get(sa.body),
+                self.state.bodies.get(sb.body),
+            ) else {
+                continue;
+            };
+            let mut arb = existing.unwrap_or_else(|| Arbiter::new(ha, sa, hb, sb));
+            arb.update(&info, sa, sb, body_a.center(), body_b.center());
             if arb.state == ArbiterState::Cached {
                 arb.state = ArbiterState::FirstCollision;
             }
@@ -156,11 +179,12 @@ impl Space {
             }
             arbiters.push(arb);
         }
-        for arb in old {
+        for arb in old_iter {
             arbiters.extend(self.retire(arb));
         }
         self.caches.broadphase.pairs = pairs;
         self.state.arbiters = arbiters;
+        self.caches.arbiter_spare = old;
         active
     }
 
@@ -169,7 +193,12 @@ impl Space {
     /// touched for `collision_persistence` steps.
     fn retire(&mut self, mut arb: Arbiter) -> Option<Arbiter> {
         if arb.state != ArbiterState::Cached {
-            self.handlers.separate(&mut arb, &self.state.bodies, &self.state.shapes, &mut self.post_step);
+            self.handlers.separate(
+                &mut arb,
+                &self.state.bodies,
+                &self.state.shapes,
+                &mut self.post_step,
+            );
             arb.state = ArbiterState::Cached;
         }
         let idle = self.state.stamp.saturating_sub(arb.stamp);
@@ -177,7 +206,12 @@ impl Space {
     }
 
     /// Filters a candidate pair and collides it; `None` if rejected or not touching.
-    fn narrowphase(&self, ia: u32, ib: u32, existing: Option<&Arbiter>) -> Option<crate::collision::CollisionInfo> {
+    fn narrowphase(
+        &self,
+        ia: u32,
+        ib: u32,
+        existing: Option<&Arbiter>,
+    ) -> Option<crate::collision::CollisionInfo> {
         let (_, sa) = self.state.shapes.get_by_index(ia)?;
         let (_, sb) = self.state.shapes.get_by_index(ib)?;
         if sa.body == sb.body || sa.filter.rejects(&sb.filter) || (sa.sensor && sb.sensor) {
@@ -190,14 +224,19 @@ impl Space {
         }
         let ca = self.caches.shapes.get(ia as usize)?.as_ref()?;
         let cb = self.caches.shapes.get(ib as usize)?.as_ref()?;
-        let info = collide(&ca.geometry, &cb.geometry, existing.map_or(0, |a| a.collision_id));
+        let info = collide(
+            &ca.geometry,
+            &cb.geometry,
+            existing.map_or(0, |a| a.collision_id),
+        );
         (info.count > 0).then_some(info)
     }
 
     /// Begin and pre-solve handlers; true if the arbiter goes to the solver.
     fn run_contact_handlers(&mut self, arb: &mut Arbiter) -> bool {
         let (bodies, shapes, q) = (&self.state.bodies, &self.state.shapes, &mut self.post_step);
-        if arb.state == ArbiterState::FirstCollision && !self.handlers.begin(arb, bodies, shapes, q) {
+        if arb.state == ArbiterState::FirstCollision && !self.handlers.begin(arb, bodies, shapes, q)
+        {
             arb.state = ArbiterState::Ignore;
         }
         if arb.state == ArbiterState::Ignore {
@@ -222,13 +261,18 @@ impl Space {
                     v_bias: body.v_bias,
                     w_bias: body.w_bias,
                     m_inv: if dynamic { body.mass_inv() } else { Real::ZERO },
-                    i_inv: if dynamic { body.moment_inv() } else { Real::ZERO },
+                    i_inv: if dynamic {
+                        body.moment_inv()
+                    } else {
+                        Real::ZERO
+                    },
                 };
             }
         }
     }
 
-    /// Stage 6: effective masses, bias and bounce for every active contact.
+    /// Stage 6: effective masses, bias and bounce for every active contact,
+    /// gathered into the contiguous solver array.
     fn pre_step(&mut self, active: &[u32], k: &DtConstants) {
         let s = &self.state.settings;
         let params = ContactParams {
@@ -237,18 +281,29 @@ impl Space {
             bias_coef: k.bias_coef,
             max_bias: Real::MAX,
         };
-        let bodies = &self.caches.solver_bodies;
+        let Caches {
+            solver_bodies,
+            solver_contacts,
+            ..
+        } = &mut self.caches;
+        solver_contacts.clear();
         for &i in active {
-            let Some(arb) = self.state.arbiters.get_mut(i as usize) else { continue };
-            let (Some(a), Some(b)) =
-                (bodies.get(arb.body_a.index() as usize), bodies.get(arb.body_b.index() as usize))
-            else {
+            let Some(arb) = self.state.arbiters.get(i as usize) else {
                 continue;
             };
-            let (n, e) = (arb.normal, arb.restitution);
-            let count = arb.count();
-            for c in arb.contacts.iter_mut().take(count) {
-                solver::pre_step(c, a, b, n, e, &params);
+            let pair = PairParams {
+                a: arb.body_a.index(),
+                b: arb.body_b.index(),
+                n: arb.normal,
+                e: arb.restitution,
+                friction: arb.friction,
+                surface_vr: arb.surface_velocity,
+            };
+            for (slot, c) in arb.contacts().iter().enumerate() {
+                let mut sc = SolverContact::new(c, solver_bodies, &pair, &params);
+                sc.arbiter = i;
+                sc.slot = slot as u32;
+                solver_contacts.push(sc);
             }
         }
     }
@@ -266,39 +321,49 @@ impl Space {
     }
 
     /// Stage 8: re-apply last step's accumulated impulses.
-    fn warm_start(&mut self, active: &[u32]) {
+    fn warm_start(&mut self) {
         let prev = self.state.prev_dt;
-        let dt_coef = if prev.is_zero() { Real::ZERO } else { self.state.current_dt / prev };
-        for &i in active {
-            let Some(arb) = self.state.arbiters.get(i as usize) else { continue };
-            let Some((a, b)) = pair_mut(&mut self.caches.solver_bodies, arb.body_a.index(), arb.body_b.index())
-            else {
-                continue;
-            };
-            for c in arb.contacts() {
-                solver::warm_start(c, a, b, arb.normal, dt_coef);
-            }
+        let dt_coef = if prev.is_zero() {
+            Real::ZERO
+        } else {
+            self.state.current_dt / prev
+        };
+        let Caches {
+            solver_bodies,
+            solver_contacts,
+            ..
+        } = &mut self.caches;
+        for c in solver_contacts.iter() {
+            c.warm_start(solver_bodies, dt_coef);
         }
     }
 
-    /// Stage 9: one Gauss–Seidel pass over the active contacts.
-    fn solve_iteration(&mut self, active: &[u32]) {
-        for &i in active {
-            let Some(arb) = self.state.arbiters.get_mut(i as usize) else { continue };
-            let Some((a, b)) = pair_mut(&mut self.caches.solver_bodies, arb.body_a.index(), arb.body_b.index())
-            else {
-                continue;
-            };
-            let (n, u, sv) = (arb.normal, arb.friction, arb.surface_velocity);
-            let count = arb.count();
-            for c in arb.contacts.iter_mut().take(count) {
-                solver::apply_contact_impulse(c, a, b, n, u, sv);
-            }
+    /// Stage 9: one Gauss–Seidel pass over the active contacts, in canonical order.
+    fn solve_iteration(&mut self) {
+        let Caches {
+            solver_bodies,
+            solver_contacts,
+            ..
+        } = &mut self.caches;
+        for c in solver_contacts.iter_mut() {
+            c.solve(solver_bodies);
         }
     }
 
-    /// Copies solved velocities back into the bodies.
-    fn store_solver_bodies(&mut self) {
+    /// Copies solved velocities back into the bodies and accumulated
+    /// impulses back into the arbiters (for warm starting and handlers).
+    fn store_solver_results(&mut self) {
+        for c in &self.caches.solver_contacts {
+            let contact = self
+                .state
+                .arbiters
+                .get_mut(c.arbiter as usize)
+                .and_then(|arb| arb.contacts.get_mut(c.slot as usize));
+            if let Some(contact) = contact {
+                contact.jn_acc = c.jn_acc;
+                contact.jt_acc = c.jt_acc;
+            }
+        }
         for (h, body) in self.state.bodies.iter_mut() {
             if body.body_type() != BodyType::Dynamic {
                 continue;
@@ -313,11 +378,18 @@ impl Space {
     }
 
     /// Stage 10: post-solve handlers, then first contacts become normal.
-    fn post_solve(&mut self, active: &mut Vec<u32>) {
+    fn post_solve(&mut self, active: &[u32]) {
         if !self.handlers.is_empty() {
-            for &i in active.iter() {
-                let Some(arb) = self.state.arbiters.get_mut(i as usize) else { continue };
-                self.handlers.post_solve(arb, &self.state.bodies, &self.state.shapes, &mut self.post_step);
+            for &i in active {
+                let Some(arb) = self.state.arbiters.get_mut(i as usize) else {
+                    continue;
+                };
+                self.handlers.post_solve(
+                    arb,
+                    &self.state.bodies,
+                    &self.state.shapes,
+                    &mut self.post_step,
+                );
             }
         }
         let stamp = self.state.stamp;
@@ -326,7 +398,6 @@ impl Space {
                 arb.state = ArbiterState::Normal;
             }
         }
-        active.clear();
     }
 
     /// Stage 11: post-step callbacks, in the order they were queued.
@@ -338,21 +409,5 @@ impl Space {
                 f(self);
             }
         }
-    }
-}
-
-/// Two distinct entries of the solver array, mutably.
-fn pair_mut(v: &mut [SolverBody], i: u32, j: u32) -> Option<(&mut SolverBody, &mut SolverBody)> {
-    let (i, j) = (i as usize, j as usize);
-    if i == j {
-        return None;
-    }
-    if i < j {
-        let (lo, hi) = v.split_at_mut(j);
-        Some((lo.get_mut(i)?, hi.first_mut()?))
-    } else {
-        let (lo, hi) = v.split_at_mut(i);
-        let b = lo.get_mut(j)?;
-        Some((hi.first_mut()?, b))
     }
 }
