@@ -10,11 +10,19 @@ use core::marker::PhantomData;
 use serde::{Deserialize, Serialize};
 
 /// A generational handle to an object of type `T` in an [`Arena`].
+///
+/// Besides slot and generation, a handle handed out by a
+/// [`Space`](crate::space::Space) carries the space's *origin tag*, so that
+/// a handle of one world given to another is an error, not a silent alias
+/// of whatever lives in the same slot there. The tag is not simulation
+/// state: it is not serialized, compared or hashed (0 means "unknown").
 #[derive(Serialize, Deserialize)]
 #[serde(bound = "")]
 pub struct Handle<T> {
     index: u32,
     generation: u32,
+    #[serde(skip)]
+    origin: u32,
     #[serde(skip)]
     _marker: PhantomData<fn() -> T>,
 }
@@ -26,8 +34,22 @@ impl<T> Handle<T> {
         Handle {
             index,
             generation,
+            origin: 0,
             _marker: PhantomData,
         }
+    }
+
+    /// The same handle tagged with the origin `tag` of the space that made it.
+    pub(crate) const fn with_origin(self, tag: u32) -> Handle<T> {
+        Handle {
+            origin: tag,
+            ..self
+        }
+    }
+
+    /// The origin tag (0: unknown, e.g. after deserialisation).
+    pub(crate) const fn origin(self) -> u32 {
+        self.origin
     }
 
     /// The slot index. Stable for the object's lifetime; used to order pairs

@@ -94,6 +94,8 @@ pub enum SpaceError {
     Full,
     /// The operation is not allowed while the step runs (use a post-step callback).
     Locked,
+    /// The handle was made by another space.
+    ForeignHandle,
 }
 
 impl fmt::Display for SpaceError {
@@ -113,6 +115,7 @@ impl fmt::Display for SpaceError {
             SpaceError::Locked => {
                 f.write_str("space is locked during the step; use a post-step callback")
             }
+            SpaceError::ForeignHandle => f.write_str("handle belongs to another space"),
         }
     }
 }
@@ -193,7 +196,36 @@ pub struct Space {
     pub(crate) caches: Caches,
     pub(crate) handlers: handlers::HandlerTable,
     pub(crate) post_step: Vec<(u64, PostStepFn)>,
+    pub(crate) integrators: Integrators,
     pub(crate) locked: bool,
+    /// Tag put on the handles this space hands out (see [`Handle`]); shared
+    /// by clones, so a game's handles keep working on its rollback copies.
+    pub(crate) origin: u32,
+}
+
+/// Custom velocity integration (Chipmunk `cpBodySetVelocityUpdateFunc`):
+/// called instead of [`Body::update_velocity`] with the gravity, the
+/// per-step damping factor and `dt`. Must be deterministic (no floats, no
+/// outside state that differs between peers).
+pub type VelocityUpdateFn = Box<dyn FnMut(&mut Body, Vect, Real, Real)>;
+
+/// Custom position integration (Chipmunk `cpBodySetPositionUpdateFunc`):
+/// called instead of [`Body::update_position`] with `dt`.
+pub type PositionUpdateFn = Box<dyn FnMut(&mut Body, Real)>;
+
+/// Per-body custom integrators (closures: not simulation state).
+#[derive(Default)]
+pub(crate) struct Integrators {
+    pub(crate) velocity: std::collections::BTreeMap<BodyHandle, VelocityUpdateFn>,
+    pub(crate) position: std::collections::BTreeMap<BodyHandle, PositionUpdateFn>,
+}
+
+/// Source of origin tags: process-local, never part of the simulation.
+static NEXT_ORIGIN: core::sync::atomic::AtomicU32 = core::sync::atomic::AtomicU32::new(1);
+
+fn new_origin() -> u32 {
+    // Wrapping to 0 would only turn the check off for that space.
+    NEXT_ORIGIN.fetch_add(1, core::sync::atomic::Ordering::Relaxed)
 }
 
 impl Default for Space {
@@ -214,7 +246,9 @@ impl Clone for Space {
     /// Clones the simulation state; handlers and post-step callbacks are not
     /// cloned (closures), the clone has none.
     fn clone(&self) -> Space {
-        Space::from_state(self.state.clone())
+        let mut copy = Space::from_state(self.state.clone());
+        copy.origin = self.origin;
+        copy
     }
 }
 
@@ -235,7 +269,9 @@ impl Space {
             },
             handlers: handlers::HandlerTable::default(),
             post_step: Vec::new(),
+            integrators: Integrators::default(),
             locked: false,
+            origin: new_origin(),
         }
     }
 
@@ -318,13 +354,14 @@ impl Space {
         if is_static {
             self.caches.statics_dirty = true;
         }
-        Ok(h)
+        Ok(h.with_origin(self.origin))
     }
 
     /// Removes a body, its shapes and their arbiters (separate handlers run
     /// for touching pairs). Returns the body.
     pub fn remove_body(&mut self, h: BodyHandle) -> Result<Body, SpaceError> {
         self.check_unlocked()?;
+        self.check_origin(h)?;
         if !self.state.bodies.contains(h) {
             return Err(SpaceError::StaleBody(h));
         }
@@ -339,6 +376,8 @@ impl Space {
             self.remove_shape(sh)?;
         }
         self.caches.statics_dirty = true;
+        self.integrators.velocity.remove(&h);
+        self.integrators.position.remove(&h);
         self.state.bodies.remove(h).ok_or(SpaceError::StaleBody(h))
     }
 
@@ -347,6 +386,7 @@ impl Space {
     pub fn add_shape(&mut self, shape: Shape) -> Result<ShapeHandle, SpaceError> {
         self.check_unlocked()?;
         let bh = shape.body;
+        self.check_origin(bh)?;
         let body_type = self
             .state
             .bodies
@@ -362,13 +402,14 @@ impl Space {
             self.caches.statics_dirty = true;
         }
         self.update_mass_from_shapes(bh);
-        Ok(h)
+        Ok(h.with_origin(self.origin))
     }
 
     /// Removes a shape and its arbiters (separate handlers run for pairs that
     /// were touching).
     pub fn remove_shape(&mut self, h: ShapeHandle) -> Result<Shape, SpaceError> {
         self.check_unlocked()?;
+        self.check_origin(h)?;
         if !self.state.shapes.contains(h) {
             return Err(SpaceError::StaleShape(h));
         }
@@ -402,12 +443,14 @@ impl Space {
 
     /// A body.
     pub fn body(&self, h: BodyHandle) -> Option<&Body> {
+        self.check_origin(h).ok()?;
         self.state.bodies.get(h)
     }
 
     /// A body, mutably. Moving a static body this way is noticed: the static
     /// index is rebuilt on the next step.
     pub fn body_mut(&mut self, h: BodyHandle) -> Option<&mut Body> {
+        self.check_origin(h).ok()?;
         let body = self.state.bodies.get_mut(h)?;
         if body.body_type() != BodyType::Dynamic {
             self.caches.statics_dirty = true;
@@ -417,6 +460,7 @@ impl Space {
 
     /// A shape.
     pub fn shape(&self, h: ShapeHandle) -> Option<&Shape> {
+        self.check_origin(h).ok()?;
         self.state.shapes.get(h)
     }
 
@@ -429,6 +473,7 @@ impl Space {
         f: impl FnOnce(&mut Shape) -> Result<R, ShapeError>,
     ) -> Result<R, SpaceError> {
         self.check_unlocked()?;
+        self.check_origin(h)?;
         let shape = self
             .state
             .shapes
@@ -483,10 +528,56 @@ impl Space {
         self.handlers.wildcard_mut(t)
     }
 
+    /// Replaces the default velocity integration of one body (MIS "kinematic
+    /// functions set to default ones"; `None` restores the default). Like
+    /// handlers, these closures are not part of snapshots.
+    pub fn set_velocity_update_func(
+        &mut self,
+        h: BodyHandle,
+        f: Option<VelocityUpdateFn>,
+    ) -> Result<(), SpaceError> {
+        self.check_origin(h)?;
+        if !self.state.bodies.contains(h) {
+            return Err(SpaceError::StaleBody(h));
+        }
+        match f {
+            Some(f) => self.integrators.velocity.insert(h, f),
+            None => self.integrators.velocity.remove(&h),
+        };
+        Ok(())
+    }
+
+    /// Replaces the default position integration of one body (`None`
+    /// restores the default).
+    pub fn set_position_update_func(
+        &mut self,
+        h: BodyHandle,
+        f: Option<PositionUpdateFn>,
+    ) -> Result<(), SpaceError> {
+        self.check_origin(h)?;
+        if !self.state.bodies.contains(h) {
+            return Err(SpaceError::StaleBody(h));
+        }
+        match f {
+            Some(f) => self.integrators.position.insert(h, f),
+            None => self.integrators.position.remove(&h),
+        };
+        Ok(())
+    }
+
     /// Chipmunk `cpSpaceAddPostStepCallback`: runs `f` after the current (or
     /// next) step, once per `key`; returns false if `key` is already queued.
     pub fn add_post_step_callback(&mut self, key: u64, f: PostStepFn) -> bool {
         handlers::queue_post_step(&mut self.post_step, key, f)
+    }
+
+    /// Rejects a handle made by another space (tag 0: origin unknown, accepted).
+    fn check_origin<T>(&self, h: Handle<T>) -> Result<(), SpaceError> {
+        if h.origin() == 0 || h.origin() == self.origin {
+            Ok(())
+        } else {
+            Err(SpaceError::ForeignHandle)
+        }
     }
 
     fn check_unlocked(&self) -> Result<(), SpaceError> {

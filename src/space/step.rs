@@ -64,8 +64,12 @@ impl Space {
 
     /// Stage 1: `p += (v + v_bias)·dt` and the same for the angle.
     fn integrate_positions(&mut self, dt: Real) {
-        for (_, body) in self.state.bodies.iter_mut() {
-            body.update_position(dt);
+        let custom = &mut self.integrators.position;
+        for (h, body) in self.state.bodies.iter_mut() {
+            match custom.get_mut(&h) {
+                Some(f) => f(body, dt),
+                None => body.update_position(dt),
+            }
         }
     }
 
@@ -311,8 +315,12 @@ impl Space {
     /// Stage 7: gravity, damping and forces; clears force accumulators.
     fn integrate_velocities(&mut self, k: &DtConstants) {
         let g = self.state.settings.gravity;
+        let custom = &mut self.integrators.velocity;
         for (h, body) in self.state.bodies.iter_mut() {
-            body.update_velocity(g, k.damping, k.dt);
+            match custom.get_mut(&h) {
+                Some(f) => f(body, g, k.damping, k.dt),
+                None => body.update_velocity(g, k.damping, k.dt),
+            }
             if let Some(slot) = self.caches.solver_bodies.get_mut(h.index() as usize) {
                 slot.v = body.velocity();
                 slot.w = body.angular_velocity();
