@@ -160,6 +160,20 @@ pub(crate) struct ShapeCache {
     pub(crate) bb: BB,
 }
 
+/// Counters of the last step, for diagnostics and benchmarks (not state).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StepStats {
+    /// Shape pairs whose bounding boxes overlap (broadphase output).
+    pub candidate_pairs: u32,
+    /// Pairs that touch (narrowphase found contacts).
+    pub touching_pairs: u32,
+    /// Contacts sent to the solver.
+    pub solver_contacts: u32,
+    /// Narrowphase calls where GJK or EPA stopped at its iteration cap
+    /// (MIS WARN_GJK/WARN_EPA): the scene is outside the tested envelope.
+    pub iteration_cap_hits: u32,
+}
+
 /// Per-`dt` constants: the only `pow`, reciprocal and such of a step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct DtConstants {
@@ -185,6 +199,7 @@ pub(crate) struct Caches {
     pub(crate) arbiter_spare: Vec<Arbiter>,
     /// Indices of the arbiters solved this step.
     pub(crate) active: Vec<u32>,
+    pub(crate) stats: StepStats,
     /// Constants of the last step's `dt` (cleared when settings change).
     pub(crate) dt_constants: Option<DtConstants>,
     pub(crate) proxies: Vec<crate::broadphase::Proxy>,
@@ -334,6 +349,11 @@ impl Space {
     /// `dt` of the last step.
     pub fn current_time_step(&self) -> Real {
         self.state.current_dt
+    }
+
+    /// Counters of the last step (broadphase pairs, contacts, iteration-cap hits).
+    pub fn last_step_stats(&self) -> StepStats {
+        self.caches.stats
     }
 
     /// True while the step runs (handlers see a locked space).

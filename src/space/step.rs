@@ -23,7 +23,7 @@ use crate::collision::collide;
 use crate::math::Real;
 use crate::solver::{ContactParams, PairParams, SolverBody, SolverContact};
 
-use super::{Caches, DtConstants, ShapeCache, Space, SpaceError};
+use super::{Caches, DtConstants, ShapeCache, Space, SpaceError, StepStats};
 
 impl Space {
     /// MIS `spaceStep`: advances the world by `dt`. `dt == 0` does nothing;
@@ -147,6 +147,10 @@ impl Space {
         active.clear();
         let stamp = self.state.stamp;
         let pairs = mem::take(&mut self.caches.broadphase.pairs);
+        self.caches.stats = StepStats {
+            candidate_pairs: pairs.len() as u32,
+            ..StepStats::default()
+        };
         let mut old_iter = old.drain(..).peekable();
         for &(ia, ib) in &pairs {
             // Arbiters of pairs that the broadphase no longer reports.
@@ -154,7 +158,12 @@ impl Space {
                 arbiters.extend(self.retire(arb));
             }
             let existing = old_iter.next_if(|a| a.key() == (ia, ib));
-            let Some(info) = self.narrowphase(ia, ib, existing.as_ref()) else {
+            let info = self.narrowphase(ia, ib, existing.as_ref());
+            if let Some(info) = &info {
+                self.caches.stats.touching_pairs += 1;
+                self.caches.stats.iteration_cap_hits += u32::from(info.hit_iteration_cap);
+            }
+            let Some(info) = info else {
                 if let Some(arb) = existing {
                     arbiters.extend(self.retire(arb));
                 }
@@ -310,6 +319,7 @@ impl Space {
                 solver_contacts.push(sc);
             }
         }
+        self.caches.stats.solver_contacts = solver_contacts.len() as u32;
     }
 
     /// Stage 7: gravity, damping and forces; clears force accumulators.
