@@ -23,33 +23,88 @@
 //!   worst case (O(n log n) typical) without risk of stack overflow.
 //!
 //! # Range
-//! Orientation is exact while all coordinate differences fit in a `Real`,
-//! i.e. while the points span less than 2^31 on each axis. Wider sets (far
-//! outside the documented envelope) use saturated differences: the result is
-//! still a defined list of input points, but may not be their exact hull.
+//! Orientation is exact for any input: differences of raw `i64` bits take 65
+//! bits and their products 130, so the sign is decided on a 256-bit product
+//! (the value is saturated to `i128` only beyond 2^127, where just its sign
+//! and order matter). A fuzz-found case (extent ≥ 2^31 with saturated
+//! differences) produced a duplicated vertex before this.
 use crate::math::{Real, Vect};
 
-/// Raw-bit difference `a − b` (units of 2^-32), saturated to `i64`: exact
-/// while `|a − b| < 2^31`.
+/// Raw-bit difference `a − b` (units of 2^-32): exact, 65 bits.
 #[inline]
 fn diff(a: Real, b: Real) -> i128 {
-    i128::from(a.to_bits().saturating_sub(b.to_bits()))
+    i128::from(a.to_bits()) - i128::from(b.to_bits())
+}
+
+/// `|x| · |y|` for `|x|, |y| < 2^66` as a 256-bit `(high, low)` pair.
+#[inline]
+fn wide_mul(x: u128, y: u128) -> (u128, u128) {
+    const MASK: u128 = (1 << 64) - 1;
+    let (xh, xl, yh, yl) = (x >> 64, x & MASK, y >> 64, y & MASK);
+    let ll = xl * yl;
+    // xh, yh ≤ 3, so the cross terms stay below 2^67.
+    let mid = xh * yl + xl * yh;
+    let (low, carry) = ll.overflowing_add((mid & MASK) << 64);
+    let high = xh * yh + (mid >> 64) + u128::from(carry);
+    (high, low)
+}
+
+/// `x · y` for 65-bit signed inputs, as a sign and a 256-bit magnitude.
+#[inline]
+fn signed_wide_mul(x: i128, y: i128) -> (bool, (u128, u128)) {
+    (
+        (x < 0) != (y < 0),
+        wide_mul(x.unsigned_abs(), y.unsigned_abs()),
+    )
+}
+
+/// `p − q` of two signed 256-bit values, saturated to `i128`.
+fn wide_sub_saturating(p: (bool, (u128, u128)), q: (bool, (u128, u128))) -> i128 {
+    // Turn each into a (high: i128, low: u128) two's-complement pair.
+    let to_twos = |(neg, (h, l)): (bool, (u128, u128))| -> (i128, u128) {
+        let (h, l) = (h as i128, l);
+        if neg && (h != 0 || l != 0) {
+            let l2 = (!l).wrapping_add(1);
+            let h2 = (!h).wrapping_add(i128::from(l2 == 0));
+            (h2, l2)
+        } else {
+            (h, l)
+        }
+    };
+    let (ph, pl) = to_twos(p);
+    let (qh, ql) = to_twos(q);
+    let (low, borrow) = pl.overflowing_sub(ql);
+    // |p|, |q| < 2^131: the high halves are tiny, no overflow here.
+    let high = ph - qh - i128::from(borrow);
+    match high {
+        0 if low <= i128::MAX as u128 => low as i128,
+        -1 if low >= (1u128 << 127) => low as i128,
+        h if h < 0 => i128::MIN,
+        _ => i128::MAX,
+    }
 }
 
 /// Exact orientation of the triangle `a, b, c`: `(b − a) × (c − a)` in units
 /// of 2^-64 (twice the signed area). Positive when `c` lies left of `a → b`
 /// (a counter-clockwise turn), negative when right, zero when collinear.
 ///
-/// Exact (no rounding) while the coordinate differences are below 2^31 in
-/// magnitude; beyond that the differences saturate. Never overflows: each
-/// product of two `i64` is at most 2^126 in magnitude, so their difference
-/// stays below 2^127.
+/// Exact for every input; the value saturates to `i128` (keeping its sign)
+/// only when the triangle is wider than the `Real` range.
 #[inline]
 pub fn orientation(a: Vect, b: Vect, c: Vect) -> i128 {
     let (abx, aby) = (diff(b.x, a.x), diff(b.y, a.y));
     let (acx, acy) = (diff(c.x, a.x), diff(c.y, a.y));
-    // |products| ≤ 2^126 (see above): the subtraction cannot overflow.
-    (abx * acy).saturating_sub(aby * acx)
+    if abx
+        .unsigned_abs()
+        .max(aby.unsigned_abs())
+        .max(acx.unsigned_abs())
+        .max(acy.unsigned_abs())
+        < (1 << 63)
+    {
+        // Fast path: each product is below 2^126, the difference below 2^127.
+        return abx * acy - aby * acx;
+    }
+    wide_sub_saturating(signed_wide_mul(abx, acy), signed_wide_mul(aby, acx))
 }
 
 /// `tolerance · |b − a|` in units of 2^-64: the orientation value a point
@@ -61,8 +116,11 @@ fn threshold(a: Vect, b: Vect, tolerance: Real) -> i128 {
     }
     let dx = diff(b.x, a.x).unsigned_abs();
     let dy = diff(b.y, a.y).unsigned_abs();
-    // dx, dy ≤ 2^63, so dx² + dy² ≤ 2^127 fits u128; the floor root ≤ 2^63.5.
-    let len = (dx * dx + dy * dy).isqrt();
+    // dx, dy ≤ 2^64: saturate the (unphysical) squares beyond u128.
+    let len = dx
+        .saturating_mul(dx)
+        .saturating_add(dy.saturating_mul(dy))
+        .isqrt();
     let tol = u128::from(tolerance.to_bits().unsigned_abs());
     // tol < 2^63 and len < 2^64: the product is below 2^127.
     i128::try_from(tol.saturating_mul(len)).unwrap_or(i128::MAX)
@@ -80,8 +138,13 @@ fn outside(points: impl Iterator<Item = Vect>, a: Vect, b: Vect, tolerance: Real
 /// choice never depends on the input order.
 fn farthest(a: Vect, b: Vect, points: &[Vect]) -> Option<Vect> {
     let (dx, dy) = (diff(b.x, a.x), diff(b.y, a.y));
-    // Each product is at most 2^126 in magnitude; the sum saturates.
-    let along = |p: &Vect| (diff(p.x, a.x) * dx).saturating_add(diff(p.y, a.y) * dy);
+    // Differences take 65 bits: saturate the products and their sum (only
+    // the order of nearly-equal far-away points can be affected).
+    let along = |p: &Vect| {
+        diff(p.x, a.x)
+            .saturating_mul(dx)
+            .saturating_add(diff(p.y, a.y).saturating_mul(dy))
+    };
     points
         .iter()
         .max_by(|p, q| {
