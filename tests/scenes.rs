@@ -520,3 +520,20 @@ fn scripted_force_and_torque_are_reapplied_every_step() {
         b.angular_velocity()
     );
 }
+
+#[test]
+fn scene_restore_state_rolls_back_spawns_and_replays_identically() {
+    // rain_1000 spawns a row every 10 steps: roll back across two spawns.
+    let mut scene = scenes::builtin("rain_1000").unwrap().build().unwrap();
+    scene.step_n(15).unwrap();
+    let saved = scene.space.state().clone();
+    let bodies_at_15 = scene.bodies().len();
+    scene.step_n(25).unwrap();
+    let straight = scene.space.state().clone();
+    assert!(scene.bodies().len() > bodies_at_15);
+    scene.restore_state(&saved);
+    assert_eq!(scene.bodies().len(), bodies_at_15);
+    assert_eq!(scene.steps_taken(), 15);
+    scene.step_n(25).unwrap();
+    assert_eq!(scene.space.state(), &straight);
+}

@@ -17,7 +17,7 @@
 //! multiply-only normalisation; `contact_points` at most eight `mul_div`s
 //! (only for clip points inside an edge). GJK and EPA call them once per pair.
 use super::wide;
-use super::{CollisionId, CollisionInfo, Edge, MinkowskiPoint};
+use super::{CollisionId, CollisionInfo, Edge, MinkowskiPoint, CONTACT_TOLERANCE};
 use crate::math::{Real, Vect};
 
 /// Closest points between two shape cores (MIS `ClosestPoints`).
@@ -154,7 +154,7 @@ fn point_on_edge(a: Vect, b: Vect, (sa, sb): (Real, Real), s: Real, toward: Vect
 /// identical to the first (corner against corner) is dropped.
 pub fn contact_points(e1: &Edge, e2: &Edge, points: &ClosestPoints, info: &mut CollisionInfo) {
     let min_dist = e1.radius + e2.radius;
-    if points.d > min_dist {
+    if points.d > min_dist + CONTACT_TOLERANCE {
         return;
     }
     let n = points.n;
@@ -170,7 +170,7 @@ pub fn contact_points(e1: &Edge, e2: &Edge, points: &ClosestPoints, info: &mut C
         let p1 = point_on_edge(e1.a.p, e1.b.p, (s1a, s1b), s_on_1, n) + out1;
         let p2 = point_on_edge(e2.a.p, e2.b.p, (s2a, s2b), s_on_2, -n) - out2;
         let dist = (p2 - p1).dot(n);
-        if dist <= Real::ZERO && first != Some((p1, p2)) {
+        if dist <= CONTACT_TOLERANCE && first != Some((p1, p2)) {
             info.push_contact(p1, p2, dist, id);
             first = Some((p1, p2));
         }

@@ -58,6 +58,14 @@ use crate::shape::{Circle, Geometry, Poly, Segment};
 /// Contacts one pair can produce (Chipmunk `CP_MAX_CONTACTS_PER_ARBITER`).
 pub const MAX_CONTACTS_PER_ARBITER: usize = 2;
 
+/// Largest separation at which two shapes still count as touching (2^-20,
+/// about 10^-6 m). A resting contact's separation hovers around zero by a few
+/// ulp; with a strict `≤ 0` test a contact that rounds to +1 ulp vanishes for
+/// a step and the body rocks on the remaining one (found by the sliding
+/// incline test). A slightly separated contact gets no bias (its distance is
+/// above `−slop`) and only stops approach.
+pub const CONTACT_TOLERANCE: Real = Real::from_bits(1 << 12);
+
 /// GJK iteration cap (MIS `WARN_GJK_ITERATIONS`). Two polygons of at most 8
 /// vertices have a Minkowski difference of at most 16 vertices, and GJK on
 /// exact predicates visits each edge at most once, so 30 is never reached in
@@ -83,7 +91,8 @@ pub struct Contact {
     /// World-space point on the surface of `b`.
     pub point_b: Vect,
     /// Signed separation `(point_b − point_a) · normal`: negative when the
-    /// shapes overlap (Chipmunk's convention), 0 when they just touch.
+    /// shapes overlap (Chipmunk's convention), 0 when they just touch; at
+    /// most [`CONTACT_TOLERANCE`] above 0 for shapes a hair apart.
     pub distance: Real,
     /// Feature id, `(feature on a) << 16 | (feature on b)`, where a feature is
     /// a vertex / endpoint index (0 for a circle). The same touching features

@@ -23,6 +23,7 @@ use super::gjk::gjk;
 use super::support::{support_edge_for_poly, support_edge_for_segment, SupportContext};
 use super::wide;
 use super::CollisionInfo;
+use super::CONTACT_TOLERANCE;
 use crate::math::{Real, Vect};
 use crate::shape::{Circle, Poly, Segment};
 
@@ -54,7 +55,7 @@ fn segment_allows(seg: &Segment, at: Vect, n: Vect, seg_is_first: bool) -> bool 
 pub fn circle_to_circle(a: &Circle, b: &Circle, info: &mut CollisionInfo) {
     let min_dist = a.radius + b.radius;
     let delta = b.offset - a.offset;
-    if wide::len_sq(delta) > sq(min_dist) {
+    if wide::len_sq(delta) > sq(min_dist + CONTACT_TOLERANCE) {
         return;
     }
     let (n, dist) = wide::normalize(delta).unwrap_or((Vect::X, Real::ZERO));
@@ -81,7 +82,7 @@ pub fn circle_to_segment(a: &Circle, b: &Segment, info: &mut CollisionInfo) {
     };
     let min_dist = a.radius + b.radius;
     let delta = closest - a.offset;
-    if wide::len_sq(delta) > sq(min_dist) {
+    if wide::len_sq(delta) > sq(min_dist + CONTACT_TOLERANCE) {
         return;
     }
     let (n, dist) = wide::normalize(delta).unwrap_or_else(|| {
@@ -106,7 +107,7 @@ pub fn segment_to_segment(a: &Segment, b: &Segment, info: &mut CollisionInfo) {
     let points = gjk(&SupportContext::new(a, b), info.id);
     note(info, &points);
     let n = points.n;
-    if points.d <= a.radius + b.radius
+    if points.d <= a.radius + b.radius + CONTACT_TOLERANCE
         && segment_allows(a, points.a, n, true)
         && segment_allows(b, points.b, n, false)
     {
@@ -121,7 +122,7 @@ pub fn circle_to_poly(a: &Circle, b: &Poly, info: &mut CollisionInfo) {
     let points = gjk(&SupportContext::new(a, b), info.id);
     note(info, &points);
     let min_dist = a.radius + b.radius();
-    if points.d <= min_dist {
+    if points.d <= min_dist + CONTACT_TOLERANCE {
         let n = points.n;
         info.normal = n;
         let pa = points.a + n.mult(a.radius);
@@ -135,7 +136,8 @@ pub fn segment_to_poly(a: &Segment, b: &Poly, info: &mut CollisionInfo) {
     let points = gjk(&SupportContext::new(a, b), info.id);
     note(info, &points);
     let n = points.n;
-    if points.d <= a.radius + b.radius() && segment_allows(a, points.a, n, true) {
+    if points.d <= a.radius + b.radius() + CONTACT_TOLERANCE && segment_allows(a, points.a, n, true)
+    {
         let e1 = support_edge_for_segment(a, n);
         let e2 = support_edge_for_poly(b, -n);
         contact_points(&e1, &e2, &points, info);
@@ -147,7 +149,7 @@ pub fn poly_to_poly(a: &Poly, b: &Poly, info: &mut CollisionInfo) {
     let points = gjk(&SupportContext::new(a, b), info.id);
     note(info, &points);
     let n = points.n;
-    if points.d <= a.radius() + b.radius() {
+    if points.d <= a.radius() + b.radius() + CONTACT_TOLERANCE {
         let e1 = support_edge_for_poly(a, n);
         let e2 = support_edge_for_poly(b, -n);
         contact_points(&e1, &e2, &points, info);
@@ -194,12 +196,17 @@ mod tests {
         let mut info = CollisionInfo::new(0);
         circle_to_circle(&a, &circle(Real::ONE, Real::TWO, Real::ZERO), &mut info);
         assert_eq!((info.count, info.contacts()[0].distance), (1, Real::ZERO));
+        // Within the contact tolerance: still touching, with its true distance.
         let mut info = CollisionInfo::new(0);
         circle_to_circle(
             &a,
             &circle(Real::ONE, Real::TWO + Real::DELTA, Real::ZERO),
             &mut info,
         );
+        assert_eq!((info.count, info.contacts()[0].distance), (1, Real::DELTA));
+        let mut info = CollisionInfo::new(0);
+        let apart = Real::TWO + CONTACT_TOLERANCE + Real::DELTA;
+        circle_to_circle(&a, &circle(Real::ONE, apart, Real::ZERO), &mut info);
         assert_eq!(info.count, 0);
     }
 

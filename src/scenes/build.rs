@@ -129,6 +129,8 @@ pub struct Scene {
     /// Spawn events sorted by `at_step` (stable), and the next one due.
     spawns: Vec<SpawnDesc>,
     next_spawn: usize,
+    /// Number of initial (not spawned) bodies.
+    initial_bodies: usize,
     counters: Vec<BeginCounter>,
     steps_taken: u64,
 }
@@ -154,6 +156,7 @@ impl SceneDesc {
             forces: Vec::with_capacity(self.forces.len()),
             spawns: Vec::new(),
             next_spawn: 0,
+            initial_bodies: self.bodies.len(),
             counters: Vec::with_capacity(self.begin_counters.len()),
             steps_taken: 0,
         };
@@ -210,15 +213,44 @@ impl Scene {
     /// One step: apply the scripted forces, step the space by `dt`, then add
     /// the bodies whose spawn is due after this many steps.
     pub fn step(&mut self) -> Result<(), SceneError> {
-        for &(h, force, torque) in &self.forces {
-            if let Some(body) = self.space.body_mut(h) {
-                body.apply_force(force);
-                body.apply_torque(torque);
-            }
+        for (i, &(h, force, torque)) in self.forces.iter().enumerate() {
+            // A scripted body that no longer resolves (removed, or the space
+            // was replaced by one with other handles) is an error, not a
+            // silently skipped force.
+            let body = self.space.body_mut(h).ok_or(SceneError::ForceTarget {
+                force: i,
+                body: h.index(),
+            })?;
+            body.apply_force(force);
+            body.apply_torque(torque);
         }
         self.space.step(self.dt).map_err(SceneError::Step)?;
         self.steps_taken += 1;
         self.spawn_due()
+    }
+
+    /// Rolls the scene's space back (or forward) to `state` in place, keeping
+    /// handlers and every handle the scene holds valid (the in-memory
+    /// rollback path). `steps_taken` is set to the state's step count so
+    /// spawns stay on schedule.
+    pub fn restore_state(&mut self, state: &crate::space::WorldState) {
+        self.space.restore_state(state);
+        self.steps_taken = state.stamp;
+        // Spawns after the restored step have not happened yet.
+        self.next_spawn = self
+            .spawns
+            .iter()
+            .take_while(|s| u64::from(s.at_step) <= state.stamp)
+            .count();
+        let spawned: usize = self
+            .spawns
+            .iter()
+            .take(self.next_spawn)
+            .map(|s| s.bodies.len())
+            .sum();
+        self.bodies.truncate(self.initial_bodies + spawned);
+        let live = &self.bodies;
+        self.labels.retain(|_, h| live.contains(h));
     }
 
     /// Takes `n` steps.
@@ -274,8 +306,9 @@ impl Scene {
             if u64::from(spawn.at_step) > self.steps_taken {
                 break;
             }
-            // Each spawn happens once: its bodies are moved out, not cloned.
-            let bodies = core::mem::take(&mut spawn.bodies);
+            // Cloned, not moved out: a rollback to before this step spawns
+            // the same bodies again.
+            let bodies = spawn.bodies.clone();
             let s = self.next_spawn;
             self.next_spawn += 1;
             for (i, desc) in bodies.iter().enumerate() {
