@@ -170,4 +170,36 @@ impl Arbiter {
     pub(crate) fn key(&self) -> (u32, u32) {
         (self.shape_a.index(), self.shape_b.index())
     }
+
+    /// Checks what an arbiter stored between steps must satisfy, given the
+    /// world's step stamp (snapshot loading, `Space::validate`): 1..=MAX
+    /// contacts, each with `jn_acc ≥ 0` (the solver clamps the accumulated
+    /// normal impulse); a stamp in `1..=world_stamp`; `Cached` exactly when
+    /// the pair did not touch in the last step (`stamp < world_stamp`); and
+    /// never `FirstCollision`, which the step turns into `Normal` before it
+    /// returns.
+    pub(crate) fn validate(&self, world_stamp: u64) -> Result<(), String> {
+        let n = usize::from(self.count);
+        if !(1..=MAX_CONTACTS_PER_ARBITER).contains(&n) {
+            return Err(format!("{n} contacts (1..={MAX_CONTACTS_PER_ARBITER})"));
+        }
+        if self.contacts().iter().any(|c| c.jn_acc.is_negative()) {
+            return Err("negative accumulated normal impulse".into());
+        }
+        if self.stamp == 0 || self.stamp > world_stamp {
+            return Err(format!("stamp {} outside 1..={world_stamp}", self.stamp));
+        }
+        let touching = self.stamp == world_stamp;
+        match self.state {
+            ArbiterState::FirstCollision => Err("state FirstCollision outside a step".into()),
+            ArbiterState::Cached if touching => {
+                Err("state Cached but touched in the last step".into())
+            }
+            ArbiterState::Normal | ArbiterState::Ignore if !touching => Err(format!(
+                "state {:?} but not touched in the last step",
+                self.state
+            )),
+            ArbiterState::Normal | ArbiterState::Ignore | ArbiterState::Cached => Ok(()),
+        }
+    }
 }

@@ -435,6 +435,30 @@ impl Body {
         }
         Ok(())
     }
+
+    /// Checks the cached values a stored body (snapshot, restored state)
+    /// could get wrong, beyond [`Body::validate`]: the inverse mass and
+    /// moment are exactly what the engine computes from mass and moment
+    /// (`recip`, or 0 for 0), and kinematic and static bodies have zero mass
+    /// and moment and no explicit mass.
+    pub(crate) fn validate_derived(&self) -> Result<(), BodyError> {
+        self.validate()?;
+        if self.body_type == BodyType::Dynamic {
+            if self.mass_inv != inverse_or_zero(self.mass) {
+                return Err(BodyError::IllegalBody("inverse mass does not match mass"));
+            }
+            if self.moment_inv != inverse_or_zero(self.moment) {
+                return Err(BodyError::IllegalBody(
+                    "inverse moment does not match moment",
+                ));
+            }
+        } else if !self.mass.is_zero() || !self.moment.is_zero() || self.explicit_mass {
+            return Err(BodyError::IllegalBody(
+                "kinematic or static body with a mass or moment",
+            ));
+        }
+        Ok(())
+    }
 }
 
 fn inverse_or_zero(v: Real) -> Real {

@@ -8,9 +8,13 @@ pub mod body;
 pub mod broadphase;
 pub mod checksum;
 pub mod collision;
+#[cfg(feature = "debug-draw")]
+pub mod debug_draw;
 pub mod math;
+pub mod replay;
 pub mod scenes;
 pub mod shape;
+pub mod snapshot;
 pub mod solver;
 pub mod space;
 

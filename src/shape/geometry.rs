@@ -262,4 +262,41 @@ impl Geometry {
             Geometry::Poly(p) => p.radius,
         }
     }
+
+    /// Checks stored geometry (snapshot loading, `Space::validate`): radius
+    /// ≥ 0; a segment's normal is exactly the one [`Segment::new`] computes
+    /// from its endpoints; a polygon has 3..=[`MAX_POLY_VERTICES`] vertices,
+    /// is strictly convex and counter-clockwise, and equals what
+    /// [`Poly::from_ccw`] builds from its vertices (same normals, zeros past
+    /// `count`). Returns a description of the first violation.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.radius().is_negative() {
+            return Err("negative radius".into());
+        }
+        match self {
+            Geometry::Circle(_) => Ok(()),
+            Geometry::Segment(s) => {
+                if Segment::new(s.a, s.b, s.radius).normal == s.normal {
+                    Ok(())
+                } else {
+                    Err("segment normal does not match its endpoints".into())
+                }
+            }
+            Geometry::Poly(p) => {
+                let n = usize::from(p.count);
+                if !(3..=MAX_POLY_VERTICES).contains(&n) {
+                    return Err(format!(
+                        "polygon has {n} vertices (3..={MAX_POLY_VERTICES})"
+                    ));
+                }
+                match Poly::from_ccw(p.verts(), p.radius) {
+                    Ok(rebuilt) if rebuilt == *p => Ok(()),
+                    Ok(_) => {
+                        Err("polygon normals or unused entries do not match its vertices".into())
+                    }
+                    Err(e) => Err(format!("polygon: {e}")),
+                }
+            }
+        }
+    }
 }

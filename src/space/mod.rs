@@ -25,7 +25,7 @@ use crate::arena::{Arena, Handle};
 use crate::body::{Body, BodyError, BodyHandle, BodyType};
 use crate::broadphase::{Broadphase, StaticTree};
 use crate::math::{exp, Real, Vect, BB};
-use crate::shape::{CollisionType, Geometry, Shape, ShapeError};
+use crate::shape::{CollisionType, Geometry, MassSpec, Shape, ShapeError};
 
 /// Handle of a shape in a space.
 pub type ShapeHandle = Handle<Shape>;
@@ -61,6 +61,25 @@ pub const DEFAULT_COLLISION_BIAS: Real = {
     }
     acc
 };
+
+impl Settings {
+    /// Checks the ranges [`Space::set_settings`] enforces: damping ≥ 0,
+    /// collision bias in [0, 1], collision slop ≥ 0.
+    pub fn validate(&self) -> Result<(), SpaceError> {
+        if self.damping.is_negative() {
+            return Err(SpaceError::InvalidSetting("damping must be ≥ 0"));
+        }
+        if self.collision_bias.is_negative() || self.collision_bias > Real::ONE {
+            return Err(SpaceError::InvalidSetting(
+                "collision bias must be in [0, 1]",
+            ));
+        }
+        if self.collision_slop.is_negative() {
+            return Err(SpaceError::InvalidSetting("collision slop must be ≥ 0"));
+        }
+        Ok(())
+    }
+}
 
 impl Default for Settings {
     fn default() -> Self {
@@ -309,17 +328,7 @@ impl Space {
 
     /// Replaces the settings after checking them.
     pub fn set_settings(&mut self, settings: Settings) -> Result<(), SpaceError> {
-        if settings.damping.is_negative() {
-            return Err(SpaceError::InvalidSetting("damping must be ≥ 0"));
-        }
-        if settings.collision_bias.is_negative() || settings.collision_bias > Real::ONE {
-            return Err(SpaceError::InvalidSetting(
-                "collision bias must be in [0, 1]",
-            ));
-        }
-        if settings.collision_slop.is_negative() {
-            return Err(SpaceError::InvalidSetting("collision slop must be ≥ 0"));
-        }
+        settings.validate()?;
         self.state.settings = settings;
         self.caches.dt_constants = None;
         Ok(())
@@ -513,12 +522,20 @@ impl Space {
 
     /// MIS `spaceGetBodies`: the bodies in canonical (slot) order.
     pub fn bodies(&self) -> impl Iterator<Item = (BodyHandle, &Body)> {
-        self.state.bodies.iter()
+        let origin = self.origin;
+        self.state
+            .bodies
+            .iter()
+            .map(move |(h, b)| (h.with_origin(origin), b))
     }
 
     /// The shapes in canonical (slot) order.
     pub fn shapes(&self) -> impl Iterator<Item = (ShapeHandle, &Shape)> {
-        self.state.shapes.iter()
+        let origin = self.origin;
+        self.state
+            .shapes
+            .iter()
+            .map(move |(h, s)| (h.with_origin(origin), s))
     }
 
     /// The shapes of one body, in slot order.
@@ -671,8 +688,18 @@ impl Space {
     }
 }
 
-/// Checks a [`WorldState`]'s invariants (see [`Space::validate`]).
+/// Checks a [`WorldState`]'s invariants (see [`Space::validate`]): settings
+/// in range; step counters consistent (no `dt` before the first step, a
+/// positive one after it); arenas (free lists, lengths); every body's
+/// invariants and cached inverses; every shape's body link, geometry and
+/// mass specification; arbiter order, references, contact counts, states
+/// and stamps. Returns a description of the first violation.
 pub fn validate_state(state: &WorldState) -> Result<(), String> {
+    state
+        .settings
+        .validate()
+        .map_err(|e| format!("settings: {e}"))?;
+    validate_counters(state)?;
     state
         .bodies
         .validate()
@@ -682,11 +709,26 @@ pub fn validate_state(state: &WorldState) -> Result<(), String> {
         .validate()
         .map_err(|e| format!("shapes: {e}"))?;
     for (h, b) in state.bodies.iter() {
-        b.validate().map_err(|e| format!("body {h:?}: {e}"))?;
+        b.validate_derived()
+            .map_err(|e| format!("body {h:?}: {e}"))?;
     }
+    // Piles repeat one local geometry; checking each distinct run once
+    // spares the polygon checks' square roots (exact either way).
+    let mut checked: Option<&Geometry> = None;
     for (h, s) in state.shapes.iter() {
         if !state.bodies.contains(s.body) {
             return Err(format!("shape {h:?} names missing body {:?}", s.body));
+        }
+        if checked != Some(&s.geometry) {
+            s.geometry
+                .validate()
+                .map_err(|e| format!("shape {h:?}: {e}"))?;
+            checked = Some(&s.geometry);
+        }
+        if let MassSpec::Mass(v) | MassSpec::Density(v) = s.mass_spec {
+            if v.is_negative() {
+                return Err(format!("shape {h:?}: negative mass or density"));
+            }
         }
     }
     let mut prev: Option<(u32, u32)> = None;
@@ -706,6 +748,33 @@ pub fn validate_state(state: &WorldState) -> Result<(), String> {
         if arb.count() != usize::from(arb.count) {
             return Err(format!("arbiter {key:?} has too many contacts"));
         }
+        // The narrowphase never pairs a body with itself or two bodies that
+        // cannot move, and neither a shape's body nor a body's type changes.
+        let dynamic = |h| state.bodies.get(h).is_some_and(Body::is_dynamic);
+        if arb.body_a == arb.body_b || !(dynamic(arb.body_a) || dynamic(arb.body_b)) {
+            return Err(format!("arbiter {key:?} pairs bodies that never collide"));
+        }
+        arb.validate(state.stamp)
+            .map_err(|e| format!("arbiter {key:?}: {e}"))?;
     }
     Ok(())
+}
+
+/// Step counter and time steps: a step with `dt > 0` is the only thing that
+/// advances `stamp`, and it shifts `current_dt` into `prev_dt`.
+fn validate_counters(state: &WorldState) -> Result<(), String> {
+    let (cur, prev) = (state.current_dt, state.prev_dt);
+    let ok = match state.stamp {
+        0 => cur.is_zero() && prev.is_zero(),
+        1 => cur.is_positive() && prev.is_zero(),
+        _ => cur.is_positive() && prev.is_positive(),
+    };
+    if ok {
+        Ok(())
+    } else {
+        Err(format!(
+            "stamp {} with current dt {cur} and previous dt {prev}",
+            state.stamp
+        ))
+    }
 }

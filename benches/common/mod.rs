@@ -1,0 +1,158 @@
+//! Shared code of the Tamias2D-versus-Rapier benches and of the performance
+//! report (`examples/perf_report.rs`, which includes this module by path).
+//!
+//! * [`rapier_world`] turns a [`SceneDesc`] into a Rapier world with the same
+//!   bodies, shapes, materials, gravity, time step and iteration count, and
+//!   replays the description's scripted forces and spawns the same way
+//!   [`Scene::step`](tamias2d::scenes::Scene::step) does.
+//! * [`measure`] reads what both engines deliver in one common form: body
+//!   states in creation order and penetration of touching pairs.
+//!
+//! Floats are fine here: this is measurement code, never simulation state.
+#![allow(dead_code)] // each bench or example uses a different part of it
+
+pub mod measure;
+pub mod rapier_world;
+
+use tamias2d::math::Real;
+use tamias2d::scenes::{self, SceneDesc};
+
+#[allow(unused_imports)]
+pub use measure::{BodyState, Engine, Penetration, TamiasRun};
+pub use rapier_world::RapierRun;
+
+/// BENCH_SCENES sections A and B, CI-sized variants (the quick set).
+pub const CI_SCENES: &[&str] = &[
+    "bowl_circles_100",
+    "bowl_boxes_100",
+    "bowl_hexagons_100",
+    "bouncy_circles_500",
+    "no_collide",
+    "pyramid_20",
+    "many_pyramids_4x4",
+    "rain_1000",
+    "tumbler_500",
+];
+
+/// BENCH_SCENES sections A and B, full-sized variants.
+pub const FULL_SCENES: &[&str] = &[
+    "bowl_circles_500",
+    "bowl_circles_1000",
+    "bowl_boxes_500",
+    "bowl_boxes_1000",
+    "bowl_hexagons_500",
+    "bowl_hexagons_1000",
+    "pyramid_100",
+    "many_pyramids_10x10",
+    "rain_4000",
+    "tumbler_2000",
+];
+
+/// BENCH_SCENES section C (closed-form answers).
+pub const ACCURACY_SCENES: &[&str] = &[
+    "free_fall",
+    "constant_force",
+    "projectile_45",
+    "projectile_60",
+    "spin",
+    "elastic_pair",
+    "newtons_cradle",
+    "incline_slide",
+    "incline_stick",
+    "stack_10",
+];
+
+/// Solver settings of one run: what the trade-off sweep varies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Config {
+    /// Solver iterations per (sub-)step (Rapier: `num_solver_iterations`).
+    pub iterations: u32,
+    /// Sub-steps per step: the step is taken as `substeps` steps of
+    /// `dt / substeps`, collision detection included.
+    pub substeps: u32,
+    /// The step is `1 / rate` s.
+    pub rate: u32,
+}
+
+impl Config {
+    /// The benchmark default: 10 iterations, no sub-steps, 60 Hz.
+    pub const DEFAULT: Config = Config {
+        iterations: 10,
+        substeps: 1,
+        rate: 60,
+    };
+
+    /// The step in seconds.
+    pub fn dt(&self) -> f64 {
+        1.0 / f64::from(self.rate)
+    }
+
+    /// Steps of this config that cover `seconds` of simulated time.
+    pub fn steps_for(&self, seconds: f64) -> u32 {
+        (seconds * f64::from(self.rate)).round() as u32
+    }
+
+    /// Short label, e.g. `10 it, 1/60 s` or `10 it, 1/60 s ÷ 2`.
+    pub fn label(&self) -> String {
+        if self.substeps > 1 {
+            format!(
+                "{} it, 1/{} s ÷ {}",
+                self.iterations, self.rate, self.substeps
+            )
+        } else {
+            format!("{} it, 1/{} s", self.iterations, self.rate)
+        }
+    }
+}
+
+/// The registry scene `name` with its step, iterations and sub-steps replaced
+/// by `config` (sub-steps as `substeps` steps of `dt / substeps`, spawn times
+/// scaled to match). Panics on unknown names: the lists above are fixed.
+pub fn scene_with(name: &str, config: Config) -> SceneDesc {
+    let mut desc = scenes::builtin(name).unwrap_or_else(|| panic!("scene {name} is listed"));
+    let sub = config.substeps.max(1);
+    let den = i32::try_from(config.rate * sub).unwrap_or(i32::MAX);
+    desc.dt = Real::ratio(1, den);
+    desc.settings.iterations = config.iterations;
+    for spawn in &mut desc.spawns {
+        spawn.at_step = spawn.at_step.saturating_mul(sub);
+    }
+    desc
+}
+
+/// Length scale Rapier should be told about (`IntegrationParameters::length_unit`):
+/// section A is in pixel-like units with 10-unit bodies and gravity 100
+/// (10 units per metre), everything else is SI.
+pub fn length_unit(name: &str) -> f32 {
+    if name.starts_with("bowl_") || name.starts_with("bouncy_") || name == "no_collide" {
+        10.0
+    } else {
+        1.0
+    }
+}
+
+/// Steps to run before timing starts, so that piles have formed and warm
+/// starting is in effect (rain: until every row has been released).
+pub fn warmup_steps(name: &str) -> u32 {
+    if let Some(n) = name.strip_prefix("rain_") {
+        let n: u32 = n.parse().unwrap_or(1000);
+        let rows = n.div_ceil(scenes::stacking::RAIN_ROW);
+        rows * scenes::stacking::RAIN_INTERVAL
+    } else {
+        300
+    }
+}
+
+/// Median of `xs` (sorted in place); 0 for an empty slice.
+pub fn median(xs: &mut [f64]) -> f64 {
+    if xs.is_empty() {
+        return 0.0;
+    }
+    xs.sort_by(f64::total_cmp);
+    let n = xs.len();
+    if n % 2 == 1 {
+        xs[n / 2]
+    } else {
+        0.5 * (xs[n / 2 - 1] + xs[n / 2])
+    }
+}

@@ -1,0 +1,155 @@
+//! Regenerates every table and plot of `docs/performance.md`: Tamias2D beside
+//! Rapier2D on the standard scenes (time per step and the quality it buys),
+//! the accuracy scenes at default settings, and the speed/accuracy trade
+//! curves over solver iterations, step size and sub-steps.
+//!
+//! ```text
+//! cargo run --release --example perf_report -- --out docs     # full run (~15 min on 2 cores)
+//! cargo run --release --example perf_report -- --quick        # CI-sized scenes, short sweep (~3 min)
+//! ```
+//! Options: `--out DIR` (default `target/perf_report`): the tables go into
+//! `DIR/performance.md` between its `<!-- BEGIN perf_report:… -->` /
+//! `<!-- END … -->` markers (the file is created with bare sections if it
+//! does not exist), plots into `DIR/images/perf_*.svg`, raw numbers into
+//! `DIR/data/perf_*.csv`. `--quick` runs the CI-sized scenes and a shorter
+//! sweep. `--skip-side`, `--skip-sweep` leave parts out; `--scenes a,b`
+//! restricts both parts to the named scenes; `--substeps` adds the
+//! sub-step series to the sweep (see `sweep::plan`).
+#![allow(clippy::float_arithmetic)] // measurement and reports only
+
+#[path = "../../benches/common/mod.rs"]
+mod common;
+mod measures;
+mod plot;
+mod report;
+mod side;
+mod sweep;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// Command line options.
+pub struct Options {
+    out: PathBuf,
+    quick: bool,
+    side: bool,
+    sweep: bool,
+    scenes: Option<Vec<String>>,
+    substeps: bool,
+}
+
+fn parse_args() -> Result<Options, String> {
+    let mut o = Options {
+        out: PathBuf::from("target/perf_report"),
+        quick: false,
+        side: true,
+        sweep: true,
+        scenes: None,
+        substeps: false,
+    };
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "--out" => o.out = args.next().ok_or("--out needs a directory")?.into(),
+            "--quick" => o.quick = true,
+            "--skip-side" => o.side = false,
+            "--skip-sweep" => o.sweep = false,
+            "--substeps" => o.substeps = true,
+            "--scenes" => {
+                let list = args.next().ok_or("--scenes needs a list")?;
+                o.scenes = Some(list.split(',').map(|s| s.trim().to_owned()).collect());
+            }
+            "-h" | "--help" => {
+                return Err("usage: perf_report [--out DIR] [--quick] [--skip-side] \
+                            [--skip-sweep] [--substeps] [--scenes a,b,…]"
+                    .to_owned())
+            }
+            other => return Err(format!("unknown argument {other:?} (try --help)")),
+        }
+    }
+    Ok(o)
+}
+
+fn main() -> ExitCode {
+    let opts = match parse_args() {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("{e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    if cfg!(debug_assertions) {
+        eprintln!("warning: debug build; timings are meaningless (use --release)");
+    }
+    let keep = |n: &&str| {
+        opts.scenes
+            .as_ref()
+            .is_none_or(|s| s.iter().any(|x| x == n))
+    };
+    let started = Instant::now();
+    let mut rep = report::Report::new(&opts.out, opts.quick);
+
+    if opts.side {
+        let mut scenes: Vec<&str> = common::CI_SCENES.to_vec();
+        if !opts.quick {
+            scenes.extend_from_slice(common::FULL_SCENES);
+        }
+        for name in scenes.into_iter().filter(keep) {
+            let row = side::run(name);
+            eprintln!(
+                "[{:>5.0} s] {name:<20} Tamias2D {:>8.3} ms  Rapier {:>8.3} ms  ratio {:.2}",
+                started.elapsed().as_secs_f64(),
+                row.tamias.median_step * 1e3,
+                row.rapier.median_step * 1e3,
+                row.ratio()
+            );
+            rep.side.push(row);
+        }
+        for name in common::ACCURACY_SCENES.iter().copied().filter(keep) {
+            let row = side::run(name);
+            eprintln!(
+                "[{:>5.0} s] {name:<20} errors Tamias2D {:?}  Rapier {:?}",
+                started.elapsed().as_secs_f64(),
+                row.tamias.errors,
+                row.rapier.errors
+            );
+            rep.accuracy.push(row);
+        }
+    }
+    if opts.sweep {
+        let heavy = if opts.quick {
+            "bowl_boxes_100"
+        } else {
+            "bowl_boxes_500"
+        };
+        let mut scenes = vec!["pyramid_20", heavy];
+        scenes.extend_from_slice(common::ACCURACY_SCENES);
+        for name in scenes.into_iter().filter(keep) {
+            let t0 = started.elapsed().as_secs_f64();
+            let mut log = |s: &str| eprintln!("{s}");
+            let series = sweep::run_scene(name, opts.quick, opts.substeps, &mut log);
+            eprintln!(
+                "[{:>5.0} s] sweep {name} done in {:.0} s",
+                started.elapsed().as_secs_f64(),
+                started.elapsed().as_secs_f64() - t0
+            );
+            rep.sweeps.push((name.to_owned(), series));
+        }
+    }
+    rep.elapsed = started.elapsed().as_secs_f64();
+    match rep.write(opts.side, opts.sweep) {
+        Ok(path) => {
+            eprintln!(
+                "wrote {} in {:.0} s",
+                path.display(),
+                started.elapsed().as_secs_f64()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error writing the report: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,153 @@
+//! Trade plots (SVG, plotters): cost per simulated second against error,
+//! both on log scales, one line per series, one marker per iteration count.
+use std::error::Error;
+use std::path::Path;
+
+use plotters::prelude::*;
+
+use crate::sweep::{Kind, Series};
+
+/// Errors below this are drawn at it (log scales cannot show 0).
+pub const ERROR_FLOOR: f64 = 1e-9;
+
+const COLORS: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(23, 190, 207),
+    RGBColor(140, 86, 75),
+    RGBColor(188, 189, 34),
+    RGBColor(127, 127, 127),
+    RGBColor(227, 119, 194),
+];
+const RAPIER: RGBColor = RGBColor(214, 39, 40);
+
+/// Log-scale bounds around `values`, a little padded.
+fn bounds(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|v| v.is_finite() && *v > 0.0) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !lo.is_finite() {
+        return (ERROR_FLOOR, 1.0);
+    }
+    if hi / lo < 10.0 {
+        let mid = (hi * lo).sqrt();
+        return (mid / 4.0, mid * 4.0);
+    }
+    (lo / 1.5, hi * 1.5)
+}
+
+/// Draws error measure `measure` (index into each point's errors) of
+/// `series` against cost to `path`.
+pub fn trade(
+    path: &Path,
+    title: &str,
+    y_label: &str,
+    series: &[Series],
+    measure: usize,
+) -> Result<(), Box<dyn Error>> {
+    let err = |e: &[f64]| e.get(measure).copied().unwrap_or(0.0).max(ERROR_FLOOR);
+    let points = series.iter().flat_map(|s| &s.points);
+    let (x0, x1) = bounds(points.clone().map(|p| p.cost_ms));
+    let (y0, y1) = bounds(points.map(|p| err(&p.errors)));
+
+    let root = SVGBackend::new(path, (760, 480)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(44)
+        .y_label_area_size(70)
+        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("cost: ms of wall time per simulated second (log)")
+        .y_desc(y_label)
+        .x_label_formatter(&|v| format!("{v:.3}"))
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .label_style(("sans-serif", 12))
+        .draw()?;
+
+    let mut palette = COLORS.iter().cycle();
+    for s in series {
+        let color = match s.kind {
+            Kind::Rapier => RAPIER,
+            Kind::Tamias => *palette.next().unwrap_or(&BLACK),
+        };
+        let xy: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .map(|p| (p.cost_ms, err(&p.errors)))
+            .collect();
+        let dashed = s.kind == Kind::Rapier;
+        let style = color.stroke_width(if dashed { 3 } else { 2 });
+        chart
+            .draw_series(LineSeries::new(xy.clone(), style))?
+            .label(s.label.as_str())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], style));
+        chart.draw_series(
+            xy.iter()
+                .map(|&(x, y)| Circle::new((x, y), 3, color.filled())),
+        )?;
+        // Iteration counts next to the markers of the 1/60 s series.
+        if s.label.ends_with("1/60 s") {
+            chart.draw_series(s.points.iter().map(|p| {
+                Text::new(
+                    format!("{}", p.config.iterations),
+                    (p.cost_ms, err(&p.errors)),
+                    ("sans-serif", 11).into_font().color(&color),
+                )
+            }))?;
+        }
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.4))
+        .label_font(("sans-serif", 12))
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
+
+/// Bar-free ratio plot: Tamias2D time / Rapier time per scene, log scale.
+pub fn ratios(path: &Path, rows: &[(String, f64)]) -> Result<(), Box<dyn Error>> {
+    let (lo, hi) = bounds(rows.iter().map(|r| r.1));
+    let (lo, hi) = (lo.min(0.8), hi.max(1.25));
+    let n = rows.len().max(1);
+    let root = SVGBackend::new(path, (760, 40 + 22 * n as u32 + 60)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            "Time per step, Tamias2D / Rapier (same run; < 1: Tamias2D faster)",
+            ("sans-serif", 16),
+        )
+        .margin(12)
+        .x_label_area_size(36)
+        .y_label_area_size(150)
+        .build_cartesian_2d((lo..hi).log_scale(), 0..n)?;
+    let names: Vec<String> = rows.iter().map(|r| r.0.clone()).collect();
+    chart
+        .configure_mesh()
+        .disable_y_mesh()
+        .y_labels(n + 1)
+        .y_label_formatter(&|i| names.get(*i).cloned().unwrap_or_default())
+        .x_label_formatter(&|v| format!("{v:.2}"))
+        .x_desc("ratio (log)")
+        .label_style(("sans-serif", 12))
+        .draw()?;
+    chart.draw_series(LineSeries::new(
+        vec![(1.0, 0), (1.0, n)],
+        BLACK.mix(0.5).stroke_width(1),
+    ))?;
+    chart.draw_series(
+        rows.iter()
+            .enumerate()
+            .map(|(i, r)| PathElement::new(vec![(lo, i), (r.1, i)], COLORS[0].stroke_width(8))),
+    )?;
+    root.present()?;
+    Ok(())
+}

@@ -1,0 +1,134 @@
+//! Tamias2D beside Rapier on one scene: time per step and what it delivers.
+//!
+//! Both engines run the scene's default number of steps (1000 for sections
+//! A and B) **in lockstep**: step k of one, then step k of the other
+//! (alternating which goes first), so that the load of a shared machine hits
+//! both alike. Every step is timed; the median is taken over the steps after
+//! the warm-up (300 steps, or until the rain is all out). Quality is read
+//! between steps, outside the timed code, every 4th step of the second half
+//! of the run.
+use std::time::Instant;
+
+use crate::common::{self, Config, Engine, Penetration, RapierRun, TamiasRun};
+use crate::measures;
+
+/// What one engine did on one scene.
+#[derive(Clone, Debug, Default)]
+pub struct EngineResult {
+    /// Median time per step over the timing window (s).
+    pub median_step: f64,
+    /// Number of steps in the timing window.
+    pub timed_steps: usize,
+    /// Penetration over the second half of the run.
+    pub pen: Penetration,
+    /// Largest displacement and rotation after 10 s (pyramids).
+    pub drift: Option<(f64, f64)>,
+    /// Relative kinetic energy change over the run (elastic scenes).
+    pub energy_drift: Option<f64>,
+    /// Dynamic bodies outside the container at the end.
+    pub escaped: usize,
+    /// Scene-specific errors at the end ([`measures::errors`]).
+    pub errors: Vec<f64>,
+}
+
+/// One scene of the side-by-side table.
+#[derive(Clone, Debug)]
+pub struct SideRow {
+    /// Scene name.
+    pub name: String,
+    /// Bodies at the end (static ones included).
+    pub bodies: usize,
+    /// Steps run.
+    pub steps: u32,
+    /// Tamias2D.
+    pub tamias: EngineResult,
+    /// Rapier.
+    pub rapier: EngineResult,
+}
+
+impl SideRow {
+    /// Tamias2D time over Rapier time.
+    pub fn ratio(&self) -> f64 {
+        self.tamias.median_step / self.rapier.median_step
+    }
+}
+
+/// Runs scene `name` on both engines (see the module docs).
+pub fn run(name: &str) -> SideRow {
+    let config = Config::DEFAULT;
+    let desc = common::scene_with(name, config);
+    let steps = desc.steps;
+    let warmup = common::warmup_steps(name).min(steps.saturating_sub(100));
+    let mut tamias = TamiasRun::new(&desc, config);
+    let mut rapier = RapierRun::new(&desc, config, common::length_unit(name));
+    let mut engines: [(&mut dyn Engine, Acc); 2] =
+        [(&mut tamias, Acc::default()), (&mut rapier, Acc::default())];
+    // Each engine's initial states are read from that engine (Rapier's are
+    // the description rounded to f32).
+    for (e, acc) in engines.iter_mut() {
+        acc.init = e.states();
+        acc.energy0 = e.kinetic_energy();
+    }
+    let drift_step = config.steps_for(10.0);
+    for k in 1..=steps {
+        let order: [usize; 2] = if k % 2 == 0 { [0, 1] } else { [1, 0] };
+        for i in order {
+            let (e, acc) = &mut engines[i];
+            let start = Instant::now();
+            e.step();
+            let dt = start.elapsed().as_secs_f64();
+            if k > warmup {
+                acc.times.push(dt);
+            }
+        }
+        for (e, acc) in engines.iter_mut() {
+            if k > steps / 2 && k % 4 == 0 {
+                acc.pen.merge(e.penetration());
+            }
+            if k == drift_step && name.contains("pyramid") {
+                acc.drift = Some(measures::drift(&acc.init, &**e));
+            }
+        }
+    }
+    let t = steps as f64 * config.dt();
+    let [(t_engine, t_acc), (r_engine, r_acc)] = engines;
+    let tamias = t_acc.finish(name, &*t_engine, t);
+    let rapier = r_acc.finish(name, &*r_engine, t);
+    SideRow {
+        name: name.to_owned(),
+        bodies: t_engine.body_count(),
+        steps,
+        tamias,
+        rapier,
+    }
+}
+
+/// What is accumulated for one engine during a side-by-side run.
+#[derive(Default)]
+struct Acc {
+    init: Vec<common::BodyState>,
+    energy0: f64,
+    times: Vec<f64>,
+    pen: Penetration,
+    drift: Option<(f64, f64)>,
+}
+
+impl Acc {
+    fn finish(mut self, name: &str, e: &dyn Engine, t: f64) -> EngineResult {
+        let energy_drift = (name.starts_with("bouncy_") && self.energy0 > 0.0)
+            .then(|| (e.kinetic_energy() - self.energy0) / self.energy0);
+        let escaped = (0..e.body_count())
+            .filter(|&i| measures::escaped(name, &e.body(i)))
+            .count();
+        let errors = measures::errors(name, &self.init, e, t, self.pen);
+        EngineResult {
+            median_step: common::median(&mut self.times),
+            timed_steps: self.times.len(),
+            pen: self.pen,
+            drift: self.drift,
+            energy_drift,
+            escaped,
+            errors,
+        }
+    }
+}

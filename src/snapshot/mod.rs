@@ -1,0 +1,351 @@
+//! Snapshots: the whole simulation state as bytes, and back.
+//!
+//! A lockstep or rollback game saves the world every frame (or keeps
+//! in-memory copies), sends snapshots to late joiners, and compares
+//! checksums to catch a desync the moment it happens. This module is the
+//! byte form of [`WorldState`]; the in-memory rollback fast path needs no
+//! bytes at all (see "Two ways to roll back" below).
+//!
+//! # API
+//! * [`save`] / [`save_into`]: the state of a [`Space`] as bytes
+//!   (`save_into` reuses the caller's buffer, so a per-frame save does not
+//!   allocate once the buffer has grown).
+//! * [`load`]: a fresh [`Space`] from bytes, after full validation.
+//! * [`Space::load_snapshot`]: replaces a live world's state in place, after
+//!   full validation, keeping its handlers, integrators and handle origin.
+//!   On error the world is untouched (byte-identical).
+//! * [`decode_state`]: the validated [`WorldState`] alone; [`header`]: the
+//!   format version and checksum without decoding the body.
+//! * [`checksum_parts`] and [`first_difference`]: what differs between two
+//!   worlds, for desync reports.
+//!
+//! # Format (version [`FORMAT_VERSION`])
+//! ```text
+//! offset  size  content
+//!      0     8  magic b"TAMIAS2D"
+//!      8     4  format version, u32 little-endian
+//!     12     8  checksum of the payload bytes (payload_checksum), u64 LE
+//!     20     …  the WorldState, bincode 2 (serde), standard config with
+//!               fixed-int encoding: little-endian on every target, every
+//!               Real as its 8 raw bytes, lengths as u64, enum tags as u32
+//! ```
+//! The payload must end exactly at the end of the buffer. Its layout is
+//! serde's derive of [`WorldState`] field by field (settings, body arena,
+//! shape arena, arbiters, stamp, current and previous `dt`); each arena is
+//! its slots (generation, optional value), its free list and its length. Any
+//! change of that layout changes the bytes and must bump [`FORMAT_VERSION`];
+//! a test pins the empty world's bytes field by field and the encoded size
+//! of each kind of object, so that the change cannot go unnoticed.
+//!
+//! The header checksum covers the payload *bytes*: it catches corruption
+//! that still decodes to a valid world (a flipped bit in a velocity) —
+//! any one changed 8-byte word is always detected — at a small fraction of
+//! the cost of [`Space::checksum`], which walks the state field by field.
+//! It is not the world checksum (call [`Space::checksum`] for desync
+//! checks), and no defence against a forger, which validation is.
+//!
+//! # What `load` checks
+//! Nothing is trusted and nothing panics, whatever the bytes. In this
+//! order, the first failure being reported: length, magic, version;
+//! decoding (with a size limit, [`MAX_SNAPSHOT_BYTES`]; a forged length
+//! prefix fails at the end of the data instead of allocating, see there);
+//! trailing bytes; the payload checksum; then every invariant of
+//! [`validate_state`](crate::space::validate_state):
+//! * settings in the ranges `Space::set_settings` enforces;
+//! * step stamp and time steps consistent (`dt` 0 before the first step,
+//!   positive after);
+//! * both arenas: the free list names each empty slot exactly once and no
+//!   live slot, and the length counts the live ones;
+//! * bodies: mass and moment ≥ 0, inverse mass and moment exactly what the
+//!   engine computes (`recip`, 0 for 0), kinematic and static bodies
+//!   massless, rotation of unit length within 2^-20;
+//! * shapes: the body handle names a live body (generation included);
+//!   radii ≥ 0; segment normals exactly those of the endpoints; polygons of
+//!   3..=8 vertices, strictly convex and counter-clockwise, with exactly the
+//!   normals the constructor computes; mass and density ≥ 0;
+//! * arbiters: strictly increasing `(shape a, shape b)` slot order, both
+//!   shapes live, the bodies those of the shapes (two different bodies, one
+//!   of them dynamic), 1..=2 contacts with non-negative accumulated normal
+//!   impulse, stamp in `1..=world stamp`, and a state that fits the stamp
+//!   (`Cached` exactly when the pair did not touch in the last step, never
+//!   `FirstCollision`, which only exists inside a step).
+//!
+//! Only then is the state handed out. Errors are [`SnapshotError`]s that
+//! say what is wrong.
+//!
+//! # Two ways to roll back
+//! * In memory (fastest, no validation needed): keep `space.state().clone()`
+//!   (or `space.clone()`) per frame, and roll back with
+//!   [`Space::restore_state`]. Clones share the handle origin of the
+//!   original, so the game's handles keep working.
+//! * Bytes (for the network, disk, or a checksum-verified copy): [`save`]
+//!   per frame, and [`Space::load_snapshot`] to roll back.
+//!
+//! # Handlers and integrators after loading
+//! Closures are never part of a snapshot. [`Space::load_snapshot`] keeps the
+//! live world's collision handlers, post-step callbacks and custom
+//! integrators: a rollback needs nothing re-attached. A space made by
+//! [`load`] has none, so re-register them on it as when the world was first
+//! built: collision handlers are keyed by collision type
+//! (`space.add_collision_handler(a, b)`, `add_wildcard_handler(t)`), so one
+//! registration per type pair covers every shape of those types, loaded or
+//! not; custom integrators are keyed by body handle
+//! (`space.set_velocity_update_func(h, …)`), so look the bodies up again
+//! (their handles are in the snapshot, see below) and set them anew.
+//!
+//! # Handles after loading
+//! A snapshot holds slot indices, generations and the arenas' free lists,
+//! so a loaded world addresses the same objects by the same handles and
+//! hands out the same handles for new objects as the saved one. Handles also
+//! carry the *origin tag* of the space that made them (not state, not
+//! serialized): handles from the saved world are rejected by a space made
+//! with [`load`] (`SpaceError::ForeignHandle`), because it is a different
+//! space. Use [`Space::load_snapshot`] on the game's own space to keep its
+//! handles working, or, with [`load`], take handles from the loaded space
+//! (`bodies()`, `shapes()`) or build them with `Handle::from_raw_parts`
+//! (origin 0: accepted by every space).
+pub mod diff;
+
+use core::fmt;
+
+use bincode::config::{Configuration, Fixint, Limit, LittleEndian};
+
+pub use diff::{checksum_parts, first_difference, ChecksumParts, Difference, Subject};
+
+use crate::space::{validate_state, Space, WorldState};
+
+/// First bytes of every snapshot.
+pub const MAGIC: [u8; 8] = *b"TAMIAS2D";
+
+/// Version of the byte layout; bumped whenever the serde layout of
+/// [`WorldState`] (or anything in it) changes.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// Bytes before the bincode payload: magic, version, checksum.
+pub const HEADER_LEN: usize = 20;
+
+/// Largest payload `load` decodes (1 GiB, about a million bodies): the
+/// decoder's byte limit. Memory is bounded by the data actually present: a
+/// length prefix only sizes the first allocation of a container, and serde
+/// caps that at 1 MiB (`size_hint::cautious`), so a forged length of 2^60
+/// fails with [`SnapshotError::Decode`] at the end of the input after
+/// allocating at most 1 MiB.
+pub const MAX_SNAPSHOT_BYTES: usize = 1 << 30;
+
+/// The bincode configuration of the payload (DESIGN §5).
+type Config = Configuration<LittleEndian, Fixint, Limit<MAX_SNAPSHOT_BYTES>>;
+
+const CONFIG: Config = bincode::config::standard()
+    .with_fixed_int_encoding()
+    .with_limit::<MAX_SNAPSHOT_BYTES>();
+
+/// Why bytes were not accepted as a snapshot.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum SnapshotError {
+    /// Shorter than the header ([`HEADER_LEN`] bytes).
+    TooShort,
+    /// The first bytes are not [`MAGIC`].
+    BadMagic,
+    /// A format version this build does not read.
+    UnsupportedVersion(u32),
+    /// The payload does not decode as a world state (truncated, a bad enum
+    /// tag or bool, a length past the end or over the limit).
+    Decode(String),
+    /// This many bytes follow the payload.
+    TrailingBytes(usize),
+    /// The payload bytes do not match the header's checksum: corrupted.
+    ChecksumMismatch {
+        /// Checksum in the header.
+        stored: u64,
+        /// Checksum of the payload as received.
+        computed: u64,
+    },
+    /// The state decodes but breaks an invariant; names what is wrong.
+    Invalid(String),
+}
+
+impl fmt::Display for SnapshotError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SnapshotError::TooShort => {
+                write!(f, "snapshot is shorter than its {HEADER_LEN}-byte header")
+            }
+            SnapshotError::BadMagic => f.write_str("not a tamias2d snapshot (bad magic bytes)"),
+            SnapshotError::UnsupportedVersion(v) => write!(
+                f,
+                "snapshot format version {v} is not supported (this build reads {FORMAT_VERSION})"
+            ),
+            SnapshotError::Decode(e) => write!(f, "snapshot does not decode: {e}"),
+            SnapshotError::TrailingBytes(n) => {
+                write!(f, "{n} unexpected bytes after the snapshot")
+            }
+            SnapshotError::ChecksumMismatch { stored, computed } => write!(
+                f,
+                "snapshot is corrupted: header checksum {stored:#018x}, payload checksum {computed:#018x}"
+            ),
+            SnapshotError::Invalid(why) => write!(f, "invalid snapshot: {why}"),
+        }
+    }
+}
+
+impl std::error::Error for SnapshotError {}
+
+/// The header of a snapshot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Header {
+    /// Format version.
+    pub version: u32,
+    /// [`payload_checksum`] of the bytes after the header.
+    pub checksum: u64,
+}
+
+/// The state of `space` as bytes (see the module docs for the format).
+///
+/// Encoding a `WorldState` cannot fail (every field has a fixed serde shape
+/// and the output is a `Vec`); were it ever to, the result is empty, which
+/// [`load`] rejects as [`SnapshotError::TooShort`].
+pub fn save(space: &Space) -> Vec<u8> {
+    save_state(space.state())
+}
+
+/// [`save`] of a bare state (for states built or edited by hand; [`load`]
+/// still validates them).
+pub fn save_state(state: &WorldState) -> Vec<u8> {
+    let mut out = Vec::with_capacity(size_hint(state));
+    save_state_into(state, &mut out);
+    out
+}
+
+/// [`save`] into `out`, replacing its contents and reusing its allocation;
+/// returns the snapshot length. The per-frame form for rollback.
+pub fn save_into(space: &Space, out: &mut Vec<u8>) -> usize {
+    save_state_into(space.state(), out)
+}
+
+fn save_state_into(state: &WorldState, out: &mut Vec<u8>) -> usize {
+    out.clear();
+    out.extend_from_slice(&MAGIC);
+    out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+    out.extend_from_slice(&[0; 8]);
+    if bincode::serde::encode_into_std_write(state, out, CONFIG).is_err() {
+        out.clear();
+        return 0;
+    }
+    let sum = payload_checksum(out.get(HEADER_LEN..).unwrap_or(&[]));
+    if let Some(slot) = out.get_mut(12..HEADER_LEN) {
+        slot.copy_from_slice(&sum.to_le_bytes());
+    }
+    out.len()
+}
+
+/// The header's checksum of the payload bytes: four independent lanes of
+/// the multiply–xorshift step of [`WordHasher`](crate::checksum::WordHasher)
+/// over little-endian 64-bit words (independent lanes keep the multiplier
+/// busy: several bytes per cycle), then the lanes, the length and the tail
+/// bytes folded into one word, and SplitMix64's finaliser. For a fixed lane
+/// each step is injective in the word, and for a fixed word a bijection of
+/// the lane, so changing any one word always changes the result. Portable:
+/// words are read little-endian.
+pub fn payload_checksum(payload: &[u8]) -> u64 {
+    const K: u64 = 0x9E37_79B9_7F4A_7C15;
+    fn mix(s: u64, w: u64) -> u64 {
+        let x = (s ^ w).wrapping_mul(K);
+        x ^ (x >> 29)
+    }
+    fn word(bytes: &[u8]) -> u64 {
+        let mut w = [0u8; 8];
+        for (d, s) in w.iter_mut().zip(bytes) {
+            *d = *s;
+        }
+        u64::from_le_bytes(w)
+    }
+    let mut lanes: [u64; 4] = [
+        0x243F_6A88_85A3_08D3,
+        0x1319_8A2E_0370_7344,
+        0xA409_3822_299F_31D0,
+        0x082E_FA98_EC4E_6C89,
+    ];
+    let blocks = payload.chunks_exact(32);
+    let tail = blocks.remainder();
+    for block in blocks {
+        for (lane, w) in lanes.iter_mut().zip(block.chunks_exact(8)) {
+            *lane = mix(*lane, word(w));
+        }
+    }
+    let folded = lanes.iter().fold(payload.len() as u64, |h, &l| mix(h, l));
+    let mut z = tail.chunks(8).fold(folded, |h, w| mix(h, word(w)));
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// A capacity guess for a first `save` (upper estimate of the encoded sizes
+/// of slots and arbiters), so the output grows at most once or twice.
+fn size_hint(state: &WorldState) -> usize {
+    const BODY_SLOT: usize = 176;
+    const SHAPE_SLOT: usize = 352;
+    const ARBITER: usize = 224;
+    HEADER_LEN
+        + 128
+        + state.bodies.capacity_slots().saturating_mul(BODY_SLOT)
+        + state.shapes.capacity_slots().saturating_mul(SHAPE_SLOT)
+        + state.arbiters.len().saturating_mul(ARBITER)
+}
+
+/// The header of `bytes`: checks length, magic and version only.
+pub fn header(bytes: &[u8]) -> Result<Header, SnapshotError> {
+    let (Some(magic), Some(version), Some(checksum)) =
+        (bytes.get(0..8), bytes.get(8..12), bytes.get(12..HEADER_LEN))
+    else {
+        return Err(SnapshotError::TooShort);
+    };
+    if magic != MAGIC {
+        return Err(SnapshotError::BadMagic);
+    }
+    let version = u32::from_le_bytes(version.try_into().unwrap_or([0; 4]));
+    if version != FORMAT_VERSION {
+        return Err(SnapshotError::UnsupportedVersion(version));
+    }
+    let checksum = u64::from_le_bytes(checksum.try_into().unwrap_or([0; 8]));
+    Ok(Header { version, checksum })
+}
+
+/// The state in `bytes`, after every check of [`load`].
+pub fn decode_state(bytes: &[u8]) -> Result<WorldState, SnapshotError> {
+    let head = header(bytes)?;
+    let payload = bytes.get(HEADER_LEN..).unwrap_or(&[]);
+    let (state, read): (WorldState, usize) = bincode::serde::decode_from_slice(payload, CONFIG)
+        .map_err(|e| SnapshotError::Decode(e.to_string()))?;
+    let trailing = payload.len().saturating_sub(read);
+    if trailing > 0 {
+        return Err(SnapshotError::TrailingBytes(trailing));
+    }
+    let computed = payload_checksum(payload);
+    if computed != head.checksum {
+        return Err(SnapshotError::ChecksumMismatch {
+            stored: head.checksum,
+            computed,
+        });
+    }
+    validate_state(&state).map_err(SnapshotError::Invalid)?;
+    Ok(state)
+}
+
+/// A new space from a snapshot, after full validation (see the module docs).
+/// The space has no handlers, callbacks or custom integrators, and a new
+/// handle origin: re-attach handlers by collision type.
+pub fn load(bytes: &[u8]) -> Result<Space, SnapshotError> {
+    decode_state(bytes).map(Space::from_state)
+}
+
+impl Space {
+    /// Replaces this world's state by the snapshot's, after full
+    /// validation; handlers, post-step callbacks, custom integrators and the
+    /// handle origin stay (as with [`Space::restore_state`], which this
+    /// calls). On error nothing changes.
+    pub fn load_snapshot(&mut self, bytes: &[u8]) -> Result<(), SnapshotError> {
+        let state = decode_state(bytes)?;
+        self.restore_state(&state);
+        Ok(())
+    }
+}
