@@ -77,8 +77,8 @@ fn main() {
     let sample_size = if quick { 10 } else { 20 };
     let mut c = Criterion::default()
         .sample_size(sample_size)
-        .warm_up_time(Duration::from_millis(if quick { 300 } else { 1000 }))
-        .measurement_time(Duration::from_secs(if quick { 1 } else { 3 }))
+        .warm_up_time(Duration::from_millis(if quick { 200 } else { 1000 }))
+        .measurement_time(Duration::from_millis(if quick { 600 } else { 3000 }))
         .configure_from_args();
 
     let mut names: Vec<&str> = common::CI_SCENES.to_vec();

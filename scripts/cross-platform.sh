@@ -16,8 +16,12 @@
 #   miri-s390x      s390x-unknown-linux-gnu (64-bit big-endian) under Miri
 #   miri-i686       i686-unknown-linux-gnu (32-bit) under Miri
 #   (Miri runs only the small GOLDEN_MIRI table; see tests/golden.rs.)
+# and one opt-in platform, not in the default set (it costs about as much as
+# aarch64 again):
+#   s390x           s390x-unknown-linux-gnu (big-endian), release, under
+#                   qemu-user: the full table, where Miri runs a few steps
 #
-# Usage: scripts/cross-platform.sh [platform...]   (default: all of them)
+# Usage: scripts/cross-platform.sh [platform...]   (default: all but s390x)
 #
 # It installs what it needs itself, skipping whatever already works, so a
 # re-run is fast:
@@ -26,7 +30,8 @@
 #   - Debian packages (needs root, as CI is): libc6-dev-i386 and
 #     lib32gcc-<N>-dev for `gcc -m32` (what gcc-multilib would pull in;
 #     gcc-multilib itself conflicts with gcc-aarch64-linux-gnu on Debian),
-#     gcc-aarch64-linux-gnu and libc6-dev-arm64-cross, qemu-user;
+#     gcc-aarch64-linux-gnu and libc6-dev-arm64-cross, qemu-user (and for
+#     s390x: gcc-s390x-linux-gnu, libc6-dev-s390x-cross);
 #   - the nightly toolchain's miri and rust-src components ($MIRI_TOOLCHAIN,
 #     default `nightly`).
 # Node.js (>= 18, with node:wasi) is expected on the machine; if it is
@@ -40,7 +45,8 @@ cd "$(dirname "$0")/.."
 ROOT=$(pwd)
 
 MIRI_TOOLCHAIN=${MIRI_TOOLCHAIN:-nightly}
-ALL_PLATFORMS=(x86_64-debug x86_64-release i686-debug i686-release aarch64 wasm32 miri-s390x miri-i686)
+DEFAULT_PLATFORMS=(x86_64-debug x86_64-release i686-debug i686-release aarch64 wasm32 miri-s390x miri-i686)
+ALL_PLATFORMS=("${DEFAULT_PLATFORMS[@]}" s390x)
 
 if [ $# -gt 0 ]; then
     PLATFORMS=("$@")
@@ -54,7 +60,7 @@ if [ $# -gt 0 ]; then
         esac
     done
 else
-    PLATFORMS=("${ALL_PLATFORMS[@]}")
+    PLATFORMS=("${DEFAULT_PLATFORMS[@]}")
 fi
 
 wants() { # wants PREFIX: is a selected platform named PREFIX*?
@@ -91,7 +97,12 @@ aarch64_links() {
     command -v aarch64-linux-gnu-gcc >/dev/null &&
         aarch64-linux-gnu-gcc "$TMP/probe.c" -o "$TMP/probe64" 2>/dev/null
 }
+s390x_links() {
+    command -v s390x-linux-gnu-gcc >/dev/null &&
+        s390x-linux-gnu-gcc "$TMP/probe.c" -o "$TMP/probe390" 2>/dev/null
+}
 qemu_aarch64() { command -v qemu-aarch64 || command -v qemu-aarch64-static; }
+qemu_s390x() { command -v qemu-s390x || command -v qemu-s390x-static; }
 node_wasi_ok() {
     command -v node >/dev/null &&
         node -e 'require("node:wasi");
@@ -111,6 +122,7 @@ say "setup (installs only what is missing)"
 targets=()
 if wants i686; then targets+=(i686-unknown-linux-gnu); fi
 if wants aarch64; then targets+=(aarch64-unknown-linux-gnu); fi
+if wants s390x; then targets+=(s390x-unknown-linux-gnu); fi
 if wants wasm32; then targets+=(wasm32-wasip1); fi
 missing_targets=()
 installed_targets=$(rustup target list --installed)
@@ -130,6 +142,10 @@ fi
 if wants aarch64; then
     if ! aarch64_links; then apt_pkgs+=(gcc-aarch64-linux-gnu libc6-dev-arm64-cross); fi
     if ! qemu_aarch64 >/dev/null; then apt_pkgs+=(qemu-user); fi
+fi
+if wants s390x; then
+    if ! s390x_links; then apt_pkgs+=(gcc-s390x-linux-gnu libc6-dev-s390x-cross); fi
+    if ! qemu_s390x >/dev/null && [[ " ${apt_pkgs[*]} " != *" qemu-user "* ]]; then apt_pkgs+=(qemu-user); fi
 fi
 if wants wasm32 && ! command -v node >/dev/null; then apt_pkgs+=(nodejs); fi
 if [ ${#apt_pkgs[@]} -gt 0 ]; then
@@ -177,6 +193,14 @@ for p in "${PLATFORMS[@]}"; do
             [ -n "$reason" ] || qemu_aarch64 >/dev/null || reason="qemu-aarch64 not found (qemu-user)"
             [ -n "$reason" ] || "$(qemu_aarch64)" -L /usr/aarch64-linux-gnu "$TMP/probe64" ||
                 reason="qemu-aarch64 cannot run an aarch64 binary"
+            ;;
+        s390x)
+            has_target s390x-unknown-linux-gnu || reason="rust target s390x-unknown-linux-gnu not installed"
+            [ -n "$reason" ] || s390x_links ||
+                reason="s390x-linux-gnu-gcc cannot link (gcc-s390x-linux-gnu, libc6-dev-s390x-cross)"
+            [ -n "$reason" ] || qemu_s390x >/dev/null || reason="qemu-s390x not found (qemu-user)"
+            [ -n "$reason" ] || "$(qemu_s390x)" -L /usr/s390x-linux-gnu "$TMP/probe390" ||
+                reason="qemu-s390x cannot run an s390x binary"
             ;;
         wasm32)
             has_target wasm32-wasip1 || reason="rust target wasm32-wasip1 not installed"
@@ -240,7 +264,8 @@ setup_cpu=$(since "$setup_cpu" "$CPU_NOW")
 show() { # prints the command with the variables it is given, then runs it
     local v
     for v in CARGO_TARGET_DIR CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_LINKER \
-        CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_RUNNER CARGO_TARGET_WASM32_WASIP1_RUNNER; do
+        CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_RUNNER CARGO_TARGET_S390X_UNKNOWN_LINUX_GNU_LINKER \
+        CARGO_TARGET_S390X_UNKNOWN_LINUX_GNU_RUNNER CARGO_TARGET_WASM32_WASIP1_RUNNER; do
         if [ -n "${!v:-}" ]; then echo "+ $v=\"${!v}\""; fi
     done
     echo "+ $*"
@@ -264,6 +289,12 @@ run_platform() {
             CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_LINKER=aarch64-linux-gnu-gcc \
                 CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_RUNNER="$qemu -L /usr/aarch64-linux-gnu" \
                 runner cargo test --release --target aarch64-unknown-linux-gnu
+            ;;
+        s390x)
+            qemu=$(qemu_s390x)
+            CARGO_TARGET_S390X_UNKNOWN_LINUX_GNU_LINKER=s390x-linux-gnu-gcc \
+                CARGO_TARGET_S390X_UNKNOWN_LINUX_GNU_RUNNER="$qemu -L /usr/s390x-linux-gnu" \
+                runner cargo test --release --target s390x-unknown-linux-gnu
             ;;
         wasm32)
             # wasm32-wasip1 aborts on panic, so libtest never prints a

@@ -96,6 +96,9 @@ impl Arbiter {
         self.normal = info.normal;
         self.collision_id = info.id;
         self.count = 0;
+        // Slots past the new count are cleared, so the state (and its
+        // checksum) does not depend on how many contacts the pair had before.
+        self.contacts = [ContactConstraint::default(); MAX_CONTACTS_PER_ARBITER];
         for (slot, c) in self.contacts.iter_mut().zip(info.contacts()) {
             let mut new = ContactConstraint {
                 r1: c.point_a - pa,

@@ -1,4 +1,5 @@
 //! Tamias2D: a deterministic 2D rigid-body physics engine in I32F32 fixed point.
+#![doc = include_str!("../README.md")]
 #![forbid(unsafe_code)]
 #![cfg_attr(not(test), deny(clippy::float_arithmetic))]
 

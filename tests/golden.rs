@@ -58,15 +58,15 @@ use tamias2d::scenes;
 const GOLDEN: &[(&str, u32, u64)] = &[
     // A: terrain
     ("bowl_circles_100", 600, 0x3ab2d7263aeb245e),
-    ("bowl_boxes_100", 600, 0x93c10178c1fb0686),
-    ("bowl_hexagons_100", 600, 0xc8778e222dfbd5a8),
+    ("bowl_boxes_100", 600, 0xc65dc8252743a563),
+    ("bowl_hexagons_100", 600, 0x314726e6d804745a),
     ("bouncy_circles_500", 60, 0x8c2d8d30246cf74e),
     ("no_collide", 600, 0x5976cccdeac2efef),
     // B: stacking
-    ("pyramid_20", 120, 0xacceb1b6ce753dd3),
-    ("many_pyramids_4x4", 20, 0xcc013fa280b14915),
+    ("pyramid_20", 120, 0xfb2201ad909f46b3),
+    ("many_pyramids_4x4", 20, 0x9f9f437388ad791f),
     ("rain_1000", 200, 0x91ade45a4db5326d),
-    ("tumbler_500", 120, 0x774bbd17191fe422),
+    ("tumbler_500", 120, 0x73d5cb4095f96829),
     // C: accuracy
     ("free_fall", 240, 0x78146558adc56eaf),
     ("constant_force", 240, 0x3e01e7c1f8c2424f),

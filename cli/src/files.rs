@@ -36,13 +36,14 @@ pub fn snapshot_save(
     overrides: Overrides,
 ) -> Result<(), String> {
     let desc = source::load(scene, overrides)?.desc;
-    if !desc.forces.is_empty() || !desc.spawns.is_empty() || !desc.begin_counters.is_empty() {
+    if !desc.forces.is_empty() || !desc.spawns.is_empty() {
         // A snapshot is the world (DESIGN §4.3); the scene's script lives in
-        // its description, so a loaded snapshot runs without it.
+        // its description, so a loaded snapshot runs without it. (Begin
+        // counters only count and accept, so losing them changes nothing.)
         eprintln!(
-            "warning: scene {:?} scripts forces, spawns or begin counters; a snapshot holds only \
-             the world, so `snapshot run` continues without them and its checksum will not match \
-             an uninterrupted `run`",
+            "warning: scene {:?} scripts forces or spawns; a snapshot holds only the world, so \
+             `snapshot run` continues without them and its checksum will not match an \
+             uninterrupted `run`",
             desc.name
         );
     }

@@ -96,6 +96,9 @@ struct RenderOpts {
     /// Steps between two frames [default: about 60 frames per run].
     #[arg(long, value_name = "K", requires = "render", value_parser = clap::value_parser!(u32).range(1..))]
     every: Option<u32>,
+    /// Write a PNG of the last step to FILE.
+    #[arg(long, value_name = "FILE")]
+    picture: Option<PathBuf>,
 }
 
 #[derive(Args)]

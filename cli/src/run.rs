@@ -91,11 +91,11 @@ struct FrameDir {
 }
 
 impl FrameDir {
-    fn create(dir: &Path, space: &Space, steps: u32) -> Result<FrameDir, String> {
+    fn create(dir: &Path, view: View, steps: u32) -> Result<FrameDir, String> {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         Ok(FrameDir {
             dir: dir.to_owned(),
-            canvas: Canvas::new(View::fit(space))?,
+            canvas: Canvas::new(view)?,
             digits: steps.to_string().len().max(5),
             written: 0,
         })
@@ -135,8 +135,10 @@ fn run_and_report(
         sim.dt(),
         settings.iterations
     );
+    // One view for every picture of the run, fitted to the first frame.
+    let view = View::fit(sim.space());
     let mut frames = match &render.render {
-        Some(dir) => Some(FrameDir::create(dir, sim.space(), steps)?),
+        Some(dir) => Some(FrameDir::create(dir, view, steps)?),
         None => None,
     };
     // About 60 frames per run unless told otherwise.
@@ -158,6 +160,17 @@ fn run_and_report(
             "wrote {} frames (one every {every} steps) to {}",
             f.written,
             f.dir.display()
+        );
+    }
+    if let Some(file) = &render.picture {
+        let mut canvas = Canvas::new(view)?;
+        canvas.draw(sim.space());
+        canvas.write_png(file)?;
+        println!(
+            "wrote {} (step {steps}, {}x{})",
+            file.display(),
+            view.width,
+            view.height
         );
     }
     println!("checksum: {:#018x}", sim.space().checksum());

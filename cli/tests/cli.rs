@@ -153,8 +153,16 @@ fn run_render_writes_png_frames() {
         path(&dir),
         "--every",
         "4",
+        "--picture",
+        path(&dir.join("last.png")),
     ]);
     assert!(out.contains("wrote 4 frames"), "{out}");
+    assert!(is_png(&dir.join("last.png")));
+    // The last frame and the picture are the same image.
+    assert_eq!(
+        std::fs::read(dir.join("step_00010.png")).unwrap(),
+        std::fs::read(dir.join("last.png")).unwrap()
+    );
     for step in [0, 4, 8, 10] {
         let f = dir.join(format!("step_{step:05}.png"));
         assert!(is_png(&f), "{} missing or not a PNG", f.display());
@@ -234,9 +242,11 @@ fn scene_file_errors_name_line_column_or_body() {
 #[test]
 fn snapshot_continues_exactly_where_the_run_stopped() {
     let dir = scratch("snapshot");
-    for scene in ["stack_10", "newtons_cradle"] {
+    // no_collide counts `begin` callbacks: counting changes nothing, so its
+    // snapshot continues exactly too (and without a warning).
+    for scene in ["stack_10", "newtons_cradle", "no_collide"] {
         let file = dir.join(format!("{scene}.snap"));
-        let saved = ok(&[
+        let args = [
             "snapshot",
             "save",
             scene,
@@ -244,7 +254,10 @@ fn snapshot_continues_exactly_where_the_run_stopped() {
             "15",
             "-o",
             path(&file),
-        ]);
+        ];
+        let out = tamias(&args);
+        assert!(out.stderr.is_empty(), "{scene}: {:?}", out.stderr);
+        let saved = check_ok(&args, &out);
         assert_eq!(
             checksum(&saved),
             checksum(&ok(&["run", scene, "--steps", "15"]))

@@ -31,11 +31,12 @@ pub fn measures(name: &str) -> &'static [Measure] {
     match name {
         "pyramid_20" | "pyramid_100" | "many_pyramids_4x4" | "many_pyramids_10x10" => &[
             m!("max box displacement", "m"),
+            m!("max horizontal drift", "m"),
             m!("max box rotation", "rad"),
         ],
         "bowl_boxes_500" | "bowl_boxes_100" => &[
-            m!("max penetration", "units"),
             m!("mean penetration", "units"),
+            m!("max penetration", "units"),
         ],
         "free_fall" => &[m!("|y − (y0 − ½gt²)|", "m")],
         "constant_force" => &[m!("|x − (x0 + ½(F/m)t²)|", "m")],
@@ -81,10 +82,10 @@ pub fn errors(
     let dist = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
     match name {
         "pyramid_20" | "pyramid_100" | "many_pyramids_4x4" | "many_pyramids_10x10" => {
-            let (d, r) = drift(init, engine);
-            vec![d, r]
+            let d = drift(init, engine);
+            vec![d.displacement, d.horizontal, d.rotation]
         }
-        "bowl_boxes_500" | "bowl_boxes_100" => vec![pen.max, pen.mean()],
+        "bowl_boxes_500" | "bowl_boxes_100" => vec![pen.mean(), pen.max],
         "free_fall" => vec![(b(0).position[1] - (100.0 - 0.5 * G * t * t)).abs()],
         "constant_force" => vec![(b(0).position[0] - (20.0 + 0.5 * 10.0 * t * t)).abs()],
         "projectile_45" | "projectile_60" => {
@@ -134,14 +135,30 @@ fn wrap(a: f64) -> f64 {
     (a + PI).rem_euclid(TAU) - PI
 }
 
-/// Largest displacement and largest rotation of the dynamic bodies since `init`.
-pub fn drift(init: &[BodyState], engine: &dyn Engine) -> (f64, f64) {
-    let mut out = (0.0f64, 0.0f64);
+/// How far the dynamic bodies moved from where they started.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Drift {
+    /// Largest displacement (m).
+    pub displacement: f64,
+    /// Largest horizontal displacement (m): creep, as opposed to the
+    /// vertical settling of a pile under its weight.
+    pub horizontal: f64,
+    /// Largest rotation (rad).
+    pub rotation: f64,
+}
+
+/// The [`Drift`] of the dynamic bodies since `init`.
+pub fn drift(init: &[BodyState], engine: &dyn Engine) -> Drift {
+    let mut out = Drift::default();
     for (i, s0) in init.iter().enumerate().filter(|(_, s)| s.dynamic) {
         let s = engine.body(i);
-        let d = (s.position[0] - s0.position[0]).hypot(s.position[1] - s0.position[1]);
-        out.0 = out.0.max(d);
-        out.1 = out.1.max(wrap(s.angle - s0.angle).abs());
+        let (dx, dy) = (
+            s.position[0] - s0.position[0],
+            s.position[1] - s0.position[1],
+        );
+        out.displacement = out.displacement.max(dx.hypot(dy));
+        out.horizontal = out.horizontal.max(dx.abs());
+        out.rotation = out.rotation.max(wrap(s.angle - s0.angle).abs());
     }
     out
 }

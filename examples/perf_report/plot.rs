@@ -53,22 +53,38 @@ pub fn trade(
     let (x0, x1) = bounds(points.clone().map(|p| p.cost_ms));
     let (y0, y1) = bounds(points.map(|p| err(&p.errors)));
 
-    let root = SVGBackend::new(path, (760, 480)).into_drawing_area();
+    let root = SVGBackend::new(path, (760, 500)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 18))
         .margin(12)
-        .x_label_area_size(44)
+        .x_label_area_size(60)
         .y_label_area_size(70)
         .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
     chart
         .configure_mesh()
         .x_desc("cost: ms of wall time per simulated second (log)")
         .y_desc(y_label)
-        .x_label_formatter(&|v| format!("{v:.3}"))
+        .x_labels(8)
+        .y_labels(8)
+        .x_label_formatter(&|v| crate::report::sig(*v))
         .y_label_formatter(&|v| format!("{v:.0e}"))
+        .light_line_style(RGBColor(240, 240, 240))
         .label_style(("sans-serif", 12))
         .draw()?;
+    let floored = series
+        .iter()
+        .flat_map(|s| &s.points)
+        .any(|p| p.errors.get(measure).copied().unwrap_or(0.0) < ERROR_FLOOR);
+    if floored {
+        root.draw(&Text::new(
+            format!(
+                "errors below {ERROR_FLOOR:.0e} (e.g. exactly 0) are drawn at {ERROR_FLOOR:.0e}"
+            ),
+            (90, 484),
+            ("sans-serif", 11).into_font().color(&BLACK.mix(0.6)),
+        ))?;
+    }
 
     let mut palette = COLORS.iter().cycle();
     for s in series {
@@ -113,7 +129,7 @@ pub fn trade(
     Ok(())
 }
 
-/// Bar-free ratio plot: Tamias2D time / Rapier time per scene, log scale.
+/// Ratio plot: Tamias2D time / Rapier time per scene as bars, log scale.
 pub fn ratios(path: &Path, rows: &[(String, f64)]) -> Result<(), Box<dyn Error>> {
     let (lo, hi) = bounds(rows.iter().map(|r| r.1));
     let (lo, hi) = (lo.min(0.8), hi.max(1.25));
@@ -129,11 +145,14 @@ pub fn ratios(path: &Path, rows: &[(String, f64)]) -> Result<(), Box<dyn Error>>
         .x_label_area_size(36)
         .y_label_area_size(150)
         .build_cartesian_2d((lo..hi).log_scale(), 0..n)?;
-    let names: Vec<String> = rows.iter().map(|r| r.0.clone()).collect();
+    // First scene at the top.
+    let names: Vec<String> = rows.iter().rev().map(|r| r.0.clone()).collect();
     chart
         .configure_mesh()
         .disable_y_mesh()
         .y_labels(n + 1)
+        .x_labels(8)
+        .light_line_style(RGBColor(240, 240, 240))
         .y_label_formatter(&|i| names.get(*i).cloned().unwrap_or_default())
         .x_label_formatter(&|v| format!("{v:.2}"))
         .x_desc("ratio (log)")
@@ -145,6 +164,7 @@ pub fn ratios(path: &Path, rows: &[(String, f64)]) -> Result<(), Box<dyn Error>>
     ))?;
     chart.draw_series(
         rows.iter()
+            .rev()
             .enumerate()
             .map(|(i, r)| PathElement::new(vec![(lo, i), (r.1, i)], COLORS[0].stroke_width(8))),
     )?;

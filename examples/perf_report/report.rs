@@ -25,7 +25,7 @@ pub struct Report {
 }
 
 /// `x` with 3 significant digits, in plain or scientific notation.
-fn sig(x: f64) -> String {
+pub fn sig(x: f64) -> String {
     if x == 0.0 {
         "0".to_owned()
     } else if !x.is_finite() {
@@ -136,8 +136,13 @@ impl Report {
         for r in &self.side {
             let other = |e: &crate::side::EngineResult| {
                 let mut parts = Vec::new();
-                if let Some((d, a)) = e.drift {
-                    parts.push(format!("drift at 10 s: {} m, {} rad", sig(d), sig(a)));
+                if let Some(d) = e.drift {
+                    parts.push(format!(
+                        "at 10 s: moved ≤ {} m (sideways ≤ {} m), turned ≤ {} rad",
+                        sig(d.displacement),
+                        sig(d.horizontal),
+                        sig(d.rotation)
+                    ));
                 }
                 if let Some(k) = e.energy_drift {
                     parts.push(format!("energy {:+.1}%", k * 100.0));
@@ -248,17 +253,21 @@ impl Report {
         let data = self.out.join("data");
         fs::create_dir_all(&data)?;
         let mut side = String::from(
-            "scene,engine,median_step_ms,timed_steps,pen_max,pen_mean,pen_pairs,drift_m,drift_rad,energy_drift,escaped,errors\n",
+            "scene,engine,median_step_ms,timed_steps,pen_max,pen_mean,pen_pairs,drift_m,drift_sideways_m,drift_rad,energy_drift,escaped,errors\n",
         );
         for r in self.side.iter().chain(&self.accuracy) {
             for (engine, e) in [("tamias2d", &r.tamias), ("rapier", &r.rapier)] {
-                let (d, a) = e.drift.map_or((String::new(), String::new()), |(d, a)| {
-                    (d.to_string(), a.to_string())
+                let (d, h, a) = e.drift.map_or(Default::default(), |d| {
+                    (
+                        d.displacement.to_string(),
+                        d.horizontal.to_string(),
+                        d.rotation.to_string(),
+                    )
                 });
                 let errors: Vec<String> = e.errors.iter().map(f64::to_string).collect();
                 let _ = writeln!(
                     side,
-                    "{},{engine},{},{},{},{},{},{d},{a},{},{},{}",
+                    "{},{engine},{},{},{},{},{},{d},{h},{a},{},{},{}",
                     r.name,
                     e.median_step * 1e3,
                     e.timed_steps,

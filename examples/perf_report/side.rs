@@ -21,8 +21,8 @@ pub struct EngineResult {
     pub timed_steps: usize,
     /// Penetration over the second half of the run.
     pub pen: Penetration,
-    /// Largest displacement and rotation after 10 s (pyramids).
-    pub drift: Option<(f64, f64)>,
+    /// Drift after 10 s (pyramids).
+    pub drift: Option<measures::Drift>,
     /// Relative kinetic energy change over the run (elastic scenes).
     pub energy_drift: Option<f64>,
     /// Dynamic bodies outside the container at the end.
@@ -110,7 +110,7 @@ struct Acc {
     energy0: f64,
     times: Vec<f64>,
     pen: Penetration,
-    drift: Option<(f64, f64)>,
+    drift: Option<measures::Drift>,
 }
 
 impl Acc {

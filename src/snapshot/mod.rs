@@ -50,7 +50,7 @@
 //! decoding (with a size limit, [`MAX_SNAPSHOT_BYTES`]; a forged length
 //! prefix fails at the end of the data instead of allocating, see there);
 //! trailing bytes; the payload checksum; then every invariant of
-//! [`validate_state`](crate::space::validate_state):
+//! [`validate_state`]:
 //! * settings in the ranges `Space::set_settings` enforces;
 //! * step stamp and time steps consistent (`dt` 0 before the first step,
 //!   positive after);
@@ -72,6 +72,13 @@
 //!
 //! Only then is the state handed out. Errors are [`SnapshotError`]s that
 //! say what is wrong.
+//!
+//! Validation accepts exactly what the API can produce, no less: a valid
+//! snapshot can still be expensive. Solver iterations are capped at
+//! [`MAX_ITERATIONS`](crate::space::MAX_ITERATIONS) (a forged snapshot asking
+//! for 4·10^9 would otherwise make one step run for hours), but a game that
+//! loads snapshots from untrusted peers still checks the body count against
+//! its own limits before stepping.
 //!
 //! # Two ways to roll back
 //! * In memory (fastest, no validation needed): keep `space.state().clone()`

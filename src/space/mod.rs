@@ -66,6 +66,9 @@ impl Settings {
     /// Checks the ranges [`Space::set_settings`] enforces: damping ≥ 0,
     /// collision bias in [0, 1], collision slop ≥ 0.
     pub fn validate(&self) -> Result<(), SpaceError> {
+        if self.iterations > MAX_ITERATIONS {
+            return Err(SpaceError::InvalidSetting("iterations must be ≤ 1024"));
+        }
         if self.damping.is_negative() {
             return Err(SpaceError::InvalidSetting("damping must be ≥ 0"));
         }
@@ -80,6 +83,11 @@ impl Settings {
         Ok(())
     }
 }
+
+/// Most solver iterations a space accepts: far above any useful value (the
+/// trade-off flattens out by 30), low enough that a forged snapshot cannot
+/// make one step run for hours.
+pub const MAX_ITERATIONS: u32 = 1024;
 
 impl Default for Settings {
     fn default() -> Self {
@@ -191,6 +199,11 @@ pub struct StepStats {
     /// Narrowphase calls where GJK or EPA stopped at its iteration cap
     /// (MIS WARN_GJK/WARN_EPA): the scene is outside the tested envelope.
     pub iteration_cap_hits: u32,
+    /// Bodies that ended the step with a component of position, velocity
+    /// or angular velocity at `Real::MIN` or `Real::MAX`: saturated, i.e.
+    /// outside the representable range (see the safe envelope in
+    /// `docs/numerics.md`). Zero for every scene inside the envelope.
+    pub saturated_bodies: u32,
 }
 
 /// Per-`dt` constants: the only `pow`, reciprocal and such of a step.
@@ -346,8 +359,9 @@ impl Space {
     }
 
     /// Sets the number of solver iterations.
+    /// Values above [`MAX_ITERATIONS`] are clamped to it.
     pub fn set_iterations(&mut self, iterations: u32) {
-        self.state.settings.iterations = iterations;
+        self.state.settings.iterations = iterations.min(MAX_ITERATIONS);
     }
 
     /// Number of steps taken (MIS `stamp`).

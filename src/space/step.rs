@@ -54,6 +54,7 @@ impl Space {
             self.solve_iteration();
         }
         self.store_solver_results();
+        self.count_saturated_bodies();
         self.post_solve(&active);
         self.caches.active = active;
 
@@ -393,6 +394,20 @@ impl Space {
                 body.w_bias = s.w_bias;
             }
         }
+    }
+
+    /// Diagnostics ([`StepStats::saturated_bodies`]): bodies whose position,
+    /// velocity or angular velocity saturated. Runs after the solver, so it
+    /// sees this step's positions and final velocities; five comparisons per
+    /// body, no arithmetic.
+    fn count_saturated_bodies(&mut self) {
+        let saturated = self
+            .state
+            .bodies
+            .iter()
+            .filter(|(_, b)| b.p.is_saturated() || b.v.is_saturated() || b.w.is_saturated())
+            .count();
+        self.caches.stats.saturated_bodies = u32::try_from(saturated).unwrap_or(u32::MAX);
     }
 
     /// Stage 10: post-solve handlers, then first contacts become normal.

@@ -1,0 +1,158 @@
+//! The byte format: pinned layout and sizes, header, buffer reuse, error
+//! messages.
+use super::*;
+
+#[test]
+fn format_layout_is_pinned() {
+    // A change here means the byte layout changed: bump FORMAT_VERSION and
+    // update the pins (and say so in the commit message).
+    let empty = save(&Space::new());
+    assert_eq!(&empty[..8], &MAGIC);
+    assert_eq!(&empty[8..12], &FORMAT_VERSION.to_le_bytes());
+    let sum = snapshot::payload_checksum(&empty[HEADER_LEN..]);
+    assert_eq!(&empty[12..20], &sum.to_le_bytes());
+    assert_eq!(FORMAT_VERSION, 1);
+    // The empty world, field by field (little-endian, fixed-width ints,
+    // every Real as its raw i64, lengths as u64, enum tags as u32).
+    let expected = [
+        "0a000000",         // settings.iterations: 10
+        "0000000000000000", // gravity.x
+        "0000000000000000", // gravity.y
+        "0000000001000000", // damping: 1.0 = 2^32
+        "9a99991900000000", // collision_slop: 0.1
+        "d3c4750000000000", // collision_bias: 0.9^60
+        "03000000",         // collision_persistence: 3
+        "0000000000000000", // bodies.slots: length 0
+        "0000000000000000", // bodies.free: length 0
+        "00000000",         // bodies.len: 0
+        "0000000000000000", // shapes.slots
+        "0000000000000000", // shapes.free
+        "00000000",         // shapes.len
+        "0000000000000000", // arbiters: length 0
+        "0000000000000000", // stamp
+        "0000000000000000", // current_dt
+        "0000000000000000", // prev_dt
+    ]
+    .concat();
+    assert_eq!(hex(&empty[HEADER_LEN..]), expected);
+    // Encoded sizes per object: layout only (fixed-width encoding makes
+    // them independent of the values).
+    let mut w = Space::new();
+    let mut sizes = vec![save(&w).len()];
+    let mut grow = |w: &Space| {
+        sizes.push(save(w).len());
+    };
+    let b = ok(w.add_body(Body::new_static()));
+    grow(&w);
+    ok(w.add_shape(ok(Shape::circle_shape_new(b, Real::ONE, Vect::ZERO))));
+    grow(&w);
+    ok(w.add_shape(ok(Shape::segment_shape_new(
+        b,
+        Vect::ZERO,
+        Vect::from_ints(1, 0),
+        Real::ZERO,
+    ))));
+    grow(&w);
+    ok(w.add_shape(ok(Shape::box_shape_new(
+        b,
+        Real::ONE,
+        Real::ONE,
+        Real::ZERO,
+    ))));
+    grow(&w);
+    ok(w.remove_body(b));
+    grow(&w);
+    let per_object: Vec<usize> = sizes.windows(2).map(|p| p[1].wrapping_sub(p[0])).collect();
+    // A slot is its generation (4) and option tag (1) before the value:
+    // body 165; shape 65 + geometry (circle 24, segment 88, polygon 265:
+    // 8 inline vertices and normals). Removing the body and its 3 shapes
+    // leaves 4 empty slots (5 bytes each) and 4 free-list entries (u32).
+    assert_eq!(per_object[..4], [170, 94, 158, 335]);
+    let removed = [170, 94, 158, 335].iter().map(|n| n - 5 - 4).sum::<usize>();
+    assert_eq!(per_object[4], 0usize.wrapping_sub(removed));
+    let stepped = small_world();
+    let mut state = stepped.state().clone();
+    let n = state.arbiters.len();
+    state.arbiters.clear();
+    let per_arbiter = (save(&stepped).len() - snapshot::save_state(&state).len()) / n;
+    assert_eq!(per_arbiter, 218, "bytes per arbiter");
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+#[test]
+fn header_carries_version_and_payload_checksum() {
+    let bytes = save(&small_world());
+    let h = ok(snapshot::header(&bytes));
+    assert_eq!(h.version, FORMAT_VERSION);
+    assert_eq!(h.checksum, snapshot::payload_checksum(&bytes[HEADER_LEN..]));
+}
+
+#[test]
+fn payload_checksum_is_pinned() {
+    // Portable: the same values on every target (little-endian words).
+    let ramp: Vec<u8> = (0..=100u8).collect();
+    let sums = [0, 1, 7, 8, 31, 32, 33, 101].map(|n| snapshot::payload_checksum(&ramp[..n]));
+    assert_eq!(
+        sums,
+        [
+            12947730245408373148,
+            14436479948233033896,
+            12207078565629506267,
+            18319719879261837459,
+            15647855223621101133,
+            12391200441337584545,
+            7315989894677512464,
+            12340533633619164456,
+        ]
+    );
+    assert_eq!(
+        sums.iter().collect::<std::collections::BTreeSet<_>>().len(),
+        8
+    );
+}
+
+#[test]
+fn save_into_reuses_the_buffer_and_matches_save() {
+    let mut scene = build("stack_10");
+    let mut buf = Vec::new();
+    let mut capacity = 0;
+    for _ in 0..5 {
+        ok(scene.step());
+        let n = snapshot::save_into(&scene.space, &mut buf);
+        assert_eq!(n, buf.len());
+        assert!(buf == save(&scene.space));
+        if capacity > 0 {
+            assert_eq!(buf.capacity(), capacity, "no reallocation at the same size");
+        }
+        capacity = buf.capacity();
+    }
+}
+
+#[test]
+fn errors_display_what_is_wrong() {
+    let all = [
+        SnapshotError::TooShort,
+        SnapshotError::BadMagic,
+        SnapshotError::UnsupportedVersion(9),
+        SnapshotError::Decode("unexpected end".into()),
+        SnapshotError::TrailingBytes(3),
+        SnapshotError::ChecksumMismatch {
+            stored: 1,
+            computed: 2,
+        },
+        SnapshotError::Invalid("body #1v0: mass must be ≥ 0".into()),
+    ];
+    for e in all {
+        let shown = e.to_string();
+        let boxed: Box<dyn std::error::Error> = Box::new(e);
+        assert_eq!(boxed.to_string(), shown);
+        assert!(shown.len() > 10, "{shown}");
+    }
+    assert!(SnapshotError::UnsupportedVersion(9)
+        .to_string()
+        .contains('9'));
+    assert!(SnapshotError::TrailingBytes(3).to_string().contains('3'));
+}
