@@ -339,7 +339,7 @@ echo
 echo "=== cross-platform summary: golden checksums (tests/golden.rs) per platform"
 row() { printf '%-16s %9s %9s  %s\n' "$@"; }
 row platform "wall s" "CPU s" result
-row setup "$setup_time" "$setup_cpu" done
+row setup "$setup_time" "$setup_cpu" "done"
 for p in "${PLATFORMS[@]}"; do
     row "$p" "${TIME[$p]}" "${CPU[$p]}" "${RESULT[$p]}"
 done

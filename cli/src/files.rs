@@ -15,7 +15,7 @@ pub fn scene_dump(scene: &str, output: Option<&Path>) -> Result<(), String> {
     match output {
         Some(path) => {
             std::fs::write(path, json).map_err(|e| format!("{}: {e}", path.display()))?;
-            eprintln!(
+            println!(
                 "wrote {} ({} bodies, {} shapes)",
                 path.display(),
                 desc.total_bodies(),

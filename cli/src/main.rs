@@ -22,6 +22,12 @@ mod source;
 
 use source::Overrides;
 
+/// Where `tamias` alone writes its pictures.
+const DEFAULT_OUT: &str = "tamias-out";
+/// Steps between two frames of the showcase animation (15 frames a second
+/// of simulated time at the showcase's 1/60 s step).
+const DEFAULT_EVERY: u32 = 4;
+
 /// Deterministic 2D physics (I32F32 fixed point): run, render, snapshot,
 /// replay and benchmark scenes. Without a command, runs the showcase
 /// (`tamias demo`).
@@ -57,13 +63,13 @@ enum Command {
 #[derive(Args)]
 struct DemoArgs {
     /// Folder for the picture, the animation and the scene file.
-    #[arg(long, value_name = "DIR", default_value = "tamias-out")]
+    #[arg(long, value_name = "DIR", default_value = DEFAULT_OUT)]
     out: PathBuf,
     /// Steps to simulate [default: the showcase's 480].
     #[arg(long, value_name = "N")]
     steps: Option<u32>,
     /// Steps between two animation frames.
-    #[arg(long, value_name = "K", default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, value_name = "K", default_value_t = DEFAULT_EVERY, value_parser = clap::value_parser!(u32).range(1..))]
     every: u32,
 }
 
@@ -194,9 +200,9 @@ fn main() -> ExitCode {
     };
     let result = match cli.command {
         None => run::demo(&DemoArgs {
-            out: PathBuf::from("tamias-out"),
+            out: PathBuf::from(DEFAULT_OUT),
             steps: None,
-            every: 4,
+            every: DEFAULT_EVERY,
         }),
         Some(Command::Demo(args)) => run::demo(&args),
         Some(Command::List) => {

@@ -4,8 +4,8 @@
 //! curves over solver iterations, step size and sub-steps.
 //!
 //! ```text
-//! cargo run --release --example perf_report -- --out docs     # full run (~15 min on 2 cores)
-//! cargo run --release --example perf_report -- --quick        # CI-sized scenes, short sweep (~3 min)
+//! cargo run --release --example perf_report -- --out docs     # full run (5-9 min on 2 cores)
+//! cargo run --release --example perf_report -- --quick        # CI-sized scenes, short sweep (< 1 min)
 //! ```
 //! Options: `--out DIR` (default `target/perf_report`): the tables go into
 //! `DIR/performance.md` between its `<!-- BEGIN perf_report:… -->` /

@@ -4,6 +4,7 @@ use std::error::Error;
 use std::path::Path;
 
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::sweep::{Kind, Series};
 
@@ -129,10 +130,11 @@ pub fn trade(
     Ok(())
 }
 
-/// Ratio plot: Tamias2D time / Rapier time per scene as bars, log scale.
+/// Ratio plot: Tamias2D time / Rapier time per scene as bars on a log₂
+/// axis (ticks at powers of 2), the value written at the end of each bar.
 pub fn ratios(path: &Path, rows: &[(String, f64)]) -> Result<(), Box<dyn Error>> {
     let (lo, hi) = bounds(rows.iter().map(|r| r.1));
-    let (lo, hi) = (lo.min(0.8), hi.max(1.25));
+    let (lo, hi) = (lo.min(0.8).log2().floor(), hi.max(1.25).log2().ceil() + 0.3);
     let n = rows.len().max(1);
     let root = SVGBackend::new(path, (760, 40 + 22 * n as u32 + 60)).into_drawing_area();
     root.fill(&WHITE)?;
@@ -144,30 +146,45 @@ pub fn ratios(path: &Path, rows: &[(String, f64)]) -> Result<(), Box<dyn Error>>
         .margin(12)
         .x_label_area_size(36)
         .y_label_area_size(150)
-        .build_cartesian_2d((lo..hi).log_scale(), 0..n)?;
+        .build_cartesian_2d(lo..hi, (0..n).into_segmented())?;
     // First scene at the top.
     let names: Vec<String> = rows.iter().rev().map(|r| r.0.clone()).collect();
     chart
         .configure_mesh()
         .disable_y_mesh()
         .y_labels(n + 1)
-        .x_labels(8)
+        .x_labels((hi - lo) as usize + 1)
         .light_line_style(RGBColor(240, 240, 240))
-        .y_label_formatter(&|i| names.get(*i).cloned().unwrap_or_default())
-        .x_label_formatter(&|v| format!("{v:.2}"))
-        .x_desc("ratio (log)")
+        .y_label_formatter(&|v| match v {
+            SegmentValue::CenterOf(i) => names.get(*i).cloned().unwrap_or_default(),
+            _ => String::new(),
+        })
+        .x_label_formatter(&|v| format!("{}", 2f64.powf(v.round())))
+        .x_desc("ratio (log scale)")
         .label_style(("sans-serif", 12))
         .draw()?;
     chart.draw_series(LineSeries::new(
-        vec![(1.0, 0), (1.0, n)],
+        vec![(0.0, SegmentValue::Exact(0)), (0.0, SegmentValue::Last)],
         BLACK.mix(0.5).stroke_width(1),
     ))?;
-    chart.draw_series(
-        rows.iter()
-            .rev()
-            .enumerate()
-            .map(|(i, r)| PathElement::new(vec![(lo, i), (r.1, i)], COLORS[0].stroke_width(8))),
-    )?;
+    for (i, r) in rows.iter().rev().enumerate() {
+        let x = r.1.log2();
+        chart.draw_series(std::iter::once(PathElement::new(
+            vec![
+                (lo, SegmentValue::CenterOf(i)),
+                (x, SegmentValue::CenterOf(i)),
+            ],
+            COLORS[0].stroke_width(8),
+        )))?;
+        chart.draw_series(std::iter::once(Text::new(
+            format!(" {:.2}", r.1),
+            (x, SegmentValue::CenterOf(i)),
+            ("sans-serif", 11)
+                .into_font()
+                .into_text_style(&root)
+                .pos(Pos::new(HPos::Left, VPos::Center)),
+        )))?;
+    }
     root.present()?;
     Ok(())
 }
