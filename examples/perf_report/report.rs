@@ -179,7 +179,7 @@ impl Report {
                     "| `{}` | {} steps of 1/60 s | {} ({}) | {} | {} |",
                     r.name,
                     r.steps,
-                    m.name,
+                    m.name.replace('|', "\\|"),
                     m.unit,
                     get(&r.tamias),
                     get(&r.rapier)
