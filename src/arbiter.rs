@@ -10,6 +10,7 @@
 //! Arbiters are kept in a `Vec` sorted by `(shape_a, shape_b)` slot indices —
 //! the canonical pair order — so lookup is a binary search and the solver's
 //! order depends only on the state.
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use serde::{Deserialize, Serialize};
 
 use crate::body::BodyHandle;
@@ -112,7 +113,8 @@ impl Arbiter {
                 new.jt_acc = prev.jt_acc;
             }
             *slot = new;
-            self.count += 1;
+            // At most `MAX_CONTACTS_PER_ARBITER` slots: never saturates.
+            self.count = self.count.saturating_add(1);
         }
         self.restitution = a.material.elasticity * b.material.elasticity;
         self.friction = a.material.friction * b.material.friction;

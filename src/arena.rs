@@ -5,6 +5,7 @@
 //! reaches the object that later reuses the slot. The free list is part of the
 //! simulation state (and of snapshots): a world restored from a snapshot hands
 //! out exactly the handles the original would have handed out.
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use core::marker::PhantomData;
 
 use serde::{Deserialize, Serialize};
@@ -173,7 +174,9 @@ impl<T> Arena<T> {
         if let Some(index) = self.free.pop() {
             if let Some(slot) = self.slots.get_mut(index as usize) {
                 slot.value = Some(value);
-                self.len += 1;
+                // `len` counts live slots, fewer than `u32::MAX` (the slot
+                // count's limit below): never saturates unless forged.
+                self.len = self.len.saturating_add(1);
                 return Ok(Handle::from_raw_parts(index, slot.generation));
             }
         }
@@ -185,7 +188,8 @@ impl<T> Arena<T> {
             generation: 0,
             value: Some(value),
         });
-        self.len += 1;
+        // At most `index + 1 < u32::MAX` live slots: never saturates.
+        self.len = self.len.saturating_add(1);
         Ok(Handle::from_raw_parts(index, 0))
     }
 
@@ -197,7 +201,9 @@ impl<T> Arena<T> {
         }
         // Generations wrap after 2^32 reuses of one slot; documented limit.
         slot.generation = slot.generation.wrapping_add(1);
-        self.len -= 1;
+        // The slot was live, so `len ≥ 1` in a valid arena; a forged one
+        // (deserialised without `validate`) stays at 0 instead of wrapping.
+        self.len = self.len.saturating_sub(1);
         self.free.push(h.index);
         slot.value.take()
     }
@@ -279,7 +285,8 @@ impl<T> Arena<T> {
                 return Err(format!("free list names live slot {i}"));
             }
         }
-        let empty = self.slots.len() - full;
+        // `full` counts some of the slots: never saturates.
+        let empty = self.slots.len().saturating_sub(full);
         if empty != self.free.len() {
             return Err(format!(
                 "{} empty slots but {} on the free list",

@@ -14,11 +14,14 @@
 //! space has mass > 0 and moment > 0 (set explicitly or summed from shapes).
 //! Setters check them and return [`BodyError::IllegalBody`] instead of
 //! panicking. Fixed point has no NaN or infinity, so "finite" holds by type.
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use core::fmt;
 
 use serde::{Deserialize, Serialize};
 
 use crate::arena::Handle;
+use crate::math::exact::{raw_mul, saturate_to_real, I256};
+use crate::math::real::FRAC_BITS;
 use crate::math::{Real, Rot, Vect};
 
 /// Handle of a body in a [`Space`](crate::space::Space).
@@ -357,14 +360,26 @@ impl Body {
     }
 
     /// Kinetic energy ½mv² + ½Iω² (Chipmunk `cpBodyKineticEnergy`); 0 for
-    /// infinite mass. Saturates for very fast heavy bodies.
+    /// infinite mass.
+    ///
+    /// Computed exactly on 256 bits and rounded once (to nearest, ½ ulp), so
+    /// it is right at any speed: `v·v` is never formed as a `Real` (it would
+    /// saturate above 46,341 m/s). Saturates at `Real::MAX` only when the
+    /// energy itself exceeds the range.
     pub fn kinetic_energy(&self) -> Real {
         if self.body_type != BodyType::Dynamic {
             return Real::ZERO;
         }
-        let vsq = self.v.dot(self.v);
-        let wsq = self.w * self.w;
-        (self.mass * vsq + self.moment * wsq) * Real::HALF
+        // Raw units: mass 2^-32 · squared speed 2^-64 = 2^-96, so the energy
+        // in raw `Real` bits (2^-32) is (m·|v|² + I·ω²) / 2^65 with the ½.
+        // Each product is below 2^63 · 2^126 = 2^189: the sum cannot wrap.
+        let term = |k: Real, r: Real| {
+            I256::mul_i128(i128::from(k.to_bits()), raw_mul(r.to_bits(), r.to_bits()))
+        };
+        let twice = term(self.mass, self.v.x)
+            .add(term(self.mass, self.v.y))
+            .add(term(self.moment, self.w));
+        saturate_to_real(twice.round_shr(2 * FRAC_BITS + 1))
     }
 
     /// Default velocity integration (Chipmunk `cpBodyUpdateVelocity`):
@@ -550,5 +565,58 @@ mod tests {
         b.set_velocity(Vect::from_ints(3, 4));
         b.set_angular_velocity(Real::TWO);
         assert_eq!(b.kinetic_energy(), Real::from_int(25 + 6));
+    }
+
+    #[test]
+    fn kinetic_energy_is_exact_at_any_speed() {
+        // 2^-10 kg at |v| = 10^5 m/s (v·v would saturate above 46,341 m/s):
+        // ½ · 2^-10 · 10^10 = 4,882,812.5 J exactly.
+        let m = Real::from_bits(1 << 22);
+        let mut b = Body::new(m, m).unwrap();
+        b.set_velocity(Vect::from_ints(60_000, 80_000));
+        assert_eq!(b.kinetic_energy(), Real::from_int(4_882_812) + Real::HALF);
+        // Spin alone, just as fast.
+        b.set_velocity(Vect::ZERO);
+        b.set_angular_velocity(Real::from_int(-100_000));
+        assert_eq!(b.kinetic_energy(), Real::from_int(4_882_812) + Real::HALF);
+        // 1 ulp of mass at 2^30 m/s: 2^27 J.
+        let mut b = Body::new(Real::from_bits(1), Real::ONE).unwrap();
+        b.set_velocity(Vect::new(Real::ZERO, Real::from_int(-(1 << 30))));
+        assert_eq!(b.kinetic_energy(), Real::from_int(1 << 27));
+        // Energies beyond the range saturate; they never wrap or go negative.
+        let mut b = Body::new(Real::ONE, Real::MAX).unwrap();
+        b.set_velocity(Vect::from_ints(100_000, 0));
+        assert_eq!(b.kinetic_energy(), Real::MAX);
+        b.set_velocity(Vect::new(Real::MIN, Real::MIN));
+        b.set_angular_velocity(Real::MIN);
+        assert_eq!(b.kinetic_energy(), Real::MAX);
+    }
+
+    #[test]
+    fn kinetic_energy_is_rounded_once() {
+        // Exact reference on u128 where m·v² fits: (Σ k·r²) / 2^65, rounded
+        // to nearest (ties up: the energy is not negative).
+        let mut seed = 0x1234_5678_9ABC_DEF1u64;
+        let mut next = |bits: u32| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed >> (64 - bits)
+        };
+        for _ in 0..1000 {
+            let (m, i) = (next(40).max(1), next(40).max(1));
+            let (vx, vy, w) = (next(42) as i64, -(next(42) as i64), next(42) as i64);
+            let mut b = Body::new(Real::from_bits(m as i64), Real::from_bits(i as i64)).unwrap();
+            b.set_velocity(Vect::new(Real::from_bits(vx), Real::from_bits(vy)));
+            b.set_angular_velocity(Real::from_bits(w));
+            let sq = |r: i64| u128::from(r.unsigned_abs()).pow(2);
+            let twice = u128::from(m) * (sq(vx) + sq(vy)) + u128::from(i) * sq(w);
+            let want = (twice + (1 << 64)) >> 65;
+            assert_eq!(
+                b.kinetic_energy().to_bits() as u128,
+                want,
+                "{m} {i} {vx} {vy} {w}"
+            );
+        }
     }
 }

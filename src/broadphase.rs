@@ -12,7 +12,8 @@
 //!   ascending: the **canonical pair order**. The solver is Gauss–Seidel, so
 //!   its order changes results; this order depends only on the shapes' slot
 //!   indices and positions, never on a hash or on the sweep's internals.
-use crate::math::BB;
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
+use crate::math::{Real, BB};
 
 /// A box to sort, with the shape slot it belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -61,6 +62,7 @@ impl StaticTree {
 
     fn build_node(&mut self, start: usize, end: usize) -> u32 {
         let slice = self.proxies.get(start..end).unwrap_or(&[]);
+        let count = slice.len();
         let bb = slice
             .iter()
             .skip(1)
@@ -68,7 +70,7 @@ impl StaticTree {
                 acc.merge(&p.bb)
             });
         let id = self.nodes.len() as u32;
-        if end - start <= LEAF_SIZE {
+        if count <= LEAF_SIZE {
             self.nodes.push(Node {
                 bb,
                 first: start as u32,
@@ -83,16 +85,19 @@ impl StaticTree {
             second: 0,
             leaf: false,
         });
-        let wide = (bb.r - bb.l) >= (bb.t - bb.b);
+        // Extents and centres on i128, exact: `Real` sums and differences
+        // saturate for boxes near ±2^31, which would spoil the balance.
+        let wide = extent(bb.l, bb.r) >= extent(bb.b, bb.t);
         if let Some(slice) = self.proxies.get_mut(start..end) {
-            // Twice the centre, to stay exact: l + r.
             if wide {
-                slice.sort_unstable_by_key(|p| (p.bb.l + p.bb.r, p.index));
+                slice.sort_unstable_by_key(|p| (twice_centre(p.bb.l, p.bb.r), p.index));
             } else {
-                slice.sort_unstable_by_key(|p| (p.bb.b + p.bb.t, p.index));
+                slice.sort_unstable_by_key(|p| (twice_centre(p.bb.b, p.bb.t), p.index));
             }
         }
-        let mid = start + (end - start) / 2;
+        // `count` is the length of `proxies[start..end]`, so the sum is at
+        // most `end`: never saturates.
+        let mid = start.saturating_add(count / 2);
         let first = self.build_node(start, mid);
         let second = self.build_node(mid, end);
         if let Some(node) = self.nodes.get_mut(id as usize) {
@@ -117,11 +122,11 @@ impl StaticTree {
         if self.nodes.is_empty() {
             return;
         }
-        // Explicit stack: depth is O(log n), the vector is reused per call.
+        // Explicit stack: depth is O(log n), the array lives on the stack.
         let mut stack: [u32; 64] = [0; 64];
         let mut top = 1usize;
-        while top > 0 {
-            top -= 1;
+        while let Some(below) = top.checked_sub(1) {
+            top = below;
             let Some(node) = stack.get(top).and_then(|&i| self.nodes.get(i as usize)) else {
                 continue;
             };
@@ -138,14 +143,11 @@ impl StaticTree {
                         f(p.index);
                     }
                 }
-            } else if top + 2 <= stack.len() {
-                if let Some(slot) = stack.get_mut(top) {
-                    *slot = node.second;
-                }
-                if let Some(slot) = stack.get_mut(top + 1) {
-                    *slot = node.first;
-                }
-                top += 2;
+            } else if let Some([second, first, ..]) = stack.get_mut(top..) {
+                *second = node.second;
+                *first = node.first;
+                // Two slots at `top..` exist, so `top + 2 ≤ stack.len()`.
+                top = top.saturating_add(2);
             }
         }
     }
@@ -168,8 +170,10 @@ impl Broadphase {
         self.sorted.clear();
         self.sorted.extend_from_slice(moving);
         self.sorted.sort_unstable_by_key(|p| (p.bb.l, p.index));
-        for (i, a) in self.sorted.iter().enumerate() {
-            for b in self.sorted.iter().skip(i + 1) {
+        let mut rest = self.sorted.as_slice();
+        while let Some((a, later)) = rest.split_first() {
+            rest = later;
+            for b in later {
                 if b.bb.l > a.bb.r {
                     break;
                 }
@@ -187,6 +191,19 @@ impl Broadphase {
         self.pairs.sort_unstable();
         self.pairs.dedup();
     }
+}
+
+/// `lo + hi` of two raw coordinates, exact on i128: twice the centre of
+/// `[lo, hi]`, the static tree's sort key. On `Real` the sum would saturate
+/// for boxes near ±2^31 and every such box would get the same key.
+fn twice_centre(lo: Real, hi: Real) -> i128 {
+    // Each operand is below 2^63 in magnitude: the sum needs 65 bits.
+    i128::from(lo.to_bits()).saturating_add(i128::from(hi.to_bits()))
+}
+
+/// `hi − lo` of two raw coordinates, exact on i128 (65 bits at most).
+fn extent(lo: Real, hi: Real) -> i128 {
+    i128::from(hi.to_bits()).saturating_sub(i128::from(lo.to_bits()))
 }
 
 fn ordered(a: u32, b: u32) -> (u32, u32) {
@@ -244,5 +261,54 @@ mod tests {
             .map(|p| p.index)
             .collect();
         assert_eq!(got, want);
+    }
+
+    #[test]
+    fn static_tree_splits_boxes_near_the_range_edge_by_position() {
+        // Boxes around x = 2^31 − 1000: `l + r` on `Real` saturates for every
+        // one of them, and a key built on it would order them by shape index
+        // alone. The exact key keeps each leaf's boxes next to each other.
+        let n = 64u32;
+        let far = Real::MAX - Real::from_int(1000);
+        let proxies: Vec<Proxy> = (0..n)
+            .map(|k| Proxy {
+                index: (k * 37) % n, // index order unrelated to position
+                bb: BB::for_circle(
+                    Vect::new(far + Real::from_int(3 * k as i32), Real::ZERO),
+                    Real::ONE,
+                ),
+            })
+            .collect();
+        assert!((proxies[0].bb.l + proxies[0].bb.r).is_saturated());
+        let tree = StaticTree::build(proxies.clone());
+        let leaves: Vec<&Node> = tree.nodes.iter().filter(|n| n.leaf).collect();
+        assert_eq!(leaves.len(), 16);
+        for leaf in leaves {
+            // 4 neighbours 3 apart, radius 1: 3·3 + 2 wide.
+            assert_eq!(leaf.second - leaf.first, 4);
+            assert_eq!(leaf.bb.r - leaf.bb.l, Real::from_int(11), "{leaf:?}");
+        }
+        // Queries still find exactly the touching boxes.
+        let q = BB::for_circle(Vect::new(far + Real::from_int(30), Real::ZERO), Real::TWO);
+        let mut got = Vec::new();
+        tree.query(&q, |i| got.push(i));
+        got.sort_unstable();
+        let mut want: Vec<u32> = proxies
+            .iter()
+            .filter(|p| p.bb.intersects(&q))
+            .map(|p| p.index)
+            .collect();
+        want.sort_unstable();
+        assert_eq!(got, want);
+        assert_eq!(want.len(), 3);
+    }
+
+    #[test]
+    fn static_tree_keys_are_exact_at_the_range_edges() {
+        let (max, min) = (Real::MAX, Real::MIN);
+        assert_eq!(twice_centre(max, max), 2 * i128::from(i64::MAX));
+        assert_eq!(twice_centre(min, min), 2 * i128::from(i64::MIN));
+        assert!(twice_centre(max - Real::ONE, max) < twice_centre(max, max));
+        assert_eq!(extent(min, max), i128::from(u64::MAX));
     }
 }

@@ -11,6 +11,7 @@
 //! Caveat for state types: `Hash` for slices of primitive integers
 //! (`[u32]`, `[i64]`) writes native-endian *bytes*; state types hash such
 //! slices element by element instead (see `Arena`'s `Hash`).
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use core::hash::{Hash, Hasher};
 
 /// Deterministic word-at-a-time hasher (see the module docs).
@@ -30,6 +31,8 @@ impl Default for WordHasher {
 impl WordHasher {
     #[inline(always)]
     fn word(&mut self, w: u64) {
+        // Multiplication modulo 2^64 is the mix itself: `wrapping_mul` here
+        // (and in `finish`) is the intended semantics, not an overflow.
         let x = (self.state ^ w).wrapping_mul(0x9E37_79B9_7F4A_7C15);
         self.state = x ^ (x >> 29);
     }

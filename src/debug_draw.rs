@@ -36,6 +36,7 @@
 //! scene.space.debug_draw(&mut count, &DebugDrawOptions::default());
 //! assert_eq!((count.segments, count.polygons), (1, 210)); // the ground, the boxes
 //! ```
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use crate::arbiter::ArbiterState;
 use crate::body::{Body, BodyType};
 use crate::math::{Real, Vect};
@@ -71,7 +72,9 @@ impl Color {
 
     /// The same colour at 60% brightness: the default outline of a fill.
     pub const fn darker(self) -> Color {
-        // u8 · 3 / 5 fits in u16 and is ≤ 153: the casts are lossless.
+        // u8 · 3 / 5 fits in u16 and is ≤ 153: the casts are lossless, and
+        // the product (≤ 765) cannot overflow.
+        #[allow(clippy::arithmetic_side_effects)]
         const fn dim(c: u8) -> u8 {
             (c as u16 * 3 / 5) as u8
         }
@@ -179,7 +182,11 @@ impl DebugDrawOptions {
             BodyType::Dynamic => {
                 let n = self.dynamic_fills.len();
                 // A u32 always fits in usize on the targets we support (≥ 32 bits).
-                let i = usize::try_from(slot).unwrap_or(0) % n;
+                // (n is the palette's non-zero length: never `None`.)
+                let i = usize::try_from(slot)
+                    .unwrap_or(0)
+                    .checked_rem(n)
+                    .unwrap_or(0);
                 ShapeStyle::filled(
                     self.dynamic_fills
                         .get(i)

@@ -74,6 +74,7 @@
 //! counters), gives `body: None`; [`crate::snapshot::first_difference`]
 //! then tells more, given both worlds. Digests are only compared at the
 //! diverging frame: they are a diagnosis, not a second check.
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use core::fmt;
 use std::path::Path;
 
@@ -95,7 +96,9 @@ use desc_wire::WireScene;
 pub const MAGIC: [u8; 8] = *b"TAMIASRP";
 
 /// Version of the replay byte layout (bumped whenever it changes).
-pub const FORMAT_VERSION: u32 = 1;
+/// Version 2: the scene settings gained `substeps` and the solver switches,
+/// and embedded snapshots are snapshot format 2.
+pub const FORMAT_VERSION: u32 = 2;
 
 /// Bytes before the payload: magic, version, payload digest.
 pub const HEADER_LEN: usize = 20;
@@ -591,7 +594,8 @@ impl Recorder {
         self.sim.advance(frame, &inputs)?;
         let space = self.sim.space();
         let checksum = space.checksum();
-        let digests = self.digest_every != 0 && frame % self.digest_every == 0;
+        // `digest_every == 0` (no digests) has no remainder: `None`.
+        let digests = frame.checked_rem(self.digest_every) == Some(0);
         self.replay.frames.push(Frame {
             inputs,
             checksum,

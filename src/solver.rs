@@ -153,6 +153,39 @@ pub struct ContactConstraint {
     pub jt_acc: Real,
 }
 
+/// Which parts of the contact model the solver computes (from the space's
+/// [`Settings`](crate::space::Settings)). A part switched off is skipped,
+/// not computed and discarded: the pre-step leaves its constants at zero,
+/// the warm-start stage is not run, and the iterations use a routine
+/// compiled without the friction or bias row ([`SolverContact::solve_with`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ContactFeatures {
+    /// Start from last step's impulses (otherwise from zero).
+    pub warm_starting: bool,
+    /// Friction impulses (otherwise as if every friction were 0).
+    pub friction: bool,
+    /// Restitution targets (otherwise as if every elasticity were 0).
+    pub restitution: bool,
+    /// Bias impulses (otherwise overlap is never corrected).
+    pub bias: bool,
+}
+
+impl ContactFeatures {
+    /// Everything on (the default settings).
+    pub const ALL: ContactFeatures = ContactFeatures {
+        warm_starting: true,
+        friction: true,
+        restitution: true,
+        bias: true,
+    };
+}
+
+impl Default for ContactFeatures {
+    fn default() -> Self {
+        ContactFeatures::ALL
+    }
+}
+
 /// Step-wide constants of the contact solver.
 #[derive(Clone, Copy, Debug)]
 pub struct ContactParams {
@@ -164,6 +197,8 @@ pub struct ContactParams {
     pub bias_coef: Real,
     /// Largest bias velocity (Chipmunk's arbiter `maxBias`, unbounded by default).
     pub max_bias: Real,
+    /// The parts of the model computed this step.
+    pub features: ContactFeatures,
 }
 
 /// The arbiter-wide inputs of a contact's pre-step.
@@ -235,7 +270,11 @@ impl SolverContact {
     /// Pre-step for one contact (Chipmunk `preStep`): effective masses
     /// `1/k`, bias `−bias_coef·min(0, dist + slop)/dt` and bounce
     /// `e·(vr·n)` from the velocities before gravity. The only divisions of
-    /// the contact solver happen here.
+    /// the contact solver happen here. Parts switched off in
+    /// `params.features` are left at zero: without friction no tangent
+    /// terms (and no tangent effective mass, a division), without
+    /// restitution no bounce, without bias no bias target, without warm
+    /// starting no cached impulses.
     pub fn new(
         c: &ContactConstraint,
         bodies: &[SolverBody],
@@ -245,40 +284,49 @@ impl SolverContact {
         let zero = SolverBody::default();
         let a = bodies.get(pair.a as usize).unwrap_or(&zero);
         let b = bodies.get(pair.b as usize).unwrap_or(&zero);
+        let f = params.features;
         let n = pair.n;
-        let t = n.perp();
         let (rn_a, rn_b) = (c.r1.cross(n), c.r2.cross(n));
-        let (rt_a, rt_b) = (c.r1.cross(t), c.r2.cross(t));
         // A zero k (two infinite masses) gives mass 0: the contact applies no impulse.
         let n_mass = k_scalar(a, b, c.r1, c.r2, n).map_or(Real::ZERO, Real::recip);
-        let t_mass = k_scalar(a, b, c.r1, c.r2, t).map_or(Real::ZERO, Real::recip);
-        let overlap = (c.dist + params.slop).min(Real::ZERO);
-        SolverContact {
+        let mut sc = SolverContact {
             a: pair.a,
             b: pair.b,
-            arbiter: 0,
-            slot: 0,
             n,
             rn_a,
             rn_b,
-            rt_a,
-            rt_b,
             kn_a: a.i_inv * rn_a,
             kn_b: b.i_inv * rn_b,
-            kt_a: a.i_inv * rt_a,
-            kt_b: b.i_inv * rt_b,
             m_a: a.m_inv,
             m_b: b.m_inv,
             n_mass,
-            t_mass,
-            bias: (-params.bias_coef * overlap * params.dt_inv).min(params.max_bias),
-            bounce: normal_relative_velocity(a, b, c.r1, c.r2, n) * pair.e,
-            friction: pair.friction,
-            surface_t: pair.surface_vr.dot(t),
-            jn_acc: c.jn_acc,
-            jt_acc: c.jt_acc,
-            j_bias: Real::ZERO,
+            ..SolverContact::default()
+        };
+        if f.friction {
+            let t = n.perp();
+            let (rt_a, rt_b) = (c.r1.cross(t), c.r2.cross(t));
+            sc.rt_a = rt_a;
+            sc.rt_b = rt_b;
+            sc.kt_a = a.i_inv * rt_a;
+            sc.kt_b = b.i_inv * rt_b;
+            sc.t_mass = k_scalar(a, b, c.r1, c.r2, t).map_or(Real::ZERO, Real::recip);
+            sc.friction = pair.friction;
+            sc.surface_t = pair.surface_vr.dot(t);
         }
+        if f.bias {
+            let overlap = (c.dist + params.slop).min(Real::ZERO);
+            sc.bias = (-params.bias_coef * overlap * params.dt_inv).min(params.max_bias);
+        }
+        if f.restitution {
+            sc.bounce = normal_relative_velocity(a, b, c.r1, c.r2, n) * pair.e;
+        }
+        if f.warm_starting {
+            sc.jn_acc = c.jn_acc;
+            if f.friction {
+                sc.jt_acc = c.jt_acc;
+            }
+        }
+        sc
     }
 
     /// Applies the impulse `n·jn + t·jt` to the velocities (−a, +b).
@@ -296,12 +344,33 @@ impl SolverContact {
         b.w += Real::mul_add2(self.kn_b, jn, self.kt_b, jt);
     }
 
+    /// Applies the normal impulse `n·jn` alone (the friction-free
+    /// [`apply`](Self::apply): `apply(a, b, jn, 0)` gives the same bits).
+    #[inline(always)]
+    fn apply_normal(&self, a: &mut SolverBody, b: &mut SolverBody, jn: Real) {
+        let p = self.n * jn;
+        a.v -= p * self.m_a;
+        a.w -= self.kn_a * jn;
+        b.v += p * self.m_b;
+        b.w += self.kn_b * jn;
+    }
+
     /// Applies the cached (warm-start) impulse, scaled by `dt_coef = dt/prev_dt`.
     pub fn warm_start(&self, bodies: &mut [SolverBody], dt_coef: Real) {
         let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
             return;
         };
         self.apply(&mut a, &mut b, self.jn_acc * dt_coef, self.jt_acc * dt_coef);
+        store_pair(bodies, self.a, a, self.b, b);
+    }
+
+    /// [`warm_start`](Self::warm_start) of the normal impulse alone (friction
+    /// off: `jt_acc` is 0).
+    pub fn warm_start_normal(&self, bodies: &mut [SolverBody], dt_coef: Real) {
+        let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
+            return;
+        };
+        self.apply_normal(&mut a, &mut b, self.jn_acc * dt_coef);
         store_pair(bodies, self.a, a, self.b, b);
     }
 
@@ -314,39 +383,64 @@ impl SolverContact {
     ///   clamped to `±μ·jn_acc`.
     #[inline]
     pub fn solve(&mut self, bodies: &mut [SolverBody]) {
+        self.solve_with::<true, true>(bodies);
+    }
+
+    /// [`solve`](Self::solve) with the friction row and the bias row compiled
+    /// in or out. `solve_with::<true, true>` is `solve`; without `FRICTION`
+    /// the result is that of friction 0 (and the tangent velocity, clamp and
+    /// tangent impulse are not computed), without `BIAS` that of a zero bias
+    /// target with no bias velocities (the bias row is not computed). The
+    /// space picks one of the four once per step.
+    #[inline]
+    pub fn solve_with<const FRICTION: bool, const BIAS: bool>(
+        &mut self,
+        bodies: &mut [SolverBody],
+    ) {
         let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
             return;
         };
         let n = self.n;
 
-        let dvb = b.v_bias - a.v_bias;
-        let vbn = Real::dot4(
-            [dvb.x, dvb.y, b.w_bias, a.w_bias],
-            [n.x, n.y, self.rn_b, -self.rn_a],
-        );
-        let jb_old = self.j_bias;
-        self.j_bias = (jb_old + (self.bias - vbn) * self.n_mass).max(Real::ZERO);
-        let djb = self.j_bias - jb_old;
-        if !djb.is_zero() {
-            let p = n * djb;
-            a.v_bias -= p * self.m_a;
-            a.w_bias -= self.kn_a * djb;
-            b.v_bias += p * self.m_b;
-            b.w_bias += self.kn_b * djb;
+        if BIAS {
+            let dvb = b.v_bias - a.v_bias;
+            let vbn = Real::dot4(
+                [dvb.x, dvb.y, b.w_bias, a.w_bias],
+                [n.x, n.y, self.rn_b, -self.rn_a],
+            );
+            let jb_old = self.j_bias;
+            self.j_bias = (jb_old + (self.bias - vbn) * self.n_mass).max(Real::ZERO);
+            let djb = self.j_bias - jb_old;
+            if !djb.is_zero() {
+                let p = n * djb;
+                a.v_bias -= p * self.m_a;
+                a.w_bias -= self.kn_a * djb;
+                b.v_bias += p * self.m_b;
+                b.w_bias += self.kn_b * djb;
+            }
         }
 
         let dv = b.v - a.v;
         let vn = Real::dot4([dv.x, dv.y, b.w, a.w], [n.x, n.y, self.rn_b, -self.rn_a]);
-        let vt =
-            Real::dot4([dv.x, dv.y, b.w, a.w], [-n.y, n.x, self.rt_b, -self.rt_a]) + self.surface_t;
-
+        // Computed before the normal update, as in `solve` before the
+        // switches existed: the same order keeps the default routine's
+        // machine code (and cost) what it was.
+        let vt = if FRICTION {
+            Real::dot4([dv.x, dv.y, b.w, a.w], [-n.y, n.x, self.rt_b, -self.rt_a]) + self.surface_t
+        } else {
+            Real::ZERO
+        };
         let jn_old = self.jn_acc;
         self.jn_acc = (jn_old - (self.bounce + vn) * self.n_mass).max(Real::ZERO);
-        let jt_max = self.friction * self.jn_acc;
-        let jt_old = self.jt_acc;
-        self.jt_acc = (jt_old - vt * self.t_mass).clamp(-jt_max, jt_max);
 
-        self.apply(&mut a, &mut b, self.jn_acc - jn_old, self.jt_acc - jt_old);
+        if FRICTION {
+            let jt_max = self.friction * self.jn_acc;
+            let jt_old = self.jt_acc;
+            self.jt_acc = (jt_old - vt * self.t_mass).clamp(-jt_max, jt_max);
+            self.apply(&mut a, &mut b, self.jn_acc - jn_old, self.jt_acc - jt_old);
+        } else {
+            self.apply_normal(&mut a, &mut b, self.jn_acc - jn_old);
+        }
         store_pair(bodies, self.a, a, self.b, b);
     }
 }
@@ -429,6 +523,7 @@ mod tests {
             slop: Real::ZERO,
             bias_coef: Real::ZERO,
             max_bias: Real::MAX,
+            features: ContactFeatures::ALL,
         };
         let pair = PairParams {
             a: 0,
@@ -461,6 +556,7 @@ mod tests {
             slop: Real::ZERO,
             bias_coef: Real::ZERO,
             max_bias: Real::MAX,
+            features: ContactFeatures::ALL,
         };
         let pair = PairParams {
             a: 0,

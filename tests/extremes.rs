@@ -98,7 +98,7 @@ fn report_format_limits() {
         f32::MIN_POSITIVE,
         f64::MIN_POSITIVE
     );
-    let ke = bisect(1.0, 1e6, |v| {
+    let ke = bisect(1.0, 1e7, |v| {
         let mut b = Body::new(Real::ONE, Real::ONE).unwrap_or_else(|e| panic!("{e}"));
         b.set_velocity(Vect::new(r(v), Real::ZERO));
         let exact = 0.5 * r(v).to_f64() * r(v).to_f64();

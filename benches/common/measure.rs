@@ -101,23 +101,22 @@ pub trait Engine {
     }
 }
 
-/// A Tamias2D scene with `substeps` scene steps per report step.
+/// A Tamias2D scene; one report step is one `Scene::step` (sub-steps are
+/// the library's, `Settings::substeps`).
 pub struct TamiasRun {
-    /// The scene (its `dt` is the sub-step).
+    /// The scene (its `dt` is the whole step).
     pub scene: Scene,
-    substeps: u32,
 }
 
 impl TamiasRun {
-    /// Builds `desc`, which [`scene_with`](super::scene_with) made for `config`.
+    /// Builds `desc`, which [`scene_with`](super::scene_with) made for
+    /// `config` (its sub-steps are in `desc.settings.substeps`).
     pub fn new(desc: &SceneDesc, config: Config) -> TamiasRun {
+        assert_eq!(desc.settings.substeps, config.substeps.max(1));
         let scene = desc
             .build()
             .unwrap_or_else(|e| panic!("scene {} builds: {e}", desc.name));
-        TamiasRun {
-            scene,
-            substeps: config.substeps.max(1),
-        }
+        TamiasRun { scene }
     }
 }
 
@@ -127,11 +126,9 @@ impl Engine for TamiasRun {
     }
 
     fn step(&mut self) {
-        for _ in 0..self.substeps {
-            self.scene
-                .step()
-                .unwrap_or_else(|e| panic!("tamias step: {e}"));
-        }
+        self.scene
+            .step()
+            .unwrap_or_else(|e| panic!("tamias step: {e}"));
     }
 
     fn body_count(&self) -> usize {

@@ -67,8 +67,9 @@ pub const ACCURACY_SCENES: &[&str] = &[
 pub struct Config {
     /// Solver iterations per (sub-)step (Rapier: `num_solver_iterations`).
     pub iterations: u32,
-    /// Sub-steps per step: the step is taken as `substeps` steps of
-    /// `dt / substeps`, collision detection included.
+    /// Sub-steps per step (`Settings::substeps` for Tamias2D: the whole
+    /// pipeline, collision detection included, on `dt / substeps`; Rapier
+    /// is stepped `substeps` times by `dt / substeps`).
     pub substeps: u32,
     /// The step is `1 / rate` s.
     pub rate: u32,
@@ -105,18 +106,15 @@ impl Config {
     }
 }
 
-/// The registry scene `name` with its step, iterations and sub-steps replaced
-/// by `config` (sub-steps as `substeps` steps of `dt / substeps`, spawn times
-/// scaled to match). Panics on unknown names: the lists above are fixed.
+/// The registry scene `name` with its step, iterations and sub-steps
+/// (`Settings::substeps`) replaced by `config`. Panics on unknown names: the
+/// lists above are fixed.
 pub fn scene_with(name: &str, config: Config) -> SceneDesc {
     let mut desc = scenes::builtin(name).unwrap_or_else(|| panic!("scene {name} is listed"));
-    let sub = config.substeps.max(1);
-    let den = i32::try_from(config.rate * sub).unwrap_or(i32::MAX);
+    let den = i32::try_from(config.rate).unwrap_or(i32::MAX);
     desc.dt = Real::ratio(1, den);
     desc.settings.iterations = config.iterations;
-    for spawn in &mut desc.spawns {
-        spawn.at_step = spawn.at_step.saturating_mul(sub);
-    }
+    desc.settings.substeps = config.substeps.max(1);
     desc
 }
 

@@ -49,7 +49,10 @@ pub struct RapierRun {
     spawns: Vec<SpawnDesc>,
     next_spawn: usize,
     steps_taken: u64,
+    /// Steps of `sub_dt` per scene step (forces re-applied before each, as
+    /// our `Settings::substeps` does).
     substeps: u32,
+    sub_dt: f32,
     /// Rapier damping of every body (from the scene's damping setting).
     damping: f32,
 }
@@ -69,8 +72,10 @@ impl RapierRun {
     pub fn new(desc: &SceneDesc, config: Config, length_unit: f32) -> RapierRun {
         let mut world = PhysicsWorld::new();
         world.gravity = v2(desc.settings.gravity);
+        let substeps = config.substeps.max(1);
+        let sub_dt = f(desc.dt) / substeps as f32;
         let p = &mut world.integration_parameters;
-        p.dt = f(desc.dt);
+        p.dt = sub_dt;
         p.num_solver_iterations = desc.settings.iterations.max(1) as usize;
         p.length_unit = length_unit;
         p.normalized_max_linear_velocity = f32::MAX;
@@ -81,7 +86,8 @@ impl RapierRun {
             spawns: Vec::new(),
             next_spawn: 0,
             steps_taken: 0,
-            substeps: config.substeps.max(1),
+            substeps,
+            sub_dt,
             damping: 0.0,
         };
         let damping = desc.settings.damping.to_f64();
@@ -103,7 +109,7 @@ impl RapierRun {
         // before the first step are complete.
         run.world.integration_parameters.dt = 0.0;
         run.world.step();
-        run.world.integration_parameters.dt = f(desc.dt);
+        run.world.integration_parameters.dt = sub_dt;
         run
     }
 
@@ -158,20 +164,21 @@ impl RapierRun {
     }
 
     /// One scene step: scripted forces, `world.step()`, due spawns.
-    fn scene_step(&mut self) {
+    /// One Rapier step of `sub_dt`, with the scripted forces set anew.
+    fn sub_step(&mut self) {
         for &(h, force, torque) in &self.forces {
             if let Some(rb) = self.world.bodies.get_mut(h) {
                 // Rapier keeps user forces across steps; ours are cleared by
-                // every step and re-applied by the scene.
+                // every step and re-applied by the scene (and, within a
+                // sub-stepped step, by the space before each sub-step).
                 rb.reset_forces(false);
                 rb.reset_torques(false);
                 rb.add_force(force, true);
                 rb.add_torque(torque, true);
             }
         }
+        debug_assert_eq!(self.world.integration_parameters.dt, self.sub_dt);
         self.world.step();
-        self.steps_taken += 1;
-        self.spawn_due();
     }
 }
 
@@ -247,8 +254,10 @@ impl Engine for RapierRun {
 
     fn step(&mut self) {
         for _ in 0..self.substeps {
-            self.scene_step();
+            self.sub_step();
         }
+        self.steps_taken += 1;
+        self.spawn_due();
     }
 
     fn body_count(&self) -> usize {

@@ -13,8 +13,9 @@
 //! does not exist), plots into `DIR/images/perf_*.svg`, raw numbers into
 //! `DIR/data/perf_*.csv`. `--quick` runs the CI-sized scenes and a shorter
 //! sweep. `--skip-side`, `--skip-sweep` leave parts out; `--scenes a,b`
-//! restricts both parts to the named scenes; `--substeps` adds the
-//! sub-step series to the sweep (see `sweep::plan`).
+//! restricts both parts to the named scenes; `--skip-substeps` leaves the
+//! sub-step series (`Settings::substeps` = 2 and 4) out of the sweep (see
+//! `sweep::plan`).
 #![allow(clippy::float_arithmetic)] // measurement and reports only
 
 #[path = "../../benches/common/mod.rs"]
@@ -46,7 +47,7 @@ fn parse_args() -> Result<Options, String> {
         side: true,
         sweep: true,
         scenes: None,
-        substeps: false,
+        substeps: true,
     };
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
@@ -55,14 +56,14 @@ fn parse_args() -> Result<Options, String> {
             "--quick" => o.quick = true,
             "--skip-side" => o.side = false,
             "--skip-sweep" => o.sweep = false,
-            "--substeps" => o.substeps = true,
+            "--skip-substeps" => o.substeps = false,
             "--scenes" => {
                 let list = args.next().ok_or("--scenes needs a list")?;
                 o.scenes = Some(list.split(',').map(|s| s.trim().to_owned()).collect());
             }
             "-h" | "--help" => {
                 return Err("usage: perf_report [--out DIR] [--quick] [--skip-side] \
-                            [--skip-sweep] [--substeps] [--scenes a,b,…]"
+                            [--skip-sweep] [--skip-substeps] [--scenes a,b,…]"
                     .to_owned())
             }
             other => return Err(format!("unknown argument {other:?} (try --help)")),

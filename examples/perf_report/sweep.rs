@@ -44,12 +44,13 @@ pub struct Point {
 
 /// The series to run for a scene: per step size, Tamias2D over the
 /// iteration counts; Rapier over the same counts at 1/60 s; with
-/// `substeps`, Tamias2D at 1/60 s split into 2 and 4 sub-steps. Heavy
-/// scenes get fewer iteration counts.
+/// `substeps`, Tamias2D at 1/60 s with `Settings::substeps` = 2 and 4 (2
+/// only with `quick`). Heavy scenes get fewer iteration counts.
 ///
-/// Sub-steps are off by default: until `Settings::substeps` exists they are
-/// taken as whole steps of `dt / k` (collision detection included), which is
-/// exactly the run of the `1/(60k)` s series, at the same cost.
+/// A step with `substeps = k` runs the whole pipeline k times on sub-steps
+/// of `dt / k` (split exactly, see `tamias2d::space::sub_step_dts`), so its
+/// series should lie on the `1/(60k)` s series: same error, same cost, up
+/// to the one-ulp difference of the sub-step lengths and timing noise.
 pub fn plan(name: &str, quick: bool, with_substeps: bool) -> Vec<(String, Kind, Vec<Config>)> {
     let heavy = name.starts_with("bowl_");
     let iterations: &[u32] = if quick {

@@ -66,6 +66,32 @@ pub fn lerp_t(a: Vect, b: Vect, t: Real) -> Vect {
     )
 }
 
+/// Where the origin projects on the edge `v0 → v1`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Nearest {
+    /// At or before `v0` (also for a zero-length edge).
+    V0,
+    /// At or past `v1`.
+    V1,
+    /// Strictly between the two.
+    Interior,
+}
+
+/// The feature of the edge `v0 → v1` nearest the origin, from the exact signs
+/// of `v0 · (v1 − v0)` and `v1 · (v1 − v0)` (no rounding, so GJK's search
+/// direction and `closest_points_new`'s choice of normal agree).
+#[inline]
+pub(crate) fn nearest_feature(v0: Vect, v1: Vect) -> Nearest {
+    let delta = v1 - v0;
+    if wide::dot(v0, delta) >= 0 {
+        Nearest::V0
+    } else if wide::dot(v1, delta) <= 0 {
+        Nearest::V1
+    } else {
+        Nearest::Interior
+    }
+}
+
 /// Packs two Minkowski ids into a warm-start id.
 #[inline]
 pub(crate) fn pack_id(v0: &MinkowskiPoint, v1: &MinkowskiPoint) -> CollisionId {
@@ -77,11 +103,20 @@ pub(crate) fn pack_id(v0: &MinkowskiPoint, v1: &MinkowskiPoint) -> CollisionId {
 /// passes its closest hull edge reversed, so the same holds).
 ///
 /// The normal is the edge normal `rperp(v1 − v0)` when the closest point is
-/// inside the edge or the origin is on or behind the edge line (overlap); the
-/// distance is then `n · p`. At a vertex of a separated pair the normal is
-/// `p / |p|` and the distance `|p|`: the separating axis of two corners is not
-/// an edge normal. If both `v1 − v0` and `p` are zero, `n` is `(1, 0)` (callers
-/// with more context may replace it).
+/// inside the edge, the origin is strictly behind the edge line (overlap) or
+/// the origin is the closest point itself (touching); the distance is then
+/// `n · p`. Otherwise the closest point is a vertex of a separated pair: the
+/// normal is `p / |p|` and the distance `|p|` (the separating axis of two
+/// corners is not an edge normal). If `v1 − v0` is zero the normal is
+/// `p / |p|`, and `(1, 0)` if `p` is zero too (callers with more context may
+/// replace it).
+///
+/// The vertex case includes the origin *on the edge line but past its end*
+/// (`rperp(v1 − v0) · p = 0` with `t = ±1`): the shapes are then `|p|` apart,
+/// not touching. Treating that exact-zero tie as overlap reported a contact
+/// at distance 0 between shapes far apart, and only when GJK happened to end
+/// on such a collinear edge, which depends on where it started (the
+/// warm-start id): the two known `collide_pair` fuzz findings.
 pub fn closest_points_new(v0: &MinkowskiPoint, v1: &MinkowskiPoint) -> ClosestPoints {
     let t = closest_t(v0.ab, v1.ab);
     let p = lerp_t(v0.ab, v1.ab, t);
@@ -89,8 +124,12 @@ pub fn closest_points_new(v0: &MinkowskiPoint, v1: &MinkowskiPoint) -> ClosestPo
     let b = lerp_t(v0.b, v1.b, t);
     let id = pack_id(v0, v1);
     let edge_normal = (v1.ab - v0.ab).rperp();
-    let interior = t > -Real::ONE && t < Real::ONE;
-    let use_edge = edge_normal != Vect::ZERO && (interior || wide::dot(edge_normal, p) <= 0);
+    // Exact region test. Outside the interior the exact `t` is beyond ±1, so
+    // the rounded one is exactly ±1 and `p` exactly `v0` or `v1`: the side
+    // test below is then the exact sign of `rperp(v1 − v0) · v0`.
+    let interior = nearest_feature(v0.ab, v1.ab) == Nearest::Interior;
+    let behind = wide::dot(edge_normal, p) < 0;
+    let use_edge = edge_normal != Vect::ZERO && (interior || behind || p == Vect::ZERO);
     let (n, d) = if use_edge {
         let n = wide::unit_or(edge_normal, Vect::X);
         (n, n.dot(p))
@@ -226,6 +265,33 @@ mod tests {
         let c = closest_points_new(&v0, &v1);
         assert_eq!(c.d, Real::from_int(5));
         assert_eq!(c.b, Vect::from_ints(3, 4));
+    }
+
+    #[test]
+    fn closest_points_new_origin_on_edge_line_past_its_end() {
+        // Edge (1, 0) → (3, 0) of B − A: the origin is on its line, 1 before
+        // v0. The closest point is the vertex: distance 1, normal along it,
+        // whichever way the edge runs (not "touching" with the edge normal).
+        let v0 = mp(Vect::ZERO, Vect::from_ints(1, 0), 0, 0);
+        let v1 = mp(Vect::ZERO, Vect::from_ints(3, 0), 0, 1);
+        for (x, y) in [(&v0, &v1), (&v1, &v0)] {
+            let c = closest_points_new(x, y);
+            assert_eq!((c.n, c.d), (Vect::X, Real::ONE));
+            assert_eq!(c.b, Vect::from_ints(1, 0));
+        }
+        // The origin at the vertex itself: touching, along the edge normal.
+        let v0 = mp(Vect::ZERO, Vect::ZERO, 0, 0);
+        let c = closest_points_new(&v0, &v1);
+        assert_eq!((c.n, c.d), (-Vect::Y, Real::ZERO));
+        // Edge (3, −1) → (1, −1), normal +y: the origin is strictly behind
+        // its line (overlap, as EPA sees it), so the edge normal is kept even
+        // at a vertex; seen the other way round the edge is a separated one.
+        let v0 = mp(Vect::ZERO, Vect::from_ints(3, -1), 0, 0);
+        let v1 = mp(Vect::ZERO, Vect::from_ints(1, -1), 0, 1);
+        let c = closest_points_new(&v0, &v1);
+        assert_eq!((c.n, c.d), (Vect::Y, -Real::ONE));
+        let c = closest_points_new(&v1, &v0);
+        assert!(c.d > Real::ONE && c.n.x.is_positive() && c.n.y.is_negative());
     }
 
     #[test]

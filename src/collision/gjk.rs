@@ -26,7 +26,7 @@
 //!
 //! Warm start (MIS `CollisionID`): the id of the last answer holds the vertex
 //! indices of its edge; starting there usually ends GJK in one iteration.
-use super::contact::{closest_points_new, pack_id, ClosestPoints};
+use super::contact::{closest_points_new, nearest_feature, pack_id, ClosestPoints, Nearest};
 use super::epa::epa;
 use super::support::{support, MinkowskiPoint, SupportContext, SupportPoint, SupportShape};
 use super::wide;
@@ -80,24 +80,6 @@ fn cold_start<A: SupportShape, B: SupportShape>(
     let axis = (ctx.a.center() - ctx.b.center()).perp();
     let axis = if axis == Vect::ZERO { Vect::X } else { axis };
     (support(ctx, axis), support(ctx, -axis))
-}
-
-/// Where the origin projects on the edge `v0 → v1` (exact).
-enum Nearest {
-    V0,
-    V1,
-    Interior,
-}
-
-fn nearest_feature(v0: Vect, v1: Vect) -> Nearest {
-    let delta = v1 - v0;
-    if wide::dot(v0, delta) >= 0 {
-        Nearest::V0
-    } else if wide::dot(v1, delta) <= 0 {
-        Nearest::V1
-    } else {
-        Nearest::Interior
-    }
 }
 
 /// True to keep `(v0, p)`, false to keep `(p, v1)`: the sub-edge of the

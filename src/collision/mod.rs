@@ -10,9 +10,14 @@
 //! Pipeline, and why:
 //! 1. **Order the pair.** The pair functions exist for circle < segment <
 //!    poly; a pair in the other order is swapped and the answer swapped back.
-//!    Two shapes of the same kind are ordered by their coordinates, so
-//!    `collide(b, a)` runs exactly the computation of `collide(a, b)` and its
-//!    answer is the exact mirror (normal negated bit for bit).
+//!    Two shapes of the same kind are ordered by their coordinates (the
+//!    same-kind pair functions also do this themselves, so they are
+//!    swap-exact when called directly), so `collide(b, a)` runs exactly the
+//!    computation of `collide(a, b)` and its answer is the exact mirror
+//!    (normal negated bit for bit, points and id halves swapped), provided
+//!    the warm-start id is the same one seen from the other side (as an
+//!    arbiter's is). This is the only source of swap exactness: GJK and EPA
+//!    on their own are not swap-exact (start direction, tie-breaks, rounding).
 //! 2. **Move next to the origin.** Both shapes are translated by minus the
 //!    first shape's anchor (centre, endpoint `a` or vertex 0) before any
 //!    product is formed, and the contact points are translated back at the
@@ -22,8 +27,10 @@
 //!    from the origin, where `x²` would overflow past 46,340).
 //! 3. **Dispatch** on the kinds with an exhaustive `match` to one of the six
 //!    pair functions ([`pairs`]): closed forms for circle–circle and
-//!    circle–segment, GJK ([`gjk`]) with EPA ([`epa`]) and edge clipping
-//!    ([`contact_points`]) for the rest.
+//!    circle–segment, separating axes with edge clipping for poly–poly
+//!    (`sat.rs`, falling back to GJK for a corner near a corner), GJK
+//!    ([`gjk`]) with EPA ([`epa`]) and edge clipping ([`contact_points`]) for
+//!    the rest.
 //!
 //! Nothing here panics, allocates or loops without a bound; GJK and EPA stop
 //! at [`WARN_GJK_ITERATIONS`] / [`WARN_EPA_ITERATIONS`] and report it in
@@ -32,6 +39,7 @@ mod contact;
 mod epa;
 mod gjk;
 mod pairs;
+mod sat;
 mod support;
 mod wide;
 
@@ -43,8 +51,8 @@ pub use contact::{closest_points_new, closest_t, contact_points, lerp_t, Closest
 pub use epa::epa;
 pub use gjk::gjk;
 pub use pairs::{
-    circle_to_circle, circle_to_poly, circle_to_segment, poly_to_poly, segment_to_poly,
-    segment_to_segment,
+    circle_to_circle, circle_to_poly, circle_to_segment, poly_to_poly, poly_to_poly_gjk,
+    segment_to_poly, segment_to_segment,
 };
 pub use support::{
     circle_support_point, poly_support_index, poly_support_point, segment_support_point, support,
@@ -80,7 +88,15 @@ pub const WARN_EPA_ITERATIONS: u32 = 30;
 /// `a₀ << 24 | b₀ << 16 | a₁ << 8 | b₁` (indices on shape `a` and `b` of the
 /// caller). 0 means "no cache". Store the id a [`collide`] call returns and
 /// pass it to the next call for the same pair; any value is safe (an id that
-/// names missing vertices is ignored).
+/// names missing vertices is ignored) and gives a correct answer.
+///
+/// The answer is not always bit-identical to a cold start's: when two
+/// features of the Minkowski difference are equally deep (a box centred in a
+/// wider one: pushed up or down) or equally deep to within EPA's ranking
+/// precision (~2^-61 relative), GJK/EPA report the one their starting point
+/// leads to, and a face made of collinear pieces gets the normal of the piece
+/// GJK ends on (equal up to rounding). Either answer is right and the result
+/// is still deterministic, since the id is part of the arbiter state.
 pub type CollisionId = u32;
 
 /// One contact: a pair of points on the two surfaces.
@@ -272,35 +288,51 @@ fn comes_after(a: &Geometry, b: &Geometry) -> bool {
 
 /// A total order on the data of two geometries of the same kind.
 fn compare_same_kind(a: &Geometry, b: &Geometry) -> Ordering {
-    fn flat(vs: &[Vect]) -> impl Iterator<Item = Real> + '_ {
-        vs.iter().flat_map(|v| [v.x, v.y])
-    }
     match (a, b) {
-        (Geometry::Circle(x), Geometry::Circle(y)) => flat(&[x.offset])
-            .chain([x.radius])
-            .cmp(flat(&[y.offset]).chain([y.radius])),
-        (Geometry::Segment(x), Geometry::Segment(y)) => {
-            let key = |s: &Segment| {
-                [
-                    s.a,
-                    s.b,
-                    s.normal,
-                    s.a_tangent,
-                    s.b_tangent,
-                    Vect::new(s.radius, Real::ZERO),
-                ]
-            };
-            flat(&key(x)).cmp(flat(&key(y)))
-        }
-        (Geometry::Poly(x), Geometry::Poly(y)) => flat(x.verts())
-            .chain(flat(x.normals()))
-            .chain([x.radius()])
-            .cmp(flat(y.verts()).chain(flat(y.normals())).chain([y.radius()])),
+        (Geometry::Circle(x), Geometry::Circle(y)) => compare_circles(x, y),
+        (Geometry::Segment(x), Geometry::Segment(y)) => compare_segments(x, y),
+        (Geometry::Poly(x), Geometry::Poly(y)) => compare_polys(x, y),
         // Different kinds never reach here; order them by kind for totality.
         (Geometry::Circle(_) | Geometry::Segment(_) | Geometry::Poly(_), _) => {
             a.kind().cmp(&b.kind())
         }
     }
+}
+
+/// The coordinates of `vs`, flattened (`x₀, y₀, x₁, …`).
+fn flat(vs: &[Vect]) -> impl Iterator<Item = Real> + '_ {
+    vs.iter().flat_map(|v| [v.x, v.y])
+}
+
+/// Lexicographic order on (centre, radius). Comparing coordinates is
+/// unchanged by translating both shapes, so the order is too.
+pub(crate) fn compare_circles(x: &Circle, y: &Circle) -> Ordering {
+    flat(&[x.offset])
+        .chain([x.radius])
+        .cmp(flat(&[y.offset]).chain([y.radius]))
+}
+
+/// Lexicographic order on every field (endpoints first).
+pub(crate) fn compare_segments(x: &Segment, y: &Segment) -> Ordering {
+    let key = |s: &Segment| {
+        [
+            s.a,
+            s.b,
+            s.normal,
+            s.a_tangent,
+            s.b_tangent,
+            Vect::new(s.radius, Real::ZERO),
+        ]
+    };
+    flat(&key(x)).cmp(flat(&key(y)))
+}
+
+/// Lexicographic order on (vertices, normals, radius).
+pub(crate) fn compare_polys(x: &Poly, y: &Poly) -> Ordering {
+    flat(x.verts())
+        .chain(flat(x.normals()))
+        .chain([x.radius()])
+        .cmp(flat(y.verts()).chain(flat(y.normals())).chain([y.radius()]))
 }
 
 /// The point the computation is made relative to.

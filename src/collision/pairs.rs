@@ -18,14 +18,27 @@
 //!
 //! The functions work in whatever frame they are given; [`collide`](super::collide)
 //! calls them on shapes moved next to the origin.
+//!
+//! **Swap symmetry.** The three same-kind functions put their pair in a
+//! canonical order first (lexicographic on the shapes' data, the order
+//! `collide` uses), run the computation on that order and mirror the answer
+//! back if they swapped. So `f(b, a)` runs exactly the computation of
+//! `f(a, b)`, and its answer is the exact mirror: normal negated bit for bit,
+//! points, feature-id halves and warm-start id bytes swapped. GJK and EPA
+//! alone are not swap-exact (their starting direction, tie-breaks and
+//! roundings depend on which shape is `a`); this is where exactness comes
+//! from. Two identical shapes are the same computation in both orders and
+//! cannot give opposite normals.
 use super::contact::{contact_points, ClosestPoints};
 use super::gjk::gjk;
+use super::sat::poly_to_poly_sat;
 use super::support::{support_edge_for_poly, support_edge_for_segment, SupportContext};
 use super::wide;
-use super::CollisionInfo;
-use super::CONTACT_TOLERANCE;
+use super::{compare_circles, compare_polys, compare_segments, swap_id_shapes};
+use super::{CollisionInfo, CONTACT_TOLERANCE};
 use crate::math::{Real, Vect};
 use crate::shape::{Circle, Poly, Segment};
+use core::cmp::Ordering;
 
 /// `(r as unsigned raw)²`, exact, in units of 2^-64 (negative radii count as 0).
 #[inline]
@@ -41,6 +54,25 @@ fn note(info: &mut CollisionInfo, points: &ClosestPoints) {
     info.hit_iteration_cap |= points.hit_iteration_cap;
 }
 
+/// Runs `f` on a same-kind pair in canonical order: directly if `order` is
+/// not `Greater`, else on the swapped pair (`f` then receives `true` and must
+/// swap its arguments), with the warm-start id converted, mirroring the
+/// answer back.
+#[inline]
+fn in_canonical_order(
+    info: &mut CollisionInfo,
+    order: Ordering,
+    f: impl FnOnce(bool, &mut CollisionInfo),
+) {
+    if order == Ordering::Greater {
+        let mut swapped = CollisionInfo::new(swap_id_shapes(info.id));
+        f(true, &mut swapped);
+        *info = swapped.mirrored();
+    } else {
+        f(false, info);
+    }
+}
+
 /// False if `n` (pointing from the segment toward the other shape when
 /// `seg_is_first`, the reverse otherwise) leaves endpoint `at` of `seg`
 /// towards that endpoint's neighbour.
@@ -51,8 +83,27 @@ fn segment_allows(seg: &Segment, at: Vect, n: Vect, seg_is_first: bool) -> bool 
     !rejected
 }
 
-/// MIS `CircleToCircle`: closed form. Coincident centres use the normal `+x`.
+/// MIS `CircleToCircle`: closed form, swap-exact (see the module docs).
+///
+/// Coincident centres use the normal `+x` from the first circle of the
+/// canonical order (the smaller radius) to the other, so the swapped call gets
+/// `−x`. Why not something cleverer: the two circles differ at most in their
+/// radius (the function sees them translated next to the origin, so the
+/// common centre is no information either), and in the case that matters, a
+/// pile of equal circles spawned at one point, they are identical, so every
+/// pair of the pile gets the same normal whatever the rule and the pile can
+/// only spread along one line. Breaking that needs data the narrow phase
+/// does not have (which shape is which); a radius-derived direction would
+/// only help piles of mixed sizes. See `docs/numerics.md`, "Many bodies at
+/// one point".
 pub fn circle_to_circle(a: &Circle, b: &Circle, info: &mut CollisionInfo) {
+    in_canonical_order(info, compare_circles(a, b), |swap, info| {
+        let (a, b) = if swap { (b, a) } else { (a, b) };
+        circle_to_circle_ordered(a, b, info);
+    });
+}
+
+fn circle_to_circle_ordered(a: &Circle, b: &Circle, info: &mut CollisionInfo) {
     let min_dist = a.radius + b.radius;
     let delta = b.offset - a.offset;
     if wide::len_sq(delta) > sq(min_dist + CONTACT_TOLERANCE) {
@@ -102,8 +153,16 @@ pub fn circle_to_segment(a: &Circle, b: &Segment, info: &mut CollisionInfo) {
     info.push_contact(pa, pb, dist - min_dist, 0);
 }
 
-/// MIS `SegmentToSegment`: GJK on the two cores, then edge clipping.
+/// MIS `SegmentToSegment`: GJK on the two cores, then edge clipping;
+/// swap-exact (see the module docs).
 pub fn segment_to_segment(a: &Segment, b: &Segment, info: &mut CollisionInfo) {
+    in_canonical_order(info, compare_segments(a, b), |swap, info| {
+        let (a, b) = if swap { (b, a) } else { (a, b) };
+        segment_to_segment_ordered(a, b, info);
+    });
+}
+
+fn segment_to_segment_ordered(a: &Segment, b: &Segment, info: &mut CollisionInfo) {
     let points = gjk(&SupportContext::new(a, b), info.id);
     note(info, &points);
     let n = points.n;
@@ -144,8 +203,31 @@ pub fn segment_to_poly(a: &Segment, b: &Poly, info: &mut CollisionInfo) {
     }
 }
 
-/// MIS `PolyToPoly`: GJK (EPA when the cores overlap), then edge clipping.
+/// MIS `PolyToPoly`: separating axes over the stored edge normals, then
+/// edge clipping ([`sat`](super::sat)); GJK (EPA when the cores overlap) only
+/// for cores apart within contact range whose closest features are not a
+/// vertex and a face, and for degenerate polygons. Swap-exact (see the
+/// module docs).
 pub fn poly_to_poly(a: &Poly, b: &Poly, info: &mut CollisionInfo) {
+    in_canonical_order(info, compare_polys(a, b), |swap, info| {
+        let (a, b) = if swap { (b, a) } else { (a, b) };
+        if !poly_to_poly_sat(a, b, info) {
+            poly_to_poly_gjk_ordered(a, b, info);
+        }
+    });
+}
+
+/// The GJK + EPA form of [`poly_to_poly`] (the path before separating axes),
+/// kept as the reference the fast path is tested against and as its fallback.
+/// Same contract, swap-exact.
+pub fn poly_to_poly_gjk(a: &Poly, b: &Poly, info: &mut CollisionInfo) {
+    in_canonical_order(info, compare_polys(a, b), |swap, info| {
+        let (a, b) = if swap { (b, a) } else { (a, b) };
+        poly_to_poly_gjk_ordered(a, b, info);
+    });
+}
+
+fn poly_to_poly_gjk_ordered(a: &Poly, b: &Poly, info: &mut CollisionInfo) {
     let points = gjk(&SupportContext::new(a, b), info.id);
     note(info, &points);
     let n = points.n;
@@ -211,7 +293,7 @@ mod tests {
     }
 
     #[test]
-    fn coincident_circles_pick_plus_x() {
+    fn coincident_circles_pick_plus_x_from_the_smaller() {
         let a = circle(Real::ONE, Real::ZERO, Real::ZERO);
         let mut info = CollisionInfo::new(0);
         circle_to_circle(&a, &a, &mut info);
@@ -223,6 +305,15 @@ mod tests {
         let mut info = CollisionInfo::new(0);
         circle_to_circle(&p, &p, &mut info);
         assert_eq!((info.count, info.normal), (1, Vect::X));
+        // Different radii: +x from the smaller one, so swapping mirrors.
+        let big = circle(Real::TWO, Real::ZERO, Real::ZERO);
+        let mut small_first = CollisionInfo::new(0);
+        circle_to_circle(&a, &big, &mut small_first);
+        let mut big_first = CollisionInfo::new(0);
+        circle_to_circle(&big, &a, &mut big_first);
+        assert_eq!(small_first.normal, Vect::X);
+        assert_eq!(big_first, small_first.mirrored());
+        assert_eq!(big_first.contacts()[0].point_a, Vect::from_ints(-2, 0));
     }
 
     #[test]
@@ -304,11 +395,17 @@ mod tests {
             assert_eq!(c.point_a.y, Real::ZERO);
             assert_eq!(c.point_b.y, real!(-0.25));
         }
+        // The pair runs in canonical order (the box first: its first vertex
+        // has the smaller x), so the contacts come in the box's clipping order.
         let xs: Vec<_> = info.contacts().iter().map(|c| c.point_a.x).collect();
-        assert_eq!(xs, vec![Real::ONE, -Real::ONE]);
+        assert_eq!(xs, vec![-Real::ONE, Real::ONE]);
         // Ids name (ground vertex, box vertex): ground top edge 1 → 2, box bottom 3 → 0.
         let ids: Vec<_> = info.contacts().iter().map(|c| c.id).collect();
-        assert_eq!(ids, vec![1 << 16, (2 << 16) | 3]);
+        assert_eq!(ids, vec![(2 << 16) | 3, 1 << 16]);
+        // The other order is the exact mirror.
+        let mut swapped = CollisionInfo::new(0);
+        poly_to_poly(&top, &ground, &mut swapped);
+        assert_eq!(swapped, info.mirrored());
     }
 
     #[test]

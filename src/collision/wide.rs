@@ -89,6 +89,8 @@ pub(crate) fn scale_by_ratio(v: Vect, num: i128, den: u128) -> Vect {
 /// `1/√x` in Q60 at the middle of the bucket `x ∈ [b/32, (b+1)/32)`, i.e.
 /// `√(2^126 / (2b + 1))`, computed at compile time with integers (the
 /// indexing and the cast run in const evaluation: b < 32, r < 2^62).
+// Const evaluation: an out-of-range index would fail the build, never run.
+#[allow(clippy::indexing_slicing)]
 const RSQRT_SEED: [u64; 32] = {
     let mut t = [0u64; 32];
     let mut b = 8;

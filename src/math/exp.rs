@@ -9,6 +9,7 @@
 //! the result is within 1–2 ulp of exact. The factor table is built at
 //! compile time by repeated integer square roots of 2: no float, no table
 //! typed by hand.
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use super::real::{Real, FRAC_BITS};
 
 /// Working precision (fractional bits).
@@ -18,6 +19,10 @@ const ONE_Q: u128 = 1 << Q;
 /// `TABLE[i] = 2^(2^-i)` in Q62, for i = 0..=32 (`TABLE[0] = 2`).
 const TABLE: [u128; 33] = build_table();
 
+// Only called in const evaluation (`TABLE`): an out-of-range index or an
+// overflow would fail the build, never run (and there is none: i in 1..33,
+// each entry below 2^64 before the shift by 62).
+#[allow(clippy::indexing_slicing, clippy::arithmetic_side_effects)]
 const fn build_table() -> [u128; 33] {
     let mut t = [0u128; 33];
     t[0] = 2 << Q;
@@ -31,6 +36,10 @@ const fn build_table() -> [u128; 33] {
 }
 
 /// `log2(x)`; `x ≤ 0` gives `Real::MIN` (the limit towards 0).
+// Integer ranges (raw in 1..2^63): msb in 0..=62, e in −32..=30, the
+// mantissa m in [2^62, 2^63) so m·m < 2^126, Q − i in 28..=61, frac < 2^62,
+// and (e << 32) + frac32 within ±2^38: no operation overflows.
+#[allow(clippy::arithmetic_side_effects)]
 pub fn log2(x: Real) -> Real {
     let raw = x.to_bits();
     if raw <= 0 {
@@ -56,6 +65,10 @@ pub fn log2(x: Real) -> Real {
 }
 
 /// `2^y`; saturates at `Real::MAX` for y ≥ 31 and rounds to 0 far below.
+// Integer ranges (k in −40..=30 past the early returns): bit in 0..=31,
+// acc < 2^63 and every factor < 2^63 so acc·factor < 2^126, shift in 0..=70
+// so s − 1 is in 0..=69 and acc + 2^(s−1) < 2^70: no operation overflows.
+#[allow(clippy::arithmetic_side_effects)]
 pub fn exp2(y: Real) -> Real {
     let k = y.floor_int(); // integer part (toward −∞)
     if k >= 31 {

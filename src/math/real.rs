@@ -20,6 +20,7 @@
 //!
 //! Saturation is the only deviation from exact arithmetic, and it happens only
 //! outside the documented safe envelope.
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use core::cmp::Ordering;
 use core::fmt;
 use core::iter::Sum;
@@ -59,6 +60,15 @@ impl fmt::Display for RealError {
 
 impl std::error::Error for RealError {}
 
+/// The exact 128-bit product of two raw values: |a·b| ≤ 2^126, so it never
+/// overflows `i128` (the one product the `arithmetic_side_effects` lint
+/// cannot see is bounded).
+#[inline(always)]
+#[allow(clippy::arithmetic_side_effects)]
+pub(crate) const fn wide_mul(a: i64, b: i64) -> i128 {
+    a as i128 * b as i128
+}
+
 /// Saturates an `i128` raw value into the `i64` range of `Real`.
 #[inline(always)]
 const fn saturate(v: i128) -> i64 {
@@ -80,6 +90,8 @@ const fn round_shift_sat(p: i128) -> i64 {
     // Adding half minus one for negatives makes the arithmetic shift (a floor)
     // round ties away from zero on both sides.
     let half = 1i128 << (FRAC_BITS - 1);
+    // No overflow: |p| ≤ 2^127 − 2^31 (precondition) and the bias is < 2^31.
+    #[allow(clippy::arithmetic_side_effects)]
     let r = (p + half - (p < 0) as i128) >> FRAC_BITS;
     // r fits in i64 iff its upper 64 bits are the sign extension of the lower.
     let lo = r as i64;
@@ -107,6 +119,9 @@ const fn clamp_sum(p: i128) -> i128 {
 }
 
 /// Rounds `n / d` to nearest, ties away from zero; `d` must be non-zero.
+// No overflow or panic: callers pass d ≠ 0 (checked before every call) and
+// |n| < 2^127, so n_abs + d_abs/2 < 2^128 and q < 2^127 fits i128 (and −q).
+#[allow(clippy::arithmetic_side_effects)]
 #[inline(always)]
 const fn div_round(n: i128, d: i128) -> i128 {
     let (n_abs, d_abs) = (n.unsigned_abs(), d.unsigned_abs());
@@ -226,7 +241,7 @@ impl Real {
     /// Round-to-nearest, saturating multiplication.
     #[inline(always)]
     pub const fn mul_const(self, rhs: Real) -> Real {
-        Real(round_shift_sat(self.0 as i128 * rhs.0 as i128))
+        Real(round_shift_sat(wide_mul(self.0, rhs.0)))
     }
 
     /// Round-to-nearest, saturating division; see the module docs for `/ 0`.
@@ -249,14 +264,14 @@ impl Real {
     /// The building block of dot and cross products.
     #[inline(always)]
     pub const fn mul_add2(a: Real, b: Real, c: Real, d: Real) -> Real {
-        let p = (a.0 as i128 * b.0 as i128).saturating_add(c.0 as i128 * d.0 as i128);
+        let p = wide_mul(a.0, b.0).saturating_add(wide_mul(c.0, d.0));
         Real(round_shift_sat(clamp_sum(p)))
     }
 
     /// `a·b − c·d` with a single rounding.
     #[inline(always)]
     pub const fn mul_sub2(a: Real, b: Real, c: Real, d: Real) -> Real {
-        let p = (a.0 as i128 * b.0 as i128).saturating_sub(c.0 as i128 * d.0 as i128);
+        let p = wide_mul(a.0, b.0).saturating_sub(wide_mul(c.0, d.0));
         Real(round_shift_sat(clamp_sum(p)))
     }
 
@@ -266,10 +281,10 @@ impl Real {
     pub const fn dot4(x: [Real; 4], y: [Real; 4]) -> Real {
         // Each product is below 2^126 in magnitude; saturating adds keep the
         // sum defined even in the (unphysical) case that it exceeds i128.
-        let p0 = x[0].0 as i128 * y[0].0 as i128;
-        let p1 = x[1].0 as i128 * y[1].0 as i128;
-        let p2 = x[2].0 as i128 * y[2].0 as i128;
-        let p3 = x[3].0 as i128 * y[3].0 as i128;
+        let p0 = wide_mul(x[0].0, y[0].0);
+        let p1 = wide_mul(x[1].0, y[1].0);
+        let p2 = wide_mul(x[2].0, y[2].0);
+        let p3 = wide_mul(x[3].0, y[3].0);
         let sum = p0.saturating_add(p1).saturating_add(p2).saturating_add(p3);
         Real(round_shift_sat(clamp_sum(sum)))
     }
@@ -281,7 +296,7 @@ impl Real {
         if den.0 == 0 {
             return self.mul_const(num).div_const(Real::ZERO);
         }
-        let p = self.0 as i128 * num.0 as i128;
+        let p = wide_mul(self.0, num.0);
         // |p| < 2^126, so the quotient needs no shift: (a·2^32)(b·2^32)/(d·2^32).
         Real(saturate(div_round(p, den.0 as i128)))
     }

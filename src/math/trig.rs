@@ -74,6 +74,7 @@
 //! About 19 ns per `sin_cos` (independent of the angle's size) and 16 ns per
 //! `atan2` in release builds on the development machine (Xeon, x86-64):
 //! `cargo test --release --test math_trig -- --ignored --nocapture timing`.
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use super::Real;
 
 /// 2/π in Q64, rounded to nearest (< 2^64).
@@ -142,24 +143,34 @@ const ATAN_MID_Q62: [i64; 16] = [
 ];
 
 /// Q62 product rounded to nearest; callers keep `|a|, |b| ≤ 2^62`.
+// For any two i64, |a·b| ≤ 2^126, so adding 2^61 cannot overflow `i128`.
+#[allow(clippy::arithmetic_side_effects)]
 #[inline(always)]
 fn mul_q62(a: i64, b: i64) -> i64 {
     ((a as i128 * b as i128 + (1 << 61)) >> 62) as i64
 }
 
 /// Horner evaluation of `coeffs` (highest power first) at `z` in Q62.
+// Every coefficient is below 2^62 · 0.6 and z ≤ (π/4 + ε)² < 0.62 (Q62), so
+// each partial sum stays below 2^62 · 0.6 / (1 − 0.62) < 2^63: no overflow.
+#[allow(clippy::arithmetic_side_effects)]
 #[inline(always)]
 fn horner_q62(coeffs: &[i64], z: i64) -> i64 {
     coeffs.iter().fold(0, |p, &c| c + mul_q62(z, p))
 }
 
 /// Rounds a non-negative Q62 value to Q32 (the bits of a `Real`).
+// Callers pass sin or cos in Q62, at most 2^62: adding 2^29 cannot overflow.
+#[allow(clippy::arithmetic_side_effects)]
 #[inline(always)]
 fn q62_to_q32(v: i64) -> i64 {
     (v + (1 << 29)) >> 30
 }
 
 /// `(sin x, cos x)` in Q32 for `0 ≤ x ≤ π/4 + ε` given in Q62.
+// x < 2^62 and the polynomial terms are below x (sin) and 1 (cos) in Q62:
+// both sums stay below 2^63.
+#[allow(clippy::arithmetic_side_effects)]
 #[inline(always)]
 fn sin_cos_q62(x: i64) -> (i64, i64) {
     let z = mul_q62(x, x);
@@ -174,6 +185,10 @@ fn sin_cos_q62(x: i64) -> (i64, i64) {
 /// ≤ 0.5 ulp) except within ~2^-27 ulp of a rounding tie, for every input
 /// (see the [module docs](self)), and
 /// `sin(-a) == -sin(a)`, `cos(-a) == cos(a)` exactly.
+// Ranges are stated at each step below (products below 2^127 in u128/i128,
+// remainders below 2^126); the negated values are sines and cosines in Q32,
+// at most 2^32 in magnitude.
+#[allow(clippy::arithmetic_side_effects)]
 #[must_use]
 pub fn sin_cos(angle: Real) -> (Real, Real) {
     let bits = angle.to_bits();
@@ -212,6 +227,9 @@ pub fn cos(angle: Real) -> Real {
 }
 
 /// `atan(n / d)` in Q62 for `0 ≤ n ≤ d`, `2^55 ≤ d < 2^56`; in `[0, π/4]`.
+// Ranges are stated at each step below (m ≤ 31, every term below 2^62, the
+// shifted numerator below 2^123, |u| ≤ 2^57, mid < 2^62): no overflow.
+#[allow(clippy::arithmetic_side_effects)]
 #[inline(always)]
 fn atan_unit_q62(n: u64, d: u64) -> i64 {
     if n == 0 {
@@ -243,6 +261,9 @@ fn atan_unit_q62(n: u64, d: u64) -> i64 {
 /// (≤ 0.5 ulp) except near ties and within half an ulp of ±π, where the
 /// result is clamped to `±Real::PI` (π truncated, error ≤ 0.522 ulp); see the
 /// [module docs](self).
+// `lz − 8` and `8 − lz` are taken on the side of the test that keeps them
+// non-negative; θ ≤ π·2^62 < 2^64 − 2^29; r ≥ 0, so −r is exact.
+#[allow(clippy::arithmetic_side_effects)]
 #[must_use]
 pub fn atan2(y: Real, x: Real) -> Real {
     let (yb, xb) = (y.to_bits(), x.to_bits());

@@ -8,10 +8,12 @@
 //! Dot and cross products accumulate exactly on 128 bits and round once.
 //! Lengths use a 128-bit integer square root, so they are exact (floor) and
 //! never overflow, even for vectors whose squared length does not fit.
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use core::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
 
 use serde::{Deserialize, Serialize};
 
+use super::exact::raw_mul;
 use super::real::{Real, FRAC_BITS};
 
 /// A 2D vector (or point) of [`Real`]s.
@@ -24,6 +26,8 @@ pub struct Vect {
 }
 
 /// Exact `|v|²` in units of 2^-64 (never overflows: each square < 2^126).
+// x, y ≤ 2^63: x² + y² ≤ 2^127 < u128::MAX.
+#[allow(clippy::arithmetic_side_effects)]
 #[inline(always)]
 fn length_sq_wide(v: Vect) -> u128 {
     let x = v.x.to_bits().unsigned_abs() as u128;
@@ -106,8 +110,8 @@ impl Vect {
             return Vect::ZERO;
         }
         // t = (self·other)/|other|², with both on 128 bits: no overflow, one rounding.
-        let dot = (self.x.to_bits() as i128 * other.x.to_bits() as i128)
-            .saturating_add(self.y.to_bits() as i128 * other.y.to_bits() as i128);
+        let dot = raw_mul(self.x.to_bits(), other.x.to_bits())
+            .saturating_add(raw_mul(self.y.to_bits(), other.y.to_bits()));
         let t = wide_ratio(dot, len_sq);
         other.mult(t)
     }
@@ -176,6 +180,9 @@ impl Vect {
         // however short the vector is.
         let shift = mag.leading_zeros().saturating_sub(128 - 63);
         let (xs, ys) = (x << shift, y << shift);
+        // |xs|, |ys| < 2^63 after the scaling: each square is below 2^126 and
+        // their sum below 2^127.
+        #[allow(clippy::arithmetic_side_effects)]
         let sq = (xs * xs) as u128 + (ys * ys) as u128;
         let len = sq.isqrt();
         let scale = |c: i128| -> Real { Real::from_bits(div_round_wide(c << FRAC_BITS, len)) };
@@ -218,7 +225,10 @@ impl Vect {
         // Compare squares on 128 bits: exact, no overflow, no square root.
         let d = self - other;
         let lim = dist.max(Real::ZERO).to_bits().unsigned_abs() as u128;
-        length_sq_wide(d) < lim * lim
+        // lim < 2^63: the square is below 2^126.
+        #[allow(clippy::arithmetic_side_effects)]
+        let lim_sq = lim * lim;
+        length_sq_wide(d) < lim_sq
     }
 
     /// Component-wise minimum.
@@ -240,10 +250,16 @@ impl Vect {
     }
 }
 
-/// `n / d` (d > 0) rounded to nearest, ties away from zero, saturated to i64.
+/// `n / d` (d > 0) rounded to nearest, ties away from zero, saturated to i64
+/// (`d = 0` gives the saturated value, as `Real`'s division does).
 #[inline]
 fn div_round_wide(n: i128, d: u128) -> i64 {
-    let q = (n.unsigned_abs() + d / 2) / d;
+    // The caller's n is below 2^96 and d below 2^64: the sum never saturates.
+    let q = n
+        .unsigned_abs()
+        .saturating_add(d / 2)
+        .checked_div(d)
+        .unwrap_or(u128::MAX);
     let q = i64::try_from(q).unwrap_or(i64::MAX);
     if n < 0 {
         q.saturating_neg()
@@ -261,7 +277,13 @@ fn wide_ratio(n: i128, d: u128) -> Real {
     } else {
         (n_abs, (d >> FRAC_BITS).max(1))
     };
-    let q = (n_shifted + d_used / 2) / d_used;
+    // Either n_shifted < 2^127 and d_used ≤ 2^127, or n_shifted ≤ 2^127 and
+    // d_used < 2^96: the sum never saturates. d_used = 0 only for d = 0,
+    // which the caller excludes; it would saturate like `Real`'s division.
+    let q = n_shifted
+        .saturating_add(d_used / 2)
+        .checked_div(d_used)
+        .unwrap_or(u128::MAX);
     let q = i64::try_from(q).unwrap_or(i64::MAX);
     Real::from_bits(if n < 0 { q.saturating_neg() } else { q })
 }

@@ -9,6 +9,7 @@
 //! Bodies are created in description order and each body's shapes right
 //! after it, so handles (and therefore the state bytes) depend only on the
 //! description.
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use core::fmt;
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -225,7 +226,8 @@ impl Scene {
             body.apply_torque(torque);
         }
         self.space.step(self.dt).map_err(SceneError::Step)?;
-        self.steps_taken += 1;
+        // 2^64 steps never happen: never saturates.
+        self.steps_taken = self.steps_taken.saturating_add(1);
         self.spawn_due()
     }
 
@@ -247,8 +249,10 @@ impl Scene {
             .iter()
             .take(self.next_spawn)
             .map(|s| s.bodies.len())
-            .sum();
-        self.bodies.truncate(self.initial_bodies + spawned);
+            .fold(0, usize::saturating_add);
+        // Both count bodies in memory: the sum never saturates.
+        self.bodies
+            .truncate(self.initial_bodies.saturating_add(spawned));
         let live = &self.bodies;
         self.labels.retain(|_, h| live.contains(h));
     }
@@ -310,7 +314,8 @@ impl Scene {
             // the same bodies again.
             let bodies = spawn.bodies.clone();
             let s = self.next_spawn;
-            self.next_spawn += 1;
+            // `next_spawn` indexes `spawns` (checked above): never saturates.
+            self.next_spawn = self.next_spawn.saturating_add(1);
             for (i, desc) in bodies.iter().enumerate() {
                 self.add(desc, BodyPath::Spawn { spawn: s, index: i })?;
             }

@@ -65,30 +65,92 @@ pub struct SettingsDesc {
     pub collision_bias: Real,
     /// Steps an arbiter is kept after its shapes separate.
     pub collision_persistence: u32,
+    /// Sub-steps per step (see [`Settings::substeps`]); omitted when 1.
+    #[serde(skip_serializing_if = "is_one")]
+    pub substeps: u32,
+    /// Warm starting (see [`Settings::warm_starting`]); omitted when on.
+    #[serde(skip_serializing_if = "is_true")]
+    pub warm_starting: bool,
+    /// Friction (see [`Settings::friction`]); omitted when on.
+    #[serde(skip_serializing_if = "is_true")]
+    pub friction: bool,
+    /// Restitution (see [`Settings::restitution`]); omitted when on.
+    #[serde(skip_serializing_if = "is_true")]
+    pub restitution: bool,
+    /// Bias impulses (see [`Settings::bias_impulses`]); omitted when on.
+    #[serde(skip_serializing_if = "is_true")]
+    pub bias_impulses: bool,
+}
+
+// The settings added after the first scene files are written only when they
+// differ from the default, so the files of existing scenes stay as they were
+// (and `#[serde(default)]` reads those files).
+fn is_one(v: &u32) -> bool {
+    *v == 1
+}
+
+fn is_true(v: &bool) -> bool {
+    *v
 }
 
 impl From<&Settings> for SettingsDesc {
     fn from(s: &Settings) -> SettingsDesc {
+        let Settings {
+            iterations,
+            gravity,
+            damping,
+            collision_slop,
+            collision_bias,
+            collision_persistence,
+            substeps,
+            warm_starting,
+            friction,
+            restitution,
+            bias_impulses,
+        } = *s;
         SettingsDesc {
-            gravity: s.gravity,
-            iterations: s.iterations,
-            damping: s.damping,
-            collision_slop: s.collision_slop,
-            collision_bias: s.collision_bias,
-            collision_persistence: s.collision_persistence,
+            gravity,
+            iterations,
+            damping,
+            collision_slop,
+            collision_bias,
+            collision_persistence,
+            substeps,
+            warm_starting,
+            friction,
+            restitution,
+            bias_impulses,
         }
     }
 }
 
 impl From<&SettingsDesc> for Settings {
     fn from(s: &SettingsDesc) -> Settings {
+        let SettingsDesc {
+            gravity,
+            iterations,
+            damping,
+            collision_slop,
+            collision_bias,
+            collision_persistence,
+            substeps,
+            warm_starting,
+            friction,
+            restitution,
+            bias_impulses,
+        } = *s;
         Settings {
-            iterations: s.iterations,
-            gravity: s.gravity,
-            damping: s.damping,
-            collision_slop: s.collision_slop,
-            collision_bias: s.collision_bias,
-            collision_persistence: s.collision_persistence,
+            iterations,
+            gravity,
+            damping,
+            collision_slop,
+            collision_bias,
+            collision_persistence,
+            substeps,
+            warm_starting,
+            friction,
+            restitution,
+            bias_impulses,
         }
     }
 }

@@ -5,6 +5,8 @@
 //! by bit manipulation only (no float is ever involved). SplitMix64 (Steele,
 //! Lea and Flood, 2014) is tiny, has a full 2^64 period and passes BigCrush;
 //! that is plenty for placing bodies. The standard seed is [`SEED`].
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
+use crate::math::exact::raw_sq;
 use crate::math::{Real, Vect};
 
 /// Seed of every built-in scene that needs randomness (BENCH_SCENES.md).
@@ -39,8 +41,9 @@ impl SplitMix64 {
 
     /// Uniform in `[-1, 1)` on the full `Real` grid (33 random bits).
     pub fn signed_unit(&mut self) -> Real {
-        // (bits >> 31) is in [0, 2^33); minus 2^32 gives raw values in [-2^32, 2^32).
-        Real::from_bits((self.next_u64() >> 31) as i64 - (1i64 << 32))
+        // (bits >> 31) is in [0, 2^33); minus 2^32 gives raw values in
+        // [-2^32, 2^32): the subtraction never saturates.
+        Real::from_bits(((self.next_u64() >> 31) as i64).saturating_sub(1i64 << 32))
     }
 
     /// Uniform in `[lo, hi)`: `lo + (hi − lo)·u`, rounded to nearest.
@@ -55,8 +58,8 @@ impl SplitMix64 {
         loop {
             let x = self.signed_unit();
             let y = self.signed_unit();
-            let (xb, yb) = (i128::from(x.to_bits()), i128::from(y.to_bits()));
-            if xb * xb + yb * yb < 1i128 << 64 {
+            // |raw| ≤ 2^32: the exact squares sum to at most 2^65.
+            if raw_sq(x).saturating_add(raw_sq(y)) < 1u128 << 64 {
                 return Vect::new(x, y);
             }
         }

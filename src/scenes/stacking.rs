@@ -7,6 +7,7 @@
 //! contacts multiply the two frictions (Chipmunk), so box–box and box–ground
 //! pairs have friction 0.36; Box2D's `sqrt(f₁f₂)` gives 0.6. Default run:
 //! 1000 steps.
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use super::desc::{
     BodyDesc, BodyKind, GeometryDesc, Neighbors, SceneDesc, SettingsDesc, ShapeDesc, SpawnDesc,
 };
@@ -49,6 +50,8 @@ pub(super) fn ground_segment(x0: Real, x1: Real, y: Real) -> ShapeDesc {
 /// on `(cx, y0)`: row `i` holds `base − i` boxes, box `j` centred at
 /// `x = cx + (2j − (base − 1 − i))·0.5`, `y = y0 + 0.5 + i`. Bottom row
 /// first, left to right.
+// base < 2^32 and 0 ≤ j < base − i ≤ base: every i64 term is below 2^34.
+#[allow(clippy::arithmetic_side_effects)]
 fn pyramid_boxes(base: u32, cx: Real, y0: Real, out: &mut Vec<BodyDesc>) {
     let base = i64::from(base);
     for i in 0..base {
@@ -66,7 +69,8 @@ fn pyramid_boxes(base: u32, cx: Real, y0: Real, out: &mut Vec<BodyDesc>) {
 /// `n(n+1)/2 + 1` bodies (`pyramid_100`: 5,051).
 pub fn pyramid(n: u32) -> SceneDesc {
     let mut desc = scene(format!("pyramid_{n}"));
-    let half_width = halves(2 * i64::from(n));
+    // n < 2^32: the product is below 2^33, never saturates.
+    let half_width = halves(i64::from(n).saturating_mul(2));
     let ground = BodyDesc::static_body()
         .labeled("ground")
         .with_shape(ground_segment(-half_width, half_width, Real::ZERO));
@@ -94,6 +98,8 @@ const PYRAMID_SPACING: i64 = 12;
 /// centred at x = 12·col − 6·(nx − 1), so the grid is centred on x = 0. A
 /// pyramid is 10 m tall, leaving 2 m below the next row's ground.
 /// `55·nx·ny + 1` bodies.
+// nx, ny < 2^32 and s = 12: every i64 term is below 24·2^32 < 2^37.
+#[allow(clippy::arithmetic_side_effects)]
 pub fn many_pyramids(nx: u32, ny: u32) -> SceneDesc {
     let mut desc = scene(format!("many_pyramids_{nx}x{ny}"));
     let s = PYRAMID_SPACING;
@@ -157,12 +163,14 @@ pub fn rain(n: u32) -> SceneDesc {
     let mut released = 0u32;
     let mut row = 0u32;
     while released < n {
-        let count = RAIN_ROW.min(n - released);
+        // released < n (loop condition): never saturates.
+        let count = RAIN_ROW.min(n.saturating_sub(released));
         let mut bodies = Vec::with_capacity(count as usize);
         for j in 0..count {
             let radius = rng.range(quarter, half);
             let jitter = rng.range(-quarter, quarter);
-            let x = Real::from_int(-49) + halves(4 * i64::from(j)) + jitter;
+            // j < RAIN_ROW: the product never saturates.
+            let x = Real::from_int(-49) + halves(i64::from(j).saturating_mul(4)) + jitter;
             let shape = ShapeDesc::circle(radius)
                 .material(FRICTION, Real::ZERO)
                 .density(DENSITY);
@@ -175,13 +183,16 @@ pub fn rain(n: u32) -> SceneDesc {
             at_step: row.saturating_mul(RAIN_INTERVAL),
             bodies,
         });
-        released += count;
-        row += 1;
+        // released + count ≤ n, and row ≤ n / RAIN_ROW + 1: never saturate.
+        released = released.saturating_add(count);
+        row = row.saturating_add(1);
     }
     desc
 }
 
 /// The static ground and walls of [`rain`].
+// Small literals only: k in −1..=11 and side = ±1, every term below 100.
+#[allow(clippy::arithmetic_side_effects)]
 fn rain_container() -> BodyDesc {
     let r = RAIN_WALL_RADIUS;
     let seg_x = |k: i32| Real::from_int(-50 + 10 * k);
@@ -222,7 +233,8 @@ const TUMBLER_ROOM: Real = Real::from_int(18);
 pub fn tumbler_box_side(n: u32) -> (Real, u32) {
     let mut k = n.isqrt();
     if k.saturating_mul(k) < n {
-        k += 1;
+        // k = ⌊√n⌋ < 2^16: never saturates.
+        k = k.saturating_add(1);
     }
     let extent = |side: Real| {
         // (k − 1) pitches of 1.25·side plus one box.
@@ -276,9 +288,12 @@ pub fn tumbler(n: u32) -> SceneDesc {
     let (side, k) = tumbler_box_side(n);
     let half_pitch = side * real!(0.625);
     let k = i64::from(k);
+    // 0 ≤ i < k ≤ 2^16: 2i − (k − 1) is below 2^17 in magnitude.
+    #[allow(clippy::arithmetic_side_effects)]
     let offset = |i: i64| half_pitch * Real::from_bits((2 * i - (k - 1)).saturating_mul(1 << 32));
-    for idx in 0..i64::from(n) {
-        let (row, col) = (idx / k, idx % k);
+    // Row by row from the bottom, `k` per row, `n` in all (k² ≥ n).
+    let cells = (0..k).flat_map(|row| (0..k).map(move |col| (row, col)));
+    for (row, col) in cells.take(n as usize) {
         let p = center + Vect::new(offset(col), offset(row));
         desc.bodies.push(box_body(p, side));
     }

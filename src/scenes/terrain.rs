@@ -6,10 +6,12 @@
 //! from integers, exact literals, [`Real::sin_cos`] and the seeded
 //! [`SplitMix64`]; positions are drawn in body order (one rejection-sampled
 //! disk point per body, then its velocity where the scene has one).
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use super::desc::{BodyDesc, CounterDesc, SceneDesc, SettingsDesc, ShapeDesc};
 use super::rng::{SplitMix64, SEED};
 use crate::math::{Real, Vect};
 use crate::real;
+use crate::shape::geometry::next_index;
 use crate::shape::mass::{moment_for_box, moment_for_circle, moment_for_poly};
 
 /// Vertices of the bowl loop.
@@ -50,6 +52,8 @@ fn polar(radius: Real, num: i32, den: i32) -> Vect {
 /// neighbours** (Chipmunk's benchmark terrain has none; a closed jagged loop
 /// has concave and convex joints, and neighbour filtering is meant for smooth
 /// chains), and the terrain material is `(friction, elasticity)` as given.
+// i in 0..BOWL_VERTS (48): `240 − 8·(i mod 3)` and `i + 1` are small.
+#[allow(clippy::arithmetic_side_effects)]
 pub fn bowl_terrain(friction: Real, elasticity: Real) -> BodyDesc {
     let vert = |i: i32| polar(Real::from_int(240 - 8 * (i % 3)), i, BOWL_VERTS);
     let mut ground = BodyDesc::static_body().labeled("ground");
@@ -101,6 +105,8 @@ pub fn bowl_boxes(n: u32) -> SceneDesc {
 /// The hexagon of the hexagon scenes: `4·(cos θk, sin θk)`, `θk = −2πk/6`
 /// (clockwise, as in Chipmunk's benchmark; the shape keeps the convex hull,
 /// which is counter-clockwise).
+// k in 0..6: the negation is exact.
+#[allow(clippy::arithmetic_side_effects)]
 pub fn hexagon_verts() -> Vec<Vect> {
     (0..6).map(|k| polar(Real::from_int(4), -k, 6)).collect()
 }
@@ -170,7 +176,10 @@ pub fn no_collide() -> SceneDesc {
     ];
     let mut ground = BodyDesc::static_body().labeled("ground");
     for (i, a) in corners.iter().enumerate() {
-        let b = corners.get((i + 1) % corners.len()).copied().unwrap_or(*a);
+        let b = corners
+            .get(next_index(i, corners.len()))
+            .copied()
+            .unwrap_or(*a);
         ground = ground
             .with_shape(ShapeDesc::segment(*a, b, Real::ZERO).material(Real::ZERO, Real::ONE));
     }

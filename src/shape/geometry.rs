@@ -137,6 +137,16 @@ impl Segment {
     }
 }
 
+/// The index after `i` around a closed polygon of `n` vertices: `i + 1`, or
+/// 0 after the last (the same as `(i + 1) % n` for `i < n`; 0 otherwise).
+#[inline]
+pub(crate) fn next_index(i: usize, n: usize) -> usize {
+    match i.checked_add(1) {
+        Some(j) if j < n => j,
+        _ => 0,
+    }
+}
+
 impl Poly {
     /// Builds a polygon from vertices that are already convex and
     /// counter-clockwise, without checks. Callers in this crate validate
@@ -150,7 +160,8 @@ impl Poly {
         };
         for (slot, v) in p.verts.iter_mut().zip(verts) {
             *slot = *v;
-            p.count += 1;
+            // At most `MAX_POLY_VERTICES` slots: never saturates.
+            p.count = p.count.saturating_add(1);
         }
         p.compute_normals();
         p
@@ -160,7 +171,7 @@ impl Poly {
         let n = self.count();
         for i in 0..n {
             let a = self.vert(i);
-            let b = self.vert((i + 1) % n);
+            let b = self.vert(next_index(i, n));
             if let Some(slot) = self.normals.get_mut(i) {
                 *slot = (b - a).rperp().normalize();
             }

@@ -28,15 +28,19 @@
 //! (the value is saturated to `i128` only beyond 2^127, where just its sign
 //! and order matter). A fuzz-found case (extent ≥ 2^31 with saturated
 //! differences) produced a duplicated vertex before this.
+use crate::math::exact::raw_diff;
 use crate::math::{Real, Vect};
 
 /// Raw-bit difference `a − b` (units of 2^-32): exact, 65 bits.
 #[inline]
 fn diff(a: Real, b: Real) -> i128 {
-    i128::from(a.to_bits()) - i128::from(b.to_bits())
+    raw_diff(a, b)
 }
 
 /// `|x| · |y|` for `|x|, |y| < 2^66` as a 256-bit `(high, low)` pair.
+// Products of 64-bit halves are below 2^128; the high halves are at most 3,
+// so the cross terms stay below 2^67 and `high` below 2^5: no overflow.
+#[allow(clippy::arithmetic_side_effects)]
 #[inline]
 fn wide_mul(x: u128, y: u128) -> (u128, u128) {
     const MASK: u128 = (1 << 64) - 1;
@@ -75,6 +79,7 @@ fn wide_sub_saturating(p: (bool, (u128, u128)), q: (bool, (u128, u128))) -> i128
     let (qh, ql) = to_twos(q);
     let (low, borrow) = pl.overflowing_sub(ql);
     // |p|, |q| < 2^131: the high halves are tiny, no overflow here.
+    #[allow(clippy::arithmetic_side_effects)]
     let high = ph - qh - i128::from(borrow);
     match high {
         0 if low <= i128::MAX as u128 => low as i128,
@@ -102,7 +107,9 @@ pub fn orientation(a: Vect, b: Vect, c: Vect) -> i128 {
         < (1 << 63)
     {
         // Fast path: each product is below 2^126, the difference below 2^127.
-        return abx * acy - aby * acx;
+        #[allow(clippy::arithmetic_side_effects)]
+        let fast = abx * acy - aby * acx;
+        return fast;
     }
     wide_sub_saturating(signed_wide_mul(abx, acy), signed_wide_mul(aby, acx))
 }

@@ -25,6 +25,7 @@
 //! above a side of ≈ 337 at density 1 (≈ 60 at density 1000): use metres,
 //! not pixels. Areas saturate above ≈ 46,340 × 46,340.
 use super::{Geometry, MassInfo, MassSpec};
+use crate::math::exact::{raw_diff, raw_sq, raw_sum, saturate_to_real, I256};
 use crate::math::{Real, Vect, BB};
 
 /// `m · num / den` where `num / den` is a per-unit-mass quantity in units of
@@ -43,7 +44,7 @@ fn mass_times(m: Real, num: u128, den: u128) -> Real {
 /// A raw value as a `Real`, saturated.
 #[inline]
 fn to_real(raw: i128) -> Real {
-    Real::from_bits(i64::try_from(raw).unwrap_or(if raw < 0 { i64::MIN } else { i64::MAX }))
+    saturate_to_real(raw)
 }
 
 /// `v · 2^k`, saturated to the `i128` range.
@@ -51,7 +52,8 @@ fn to_real(raw: i128) -> Real {
 fn shl_sat(v: i128, k: u32) -> i128 {
     if k == 0 || v == 0 {
         v
-    } else if k < 126 && v.unsigned_abs().leading_zeros() > k + 1 {
+    } else if k < 126 && v.unsigned_abs().leading_zeros() > k.saturating_add(1) {
+        // (Checked after k < 126: the `+ 1` never saturates.)
         v << k
     } else if v < 0 {
         i128::MIN
@@ -60,11 +62,10 @@ fn shl_sat(v: i128, k: u32) -> i128 {
     }
 }
 
-/// `|raw(v)|²` in units of 2^-64, exact (each square < 2^126).
+/// `|raw(v)|²` in units of 2^-64, exact (each square ≤ 2^126).
 #[inline]
 fn sq(v: Real) -> u128 {
-    let a = u128::from(v.to_bits().unsigned_abs());
-    a * a
+    raw_sq(v)
 }
 
 /// The square of a wide raw value (units 2^-32), saturating.
@@ -113,10 +114,7 @@ pub fn area_for_circle(r1: Real, r2: Real) -> Real {
 /// `m·((length² + 4r²)/12 + |midpoint|²)`.
 pub fn moment_for_segment(m: Real, a: Vect, b: Vect, radius: Real) -> Real {
     let length = (b - a).length() + radius.mul_pow2(1);
-    let twice_mid = (
-        i128::from(a.x.to_bits()) + i128::from(b.x.to_bits()),
-        i128::from(a.y.to_bits()) + i128::from(b.y.to_bits()),
-    );
+    let twice_mid = (raw_sum(a.x, b.x), raw_sum(a.y, b.y));
     box_moment(m, length, radius.mul_pow2(1), twice_mid)
 }
 
@@ -137,10 +135,7 @@ pub fn moment_for_box(m: Real, width: Real, height: Real) -> Real {
 /// MIS/Chipmunk `momentForBox2`: the moment of the solid box `bb` about the
 /// origin: `momentForBox` plus `m·|centre|²`.
 pub fn moment_for_box2(m: Real, bb: BB) -> Real {
-    let twice_center = (
-        i128::from(bb.l.to_bits()) + i128::from(bb.r.to_bits()),
-        i128::from(bb.b.to_bits()) + i128::from(bb.t.to_bits()),
-    );
+    let twice_center = (raw_sum(bb.l, bb.r), raw_sum(bb.b, bb.t));
     box_moment(m, bb.r - bb.l, bb.t - bb.b, twice_center)
 }
 
@@ -159,7 +154,7 @@ pub fn area_for_poly(verts: &[Vect], radius: Real) -> Real {
     });
     let area = to_real(shl_sat(
         twice_area.ratio_round(I256::from_i128(2 << 32)),
-        2 * rel.shift,
+        rel.twice_shift(),
     ));
     let perimeter: Real = edges(verts).map(|(a, b)| (b - a).length()).sum();
     radius * (Real::PI * radius.abs() + perimeter) + area
@@ -185,8 +180,9 @@ pub fn centroid_for_poly(verts: &[Vect]) -> Vect {
         // product is < 2^170 and a sum of any realistic count fits I256.
         let c = cross(p, q);
         twice_area = twice_area.add(I256::from_i128(c));
-        sum_x = sum_x.add(I256::mul_i128(c, p.0 + q.0));
-        sum_y = sum_y.add(I256::mul_i128(c, p.1 + q.1));
+        // (The coordinate sums never saturate.)
+        sum_x = sum_x.add(I256::mul_i128(c, p.0.saturating_add(q.0)));
+        sum_y = sum_y.add(I256::mul_i128(c, p.1.saturating_add(q.1)));
     }
     if twice_area.is_zero() {
         return extreme_midpoint(verts);
@@ -234,7 +230,7 @@ pub fn moment_for_poly(m: Real, verts: &[Vect], offset: Vect, radius: Real) -> R
     for (p, q) in rel.edges() {
         // |coords| < 2^56: a < 2^113, b < 6·2^112 < 2^115, a·b < 2^228.
         let a = cross(p, q);
-        let b = p.0 * p.0 + p.1 * p.1 + p.0 * q.0 + p.1 * q.1 + q.0 * q.0 + q.1 * q.1;
+        let b = dot_sum(p, q);
         twice_area = twice_area.add(I256::from_i128(a));
         sum = sum.add(I256::mul_i128(a, b));
     }
@@ -244,7 +240,7 @@ pub fn moment_for_poly(m: Real, verts: &[Vect], offset: Vect, radius: Real) -> R
     }
     // (units 2^-128) / (6·S, units 2^-64) = units 2^-64: the per-unit-mass
     // moment with 32 guard bits (< 2^95 unless it saturates anyway).
-    let k = shl_sat(sum.ratio_round(twice_area.mul_small(6)), 2 * rel.shift);
+    let k = shl_sat(sum.ratio_round(twice_area.mul_small(6)), rel.twice_shift());
     // m (2^-32) · k (2^-64) / 2^64 = raw `Real` bits, rounded once more.
     to_real(I256::mul_i128(k, i128::from(m.to_bits())).ratio_round(I256::from_i128(1).shl(64)))
 }
@@ -316,18 +312,29 @@ fn extreme_midpoint(verts: &[Vect]) -> Vect {
 /// zero: symmetric in `a`, `b` and under negation (unlike `a.lerp(b, ½)`).
 fn midpoint(a: Vect, b: Vect) -> Vect {
     let mid = |a: Real, b: Real| {
-        let s = i128::from(a.to_bits()) + i128::from(b.to_bits());
-        // |s| ≤ 2^64, so the rounded half fits i64 (saturating at 2^63).
+        let s = raw_sum(a, b);
+        // |s| ≤ 2^64, so the rounded half fits i64 (saturating at 2^63);
+        // q ≥ 0, so its negation never saturates.
         let q = i64::try_from(s.unsigned_abs().div_ceil(2)).unwrap_or(i64::MAX);
-        Real::from_bits(if s < 0 { -q } else { q })
+        Real::from_bits(if s < 0 { q.saturating_neg() } else { q })
     };
     Vect::new(mid(a.x, b.x), mid(a.y, b.y))
 }
 
 /// Exact `p × q` of wide raw coordinates below 2^56 (result < 2^113).
+// Products below 2^112, their difference below 2^113: no overflow.
+#[allow(clippy::arithmetic_side_effects)]
 #[inline]
 fn cross(p: (i128, i128), q: (i128, i128)) -> i128 {
     p.0 * q.1 - p.1 * q.0
+}
+
+/// `p·p + p·q + q·q` of wide raw coordinates below 2^56, exact (< 2^115).
+// Six products below 2^112 each: the sum is below 6·2^112 < 2^115.
+#[allow(clippy::arithmetic_side_effects)]
+#[inline]
+fn dot_sum(p: (i128, i128), q: (i128, i128)) -> i128 {
+    p.0 * p.0 + p.1 * p.1 + p.0 * q.0 + p.1 * q.1 + q.0 * q.0 + q.1 * q.1
 }
 
 /// Polygon vertices as exact wide raw coordinates relative to an origin,
@@ -344,22 +351,20 @@ const REL_BITS: u32 = 56;
 impl Relative {
     /// `verts − origin`, exact on i128 (differences of i64 fit in 65 bits).
     fn new(verts: &[Vect], origin: Vect) -> Relative {
-        let d = |a: Real, b: Real| i128::from(a.to_bits()) - i128::from(b.to_bits());
         Relative::scaled(
             verts
                 .iter()
-                .map(|v| (d(v.x, origin.x), d(v.y, origin.y)))
+                .map(|v| (raw_diff(v.x, origin.x), raw_diff(v.y, origin.y)))
                 .collect(),
         )
     }
 
     /// `verts + offset`, exact on i128.
     fn new_offset(verts: &[Vect], offset: Vect) -> Relative {
-        let s = |a: Real, b: Real| i128::from(a.to_bits()) + i128::from(b.to_bits());
         Relative::scaled(
             verts
                 .iter()
-                .map(|v| (s(v.x, offset.x), s(v.y, offset.y)))
+                .map(|v| (raw_sum(v.x, offset.x), raw_sum(v.y, offset.y)))
                 .collect(),
         )
     }
@@ -370,16 +375,18 @@ impl Relative {
             .map(|(x, y)| x.unsigned_abs().max(y.unsigned_abs()))
             .max()
             .unwrap_or(0);
-        let bits = u128::BITS - max.leading_zeros();
+        // (leading_zeros ≤ BITS: never saturates.)
+        let bits = u128::BITS.saturating_sub(max.leading_zeros());
         let shift = bits.saturating_sub(REL_BITS - 1);
-        if shift > 0 {
+        if let Some(below) = shift.checked_sub(1) {
             // Round to nearest, ties away from zero (symmetric).
-            let half = 1u128 << (shift - 1);
+            let half = 1u128 << below;
             let down = |v: i128| {
-                // |v| < 2^65, so the shifted magnitude fits i128.
-                let m = ((v.unsigned_abs() + half) >> shift) as i128;
+                // |v| < 2^65 and half < 2^65: the sum never saturates and the
+                // shifted magnitude fits i128, so its negation is exact.
+                let m = (v.unsigned_abs().saturating_add(half) >> shift) as i128;
                 if v < 0 {
-                    -m
+                    m.saturating_neg()
                 } else {
                     m
                 }
@@ -391,161 +398,18 @@ impl Relative {
         Relative { points, shift }
     }
 
+    /// `2 · shift`, the scale of products of two coordinates.
+    fn twice_shift(&self) -> u32 {
+        // shift ≤ 128 − (REL_BITS − 1) = 73: never saturates.
+        self.shift.saturating_mul(2)
+    }
+
     fn edges(&self) -> impl Iterator<Item = ((i128, i128), (i128, i128))> + '_ {
         let p = &self.points;
         p.iter()
             .zip(p.iter().cycle().skip(1))
             .take(p.len())
             .map(|(a, b)| (*a, *b))
-    }
-}
-
-/// A 256-bit two's-complement integer, just enough for exact polygon
-/// integrals: products of two `i128`, sums, and one rounded division.
-/// Each summed term is below 2^228 (stated at each call), so a sum over
-/// fewer than 2^26 vertices stays below 2^254 and the wrapping additions here
-/// never actually wrap (2^26 vertices would take 3 GiB with their wide
-/// copies; beyond that the result is defined but meaningless, never a panic).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct I256 {
-    hi: u128,
-    lo: u128,
-}
-
-impl I256 {
-    const ZERO: I256 = I256 { hi: 0, lo: 0 };
-
-    fn from_i128(v: i128) -> I256 {
-        I256 {
-            hi: if v < 0 { u128::MAX } else { 0 },
-            lo: v as u128,
-        }
-    }
-
-    fn from_magnitude(negative: bool, m: I256) -> I256 {
-        if negative {
-            m.neg()
-        } else {
-            m
-        }
-    }
-
-    fn is_negative(self) -> bool {
-        self.hi >> 127 == 1
-    }
-
-    fn is_zero(self) -> bool {
-        self == I256::ZERO
-    }
-
-    fn add(self, o: I256) -> I256 {
-        let (lo, carry) = self.lo.overflowing_add(o.lo);
-        I256 {
-            hi: self.hi.wrapping_add(o.hi).wrapping_add(u128::from(carry)),
-            lo,
-        }
-    }
-
-    fn sub(self, o: I256) -> I256 {
-        self.add(o.neg())
-    }
-
-    fn neg(self) -> I256 {
-        I256 {
-            hi: !self.hi,
-            lo: !self.lo,
-        }
-        .add(I256 { hi: 0, lo: 1 })
-    }
-
-    /// |self| as an unsigned 256-bit value (stored in the same struct).
-    fn magnitude(self) -> I256 {
-        if self.is_negative() {
-            self.neg()
-        } else {
-            self
-        }
-    }
-
-    /// Left shift by `k < 128` bits.
-    fn shl(self, k: u32) -> I256 {
-        if k == 0 {
-            return self;
-        }
-        I256 {
-            hi: (self.hi << k) | (self.lo >> (128 - k)),
-            lo: self.lo << k,
-        }
-    }
-
-    /// Multiplication by a small constant (here 3 or 6).
-    fn mul_small(self, k: u32) -> I256 {
-        (0..k).fold(I256::ZERO, |acc, _| acc.add(self))
-    }
-
-    /// The exact product of two `i128`.
-    fn mul_i128(a: i128, b: i128) -> I256 {
-        let (x, y) = (a.unsigned_abs(), b.unsigned_abs());
-        const M: u128 = u64::MAX as u128;
-        let (x1, x0, y1, y0) = (x >> 64, x & M, y >> 64, y & M);
-        // Each partial product of 64-bit halves is < 2^128.
-        let (p00, p01, p10, p11) = (x0 * y0, x0 * y1, x1 * y0, x1 * y1);
-        // < 3·2^64: no overflow.
-        let mid = (p00 >> 64) + (p01 & M) + (p10 & M);
-        let m = I256 {
-            hi: p11 + (p01 >> 64) + (p10 >> 64) + (mid >> 64),
-            lo: (p00 & M) | (mid << 64),
-        };
-        I256::from_magnitude((a < 0) != (b < 0), m)
-    }
-
-    /// Unsigned comparison of magnitudes.
-    fn ge_unsigned(self, o: I256) -> bool {
-        (self.hi, self.lo) >= (o.hi, o.lo)
-    }
-
-    /// `self / den` rounded to nearest (ties away from zero), saturated to
-    /// `i128`; `den == 0` follows `Real`'s division policy (0 for 0/0, else
-    /// the saturated value with the sign of the numerator).
-    fn ratio_round(self, den: I256) -> i128 {
-        if den.is_zero() {
-            return match (self.is_zero(), self.is_negative()) {
-                (true, _) => 0,
-                (false, false) => i128::MAX,
-                (false, true) => i128::MIN,
-            };
-        }
-        let negative = self.is_negative() != den.is_negative();
-        let (n, d) = (self.magnitude(), den.magnitude());
-        // Restoring long division, one quotient bit at a time (256 steps;
-        // mass properties are computed when shapes change, not per step).
-        let (mut q, mut r) = (I256::ZERO, I256::ZERO);
-        for i in (0..256u32).rev() {
-            let bit = if i >= 128 {
-                (n.hi >> (i - 128)) & 1
-            } else {
-                (n.lo >> i) & 1
-            };
-            // A remainder that overflows the shift is certainly ≥ d.
-            let carry = r.hi >> 127;
-            r = r.shl(1);
-            r.lo |= bit;
-            q = q.shl(1);
-            if carry == 1 || r.ge_unsigned(d) {
-                r = r.sub(d);
-                q.lo |= 1;
-            }
-        }
-        // Round half up in magnitude (r ≥ d − r is 2r ≥ d without overflow).
-        if r.ge_unsigned(d.sub(r)) {
-            q = q.add(I256 { hi: 0, lo: 1 });
-        }
-        let mag = if q.hi == 0 { q.lo } else { u128::MAX };
-        if negative {
-            0i128.checked_sub_unsigned(mag).unwrap_or(i128::MIN)
-        } else {
-            i128::try_from(mag).unwrap_or(i128::MAX)
-        }
     }
 }
 
@@ -761,24 +625,5 @@ mod tests {
         assert_eq!(info.cog, Vect::ZERO);
         assert_eq!(info.moment_per_mass, Real::ratio(2, 3));
         assert_eq!(shape_mass_info(&poly, MassSpec::None).mass, Real::ZERO);
-    }
-
-    #[test]
-    fn i256_division_rounds_and_signs() {
-        let n = I256::mul_i128(i128::MAX, 3);
-        let d = I256::from_i128(i128::MAX);
-        assert_eq!(n.ratio_round(d), 3);
-        assert_eq!(I256::from_i128(-7).ratio_round(I256::from_i128(2)), -4);
-        assert_eq!(I256::from_i128(7).ratio_round(I256::from_i128(-2)), -4);
-        assert_eq!(I256::from_i128(5).ratio_round(I256::from_i128(3)), 2);
-        assert_eq!(I256::from_i128(1).ratio_round(I256::ZERO), i128::MAX);
-        assert_eq!(I256::from_i128(-1).ratio_round(I256::ZERO), i128::MIN);
-        assert_eq!(I256::ZERO.ratio_round(I256::ZERO), 0);
-        let big = I256::mul_i128(i128::MIN, i128::MIN);
-        assert_eq!(big.ratio_round(I256::from_i128(1)), i128::MAX);
-        assert_eq!(big.neg().ratio_round(I256::from_i128(1)), i128::MIN);
-        // 2^200 / 2^190 = 2^10 exactly.
-        let p = I256::mul_i128(1 << 100, 1 << 100);
-        assert_eq!(p.ratio_round(I256::from_i128(1 << 100).shl(90)), 1 << 10);
     }
 }

@@ -56,7 +56,8 @@
 //! oracles.
 use serde::{Deserialize, Serialize};
 
-use super::geometry::{Circle, Geometry, Poly, Segment};
+use super::geometry::{next_index, Circle, Geometry, Poly, Segment};
+use crate::math::exact::{raw_mul, raw_sq};
 use crate::math::{Real, Vect};
 
 /// The result of a point query (Chipmunk `cpPointQueryInfo`).
@@ -124,17 +125,16 @@ pub fn segment_query(g: &Geometry, a: Vect, b: Vect, radius: Real) -> Option<Seg
     }
 }
 
-/// Exact `|v|²` in units of 2^-64 (each square < 2^126: never overflows).
+/// Exact `|v|²` in units of 2^-64 (each square ≤ 2^126, the sum ≤ 2^127:
+/// never overflows).
 fn length_sq_wide(v: Vect) -> u128 {
-    let x = u128::from(v.x.to_bits().unsigned_abs());
-    let y = u128::from(v.y.to_bits().unsigned_abs());
-    x * x + y * y
+    // (Never saturates, see above.)
+    raw_sq(v.x).saturating_add(raw_sq(v.y))
 }
 
 /// Exact `s²` in units of 2^-64.
 fn square_wide(s: Real) -> u128 {
-    let s = u128::from(s.to_bits().unsigned_abs());
-    s * s
+    raw_sq(s)
 }
 
 /// Unit direction and distance from `from` to `p`; `fallback` (and 0) when
@@ -212,7 +212,7 @@ fn poly_point_query(poly: &Poly, p: Vect) -> PointQueryInfo {
             continue;
         }
         // The edge faces the point: clamp to its span (tangent = perp(normal)).
-        let v1 = verts.get((i + 1) % n).copied().unwrap_or(v0);
+        let v1 = verts.get(next_index(i, n)).copied().unwrap_or(v0);
         let tangent = normal.perp();
         let along = rel.dot(tangent);
         let candidate = if along <= Real::ZERO {
@@ -279,8 +279,8 @@ impl Fraction {
     /// `self > other`, by cross multiplication on 128 bits (each product of
     /// two raw `i64` values is below 2^126: exact).
     fn gt(self, other: Fraction) -> bool {
-        let lhs = i128::from(self.num.to_bits()) * i128::from(other.den.to_bits());
-        let rhs = i128::from(other.num.to_bits()) * i128::from(self.den.to_bits());
+        let lhs = raw_mul(self.num.to_bits(), other.den.to_bits());
+        let rhs = raw_mul(other.num.to_bits(), self.den.to_bits());
         lhs > rhs
     }
 
@@ -394,7 +394,7 @@ impl Sweep {
             };
         };
         let v0 = verts.get(i).copied().unwrap_or(Vect::ZERO);
-        let v1 = verts.get((i + 1) % n).copied().unwrap_or(v0);
+        let v1 = verts.get(next_index(i, n)).copied().unwrap_or(v0);
         let normal = normals.get(i).copied().unwrap_or(Vect::ZERO);
         let centre = self.a + lower.scale(self.d);
         let tangent = normal.perp();

@@ -197,7 +197,8 @@ pub fn first_difference(a: &Space, b: &Space) -> Option<Difference> {
         b,
     };
     let found = first_field!(&sa.settings, &sb.settings;
-        iterations, gravity, damping, collision_slop, collision_bias, collision_persistence)
+        iterations, gravity, damping, collision_slop, collision_bias, collision_persistence,
+        substeps, warm_starting, friction, restitution, bias_impulses)
     .map(|f| diff(Subject::Settings, f));
     found
         .or_else(|| first_slot_difference(&sa.bodies, &sb.bodies, Subject::Body, body_fields))

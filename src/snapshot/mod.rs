@@ -111,6 +111,7 @@
 //! handles working, or, with [`load`], take handles from the loaded space
 //! (`bodies()`, `shapes()`) or build them with `Handle::from_raw_parts`
 //! (origin 0: accepted by every space).
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 pub mod diff;
 
 use core::fmt;
@@ -125,8 +126,10 @@ use crate::space::{validate_state, Space, WorldState};
 pub const MAGIC: [u8; 8] = *b"TAMIAS2D";
 
 /// Version of the byte layout; bumped whenever the serde layout of
-/// [`WorldState`] (or anything in it) changes.
-pub const FORMAT_VERSION: u32 = 1;
+/// [`WorldState`] (or anything in it) changes. Version 2: the settings end
+/// with `substeps` (u32) and the solver switches `warm_starting`,
+/// `friction`, `restitution`, `bias_impulses` (one byte each).
+pub const FORMAT_VERSION: u32 = 2;
 
 /// Bytes before the bincode payload: magic, version, checksum.
 pub const HEADER_LEN: usize = 20;
@@ -292,11 +295,10 @@ fn size_hint(state: &WorldState) -> usize {
     const BODY_SLOT: usize = 176;
     const SHAPE_SLOT: usize = 352;
     const ARBITER: usize = 224;
-    HEADER_LEN
-        + 128
-        + state.bodies.capacity_slots().saturating_mul(BODY_SLOT)
-        + state.shapes.capacity_slots().saturating_mul(SHAPE_SLOT)
-        + state.arbiters.len().saturating_mul(ARBITER)
+    (HEADER_LEN + 128)
+        .saturating_add(state.bodies.capacity_slots().saturating_mul(BODY_SLOT))
+        .saturating_add(state.shapes.capacity_slots().saturating_mul(SHAPE_SLOT))
+        .saturating_add(state.arbiters.len().saturating_mul(ARBITER))
 }
 
 /// The header of `bytes`: checks length, magic and version only.

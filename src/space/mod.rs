@@ -12,6 +12,7 @@
 //!   type after loading a snapshot).
 pub mod handlers;
 pub mod query;
+mod settings;
 mod step;
 
 use core::fmt;
@@ -19,6 +20,8 @@ use core::fmt;
 use serde::{Deserialize, Serialize};
 
 pub use handlers::{ArbiterContext, CollisionHandler, PostStepFn};
+pub use settings::{Settings, DEFAULT_COLLISION_BIAS, MAX_ITERATIONS, MAX_SUBSTEPS};
+pub use step::sub_step_dts;
 
 use crate::arbiter::{Arbiter, ArbiterState};
 use crate::arena::{Arena, Handle};
@@ -29,78 +32,6 @@ use crate::shape::{CollisionType, Geometry, MassSpec, Shape, ShapeError};
 
 /// Handle of a shape in a space.
 pub type ShapeHandle = Handle<Shape>;
-
-/// Simulation settings (Chipmunk's space parameters and defaults).
-#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub struct Settings {
-    /// Solver iterations per step (Chipmunk default 10).
-    pub iterations: u32,
-    /// Gravity acceleration.
-    pub gravity: Vect,
-    /// Fraction of velocity kept after one second (1 = no damping), applied
-    /// per step as `damping^dt`.
-    pub damping: Real,
-    /// Overlap allowed without correction (Chipmunk default 0.1).
-    pub collision_slop: Real,
-    /// Fraction of overlap left uncorrected after one second (Chipmunk
-    /// default `(1 − 0.1)^60`: 10% per 1/60 s step).
-    pub collision_bias: Real,
-    /// Steps an arbiter is kept after its shapes separate (default 3).
-    pub collision_persistence: u32,
-}
-
-/// `0.9^60`, Chipmunk's default collision bias, computed exactly in `Real`
-/// arithmetic at compile time (no float `pow`).
-pub const DEFAULT_COLLISION_BIAS: Real = {
-    let base = Real::lit("0.9");
-    let mut acc = Real::ONE;
-    let mut i = 0;
-    while i < 60 {
-        acc = acc.mul_const(base);
-        i += 1;
-    }
-    acc
-};
-
-impl Settings {
-    /// Checks the ranges [`Space::set_settings`] enforces: damping ≥ 0,
-    /// collision bias in [0, 1], collision slop ≥ 0.
-    pub fn validate(&self) -> Result<(), SpaceError> {
-        if self.iterations > MAX_ITERATIONS {
-            return Err(SpaceError::InvalidSetting("iterations must be ≤ 1024"));
-        }
-        if self.damping.is_negative() {
-            return Err(SpaceError::InvalidSetting("damping must be ≥ 0"));
-        }
-        if self.collision_bias.is_negative() || self.collision_bias > Real::ONE {
-            return Err(SpaceError::InvalidSetting(
-                "collision bias must be in [0, 1]",
-            ));
-        }
-        if self.collision_slop.is_negative() {
-            return Err(SpaceError::InvalidSetting("collision slop must be ≥ 0"));
-        }
-        Ok(())
-    }
-}
-
-/// Most solver iterations a space accepts: far above any useful value (the
-/// trade-off flattens out by 30), low enough that a forged snapshot cannot
-/// make one step run for hours.
-pub const MAX_ITERATIONS: u32 = 1024;
-
-impl Default for Settings {
-    fn default() -> Self {
-        Settings {
-            iterations: 10,
-            gravity: Vect::ZERO,
-            damping: Real::ONE,
-            collision_slop: Real::lit("0.1"),
-            collision_bias: DEFAULT_COLLISION_BIAS,
-            collision_persistence: 3,
-        }
-    }
-}
 
 /// Errors of space operations. Each leaves the space unchanged.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -172,11 +103,11 @@ pub struct WorldState {
     pub shapes: Arena<Shape>,
     /// Arbiters, sorted by `(shape_a, shape_b)` slot index.
     pub arbiters: Vec<Arbiter>,
-    /// Number of steps taken.
+    /// Number of steps taken (sub-steps when `settings.substeps` > 1).
     pub stamp: u64,
-    /// `dt` of the last step (0 before the first).
+    /// `dt` of the last (sub-)step (0 before the first).
     pub current_dt: Real,
-    /// `dt` of the step before (scales warm starting).
+    /// `dt` of the (sub-)step before (scales warm starting).
     pub prev_dt: Real,
 }
 
@@ -232,9 +163,14 @@ pub(crate) struct Caches {
     /// Indices of the arbiters solved this step.
     pub(crate) active: Vec<u32>,
     pub(crate) stats: StepStats,
-    /// Constants of the last step's `dt` (cleared when settings change).
-    pub(crate) dt_constants: Option<DtConstants>,
+    /// Constants of the last two distinct step lengths (cleared when
+    /// settings change): two, because sub-steps of a step that `substeps`
+    /// does not divide evenly differ by one ulp.
+    pub(crate) dt_constants: [Option<DtConstants>; 2],
     pub(crate) proxies: Vec<crate::broadphase::Proxy>,
+    /// Forces and torques set before a sub-stepped step, re-applied before
+    /// each of its later sub-steps.
+    pub(crate) frame_forces: Vec<(BodyHandle, Vect, Real)>,
 }
 
 /// The world: bodies, shapes, arbiters, settings and handlers.
@@ -331,7 +267,7 @@ impl Space {
     pub fn restore_state(&mut self, state: &WorldState) {
         self.state.clone_from(state);
         self.caches.statics_dirty = true;
-        self.caches.dt_constants = None;
+        self.caches.dt_constants = [None, None];
     }
 
     /// The settings.
@@ -343,14 +279,14 @@ impl Space {
     pub fn set_settings(&mut self, settings: Settings) -> Result<(), SpaceError> {
         settings.validate()?;
         self.state.settings = settings;
-        self.caches.dt_constants = None;
+        self.caches.dt_constants = [None, None];
         Ok(())
     }
 
     /// MIS `spaceSetGravity`.
     pub fn set_gravity(&mut self, gravity: Vect) {
         self.state.settings.gravity = gravity;
-        self.caches.dt_constants = None;
+        self.caches.dt_constants = [None, None];
     }
 
     /// Gravity.
@@ -364,17 +300,20 @@ impl Space {
         self.state.settings.iterations = iterations.min(MAX_ITERATIONS);
     }
 
-    /// Number of steps taken (MIS `stamp`).
+    /// Number of steps taken (MIS `stamp`), counting each sub-step of a
+    /// step with [`Settings::substeps`] > 1.
     pub fn stamp(&self) -> u64 {
         self.state.stamp
     }
 
-    /// `dt` of the last step.
+    /// `dt` of the last step (of its last sub-step with
+    /// [`Settings::substeps`] > 1).
     pub fn current_time_step(&self) -> Real {
         self.state.current_dt
     }
 
-    /// Counters of the last step (broadphase pairs, contacts, iteration-cap hits).
+    /// Counters of the last step (broadphase pairs, contacts, iteration-cap
+    /// hits); of its last sub-step with [`Settings::substeps`] > 1.
     pub fn last_step_stats(&self) -> StepStats {
         self.caches.stats
     }
@@ -673,8 +612,9 @@ impl Space {
 
     /// Per-`dt` constants, recomputed only when `dt` or the settings change.
     pub(crate) fn dt_constants(&mut self, dt: Real) -> DtConstants {
-        if let Some(c) = self.caches.dt_constants.filter(|c| c.dt == dt) {
-            return c;
+        let cached = self.caches.dt_constants;
+        if let Some(c) = cached.iter().flatten().find(|c| c.dt == dt) {
+            return *c;
         }
         let s = &self.state.settings;
         let c = DtConstants {
@@ -683,7 +623,7 @@ impl Space {
             damping: exp::pow(s.damping, dt),
             bias_coef: Real::ONE - exp::pow(s.collision_bias, dt),
         };
-        self.caches.dt_constants = Some(c);
+        self.caches.dt_constants = [Some(c), cached[0]];
         c
     }
 

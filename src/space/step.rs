@@ -12,22 +12,60 @@
 //! 9. solver iterations: bias, normal and friction impulses;
 //! 10. post-solve handlers; 11. post-step callbacks.
 //!
+//! With [`Settings::substeps`](super::Settings::substeps) = k, [`Space::step`]
+//! runs stages 1–11 k times on sub-steps of `dt` split exactly (see
+//! [`sub_step_dts`]): bit for bit the same as k calls with those lengths.
+//! Collision runs in every sub-step because positions move in every one;
+//! running it once per step and only the solver k times (Box2D v3's and
+//! Rapier's choice) needs a contact model that tracks separation between
+//! sub-steps, which ours (Chipmunk's) does not.
+//!
+//! The solver switches of the settings (warm starting, friction,
+//! restitution, bias impulses) are read once per step: a switched-off part
+//! is not computed at all (a separate monomorphised iteration routine, a
+//! skipped stage), rather than tested for in the inner loop.
+//!
 //! Every loop runs in arena or arbiter order; nothing depends on a hash,
 //! an address or a thread.
 use core::mem;
 
 use crate::arbiter::{Arbiter, ArbiterState};
-use crate::body::BodyType;
+use crate::body::{BodyHandle, BodyType};
 use crate::broadphase::{Proxy, StaticTree};
 use crate::collision::collide;
-use crate::math::Real;
-use crate::solver::{ContactParams, PairParams, SolverBody, SolverContact};
+use crate::math::{Real, Vect};
+use crate::solver::{ContactFeatures, ContactParams, PairParams, SolverBody, SolverContact};
 
 use super::{Caches, DtConstants, ShapeCache, Space, SpaceError, StepStats};
 
+/// The lengths of the `substeps` sub-steps of a step of `dt`, in order:
+/// with `q = dt / substeps` and `r = dt mod substeps` on the raw bits, the
+/// first `r` last `q + 1` ulp and the others `q`, so they sum to `dt`
+/// exactly and differ by at most one ulp. Zero-length sub-steps (when `dt`
+/// is shorter than `substeps` ulp) are left out; `substeps = 0` counts as 1;
+/// a negative `dt` gives nothing.
+///
+/// ```
+/// use tamias2d::math::Real;
+/// use tamias2d::space::sub_step_dts;
+/// let dts: Vec<Real> = sub_step_dts(Real::from_bits(10), 4).collect();
+/// assert_eq!(dts, [3, 3, 2, 2].map(Real::from_bits));
+/// ```
+pub fn sub_step_dts(dt: Real, substeps: u32) -> impl Iterator<Item = Real> {
+    let k = i64::from(substeps.max(1));
+    let bits = dt.to_bits().max(0);
+    // k ≥ 1 and bits ≥ 0: no division by zero, no overflow; q + 1 ≤ bits
+    // whenever r > 0.
+    let (q, r) = (bits.wrapping_div(k), bits.wrapping_rem(k));
+    (0..k)
+        .map(move |i| Real::from_bits(q.wrapping_add(i64::from(i < r))))
+        .filter(|d| d.is_positive())
+}
+
 impl Space {
-    /// MIS `spaceStep`: advances the world by `dt`. `dt == 0` does nothing;
-    /// a negative `dt` is an error and changes nothing.
+    /// MIS `spaceStep`: advances the world by `dt`, in
+    /// [`Settings::substeps`](super::Settings::substeps) sub-steps. `dt == 0`
+    /// does nothing; a negative `dt` is an error and changes nothing.
     pub fn step(&mut self, dt: Real) -> Result<(), SpaceError> {
         if dt.is_negative() {
             return Err(SpaceError::NegativeTimeStep);
@@ -36,23 +74,63 @@ impl Space {
             return Ok(());
         }
         self.check_unlocked()?;
+        let substeps = self.state.settings.substeps;
+        if substeps <= 1 {
+            self.sub_step(dt);
+            return Ok(());
+        }
+        // The split is fixed here: a post-step callback that changes the
+        // settings affects the next step, not the rest of this one.
+        let mut forces = mem::take(&mut self.caches.frame_forces);
+        forces.clear();
+        forces.extend(
+            self.state
+                .bodies
+                .iter()
+                .filter(|(_, b)| b.f != Vect::ZERO || !b.t.is_zero())
+                .map(|(h, b)| (h, b.f, b.t)),
+        );
+        for (i, sub_dt) in sub_step_dts(dt, substeps).enumerate() {
+            if i > 0 {
+                self.reapply_forces(&forces);
+            }
+            self.sub_step(sub_dt);
+        }
+        self.caches.frame_forces = forces;
+        Ok(())
+    }
+
+    /// Adds the forces and torques the step started with to the bodies that
+    /// still exist (velocity integration cleared them).
+    fn reapply_forces(&mut self, forces: &[(BodyHandle, Vect, Real)]) {
+        for &(h, f, t) in forces {
+            if let Some(body) = self.state.bodies.get_mut(h) {
+                body.f += f;
+                body.t += t;
+            }
+        }
+    }
+
+    /// Stages 1–11 for one (sub-)step of `dt > 0`.
+    fn sub_step(&mut self, dt: Real) {
         self.locked = true;
         self.state.stamp += 1;
         self.state.prev_dt = self.state.current_dt;
         self.state.current_dt = dt;
         let k = self.dt_constants(dt);
+        let features = self.contact_features();
 
         self.integrate_positions(dt);
         self.update_shape_caches();
         self.find_pairs();
         let active = self.collide_pairs();
         self.load_solver_bodies();
-        self.pre_step(&active, &k);
+        self.pre_step(&active, &k, features);
         self.integrate_velocities(&k);
-        self.warm_start();
-        for _ in 0..self.state.settings.iterations {
-            self.solve_iteration();
+        if features.warm_starting {
+            self.warm_start(features);
         }
+        self.solve(features);
         self.store_solver_results();
         self.count_saturated_bodies();
         self.post_solve(&active);
@@ -60,7 +138,17 @@ impl Space {
 
         self.locked = false;
         self.run_post_step_callbacks();
-        Ok(())
+    }
+
+    /// The solver switches of the settings.
+    fn contact_features(&self) -> ContactFeatures {
+        let s = &self.state.settings;
+        ContactFeatures {
+            warm_starting: s.warm_starting,
+            friction: s.friction,
+            restitution: s.restitution,
+            bias: s.bias_impulses,
+        }
     }
 
     /// Stage 1: `p += (v + v_bias)·dt` and the same for the angle.
@@ -287,13 +375,14 @@ impl Space {
 
     /// Stage 6: effective masses, bias and bounce for every active contact,
     /// gathered into the contiguous solver array.
-    fn pre_step(&mut self, active: &[u32], k: &DtConstants) {
+    fn pre_step(&mut self, active: &[u32], k: &DtConstants, features: ContactFeatures) {
         let s = &self.state.settings;
         let params = ContactParams {
             dt_inv: k.dt_inv,
             slop: s.collision_slop,
             bias_coef: k.bias_coef,
             max_bias: Real::MAX,
+            features,
         };
         let Caches {
             solver_bodies,
@@ -339,8 +428,9 @@ impl Space {
         }
     }
 
-    /// Stage 8: re-apply last step's accumulated impulses.
-    fn warm_start(&mut self) {
+    /// Stage 8: re-apply last step's accumulated impulses (only called with
+    /// warm starting on).
+    fn warm_start(&mut self, features: ContactFeatures) {
         let prev = self.state.prev_dt;
         let dt_coef = if prev.is_zero() {
             Real::ZERO
@@ -352,20 +442,40 @@ impl Space {
             solver_contacts,
             ..
         } = &mut self.caches;
-        for c in solver_contacts.iter() {
-            c.warm_start(solver_bodies, dt_coef);
+        if features.friction {
+            for c in solver_contacts.iter() {
+                c.warm_start(solver_bodies, dt_coef);
+            }
+        } else {
+            for c in solver_contacts.iter() {
+                c.warm_start_normal(solver_bodies, dt_coef);
+            }
         }
     }
 
-    /// Stage 9: one Gauss–Seidel pass over the active contacts, in canonical order.
-    fn solve_iteration(&mut self) {
+    /// Stage 9: the solver iterations, with the iteration routine of the
+    /// switched-on features chosen once (see [`SolverContact::solve_with`]).
+    fn solve(&mut self, features: ContactFeatures) {
+        let n = self.state.settings.iterations;
+        match (features.friction, features.bias) {
+            (true, true) => self.iterate::<true, true>(n),
+            (true, false) => self.iterate::<true, false>(n),
+            (false, true) => self.iterate::<false, true>(n),
+            (false, false) => self.iterate::<false, false>(n),
+        }
+    }
+
+    /// `n` Gauss–Seidel passes over the active contacts, in canonical order.
+    fn iterate<const FRICTION: bool, const BIAS: bool>(&mut self, n: u32) {
         let Caches {
             solver_bodies,
             solver_contacts,
             ..
         } = &mut self.caches;
-        for c in solver_contacts.iter_mut() {
-            c.solve(solver_bodies);
+        for _ in 0..n {
+            for c in solver_contacts.iter_mut() {
+                c.solve_with::<FRICTION, BIAS>(solver_bodies);
+            }
         }
     }
 

@@ -11,7 +11,7 @@ fn format_layout_is_pinned() {
     assert_eq!(&empty[8..12], &FORMAT_VERSION.to_le_bytes());
     let sum = snapshot::payload_checksum(&empty[HEADER_LEN..]);
     assert_eq!(&empty[12..20], &sum.to_le_bytes());
-    assert_eq!(FORMAT_VERSION, 1);
+    assert_eq!(FORMAT_VERSION, 2);
     // The empty world, field by field (little-endian, fixed-width ints,
     // every Real as its raw i64, lengths as u64, enum tags as u32).
     let expected = [
@@ -22,6 +22,11 @@ fn format_layout_is_pinned() {
         "9a99991900000000", // collision_slop: 0.1
         "d3c4750000000000", // collision_bias: 0.9^60
         "03000000",         // collision_persistence: 3
+        "01000000",         // substeps: 1
+        "01",               // warm_starting: true
+        "01",               // friction: true
+        "01",               // restitution: true
+        "01",               // bias_impulses: true
         "0000000000000000", // bodies.slots: length 0
         "0000000000000000", // bodies.free: length 0
         "00000000",         // bodies.len: 0

@@ -1,0 +1,233 @@
+//! Polygon–polygon contacts by separating axes (the approach of Box2D's
+//! `b2CollidePolygons`), the fast path of [`poly_to_poly`](super::poly_to_poly).
+//!
+//! In 2D the faces of the Minkowski difference of two convex polygons are
+//! exactly their edges, so the axis GJK + EPA would find is one of the two
+//! polygons' edge normals, which the geometry already stores. For each edge
+//! `i` of `A` (vertex `pᵢ`, outward unit normal `nᵢ`) the separation along
+//! `nᵢ` is `minⱼ (qⱼ − pᵢ)·nᵢ` over the vertices `qⱼ` of `B`; the axis of
+//! *maximum* separation over both polygons is the axis of minimum
+//! penetration when the cores overlap (EPA's answer) and a lower bound of the
+//! core distance when they do not. Each separation is a dot-product minimum
+//! on exact 128-bit products (`wide::dot`): no division, no square root, no
+//! rounding in any decision.
+//!
+//! Which answer, and why it equals the old path's:
+//! * **Cores overlap or touch** (`sep ≤ 0`): the normal is the reference
+//!   face's stored normal (`nᵢ` on `A`, or `−nⱼ` for a face of `B`), pointing
+//!   from `A` to `B`. Contacts come from the same clipping as before
+//!   ([`contact_points`] on the support edges of both polygons along that
+//!   normal), so points, distances and feature ids are exactly what the GJK +
+//!   EPA path gives for the same normal; EPA's normal is the same face's
+//!   normal, computed from the same edge by a different (equally exact)
+//!   normalisation, so it agrees to an ulp or two.
+//! * **Cores apart but within the radius sum + [`CONTACT_TOLERANCE`]**
+//!   (rounded polygons, or sharp ones a hair apart): the best face gives the
+//!   core distance only if a vertex of the other polygon at that separation
+//!   projects onto the face (a vertex–face pair). That is checked exactly; if
+//!   it fails the closest features are two vertices (or a vertex and an edge
+//!   of the other polygon at a different separation), whose normal is not a
+//!   face normal, and we return `false` so the caller falls back to GJK.
+//! * **Further apart:** no contact, decided exactly, no GJK.
+//!
+//! Tie-breaking is fixed: among equal separations the lower edge index wins,
+//! and `A`'s face wins over `B`'s unless `B`'s separation is strictly larger
+//! (exact comparison; no tolerance is needed because nothing here rounds).
+//! Which polygon is `A` is fixed by the canonical order of `poly_to_poly`, so
+//! the path stays swap-exact. The warm-start id is neither read nor changed:
+//! the answer does not depend on it (it is still passed on to the GJK
+//! fallback).
+//!
+//! Degenerate polygons (fewer than 3 vertices, or a zero stored normal, which
+//! only unchecked construction can produce) take the GJK path.
+use super::contact::{contact_points, ClosestPoints};
+use super::support::support_edge_for_poly;
+use super::wide;
+use super::{CollisionInfo, CONTACT_TOLERANCE};
+use crate::math::{Real, Vect};
+use crate::shape::Poly;
+
+/// The best axis of one polygon against the other.
+#[derive(Clone, Copy, Debug)]
+struct Axis {
+    /// Separation in units of 2^-64 (exact).
+    sep: i128,
+    /// Edge index on the polygon owning the axis.
+    edge: usize,
+}
+
+/// `r`'s raw bits in units of 2^-64 (the units of `wide::dot`).
+#[inline]
+fn wide_of(r: Real) -> i128 {
+    i128::from(r.to_bits()) << 32
+}
+
+/// A 2^-64-unit value as a `Real`, rounded toward −∞ and saturated.
+#[inline]
+fn real_of(x: i128) -> Real {
+    let raw = x >> 32;
+    Real::from_bits(i64::try_from(raw).unwrap_or(if raw < 0 { i64::MIN } else { i64::MAX }))
+}
+
+/// Minimum over the vertices of `b` of `v · n`, exact.
+#[inline]
+fn min_dot(b: &Poly, n: Vect) -> i128 {
+    b.verts()
+        .iter()
+        .fold(i128::MAX, |m, v| m.min(wide::dot(*v, n)))
+}
+
+/// The edge normal of `a` along which `b` is furthest out (lowest index on
+/// a tie), stopping early once a separation exceeds `limit` (the pair is then
+/// apart). `None` if `a` has a zero normal.
+#[inline]
+fn max_separation(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
+    let mut best = Axis {
+        sep: i128::MIN,
+        edge: 0,
+    };
+    for (i, (n, p)) in a.normals().iter().zip(a.verts()).enumerate() {
+        if *n == Vect::ZERO {
+            return None;
+        }
+        let sep = min_dot(b, *n).saturating_sub(wide::dot(*p, *n));
+        if sep > best.sep {
+            best = Axis { sep, edge: i };
+            if sep > limit {
+                break;
+            }
+        }
+    }
+    Some(best)
+}
+
+/// True if a vertex of `inc` at exactly separation `sep` from the face
+/// `p0 → p1` (normal `n`) projects onto that face (ends included): the face
+/// then realises the core distance.
+#[inline]
+fn face_realises_distance(inc: &Poly, (p0, p1): (Vect, Vect), n: Vect, sep: i128) -> bool {
+    let base = wide::dot(p0, n);
+    let edge = p1 - p0;
+    let len_sq = wide::dot(edge, edge);
+    inc.verts().iter().any(|v| {
+        let along = wide::dot(*v - p0, edge);
+        wide::dot(*v, n).saturating_sub(base) == sep && along >= 0 && along <= len_sq
+    })
+}
+
+/// Contacts of two polygons in canonical order by separating axes. Returns
+/// `false` (leaving `info` untouched) when the caller must use GJK instead:
+/// degenerate polygons, or cores apart within contact range whose closest
+/// features are not a vertex and a face (see the module docs).
+pub(crate) fn poly_to_poly_sat(a: &Poly, b: &Poly, info: &mut CollisionInfo) -> bool {
+    if a.count() < 3 || b.count() < 3 {
+        return false;
+    }
+    let min_dist = a.radius() + b.radius();
+    let limit = wide_of(min_dist + CONTACT_TOLERANCE);
+    let Some(on_a) = max_separation(a, b, limit) else {
+        return false;
+    };
+    if on_a.sep > limit {
+        return true;
+    }
+    let Some(on_b) = max_separation(b, a, limit) else {
+        return false;
+    };
+    if on_b.sep > limit {
+        return true;
+    }
+    // Reference face: A's unless B's separation is strictly larger.
+    let (sep, n) = if on_b.sep > on_a.sep {
+        let n = b.normal(on_b.edge);
+        let face = (b.vert(on_b.edge), b.vert(next(on_b.edge, b.count())));
+        if on_b.sep > 0 && !face_realises_distance(a, face, n, on_b.sep) {
+            return false;
+        }
+        (on_b.sep, -n)
+    } else {
+        let n = a.normal(on_a.edge);
+        let face = (a.vert(on_a.edge), a.vert(next(on_a.edge, a.count())));
+        if on_a.sep > 0 && !face_realises_distance(b, face, n, on_a.sep) {
+            return false;
+        }
+        (on_a.sep, n)
+    };
+    let points = ClosestPoints {
+        n,
+        d: real_of(sep),
+        ..ClosestPoints::default()
+    };
+    let e1 = support_edge_for_poly(a, n);
+    let e2 = support_edge_for_poly(b, -n);
+    contact_points(&e1, &e2, &points, info);
+    true
+}
+
+/// The index after `i` on a polygon of `count ≥ 1` vertices.
+#[inline]
+fn next(i: usize, count: usize) -> usize {
+    let j = i.saturating_add(1);
+    if j >= count {
+        0
+    } else {
+        j
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::real;
+
+    fn rect(l: i32, b: i32, r: i32, t: i32, radius: Real) -> Poly {
+        let v = [
+            Vect::from_ints(r, b),
+            Vect::from_ints(r, t),
+            Vect::from_ints(l, t),
+            Vect::from_ints(l, b),
+        ];
+        Poly::from_ccw_unchecked(&v, radius)
+    }
+
+    #[test]
+    fn separation_is_exact_and_picks_lowest_edge_on_tie() {
+        let a = rect(0, 0, 2, 2, Real::ZERO);
+        let b = rect(3, 0, 5, 2, Real::ZERO);
+        let s = max_separation(&a, &b, i128::MAX).unwrap();
+        assert_eq!((real_of(s.sep), s.edge), (Real::ONE, 0));
+        // A box inside a wider one, centred: up (edge 1) and down (edge 3)
+        // are equally deep; the lower edge index wins.
+        let outer = rect(-2, -1, 2, 1, Real::ZERO);
+        let inner = rect(-1, -1, 1, 1, Real::ZERO);
+        let s = max_separation(&inner, &outer, i128::MAX).unwrap();
+        assert_eq!((real_of(s.sep), s.edge), (-Real::TWO, 1));
+    }
+
+    #[test]
+    fn corner_to_corner_gap_falls_back() {
+        let a = rect(0, 0, 1, 1, real!(0.25));
+        let b = rect(1, 1, 2, 2, real!(0.25));
+        // Moved diagonally by 0.1: cores apart along the diagonal, no face
+        // realises the distance.
+        let b = Poly::from_ccw_unchecked(
+            &b.verts()
+                .iter()
+                .map(|v| *v + Vect::new(real!(0.1), real!(0.1)))
+                .collect::<Vec<_>>(),
+            real!(0.25),
+        );
+        let mut info = CollisionInfo::new(0);
+        assert!(!poly_to_poly_sat(&a, &b, &mut info));
+        assert_eq!(info, CollisionInfo::new(0));
+    }
+
+    #[test]
+    fn far_apart_is_decided_without_gjk() {
+        let a = rect(0, 0, 1, 1, Real::ZERO);
+        let b = rect(5, 5, 6, 6, Real::ZERO);
+        let mut info = CollisionInfo::new(7);
+        assert!(poly_to_poly_sat(&a, &b, &mut info));
+        assert_eq!(info, CollisionInfo::new(7));
+    }
+}

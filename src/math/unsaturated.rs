@@ -1,0 +1,191 @@
+//! Exact I32F32 arithmetic that *detects* overflow instead of saturating.
+//!
+//! [`Real`]'s operators saturate, and every saturation check costs a few
+//! instructions on every operation (measured: the checks are about a third of
+//! all instructions of a resting-pyramid step). In hot loops where overflow
+//! is rare but must still be handled exactly, [`Unsaturated`] computes with
+//! plain (wrapping) integer operations, the same round-to-nearest,
+//! ties-away-from-zero products as [`Real`], and one sticky flag that
+//! records whether any result left the `i64` range. The caller runs the
+//! fast computation on copies; if the flag is clear no operation could have
+//! saturated, so the result is bit-identical to the [`Real`] computation
+//! (wrapping and saturating arithmetic agree on every in-range result); if it
+//! is set, the caller discards the copies and runs the saturating version.
+//! The solver's fast path is tested against the saturating one on random and
+//! extreme inputs.
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
+use super::real::{wide_mul, Real, FRAC_BITS};
+
+/// `2^(FRAC_BITS − 1)`: the rounding half.
+const HALF: i128 = 1 << (FRAC_BITS - 1);
+
+/// A sticky overflow flag and the operations that raise it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Unsaturated {
+    overflow: bool,
+}
+
+impl Unsaturated {
+    /// A clear flag.
+    #[inline(always)]
+    pub const fn new() -> Unsaturated {
+        Unsaturated { overflow: false }
+    }
+
+    /// True if any operation since [`Unsaturated::new`] left the range:
+    /// the results are then meaningless and must be recomputed with [`Real`].
+    #[inline(always)]
+    pub const fn overflowed(self) -> bool {
+        self.overflow
+    }
+
+    /// `a + b`.
+    #[inline(always)]
+    pub fn add(&mut self, a: Real, b: Real) -> Real {
+        let (r, o) = a.to_bits().overflowing_add(b.to_bits());
+        self.overflow |= o;
+        Real::from_bits(r)
+    }
+
+    /// `a − b`.
+    #[inline(always)]
+    pub fn sub(&mut self, a: Real, b: Real) -> Real {
+        let (r, o) = a.to_bits().overflowing_sub(b.to_bits());
+        self.overflow |= o;
+        Real::from_bits(r)
+    }
+
+    /// Rounds a 128-bit sum of products like `Real` does (nearest, ties away
+    /// from zero) and flags results outside `i64`.
+    #[inline(always)]
+    fn round(&mut self, p: i128) -> Real {
+        // `p + HALF − [p < 0]` cannot overflow unless |p| is within 2^31 of
+        // the i128 limit; flag that case too (the result would saturate).
+        let (biased, o) = p.overflowing_add(HALF.wrapping_sub(i128::from(p < 0)));
+        let r = biased >> FRAC_BITS;
+        let lo = r as i64;
+        self.overflow |= o | ((r >> 64) as i64 != lo >> 63);
+        Real::from_bits(lo)
+    }
+
+    /// `a · b`, rounded as [`Real`]'s `*`.
+    #[inline(always)]
+    pub fn mul(&mut self, a: Real, b: Real) -> Real {
+        // |a·b| ≤ 2^126: the product itself never overflows i128.
+        self.round(wide_mul(a.to_bits(), b.to_bits()))
+    }
+
+    /// `a·b + c·d` with one rounding, as [`Real::mul_add2`].
+    #[inline(always)]
+    pub fn mul_add2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real {
+        let p = wide_mul(a.to_bits(), b.to_bits());
+        let q = wide_mul(c.to_bits(), d.to_bits());
+        let (s, o) = p.overflowing_add(q);
+        self.overflow |= o;
+        self.round(s)
+    }
+
+    /// `a·b − c·d` with one rounding, as [`Real::mul_sub2`].
+    #[inline(always)]
+    pub fn mul_sub2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real {
+        let p = wide_mul(a.to_bits(), b.to_bits());
+        let q = wide_mul(c.to_bits(), d.to_bits());
+        let (s, o) = p.overflowing_sub(q);
+        self.overflow |= o;
+        self.round(s)
+    }
+
+    /// `Σ xᵢ·yᵢ` over four terms with one rounding, as [`Real::dot4`].
+    #[inline(always)]
+    pub fn dot4(&mut self, x: [Real; 4], y: [Real; 4]) -> Real {
+        let [x0, x1, x2, x3] = x;
+        let [y0, y1, y2, y3] = y;
+        let p = |a: Real, b: Real| wide_mul(a.to_bits(), b.to_bits());
+        let (s, o1) = p(x0, y0).overflowing_add(p(x1, y1));
+        let (s, o2) = s.overflowing_add(p(x2, y2));
+        let (s, o3) = s.overflowing_add(p(x3, y3));
+        self.overflow |= o1 | o2 | o3;
+        self.round(s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn r(bits: i64) -> Real {
+        Real::from_bits(bits)
+    }
+
+    /// Either the flag is raised, or the result equals the saturating one.
+    fn agrees(u: Unsaturated, fast: Real, exact: Real) -> bool {
+        u.overflowed() || fast == exact
+    }
+
+    #[test]
+    fn extremes_raise_the_flag() {
+        let mut u = Unsaturated::new();
+        u.add(Real::MAX, Real::DELTA);
+        assert!(u.overflowed());
+        let mut u = Unsaturated::new();
+        u.mul(Real::MIN, Real::MIN);
+        assert!(u.overflowed());
+        let mut u = Unsaturated::new();
+        u.mul_add2(Real::MIN, Real::MIN, Real::MIN, Real::MIN);
+        assert!(u.overflowed());
+        let mut u = Unsaturated::new();
+        assert_eq!(u.mul(Real::TWO, Real::HALF), Real::ONE);
+        assert!(!u.overflowed());
+    }
+
+    /// Magnitudes spread over the whole range, extremes included.
+    fn any_bits() -> impl Strategy<Value = i64> {
+        prop_oneof![
+            any::<i64>(),
+            (any::<i64>(), 0u32..63).prop_map(|(v, s)| v >> s),
+            Just(i64::MIN),
+            Just(i64::MAX),
+        ]
+    }
+
+    proptest! {
+        #[test]
+        fn matches_the_saturating_operations(
+            a in any_bits(), b in any_bits(), c in any_bits(), d in any_bits()
+        ) {
+            let (a, b, c, d) = (r(a), r(b), r(c), r(d));
+            let mut u = Unsaturated::new();
+            let v = u.add(a, b);
+            prop_assert!(agrees(u, v, a + b));
+            let mut u = Unsaturated::new();
+            let v = u.sub(a, b);
+            prop_assert!(agrees(u, v, a - b));
+            let mut u = Unsaturated::new();
+            let v = u.mul(a, b);
+            prop_assert!(agrees(u, v, a * b));
+            let mut u = Unsaturated::new();
+            let v = u.mul_add2(a, b, c, d);
+            prop_assert!(agrees(u, v, Real::mul_add2(a, b, c, d)));
+            let mut u = Unsaturated::new();
+            let v = u.mul_sub2(a, b, c, d);
+            prop_assert!(agrees(u, v, Real::mul_sub2(a, b, c, d)));
+            let mut u = Unsaturated::new();
+            let v = u.dot4([a, b, c, d], [d, c, b, a]);
+            prop_assert!(agrees(u, v, Real::dot4([a, b, c, d], [d, c, b, a])));
+        }
+
+        /// In range the flag stays clear (no false alarms that would send
+        /// ordinary scenes down the slow path).
+        #[test]
+        fn small_values_never_flag(
+            a in -(1i64 << 45)..(1i64 << 45), b in -(1i64 << 45)..(1i64 << 45)
+        ) {
+            let mut u = Unsaturated::new();
+            let _ = u.add(r(a), r(b));
+            let _ = u.mul(r(a), r(b));
+            let _ = u.dot4([r(a); 4], [r(b); 4]);
+            prop_assert!(!u.overflowed());
+        }
+    }
+}

@@ -1,0 +1,136 @@
+//! Simulation settings: Chipmunk's space parameters, sub-steps, and the
+//! solver switches ("pay only for what you use", see `docs/performance.md`).
+//! They are part of the simulation state (snapshots, checksums) and are
+//! checked by [`Settings::validate`] wherever they enter a space.
+use serde::{Deserialize, Serialize};
+
+use super::SpaceError;
+use crate::math::{Real, Vect};
+
+/// Simulation settings (Chipmunk's space parameters and defaults).
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct Settings {
+    /// Solver iterations per step (Chipmunk default 10).
+    pub iterations: u32,
+    /// Gravity acceleration.
+    pub gravity: Vect,
+    /// Fraction of velocity kept after one second (1 = no damping), applied
+    /// per step as `damping^dt`.
+    pub damping: Real,
+    /// Overlap allowed without correction (Chipmunk default 0.1).
+    pub collision_slop: Real,
+    /// Fraction of overlap left uncorrected after one second (Chipmunk
+    /// default `(1 − 0.1)^60`: 10% per 1/60 s step).
+    pub collision_bias: Real,
+    /// Steps an arbiter is kept after its shapes separate (default 3).
+    /// Counted in sub-steps when [`substeps`](Self::substeps) > 1.
+    pub collision_persistence: u32,
+    /// Sub-steps per [`Space::step`](super::Space::step) (default 1, valid `1..=`[`MAX_SUBSTEPS`]).
+    ///
+    /// `step(dt)` with `substeps = k` runs the **whole** pipeline (integrate,
+    /// collide, handlers, solve, post-step callbacks) `k` times, on sub-steps
+    /// whose lengths sum to `dt` exactly, in raw bits: with `q = dt / k` (raw
+    /// bits, truncated) and `r = dt mod k`, the first `r` sub-steps last
+    /// `q + 1` ulp and the others `q` (see [`sub_step_dts`](super::sub_step_dts)). The result is
+    /// bit-identical to `k` calls of `step` with those lengths on a world
+    /// with `substeps = 1` when the forces and torques set on the bodies
+    /// before the step are set again before each sub-step (the step keeps
+    /// them for its later sub-steps: a force applied for a frame acts for
+    /// the whole frame, as in Box2D). Collision handlers run in every sub-step,
+    /// post-step callbacks after every sub-step, [`Space::stamp`](super::Space::stamp) and
+    /// [`collision_persistence`](Self::collision_persistence) count
+    /// sub-steps, warm starting scales by `sub-dt / previous sub-dt`, and
+    /// [`Space::current_time_step`](super::Space::current_time_step) and [`Space::last_step_stats`](super::Space::last_step_stats) describe
+    /// the last sub-step. What it buys: smaller steps (better stacking and
+    /// trajectories) behind one call and one checksum per game frame.
+    pub substeps: u32,
+    /// Warm starting (default on): each step starts the solver from the
+    /// impulses its contacts accumulated in the previous step (scaled by
+    /// `dt / prev_dt`). Off: the solver starts from zero and the warm-start
+    /// stage is skipped. Stacks then need many more iterations; worth
+    /// switching off only for scenes without resting contact.
+    pub warm_starting: bool,
+    /// Friction (default on). Off: the solver runs a routine without the
+    /// tangent impulse (no tangent effective mass in the pre-step, no
+    /// friction row in the iterations); results are bit-identical to every
+    /// shape having friction 0, at a lower cost.
+    pub friction: bool,
+    /// Restitution (default on). Off: the pre-step skips the bounce target;
+    /// results are bit-identical to every shape having elasticity 0. The
+    /// iterations cost the same either way (the target is one addition).
+    pub restitution: bool,
+    /// Bias impulses (default on): the pseudo-velocities that push
+    /// overlapping shapes apart (see [`collision_bias`](Self::collision_bias)).
+    /// Off: the solver runs a routine without the bias row; overlap is then
+    /// never corrected (results are bit-identical to `collision_bias = 1`),
+    /// so switch it off only for scenes whose contacts never sink in
+    /// (bouncing, sliding on flat ground) or that correct overlap themselves.
+    pub bias_impulses: bool,
+}
+
+/// `0.9^60`, Chipmunk's default collision bias, computed exactly in `Real`
+/// arithmetic at compile time (no float `pow`).
+pub const DEFAULT_COLLISION_BIAS: Real = {
+    let base = Real::lit("0.9");
+    let mut acc = Real::ONE;
+    let mut i = 0;
+    while i < 60 {
+        acc = acc.mul_const(base);
+        i += 1;
+    }
+    acc
+};
+
+impl Settings {
+    /// Checks the ranges [`Space::set_settings`](super::Space::set_settings) enforces: iterations ≤
+    /// [`MAX_ITERATIONS`], damping ≥ 0, collision bias in [0, 1], collision
+    /// slop ≥ 0, substeps in `1..=`[`MAX_SUBSTEPS`].
+    pub fn validate(&self) -> Result<(), SpaceError> {
+        if self.iterations > MAX_ITERATIONS {
+            return Err(SpaceError::InvalidSetting("iterations must be ≤ 1024"));
+        }
+        if self.damping.is_negative() {
+            return Err(SpaceError::InvalidSetting("damping must be ≥ 0"));
+        }
+        if self.collision_bias.is_negative() || self.collision_bias > Real::ONE {
+            return Err(SpaceError::InvalidSetting(
+                "collision bias must be in [0, 1]",
+            ));
+        }
+        if self.collision_slop.is_negative() {
+            return Err(SpaceError::InvalidSetting("collision slop must be ≥ 0"));
+        }
+        if self.substeps == 0 || self.substeps > MAX_SUBSTEPS {
+            return Err(SpaceError::InvalidSetting("substeps must be in 1..=64"));
+        }
+        Ok(())
+    }
+}
+
+/// Most sub-steps per step a space accepts: 64 sub-steps of a 1/60 s frame
+/// are already steps of 1/3840 s, far below what any game scene needs, and
+/// the cap bounds the work one `step` call (or a forged snapshot) can ask for.
+pub const MAX_SUBSTEPS: u32 = 64;
+
+/// Most solver iterations a space accepts: far above any useful value (the
+/// trade-off flattens out by 30), low enough that a forged snapshot cannot
+/// make one step run for hours.
+pub const MAX_ITERATIONS: u32 = 1024;
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            iterations: 10,
+            gravity: Vect::ZERO,
+            damping: Real::ONE,
+            collision_slop: Real::lit("0.1"),
+            collision_bias: DEFAULT_COLLISION_BIAS,
+            collision_persistence: 3,
+            substeps: 1,
+            warm_starting: true,
+            friction: true,
+            restitution: true,
+            bias_impulses: true,
+        }
+    }
+}
