@@ -28,7 +28,7 @@
 //! kinematic bodies have zero inverse mass, so impulses leave them unchanged.
 use core::fmt;
 
-use crate::math::{Real, Vect};
+use crate::math::{FixedArith, Real, Saturating, Unsaturated, Vect};
 
 /// The per-body data the iterations touch, stored contiguously.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -331,28 +331,38 @@ impl SolverContact {
 
     /// Applies the impulse `n·jn + t·jt` to the velocities (−a, +b).
     #[inline(always)]
-    fn apply(&self, a: &mut SolverBody, b: &mut SolverBody, jn: Real, jt: Real) {
+    fn apply<A: FixedArith>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        jn: Real,
+        jt: Real,
+        ar: &mut A,
+    ) {
         let n = self.n;
         // P = n·jn + perp(n)·jt, with perp(n) = (−n.y, n.x).
-        let p = Vect::new(
-            Real::mul_sub2(n.x, jn, n.y, jt),
-            Real::mul_add2(n.y, jn, n.x, jt),
-        );
-        a.v -= p * self.m_a;
-        a.w -= Real::mul_add2(self.kn_a, jn, self.kt_a, jt);
-        b.v += p * self.m_b;
-        b.w += Real::mul_add2(self.kn_b, jn, self.kt_b, jt);
+        let p = Vect::new(ar.mul_sub2(n.x, jn, n.y, jt), ar.mul_add2(n.y, jn, n.x, jt));
+        let dwa = ar.mul_add2(self.kn_a, jn, self.kt_a, jt);
+        let dwb = ar.mul_add2(self.kn_b, jn, self.kt_b, jt);
+        move_bodies(a, b, p, dwa, dwb, self.m_a, self.m_b, ar, Velocity::Real);
     }
 
     /// Applies the normal impulse `n·jn` alone (the friction-free
     /// [`apply`](Self::apply): `apply(a, b, jn, 0)` gives the same bits).
     #[inline(always)]
-    fn apply_normal(&self, a: &mut SolverBody, b: &mut SolverBody, jn: Real) {
-        let p = self.n * jn;
-        a.v -= p * self.m_a;
-        a.w -= self.kn_a * jn;
-        b.v += p * self.m_b;
-        b.w += self.kn_b * jn;
+    fn apply_normal<A: FixedArith>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        jn: Real,
+        ar: &mut A,
+        which: Velocity,
+    ) {
+        let n = self.n;
+        let p = Vect::new(ar.mul(n.x, jn), ar.mul(n.y, jn));
+        let dwa = ar.mul(self.kn_a, jn);
+        let dwb = ar.mul(self.kn_b, jn);
+        move_bodies(a, b, p, dwa, dwb, self.m_a, self.m_b, ar, which);
     }
 
     /// Applies the cached (warm-start) impulse, scaled by `dt_coef = dt/prev_dt`.
@@ -360,7 +370,8 @@ impl SolverContact {
         let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
             return;
         };
-        self.apply(&mut a, &mut b, self.jn_acc * dt_coef, self.jt_acc * dt_coef);
+        let (jn, jt) = (self.jn_acc * dt_coef, self.jt_acc * dt_coef);
+        self.apply(&mut a, &mut b, jn, jt, &mut Saturating);
         store_pair(bodies, self.a, a, self.b, b);
     }
 
@@ -370,7 +381,8 @@ impl SolverContact {
         let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
             return;
         };
-        self.apply_normal(&mut a, &mut b, self.jn_acc * dt_coef);
+        let jn = self.jn_acc * dt_coef;
+        self.apply_normal(&mut a, &mut b, jn, &mut Saturating, Velocity::Real);
         store_pair(bodies, self.a, a, self.b, b);
     }
 
@@ -392,57 +404,130 @@ impl SolverContact {
     /// tangent impulse are not computed), without `BIAS` that of a zero bias
     /// target with no bias velocities (the bias row is not computed). The
     /// space picks one of the four once per step.
+    ///
+    /// The iteration runs first in [`Unsaturated`] arithmetic on copies;
+    /// only if an operation left the range (the overflow flag) is it
+    /// recomputed in saturating [`Real`] arithmetic. Both run the same
+    /// generic code ([`iterate`](Self::iterate)), so the result is always
+    /// the saturating one, bit for bit, and ordinary scenes pay for no
+    /// saturation checks.
     #[inline]
     pub fn solve_with<const FRICTION: bool, const BIAS: bool>(
         &mut self,
         bodies: &mut [SolverBody],
     ) {
-        let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
+        let Some((a0, b0)) = load_pair(bodies, self.a, self.b) else {
             return;
         };
+        let acc0 = [self.j_bias, self.jn_acc, self.jt_acc];
+        let (mut a, mut b, mut acc) = (a0, b0, acc0);
+        let mut fast = Unsaturated::new();
+        self.iterate::<_, FRICTION, BIAS>(&mut a, &mut b, &mut acc, &mut fast);
+        if fast.overflowed() {
+            (a, b, acc) = (a0, b0, acc0);
+            self.iterate_saturating::<FRICTION, BIAS>(&mut a, &mut b, &mut acc);
+        }
+        [self.j_bias, self.jn_acc, self.jt_acc] = acc;
+        store_pair(bodies, self.a, a, self.b, b);
+    }
+
+    /// The reference path of [`solve_with`](Self::solve_with), kept out of
+    /// line: it runs only when something saturates.
+    #[cold]
+    #[inline(never)]
+    fn iterate_saturating<const FRICTION: bool, const BIAS: bool>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        acc: &mut [Real; 3],
+    ) {
+        self.iterate::<_, FRICTION, BIAS>(a, b, acc, &mut Saturating);
+    }
+
+    /// One iteration on body copies `a`, `b` and the accumulated impulses
+    /// `acc = [j_bias, jn_acc, jt_acc]`, in the arithmetic `ar`.
+    #[inline(always)]
+    fn iterate<A: FixedArith, const FRICTION: bool, const BIAS: bool>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        acc: &mut [Real; 3],
+        ar: &mut A,
+    ) {
         let n = self.n;
+        let [jb_old, jn_old, jt_old] = *acc;
 
         if BIAS {
-            let dvb = b.v_bias - a.v_bias;
-            let vbn = Real::dot4(
+            let dvb = Vect::new(
+                ar.sub(b.v_bias.x, a.v_bias.x),
+                ar.sub(b.v_bias.y, a.v_bias.y),
+            );
+            let vbn = ar.dot4(
                 [dvb.x, dvb.y, b.w_bias, a.w_bias],
                 [n.x, n.y, self.rn_b, -self.rn_a],
             );
-            let jb_old = self.j_bias;
-            self.j_bias = (jb_old + (self.bias - vbn) * self.n_mass).max(Real::ZERO);
-            let djb = self.j_bias - jb_old;
+            let err = ar.sub(self.bias, vbn);
+            let jb = ar.mul(err, self.n_mass);
+            acc[0] = ar.add(jb_old, jb).max(Real::ZERO);
+            let djb = ar.sub(acc[0], jb_old);
             if !djb.is_zero() {
-                let p = n * djb;
-                a.v_bias -= p * self.m_a;
-                a.w_bias -= self.kn_a * djb;
-                b.v_bias += p * self.m_b;
-                b.w_bias += self.kn_b * djb;
+                self.apply_normal(a, b, djb, ar, Velocity::Bias);
             }
         }
 
-        let dv = b.v - a.v;
-        let vn = Real::dot4([dv.x, dv.y, b.w, a.w], [n.x, n.y, self.rn_b, -self.rn_a]);
-        // Computed before the normal update, as in `solve` before the
-        // switches existed: the same order keeps the default routine's
-        // machine code (and cost) what it was.
-        let vt = if FRICTION {
-            Real::dot4([dv.x, dv.y, b.w, a.w], [-n.y, n.x, self.rt_b, -self.rt_a]) + self.surface_t
-        } else {
-            Real::ZERO
-        };
-        let jn_old = self.jn_acc;
-        self.jn_acc = (jn_old - (self.bounce + vn) * self.n_mass).max(Real::ZERO);
+        let dv = Vect::new(ar.sub(b.v.x, a.v.x), ar.sub(b.v.y, a.v.y));
+        let vn = ar.dot4([dv.x, dv.y, b.w, a.w], [n.x, n.y, self.rn_b, -self.rn_a]);
+        let err = ar.add(self.bounce, vn);
+        let djn = ar.mul(err, self.n_mass);
+        acc[1] = ar.sub(jn_old, djn).max(Real::ZERO);
+        let jn = ar.sub(acc[1], jn_old);
 
         if FRICTION {
-            let jt_max = self.friction * self.jn_acc;
-            let jt_old = self.jt_acc;
-            self.jt_acc = (jt_old - vt * self.t_mass).clamp(-jt_max, jt_max);
-            self.apply(&mut a, &mut b, self.jn_acc - jn_old, self.jt_acc - jt_old);
+            let vt = ar.dot4([dv.x, dv.y, b.w, a.w], [-n.y, n.x, self.rt_b, -self.rt_a]);
+            let vt = ar.add(vt, self.surface_t);
+            let jt_max = ar.mul(self.friction, acc[1]);
+            let djt = ar.mul(vt, self.t_mass);
+            acc[2] = ar.sub(jt_old, djt).clamp(-jt_max, jt_max);
+            let jt = ar.sub(acc[2], jt_old);
+            self.apply(a, b, jn, jt, ar);
         } else {
-            self.apply_normal(&mut a, &mut b, self.jn_acc - jn_old);
+            self.apply_normal(a, b, jn, ar, Velocity::Real);
         }
-        store_pair(bodies, self.a, a, self.b, b);
     }
+}
+
+/// Which velocity an impulse changes: the real one or the bias
+/// pseudo-velocity.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Velocity {
+    Real,
+    Bias,
+}
+
+/// `a −= (p·m_a, dwa)`, `b += (p·m_b, dwb)` on the chosen velocity.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)] // all scalars of one impulse, inlined
+fn move_bodies<A: FixedArith>(
+    a: &mut SolverBody,
+    b: &mut SolverBody,
+    p: Vect,
+    dwa: Real,
+    dwb: Real,
+    m_a: Real,
+    m_b: Real,
+    ar: &mut A,
+    which: Velocity,
+) {
+    let pa = Vect::new(ar.mul(p.x, m_a), ar.mul(p.y, m_a));
+    let pb = Vect::new(ar.mul(p.x, m_b), ar.mul(p.y, m_b));
+    let (va, wa, vb, wb) = match which {
+        Velocity::Real => (&mut a.v, &mut a.w, &mut b.v, &mut b.w),
+        Velocity::Bias => (&mut a.v_bias, &mut a.w_bias, &mut b.v_bias, &mut b.w_bias),
+    };
+    *va = Vect::new(ar.sub(va.x, pa.x), ar.sub(va.y, pa.y));
+    *wa = ar.sub(*wa, dwa);
+    *vb = Vect::new(ar.add(vb.x, pb.x), ar.add(vb.y, pb.y));
+    *wb = ar.add(*wb, dwb);
 }
 
 /// Copies out two distinct solver bodies (`None` if equal or out of range).
@@ -571,5 +656,96 @@ mod tests {
         assert_eq!(c.jn_acc, Real::ONE);
         assert_eq!(c.jt_acc.abs(), Real::HALF);
         assert_eq!(bodies[1].v, Vect::new(real!(4.5), Real::ZERO));
+    }
+
+    /// Raw values over the whole range: small (ordinary scenes), large
+    /// (near saturation) and the extremes.
+    fn any_real() -> impl proptest::strategy::Strategy<Value = Real> {
+        use proptest::prelude::*;
+        prop_oneof![
+            (-(1i64 << 40)..(1i64 << 40)).prop_map(Real::from_bits),
+            // Tiny raw values times multiples of ½: rounding ties.
+            (-64i64..64).prop_map(Real::from_bits),
+            (-8i64..8).prop_map(|k| Real::from_bits(k << 31)),
+            (any::<i64>(), 0u32..63).prop_map(|(v, s)| Real::from_bits(v >> s)),
+            Just(Real::MAX),
+            Just(Real::MIN),
+        ]
+    }
+
+    fn solver_body(v: [Real; 8]) -> SolverBody {
+        SolverBody {
+            v: Vect::new(v[0], v[1]),
+            w: v[2],
+            v_bias: Vect::new(v[3], v[4]),
+            w_bias: v[5],
+            m_inv: v[6].abs(),
+            i_inv: v[7].abs(),
+        }
+    }
+
+    fn contact(v: &[Real]) -> SolverContact {
+        let r = |i: usize| v.get(i).copied().unwrap_or(Real::ZERO);
+        SolverContact {
+            a: 0,
+            b: 1,
+            n: Vect::new(r(0), r(1)),
+            rn_a: r(2),
+            rn_b: r(3),
+            rt_a: r(4),
+            rt_b: r(5),
+            kn_a: r(6),
+            kn_b: r(7),
+            kt_a: r(8),
+            kt_b: r(9),
+            m_a: r(10),
+            m_b: r(11),
+            n_mass: r(12),
+            t_mass: r(13),
+            bias: r(14),
+            bounce: r(15),
+            friction: r(16).abs(),
+            surface_t: r(17),
+            jn_acc: r(18).abs(),
+            jt_acc: r(19),
+            j_bias: r(20).abs(),
+            ..SolverContact::default()
+        }
+    }
+
+    /// `solve_with` (fast path, fallback on overflow) against the
+    /// saturating reference alone, for one feature combination.
+    fn check_fast_path<const F: bool, const B: bool>(
+        c: SolverContact,
+        a: SolverBody,
+        b: SolverBody,
+    ) -> Result<(), proptest::test_runner::TestCaseError> {
+        let mut fast = c;
+        let mut bodies = [a, b];
+        fast.solve_with::<F, B>(&mut bodies);
+        let (mut ra, mut rb) = (a, b);
+        let mut acc = [c.j_bias, c.jn_acc, c.jt_acc];
+        c.iterate_saturating::<F, B>(&mut ra, &mut rb, &mut acc);
+        proptest::prop_assert_eq!(bodies, [ra, rb]);
+        proptest::prop_assert_eq!([fast.j_bias, fast.jn_acc, fast.jt_acc], acc);
+        Ok(())
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2000))]
+        /// The unsaturated fast path is bit-identical to the saturating
+        /// iteration on any input, extremes included.
+        #[test]
+        fn fast_iteration_equals_the_saturating_one(
+            cv in proptest::collection::vec(any_real(), 21),
+            av in proptest::array::uniform8(any_real()),
+            bv in proptest::array::uniform8(any_real()),
+        ) {
+            let (c, a, b) = (contact(&cv), solver_body(av), solver_body(bv));
+            check_fast_path::<true, true>(c, a, b)?;
+            check_fast_path::<true, false>(c, a, b)?;
+            check_fast_path::<false, true>(c, a, b)?;
+            check_fast_path::<false, false>(c, a, b)?;
+        }
     }
 }

@@ -109,6 +109,84 @@ impl Unsaturated {
     }
 }
 
+/// The arithmetic of a hot loop written once and run in two modes:
+/// [`Saturating`] (the [`Real`] operators, the reference) and
+/// [`Unsaturated`] (the fast path with an overflow flag). The same
+/// sequence of calls gives the same bits in both modes unless the flag is
+/// raised.
+pub trait FixedArith {
+    /// `a + b`.
+    fn add(&mut self, a: Real, b: Real) -> Real;
+    /// `a − b`.
+    fn sub(&mut self, a: Real, b: Real) -> Real;
+    /// `a · b`.
+    fn mul(&mut self, a: Real, b: Real) -> Real;
+    /// `a·b + c·d`, one rounding.
+    fn mul_add2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real;
+    /// `a·b − c·d`, one rounding.
+    fn mul_sub2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real;
+    /// `Σ xᵢ·yᵢ` over four terms, one rounding.
+    fn dot4(&mut self, x: [Real; 4], y: [Real; 4]) -> Real;
+}
+
+/// [`FixedArith`] by [`Real`]'s saturating operators.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Saturating;
+
+impl FixedArith for Saturating {
+    #[inline(always)]
+    fn add(&mut self, a: Real, b: Real) -> Real {
+        a + b
+    }
+    #[inline(always)]
+    fn sub(&mut self, a: Real, b: Real) -> Real {
+        a - b
+    }
+    #[inline(always)]
+    fn mul(&mut self, a: Real, b: Real) -> Real {
+        a * b
+    }
+    #[inline(always)]
+    fn mul_add2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real {
+        Real::mul_add2(a, b, c, d)
+    }
+    #[inline(always)]
+    fn mul_sub2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real {
+        Real::mul_sub2(a, b, c, d)
+    }
+    #[inline(always)]
+    fn dot4(&mut self, x: [Real; 4], y: [Real; 4]) -> Real {
+        Real::dot4(x, y)
+    }
+}
+
+impl FixedArith for Unsaturated {
+    #[inline(always)]
+    fn add(&mut self, a: Real, b: Real) -> Real {
+        Unsaturated::add(self, a, b)
+    }
+    #[inline(always)]
+    fn sub(&mut self, a: Real, b: Real) -> Real {
+        Unsaturated::sub(self, a, b)
+    }
+    #[inline(always)]
+    fn mul(&mut self, a: Real, b: Real) -> Real {
+        Unsaturated::mul(self, a, b)
+    }
+    #[inline(always)]
+    fn mul_add2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real {
+        Unsaturated::mul_add2(self, a, b, c, d)
+    }
+    #[inline(always)]
+    fn mul_sub2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real {
+        Unsaturated::mul_sub2(self, a, b, c, d)
+    }
+    #[inline(always)]
+    fn dot4(&mut self, x: [Real; 4], y: [Real; 4]) -> Real {
+        Unsaturated::dot4(self, x, y)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -139,11 +217,31 @@ mod tests {
         assert!(!u.overflowed());
     }
 
+    #[test]
+    fn ties_round_away_from_zero_like_real() {
+        for raw in [-3i64, -1, 1, 3, -(1 << 33) - 1, (1 << 33) + 1] {
+            let (x, half) = (r(raw), Real::HALF);
+            let mut u = Unsaturated::new();
+            assert_eq!(u.mul(x, half), x * half, "{raw}");
+            assert_eq!(
+                u.mul_add2(x, half, x, half),
+                Real::mul_add2(x, half, x, half)
+            );
+            assert_eq!(
+                u.mul_sub2(x, half, -x, half),
+                Real::mul_sub2(x, half, -x, half)
+            );
+            assert!(!u.overflowed());
+        }
+    }
+
     /// Magnitudes spread over the whole range, extremes included.
     fn any_bits() -> impl Strategy<Value = i64> {
         prop_oneof![
             any::<i64>(),
             (any::<i64>(), 0u32..63).prop_map(|(v, s)| v >> s),
+            (-64i64..64),
+            (-8i64..8).prop_map(|k| k << 31),
             Just(i64::MIN),
             Just(i64::MAX),
         ]
