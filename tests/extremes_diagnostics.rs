@@ -298,12 +298,12 @@ fn point_and_needle_shapes_collide_without_panicking() {
 
 #[test]
 fn raw_space_dynamic_body_without_mass_is_simulated_as_infinite_mass() {
-    // Known gap (reported, not fixed here): scenes reject a dynamic body
-    // without mass (`SceneError::Massless`), but the raw `Space` API
-    // accepts `Body::new(0, 0)` with only massless shapes. Its inverse mass
-    // is 0, so contacts cannot push it while gravity still accelerates it:
-    // it falls through the ground. Defined, deterministic, no panic, no
-    // saturation; `Space::validate` does not flag it.
+    // Scenes reject a dynamic body without mass (`SceneError::Massless`),
+    // but the raw `Space` API accepts `Body::new(0, 0)` with only massless
+    // shapes (a body may get its shapes later). Its inverse mass is 0, so
+    // contacts cannot push it while gravity still accelerates it: it falls
+    // through the ground. Defined, deterministic, no panic, no saturation;
+    // the game sees it in `StepStats::massless_dynamic_bodies`.
     let mut space = Space::new();
     space.set_gravity(Vect::from_ints(0, -10));
     let ground = space
@@ -331,6 +331,7 @@ fn raw_space_dynamic_body_without_mass_is_simulated_as_infinite_mass() {
             .step(Real::ratio(1, 60))
             .unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(space.last_step_stats().saturated_bodies, 0);
+        assert_eq!(space.last_step_stats().massless_dynamic_bodies, 1);
     }
     let b = space.body(ghost).unwrap_or_else(|| panic!("body is gone"));
     assert_eq!(b.mass(), Real::ZERO);

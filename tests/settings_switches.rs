@@ -31,11 +31,13 @@ fn build(desc: &SceneDesc) -> Scene {
         .unwrap_or_else(|e| panic!("{}: {e}", desc.name))
 }
 
-/// `state` with its sub-step count replaced: the only setting in which the
-/// two worlds of an equivalence differ.
+/// `state` with its sub-step count replaced and its step count divided by
+/// it: the only fields in which the two worlds of an equivalence differ.
 fn with_substeps(state: &WorldState, substeps: u32) -> WorldState {
     let mut s = state.clone();
     s.settings.substeps = substeps;
+    // The one-sub-step world took `substeps` steps per frame.
+    s.steps /= u64::from(substeps);
     s
 }
 
@@ -95,6 +97,7 @@ fn check_substep_equivalence(name: &str, k: u32, frames: u32) {
             b.dt = sub;
             b.step().unwrap_or_else(|e| panic!("{name}: {e}"));
         }
+        assert_eq!(a.space.steps(), u64::from(frame) + 1, "{name}: steps");
         let (sa, sb) = (a.space.state(), with_substeps(b.space.state(), k));
         if *sa != sb {
             let b_space = Space::from_state(sb);
@@ -517,4 +520,29 @@ fn an_infinite_moment_body_never_rotates() {
         assert_eq!(body.angular_velocity(), Real::ZERO);
     }
     assert!(touched, "the box reached the slope");
+}
+
+/// A scene with spawns rolled back in place keeps its spawn schedule with
+/// `substeps > 1`: the schedule counts steps (`WorldState::steps`), not
+/// sub-steps (`stamp`).
+#[test]
+fn rollback_keeps_the_spawn_schedule_with_substeps() {
+    let mut desc = builtin("rain_1000");
+    desc.settings.substeps = 3;
+    let mut straight = build(&desc);
+    let mut rolled = build(&desc);
+    straight.step_n(90).unwrap_or_else(|e| panic!("{e}"));
+    rolled.step_n(40).unwrap_or_else(|e| panic!("{e}"));
+    let saved = rolled.space.state().clone();
+    assert_eq!(saved.steps, 40);
+    assert_eq!(saved.stamp, 120);
+    rolled.step_n(30).unwrap_or_else(|e| panic!("{e}"));
+    rolled.restore_state(&saved);
+    assert_eq!(rolled.steps_taken(), 40);
+    rolled.step_n(50).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(rolled.space.checksum(), straight.space.checksum());
+    assert_eq!(
+        straight.space.bodies().count(),
+        rolled.space.bodies().count()
+    );
 }

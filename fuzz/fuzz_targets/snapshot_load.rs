@@ -6,12 +6,16 @@ use tamias2d::math::Real;
 use tamias2d::snapshot;
 
 fuzz_target!(|bytes: &[u8]| {
-    let Ok(mut space) = snapshot::load(bytes) else { return };
+    let Ok(mut space) = snapshot::load(bytes) else {
+        return;
+    };
     if let Err(e) = space.validate() {
         panic!("load accepted an invalid world: {e}");
     }
-    // Bound the work a forged world can ask for (body count, iterations).
-    if space.bodies().count() > 64 || space.settings().iterations > 50 {
+    // Bound the work a forged world can ask for (body count, iterations,
+    // sub-steps).
+    let s = space.settings();
+    if space.bodies().count() > 64 || s.iterations > 50 || s.substeps > 4 {
         return;
     }
     for _ in 0..3 {

@@ -54,6 +54,12 @@ enum Op {
         y: i32,
     },
     CloneRestore,
+    /// Iterations, sub-steps and the solver switches (bit i of `flags`).
+    Settings {
+        iterations: u8,
+        substeps: u8,
+        flags: u8,
+    },
 }
 
 fn real(v: i32, shift: u32) -> Real {
@@ -144,6 +150,21 @@ fuzz_target!(|ops: Vec<Op>| {
                 let _ = space.point_query(p, Real::from_int(5), ShapeFilter::ALL);
                 let _ = space.segment_query(Vect::ZERO, p, Real::ONE, ShapeFilter::ALL);
                 let _ = space.bb_query(BB::for_circle(p, Real::from_int(3)), ShapeFilter::ALL);
+            }
+            Op::Settings {
+                iterations,
+                substeps,
+                flags,
+            } => {
+                let mut s = space.settings().clone();
+                s.iterations = u32::from(*iterations % 32);
+                // Up to 5: out-of-range values must be rejected, not panic.
+                s.substeps = u32::from(*substeps % 6);
+                s.warm_starting = flags & 1 != 0;
+                s.friction = flags & 2 != 0;
+                s.restitution = flags & 4 != 0;
+                s.bias_impulses = flags & 8 != 0;
+                let _ = space.set_settings(s);
             }
             Op::CloneRestore => {
                 let copy = space.clone();

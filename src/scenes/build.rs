@@ -233,16 +233,17 @@ impl Scene {
 
     /// Rolls the scene's space back (or forward) to `state` in place, keeping
     /// handlers and every handle the scene holds valid (the in-memory
-    /// rollback path). `steps_taken` is set to the state's step count so
-    /// spawns stay on schedule.
+    /// rollback path). `steps_taken` is set to the state's step count
+    /// ([`WorldState::steps`](crate::space::WorldState::steps), not the
+    /// sub-step `stamp`) so spawns stay on schedule.
     pub fn restore_state(&mut self, state: &crate::space::WorldState) {
         self.space.restore_state(state);
-        self.steps_taken = state.stamp;
+        self.steps_taken = state.steps;
         // Spawns after the restored step have not happened yet.
         self.next_spawn = self
             .spawns
             .iter()
-            .take_while(|s| u64::from(s.at_step) <= state.stamp)
+            .take_while(|s| u64::from(s.at_step) <= state.steps)
             .count();
         let spawned: usize = self
             .spawns

@@ -118,8 +118,8 @@ pub fn checksum_parts(space: &Space) -> ChecksumParts {
     }
 }
 
-fn counters(s: &WorldState) -> (u64, crate::Real, crate::Real) {
-    (s.stamp, s.current_dt, s.prev_dt)
+fn counters(s: &WorldState) -> (u64, u64, crate::Real, crate::Real) {
+    (s.stamp, s.steps, s.current_dt, s.prev_dt)
 }
 
 impl ChecksumParts {
@@ -211,7 +211,7 @@ pub fn first_difference(a: &Space, b: &Space) -> Option<Difference> {
         .or_else(|| arena_rest(&sa.shapes, &sb.shapes, Subject::ShapeArena))
         .or_else(|| arbiter_difference(sa, sb))
         .or_else(|| {
-            first_field!(sa, sb; stamp, current_dt, prev_dt).map(|f| diff(Subject::Counters, f))
+            first_field!(sa, sb; stamp, steps, current_dt, prev_dt).map(|f| diff(Subject::Counters, f))
         })
 }
 

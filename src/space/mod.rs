@@ -103,8 +103,11 @@ pub struct WorldState {
     pub shapes: Arena<Shape>,
     /// Arbiters, sorted by `(shape_a, shape_b)` slot index.
     pub arbiters: Vec<Arbiter>,
-    /// Number of steps taken (sub-steps when `settings.substeps` > 1).
+    /// Number of sub-steps taken (MIS `stamp`: arbiters count in it).
     pub stamp: u64,
+    /// Number of [`Space::step`] calls with `dt > 0` (each is `substeps`
+    /// sub-steps; scenes schedule spawns by it).
+    pub steps: u64,
     /// `dt` of the last (sub-)step (0 before the first).
     pub current_dt: Real,
     /// `dt` of the (sub-)step before (scales warm starting).
@@ -135,6 +138,11 @@ pub struct StepStats {
     /// outside the representable range (see the safe envelope in
     /// `docs/numerics.md`). Zero for every scene inside the envelope.
     pub saturated_bodies: u32,
+    /// Dynamic bodies with infinite mass (no explicit mass and no shape
+    /// with mass or density): gravity moves them but no contact can stop
+    /// them, so they fall through everything — almost always a missing
+    /// density. Counted when the solver loads the bodies.
+    pub massless_dynamic_bodies: u32,
 }
 
 /// Per-`dt` constants: the only `pow`, reciprocal and such of a step.
@@ -304,6 +312,12 @@ impl Space {
     /// step with [`Settings::substeps`] > 1.
     pub fn stamp(&self) -> u64 {
         self.state.stamp
+    }
+
+    /// Number of [`Space::step`] calls that advanced time (`dt > 0`),
+    /// whatever the sub-step count.
+    pub fn steps(&self) -> u64 {
+        self.state.steps
     }
 
     /// `dt` of the last step (of its last sub-step with
@@ -723,12 +737,19 @@ fn validate_counters(state: &WorldState) -> Result<(), String> {
         1 => cur.is_positive() && prev.is_zero(),
         _ => cur.is_positive() && prev.is_positive(),
     };
-    if ok {
-        Ok(())
-    } else {
-        Err(format!(
+    if !ok {
+        return Err(format!(
             "stamp {} with current dt {cur} and previous dt {prev}",
             state.stamp
-        ))
+        ));
     }
+    // Every step has at least one sub-step (a positive dt has at least one
+    // non-empty sub-step), so there are never more steps than sub-steps.
+    if state.steps > state.stamp {
+        return Err(format!(
+            "{} steps but only {} sub-steps",
+            state.steps, state.stamp
+        ));
+    }
+    Ok(())
 }

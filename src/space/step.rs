@@ -74,6 +74,8 @@ impl Space {
             return Ok(());
         }
         self.check_unlocked()?;
+        // 2^64 steps never happen: never saturates.
+        self.state.steps = self.state.steps.saturating_add(1);
         let substeps = self.state.settings.substeps;
         if substeps <= 1 {
             self.sub_step(dt);
@@ -354,9 +356,11 @@ impl Space {
         let sb = &mut self.caches.solver_bodies;
         sb.clear();
         sb.resize(self.state.bodies.capacity_slots(), SolverBody::default());
+        let mut massless = 0u32;
         for (h, body) in self.state.bodies.iter() {
             if let Some(slot) = sb.get_mut(h.index() as usize) {
                 let dynamic = body.body_type() == BodyType::Dynamic;
+                massless = massless.saturating_add(u32::from(dynamic && body.mass_inv().is_zero()));
                 *slot = SolverBody {
                     v: body.velocity(),
                     w: body.angular_velocity(),
@@ -371,6 +375,7 @@ impl Space {
                 };
             }
         }
+        self.caches.stats.massless_dynamic_bodies = massless;
     }
 
     /// Stage 6: effective masses, bias and bounce for every active contact,

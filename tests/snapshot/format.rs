@@ -35,6 +35,7 @@ fn format_layout_is_pinned() {
         "00000000",         // shapes.len
         "0000000000000000", // arbiters: length 0
         "0000000000000000", // stamp
+        "0000000000000000", // steps
         "0000000000000000", // current_dt
         "0000000000000000", // prev_dt
     ]
@@ -160,4 +161,38 @@ fn errors_display_what_is_wrong() {
         .to_string()
         .contains('9'));
     assert!(SnapshotError::TrailingBytes(3).to_string().contains('3'));
+}
+
+/// The committed seeds of the `snapshot_load` fuzz target are snapshots of
+/// the current format (a stale seed is rejected at the version check and
+/// fuzzes nothing). `TAMIAS_WRITE_FUZZ_SEEDS=1 cargo test --test snapshot
+/// fuzz_seeds` rewrites them: three small scenes mid-run, one with
+/// sub-steps and switches off so the settings vary too.
+#[test]
+fn fuzz_seeds_are_current_snapshots() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/seeds/snapshot_load");
+    let seeds: [(&str, &str, u32); 3] = [
+        ("seed0", "free_fall", 10),
+        ("seed1", "stack_10", 30),
+        ("seed2", "newtons_cradle", 5),
+    ];
+    for (file, scene, steps) in seeds {
+        let path = dir.join(file);
+        if std::env::var_os("TAMIAS_WRITE_FUZZ_SEEDS").is_some() {
+            let mut s = build(scene);
+            if file == "seed2" {
+                let mut settings = s.space.settings().clone();
+                settings.substeps = 2;
+                settings.friction = false;
+                settings.warm_starting = false;
+                ok(s.space.set_settings(settings));
+            }
+            ok(s.step_n(steps));
+            ok(std::fs::write(&path, save(&s.space)));
+        }
+        let bytes = ok(std::fs::read(&path));
+        if let Err(e) = snapshot::load(&bytes) {
+            panic!("{file}: {e} (regenerate: TAMIAS_WRITE_FUZZ_SEEDS=1)");
+        }
+    }
 }

@@ -383,6 +383,11 @@ fn inconsistent_snapshots_are_invalid_and_say_why() {
             Box::new(|j| j["stamp"] = serde_json::json!(0)),
         ),
         (
+            "more steps than sub-steps",
+            "sub-steps",
+            Box::new(|j| bump(&mut j["steps"], 1_000_000)),
+        ),
+        (
             "negative dt",
             "current dt",
             Box::new(|j| j["current_dt"] = serde_json::json!(-1)),
