@@ -367,23 +367,59 @@ impl SolverContact {
 
     /// Applies the cached (warm-start) impulse, scaled by `dt_coef = dt/prev_dt`.
     pub fn warm_start(&self, bodies: &mut [SolverBody], dt_coef: Real) {
-        let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
-            return;
-        };
-        let (jn, jt) = (self.jn_acc * dt_coef, self.jt_acc * dt_coef);
-        self.apply(&mut a, &mut b, jn, jt, &mut Saturating);
-        store_pair(bodies, self.a, a, self.b, b);
+        self.warm_start_with::<true>(bodies, dt_coef);
     }
 
     /// [`warm_start`](Self::warm_start) of the normal impulse alone (friction
     /// off: `jt_acc` is 0).
     pub fn warm_start_normal(&self, bodies: &mut [SolverBody], dt_coef: Real) {
-        let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
+        self.warm_start_with::<false>(bodies, dt_coef);
+    }
+
+    /// The warm start, fast path first as in [`solve_with`](Self::solve_with).
+    #[inline]
+    fn warm_start_with<const FRICTION: bool>(&self, bodies: &mut [SolverBody], dt_coef: Real) {
+        let Some((a0, b0)) = load_pair(bodies, self.a, self.b) else {
             return;
         };
-        let jn = self.jn_acc * dt_coef;
-        self.apply_normal(&mut a, &mut b, jn, &mut Saturating, Velocity::Real);
+        let (mut a, mut b) = (a0, b0);
+        let mut fast = Unsaturated::new();
+        self.warm_start_bodies::<_, FRICTION>(&mut a, &mut b, dt_coef, &mut fast);
+        if fast.overflowed() {
+            (a, b) = (a0, b0);
+            self.warm_start_saturating::<FRICTION>(&mut a, &mut b, dt_coef);
+        }
         store_pair(bodies, self.a, a, self.b, b);
+    }
+
+    /// The reference path of [`warm_start_with`](Self::warm_start_with).
+    #[cold]
+    #[inline(never)]
+    fn warm_start_saturating<const FRICTION: bool>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        dt_coef: Real,
+    ) {
+        self.warm_start_bodies::<_, FRICTION>(a, b, dt_coef, &mut Saturating);
+    }
+
+    /// Applies the cached impulses scaled by `dt_coef` to body copies.
+    #[inline(always)]
+    fn warm_start_bodies<A: FixedArith, const FRICTION: bool>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        dt_coef: Real,
+        ar: &mut A,
+    ) {
+        let jn = ar.mul(self.jn_acc, dt_coef);
+        if FRICTION {
+            let jt = ar.mul(self.jt_acc, dt_coef);
+            self.apply(a, b, jn, jt, ar);
+        } else {
+            self.apply_normal(a, b, jn, ar, Velocity::Real);
+        }
     }
 
     /// One iteration (Chipmunk `applyImpulse`): bias, normal and friction.
@@ -731,6 +767,21 @@ mod tests {
         Ok(())
     }
 
+    /// The same for the warm start.
+    fn check_fast_warm_start<const F: bool>(
+        c: SolverContact,
+        a: SolverBody,
+        b: SolverBody,
+        dt_coef: Real,
+    ) -> Result<(), proptest::test_runner::TestCaseError> {
+        let mut bodies = [a, b];
+        c.warm_start_with::<F>(&mut bodies, dt_coef);
+        let (mut ra, mut rb) = (a, b);
+        c.warm_start_saturating::<F>(&mut ra, &mut rb, dt_coef);
+        proptest::prop_assert_eq!(bodies, [ra, rb]);
+        Ok(())
+    }
+
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2000))]
         /// The unsaturated fast path is bit-identical to the saturating
@@ -740,8 +791,11 @@ mod tests {
             cv in proptest::collection::vec(any_real(), 21),
             av in proptest::array::uniform8(any_real()),
             bv in proptest::array::uniform8(any_real()),
+            dt_coef in any_real(),
         ) {
             let (c, a, b) = (contact(&cv), solver_body(av), solver_body(bv));
+            check_fast_warm_start::<true>(c, a, b, dt_coef)?;
+            check_fast_warm_start::<false>(c, a, b, dt_coef)?;
             check_fast_path::<true, true>(c, a, b)?;
             check_fast_path::<true, false>(c, a, b)?;
             check_fast_path::<false, true>(c, a, b)?;

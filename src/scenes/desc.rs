@@ -424,7 +424,11 @@ impl SceneDesc {
 
     /// Number of bodies the scene has once every spawn has happened.
     pub fn total_bodies(&self) -> usize {
-        self.bodies.len() + self.spawns.iter().map(|s| s.bodies.len()).sum::<usize>()
+        // Counts of bodies in memory: the sums never saturate.
+        self.spawns
+            .iter()
+            .map(|s| s.bodies.len())
+            .fold(self.bodies.len(), usize::saturating_add)
     }
 
     /// Number of shapes the scene has once every spawn has happened.

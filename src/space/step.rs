@@ -54,9 +54,12 @@ use super::{Caches, DtConstants, ShapeCache, Space, SpaceError, StepStats};
 pub fn sub_step_dts(dt: Real, substeps: u32) -> impl Iterator<Item = Real> {
     let k = i64::from(substeps.max(1));
     let bits = dt.to_bits().max(0);
-    // k ≥ 1 and bits ≥ 0: no division by zero, no overflow; q + 1 ≤ bits
-    // whenever r > 0.
-    let (q, r) = (bits.wrapping_div(k), bits.wrapping_rem(k));
+    // k ≥ 1 and bits ≥ 0: the checked division and remainder never fail
+    // (the fallbacks are unreachable), and q + 1 ≤ bits whenever r > 0.
+    let (q, r) = (
+        bits.checked_div(k).unwrap_or(bits),
+        bits.checked_rem(k).unwrap_or(0),
+    );
     (0..k)
         .map(move |i| Real::from_bits(q.wrapping_add(i64::from(i < r))))
         .filter(|d| d.is_positive())
@@ -116,7 +119,8 @@ impl Space {
     /// Stages 1–11 for one (sub-)step of `dt > 0`.
     fn sub_step(&mut self, dt: Real) {
         self.locked = true;
-        self.state.stamp += 1;
+        // 2^64 sub-steps never happen: never saturates.
+        self.state.stamp = self.state.stamp.saturating_add(1);
         self.state.prev_dt = self.state.current_dt;
         self.state.current_dt = dt;
         let k = self.dt_constants(dt);
@@ -251,8 +255,11 @@ impl Space {
             let existing = old_iter.next_if(|a| a.key() == (ia, ib));
             let info = self.narrowphase(ia, ib, existing.as_ref());
             if let Some(info) = &info {
-                self.caches.stats.touching_pairs += 1;
-                self.caches.stats.iteration_cap_hits += u32::from(info.hit_iteration_cap);
+                let stats = &mut self.caches.stats;
+                stats.touching_pairs = stats.touching_pairs.saturating_add(1);
+                stats.iteration_cap_hits = stats
+                    .iteration_cap_hits
+                    .saturating_add(u32::from(info.hit_iteration_cap));
             }
             let Some(info) = info else {
                 if let Some(arb) = existing {
