@@ -29,11 +29,14 @@
 //! ```
 #![allow(clippy::float_arithmetic)] // timing report only
 
+mod common;
+
 use std::cell::RefCell;
 use std::hint::black_box;
 use std::rc::Rc;
 use std::time::{Duration, Instant};
 
+use common::median;
 use criterion::Criterion;
 use tamias2d::scenes;
 use tamias2d::space::{Settings, WorldState};
@@ -101,20 +104,6 @@ const SWITCHES: &[Variant] = &[
 
 /// Scenes of the `switches` group: the CI-sized pyramid and a 500-box pile.
 const SWITCH_SCENES: &[&str] = &["pyramid_20", "bowl_boxes_500"];
-
-/// Median of `xs` (sorted in place); 0 for an empty slice.
-fn median(xs: &mut [f64]) -> f64 {
-    if xs.is_empty() {
-        return 0.0;
-    }
-    xs.sort_by(f64::total_cmp);
-    let n = xs.len();
-    if n % 2 == 1 {
-        xs[n / 2]
-    } else {
-        0.5 * (xs[n / 2 - 1] + xs[n / 2])
-    }
-}
 
 /// One row of the switch table: scene, variant, median seconds per step.
 type Row = (&'static str, &'static str, f64);

@@ -352,55 +352,66 @@ fn same_bodies(a: &SceneDesc, b: &SceneDesc, steps: u32) -> bool {
     sa.bodies != bodies_after(&plain, steps).bodies
 }
 
+/// For each `(scene, steps)`: the scene with a switch off (`off`) steps to
+/// the same bodies as the scene with the equivalent plain data (`same`),
+/// and the switch changes the result in at least one of them.
+fn check_switch_equivalence(
+    cases: &[(&str, u32)],
+    off: impl Fn(&mut SceneDesc),
+    same: impl Fn(&mut SceneDesc),
+    what: &str,
+) {
+    let mut changed = 0;
+    for &(name, steps) in cases {
+        let mut with_off = builtin(name);
+        off(&mut with_off);
+        let mut with_same = builtin(name);
+        same(&mut with_same);
+        changed += usize::from(same_bodies(&with_off, &with_same, steps));
+    }
+    assert!(changed > 0, "{what} mattered somewhere");
+}
+
 #[test]
 fn friction_off_equals_zero_friction_everywhere() {
-    let mut changed = 0;
-    for (name, steps) in [
-        ("incline_slide", 60),
-        ("pyramid_20", 20),
-        ("bowl_boxes_100", 120),
-    ] {
-        let mut off = builtin(name);
-        off.settings.friction = false;
-        let mut zero = builtin(name);
-        for_each_shape(&mut zero, |s| s.friction = Real::ZERO);
-        changed += usize::from(same_bodies(&off, &zero, steps));
-    }
-    assert!(changed > 0, "friction mattered somewhere");
+    check_switch_equivalence(
+        &[
+            ("incline_slide", 60),
+            ("pyramid_20", 20),
+            ("bowl_boxes_100", 120),
+        ],
+        |d| d.settings.friction = false,
+        |d| for_each_shape(d, |s| s.friction = Real::ZERO),
+        "friction",
+    );
 }
 
 #[test]
 fn restitution_off_equals_zero_elasticity_everywhere() {
-    let mut changed = 0;
-    for (name, steps) in [
-        ("elastic_pair", 240),
-        ("newtons_cradle", 60),
-        ("bouncy_circles_500", 60),
-    ] {
-        let mut off = builtin(name);
-        off.settings.restitution = false;
-        let mut zero = builtin(name);
-        for_each_shape(&mut zero, |s| s.elasticity = Real::ZERO);
-        changed += usize::from(same_bodies(&off, &zero, steps));
-    }
-    assert!(changed > 0, "restitution mattered somewhere");
+    check_switch_equivalence(
+        &[
+            ("elastic_pair", 240),
+            ("newtons_cradle", 60),
+            ("bouncy_circles_500", 60),
+        ],
+        |d| d.settings.restitution = false,
+        |d| for_each_shape(d, |s| s.elasticity = Real::ZERO),
+        "restitution",
+    );
 }
 
 #[test]
 fn bias_impulses_off_equal_a_collision_bias_of_one() {
-    let mut changed = 0;
-    for (name, steps) in [
-        ("stack_10", 120),
-        ("pyramid_20", 20),
-        ("bowl_boxes_100", 120),
-    ] {
-        let mut off = builtin(name);
-        off.settings.bias_impulses = false;
-        let mut one = builtin(name);
-        one.settings.collision_bias = Real::ONE;
-        changed += usize::from(same_bodies(&off, &one, steps));
-    }
-    assert!(changed > 0, "bias impulses mattered somewhere");
+    check_switch_equivalence(
+        &[
+            ("stack_10", 120),
+            ("pyramid_20", 20),
+            ("bowl_boxes_100", 120),
+        ],
+        |d| d.settings.bias_impulses = false,
+        |d| d.settings.collision_bias = Real::ONE,
+        "bias impulses",
+    );
 }
 
 #[test]

@@ -17,8 +17,9 @@ pub mod rapier_world;
 use tamias2d::math::Real;
 use tamias2d::scenes::{self, SceneDesc};
 
-#[allow(unused_imports)]
+#[allow(unused_imports)] // each user takes a different part
 pub use measure::{BodyState, Engine, Penetration, TamiasRun};
+#[allow(unused_imports)]
 pub use rapier_world::RapierRun;
 
 /// BENCH_SCENES sections A and B, CI-sized variants (the quick set).
