@@ -246,13 +246,31 @@ impl Space {
             candidate_pairs: pairs.len() as u32,
             ..StepStats::default()
         };
-        let mut old_iter = old.drain(..).peekable();
+        // `Drain::as_slice` peeks without moving: each kept arbiter is moved
+        // once out of `old` and once into `arbiters` (they are 240 bytes).
+        let mut old_iter = old.drain(..);
         for &(ia, ib) in &pairs {
             // Arbiters of pairs that the broadphase no longer reports.
-            while let Some(arb) = old_iter.next_if(|a| a.key() < (ia, ib)) {
-                arbiters.extend(self.retire(arb));
+            while old_iter
+                .as_slice()
+                .first()
+                .is_some_and(|a| a.key() < (ia, ib))
+            {
+                if let Some(mut arb) = old_iter.next() {
+                    if self.retire(&mut arb) {
+                        arbiters.push(arb);
+                    }
+                }
             }
-            let existing = old_iter.next_if(|a| a.key() == (ia, ib));
+            let existing = if old_iter
+                .as_slice()
+                .first()
+                .is_some_and(|a| a.key() == (ia, ib))
+            {
+                old_iter.next()
+            } else {
+                None
+            };
             let info = self.narrowphase(ia, ib, existing.as_ref());
             if let Some(info) = &info {
                 let stats = &mut self.caches.stats;
@@ -262,8 +280,10 @@ impl Space {
                     .saturating_add(u32::from(info.hit_iteration_cap));
             }
             let Some(info) = info else {
-                if let Some(arb) = existing {
-                    arbiters.extend(self.retire(arb));
+                if let Some(mut arb) = existing {
+                    if self.retire(&mut arb) {
+                        arbiters.push(arb);
+                    }
                 }
                 continue;
             };
@@ -290,8 +310,10 @@ impl Space {
             }
             arbiters.push(arb);
         }
-        for arb in old_iter {
-            arbiters.extend(self.retire(arb));
+        for mut arb in old_iter {
+            if self.retire(&mut arb) {
+                arbiters.push(arb);
+            }
         }
         self.caches.broadphase.pairs = pairs;
         self.state.arbiters = arbiters;
@@ -301,11 +323,11 @@ impl Space {
 
     /// An arbiter whose shapes did not touch this step: the separate handler
     /// runs once (it becomes `Cached`), and it is dropped once it has not
-    /// touched for `collision_persistence` steps.
-    fn retire(&mut self, mut arb: Arbiter) -> Option<Arbiter> {
+    /// touched for `collision_persistence` steps (returns whether to keep it).
+    fn retire(&mut self, arb: &mut Arbiter) -> bool {
         if arb.state != ArbiterState::Cached {
             self.handlers.separate(
-                &mut arb,
+                arb,
                 &self.state.bodies,
                 &self.state.shapes,
                 &mut self.post_step,
@@ -313,7 +335,7 @@ impl Space {
             arb.state = ArbiterState::Cached;
         }
         let idle = self.state.stamp.saturating_sub(arb.stamp);
-        (idle < u64::from(self.state.settings.collision_persistence)).then_some(arb)
+        idle < u64::from(self.state.settings.collision_persistence)
     }
 
     /// Filters a candidate pair and collides it; `None` if rejected or not touching.
