@@ -1,5 +1,6 @@
-//! Collision micro-benchmarks: each pair function, GJK and EPA alone, and the
-//! full `collide` (ordering, translation to the origin, dispatch).
+//! Collision micro-benchmarks: each pair function (polygon pairs through
+//! both the separating-axis path and the GJK + EPA one), GJK and EPA alone,
+//! and the full `collide` (ordering, translation to the origin, dispatch).
 //!
 //! Shapes are built from integers, exact literals and the crate's own
 //! fixed-point trig (no floats). Run with `cargo bench --bench collision`;
@@ -9,7 +10,7 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion};
 use tamias2d::collision::{
     circle_to_circle, circle_to_poly, circle_to_segment, collide, epa, gjk, poly_to_poly,
-    segment_to_poly, segment_to_segment, support, CollisionInfo, SupportContext,
+    poly_to_poly_gjk, segment_to_poly, segment_to_segment, support, CollisionInfo, SupportContext,
 };
 use tamias2d::shape::{Circle, Geometry, Poly, Segment};
 use tamias2d::{real, Real, Vect};
@@ -39,6 +40,27 @@ fn check(name: &str, want: usize, f: impl Fn(&mut CollisionInfo)) {
     f(&mut info);
     assert_eq!(info.count, want, "{name}: {info:?}");
     assert!(!info.hit_iteration_cap, "{name}");
+}
+
+/// Benchmarks a polygon pair through `poly_to_poly` (separating axes) and
+/// `poly_to_poly_gjk` (GJK + EPA, the path it replaced), cold started.
+fn poly_pair(c: &mut Criterion, name: &str, want: usize, (a, b): (&Poly, &Poly)) {
+    check(name, want, |i| poly_to_poly(a, b, i));
+    check(name, want, |i| poly_to_poly_gjk(a, b, i));
+    c.bench_function(&format!("poly_to_poly/{name}"), |bch| {
+        bch.iter(|| {
+            let mut info = CollisionInfo::new(0);
+            poly_to_poly(black_box(a), black_box(b), &mut info);
+            info
+        })
+    });
+    c.bench_function(&format!("poly_to_poly_gjk/{name}"), |bch| {
+        bch.iter(|| {
+            let mut info = CollisionInfo::new(0);
+            poly_to_poly_gjk(black_box(a), black_box(b), &mut info);
+            info
+        })
+    });
 }
 
 fn pairs(c: &mut Criterion) {
@@ -109,7 +131,7 @@ fn pairs(c: &mut Criterion) {
         })
     });
 
-    // Box resting on a box (cores overlap: GJK + EPA + clipping).
+    // Box resting on a box (cores overlap).
     let floor = rect(
         Real::from_int(-5),
         -Real::ONE,
@@ -118,16 +140,9 @@ fn pairs(c: &mut Criterion) {
         Real::ZERO,
     );
     let top = rect(-Real::ONE, real!(-0.01), Real::ONE, real!(0.99), Real::ZERO);
-    check("box_on_box", 2, |i| poly_to_poly(&floor, &top, i));
-    c.bench_function("poly_to_poly/box_on_box_overlap", |bch| {
-        bch.iter(|| {
-            let mut info = CollisionInfo::new(0);
-            poly_to_poly(black_box(&floor), black_box(&top), &mut info);
-            info
-        })
-    });
+    poly_pair(c, "box_on_box_overlap", 2, (&floor, &top));
 
-    // Rounded boxes whose cores are apart (GJK only + clipping).
+    // Rounded boxes whose cores are apart (vertex–face through the radius).
     let r_floor = rect(
         Real::from_int(-5),
         -Real::ONE,
@@ -136,33 +151,47 @@ fn pairs(c: &mut Criterion) {
         real!(0.05),
     );
     let r_top = rect(-Real::ONE, real!(0.09), Real::ONE, real!(1.09), real!(0.05));
-    check("rounded", 2, |i| poly_to_poly(&r_floor, &r_top, i));
-    c.bench_function("poly_to_poly/rounded_boxes_core_apart", |bch| {
-        bch.iter(|| {
-            let mut info = CollisionInfo::new(0);
-            poly_to_poly(black_box(&r_floor), black_box(&r_top), &mut info);
-            info
-        })
-    });
+    poly_pair(c, "rounded_boxes_core_apart", 2, (&r_floor, &r_top));
+
+    // Two rotated boxes overlapping corner into face.
+    let turned = |c: Vect, turn: Real, w: Real, h: Real| {
+        let rot = Vect::for_angle(turn);
+        let v: Vec<Vect> = [(1, -1), (1, 1), (-1, 1), (-1, -1)]
+            .iter()
+            .map(|&(x, y)| {
+                let local = Vect::new(w * Real::from_int(x), h * Real::from_int(y));
+                c + rot.rotate(local)
+            })
+            .collect();
+        Poly::from_ccw(&v, Real::ZERO).expect("valid box")
+    };
+    let ra = turned(Vect::ZERO, real!(0.1), Real::ONE, Real::HALF);
+    let rb = turned(
+        Vect::new(real!(0.6), real!(0.8)),
+        real!(0.7),
+        real!(0.75),
+        real!(0.4),
+    );
+    poly_pair(c, "rotated_boxes_overlap", 2, (&ra, &rb));
 
     // Two overlapping octagons, cold and warm started.
     let oa = octagon(Vect::ZERO, Real::ONE, Real::ZERO);
     let ob = octagon(Vect::new(real!(1.7), real!(0.4)), Real::ONE, real!(0.2));
-    check("octagons", 2, |i| poly_to_poly(&oa, &ob, i));
-    c.bench_function("poly_to_poly/octagons_overlap_cold", |bch| {
-        bch.iter(|| {
-            let mut info = CollisionInfo::new(0);
-            poly_to_poly(black_box(&oa), black_box(&ob), &mut info);
-            info
-        })
-    });
+    poly_pair(c, "octagons_overlap_cold", 2, (&oa, &ob));
     let mut first = CollisionInfo::new(0);
-    poly_to_poly(&oa, &ob, &mut first);
+    poly_to_poly_gjk(&oa, &ob, &mut first);
     let warm_id = first.id;
     c.bench_function("poly_to_poly/octagons_overlap_warm", |bch| {
         bch.iter(|| {
             let mut info = CollisionInfo::new(black_box(warm_id));
             poly_to_poly(black_box(&oa), black_box(&ob), &mut info);
+            info
+        })
+    });
+    c.bench_function("poly_to_poly_gjk/octagons_overlap_warm", |bch| {
+        bch.iter(|| {
+            let mut info = CollisionInfo::new(black_box(warm_id));
+            poly_to_poly_gjk(black_box(&oa), black_box(&ob), &mut info);
             info
         })
     });

@@ -57,7 +57,12 @@ fn new_and_old(a: &Poly, b: &Poly) -> (CollisionInfo, CollisionInfo) {
 /// Everything but the warm-start id (the new path passes the id through;
 /// GJK returns its own).
 fn manifold(i: &CollisionInfo) -> (Vect, usize, Vec<tamias2d::collision::Contact>, bool) {
-    (i.normal, i.count, i.contacts().to_vec(), i.hit_iteration_cap)
+    (
+        i.normal,
+        i.count,
+        i.contacts().to_vec(),
+        i.hit_iteration_cap,
+    )
 }
 
 fn deepest(info: &CollisionInfo) -> Option<f64> {
@@ -286,18 +291,12 @@ fn any_local() -> impl Strategy<Value = (Vec<(f64, f64)>, f64)> {
 
 fn build(local: &[(f64, f64)], rad: f64, (cx, cy): (f64, f64)) -> Option<Poly> {
     let vs: Vec<Vect> = local.iter().map(|(x, y)| v(cx + x, cy + y)).collect();
-    let size = local
-        .iter()
-        .map(|(x, y)| x.hypot(*y))
-        .fold(0.0, f64::max);
+    let size = local.iter().map(|(x, y)| x.hypot(*y)).fold(0.0, f64::max);
     Poly::from_ccw(&vs, r(rad * size)).ok()
 }
 
 fn reach(local: &[(f64, f64)], rad: f64) -> f64 {
-    let size = local
-        .iter()
-        .map(|(x, y)| x.hypot(*y))
-        .fold(0.0, f64::max);
+    let size = local.iter().map(|(x, y)| x.hypot(*y)).fold(0.0, f64::max);
     size * (1.0 + rad)
 }
 

@@ -230,7 +230,10 @@ fn equally_deep_faces_may_depend_on_the_warm_start_but_not_the_depth() {
         for c in gjk.contacts() {
             assert_eq!(c.distance, -Real::TWO, "id {id:#x}");
         }
-        assert!(gjk.normal == Vect::Y || gjk.normal == -Vect::Y, "id {id:#x}");
+        assert!(
+            gjk.normal == Vect::Y || gjk.normal == -Vect::Y,
+            "id {id:#x}"
+        );
         flipped += usize::from(gjk.normal != cold.normal);
     }
     assert!(

@@ -97,6 +97,8 @@ pub const WARN_EPA_ITERATIONS: u32 = 30;
 /// leads to, and a face made of collinear pieces gets the normal of the piece
 /// GJK ends on (equal up to rounding). Either answer is right and the result
 /// is still deterministic, since the id is part of the arbiter state.
+/// Polygon pairs answered by separating axes (see [`poly_to_poly`]) neither
+/// read nor change the id, so their answer is the same for every id.
 pub type CollisionId = u32;
 
 /// One contact: a pair of points on the two surfaces.

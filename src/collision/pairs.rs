@@ -204,7 +204,7 @@ pub fn segment_to_poly(a: &Segment, b: &Poly, info: &mut CollisionInfo) {
 }
 
 /// MIS `PolyToPoly`: separating axes over the stored edge normals, then
-/// edge clipping ([`sat`](super::sat)); GJK (EPA when the cores overlap) only
+/// edge clipping (`sat.rs`); GJK (EPA when the cores overlap) only
 /// for cores apart within contact range whose closest features are not a
 /// vertex and a face, and for degenerate polygons. Swap-exact (see the
 /// module docs).

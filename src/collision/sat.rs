@@ -24,11 +24,20 @@
 //! * **Cores apart but within the radius sum + [`CONTACT_TOLERANCE`]**
 //!   (rounded polygons, or sharp ones a hair apart): the best face gives the
 //!   core distance only if a vertex of the other polygon at that separation
-//!   projects onto the face (a vertex–face pair). That is checked exactly; if
-//!   it fails the closest features are two vertices (or a vertex and an edge
-//!   of the other polygon at a different separation), whose normal is not a
-//!   face normal, and we return `false` so the caller falls back to GJK.
+//!   projects onto the face (a vertex–face pair). That is checked exactly
+//!   (on an exact tie of the two polygons' best separations, both faces are
+//!   tried, A's first: a short box above a long one is realised by the long
+//!   one's face only); if it fails the closest features are two vertices
+//!   (or a vertex and an edge of the other polygon at a different
+//!   separation), whose normal is not a face normal, and we return `false`
+//!   so the caller falls back to GJK.
 //! * **Further apart:** no contact, decided exactly, no GJK.
+//! * **Check:** the deepest clipped contact must be as deep as the axis says
+//!   (within 64 ulp + 2^-20 relative), and a touching axis must give a
+//!   contact. Slivers can break this (nearly collinear edges whose rounded
+//!   normals make the support edge a neighbour of the reference face, or a
+//!   deepest vertex clipped off by a short face); such a pair gets the GJK
+//!   path's answer.
 //!
 //! Tie-breaking is fixed: among equal separations the lower edge index wins,
 //! and `A`'s face wins over `B`'s unless `B`'s separation is strictly larger
@@ -46,6 +55,7 @@ use super::wide;
 use super::{CollisionInfo, CONTACT_TOLERANCE};
 use crate::math::{Real, Vect};
 use crate::shape::Poly;
+use core::cmp::Ordering;
 
 /// The best axis of one polygon against the other.
 #[derive(Clone, Copy, Debug)]
@@ -137,21 +147,26 @@ pub(crate) fn poly_to_poly_sat(a: &Poly, b: &Poly, info: &mut CollisionInfo) -> 
     if on_b.sep > limit {
         return true;
     }
-    // Reference face: A's unless B's separation is strictly larger.
-    let (sep, n) = if on_b.sep > on_a.sep {
-        let n = b.normal(on_b.edge);
-        let face = (b.vert(on_b.edge), b.vert(next(on_b.edge, b.count())));
-        if on_b.sep > 0 && !face_realises_distance(a, face, n, on_b.sep) {
-            return false;
-        }
-        (on_b.sep, -n)
-    } else {
+    // Reference face: A's unless B's separation is strictly larger. Cores
+    // apart: the face must realise the distance (module docs); when the two
+    // separations tie exactly, either face may be the one that does.
+    let face_a = || {
         let n = a.normal(on_a.edge);
         let face = (a.vert(on_a.edge), a.vert(next(on_a.edge, a.count())));
-        if on_a.sep > 0 && !face_realises_distance(b, face, n, on_a.sep) {
-            return false;
-        }
-        (on_a.sep, n)
+        (on_a.sep <= 0 || face_realises_distance(b, face, n, on_a.sep)).then_some((on_a.sep, n))
+    };
+    let face_b = || {
+        let n = b.normal(on_b.edge);
+        let face = (b.vert(on_b.edge), b.vert(next(on_b.edge, b.count())));
+        (on_b.sep <= 0 || face_realises_distance(a, face, n, on_b.sep)).then_some((on_b.sep, -n))
+    };
+    let chosen = match on_b.sep.cmp(&on_a.sep) {
+        Ordering::Greater => face_b(),
+        Ordering::Less => face_a(),
+        Ordering::Equal => face_a().or_else(face_b),
+    };
+    let Some((sep, n)) = chosen else {
+        return false;
     };
     let points = ClosestPoints {
         n,
@@ -160,9 +175,28 @@ pub(crate) fn poly_to_poly_sat(a: &Poly, b: &Poly, info: &mut CollisionInfo) -> 
     };
     let e1 = support_edge_for_poly(a, n);
     let e2 = support_edge_for_poly(b, -n);
-    contact_points(&e1, &e2, &points, info);
+    let mut out = CollisionInfo::new(info.id);
+    contact_points(&e1, &e2, &points, &mut out);
+    // The deepest contact must be as deep as the axis says (the support
+    // vertex lies on the incident edge inside the reference face's slab).
+    // Slivers break this: nearly collinear edges whose rounded normals make
+    // `support_edge_for_poly` pick a neighbour of the reference face, or a
+    // deepest vertex clipped off by a short face. GJK then decides.
+    let expected = real_of(sep) - min_dist;
+    let deepest = out.contacts().iter().map(|c| c.distance).min();
+    let slack = Real::from_bits(SLACK_ULP) + Real::from_bits(expected.abs().to_bits() >> 20);
+    match deepest {
+        Some(d) if d <= expected + slack => {}
+        None if expected > CONTACT_TOLERANCE - slack => {}
+        _ => return false,
+    }
+    *info = out;
     true
 }
+
+/// Rounding allowed between the axis separation and the deepest clipped
+/// contact, in ulp (each clipped point and distance is rounded once or twice).
+const SLACK_ULP: i64 = 64;
 
 /// The index after `i` on a polygon of `count ≥ 1` vertices.
 #[inline]
@@ -220,6 +254,29 @@ mod tests {
         let mut info = CollisionInfo::new(0);
         assert!(!poly_to_poly_sat(&a, &b, &mut info));
         assert_eq!(info, CollisionInfo::new(0));
+    }
+
+    #[test]
+    fn short_box_above_long_one_uses_the_long_face_on_a_tie() {
+        // Rounded boxes, cores 0.09 apart: the short box sorts first, its
+        // bottom face ties with the floor's top and does not realise the
+        // distance (the floor's corners are outside it); the floor's does.
+        let top = Poly::from_ccw_unchecked(
+            &[
+                Vect::new(Real::ONE, real!(0.09)),
+                Vect::new(Real::ONE, real!(1.09)),
+                Vect::new(-Real::ONE, real!(1.09)),
+                Vect::new(-Real::ONE, real!(0.09)),
+            ],
+            real!(0.05),
+        );
+        let floor = rect(-5, -1, 5, 0, real!(0.05));
+        let mut info = CollisionInfo::new(0);
+        assert!(poly_to_poly_sat(&top, &floor, &mut info));
+        assert_eq!((info.count, info.normal), (2, -Vect::Y));
+        for c in info.contacts() {
+            assert_eq!(c.distance, real!(-0.01));
+        }
     }
 
     #[test]
