@@ -316,3 +316,32 @@ fn epa_ranks_long_edges_by_their_true_distance() {
     assert!((c.to_f64() + 4.529e-7).abs() < 1e-10, "cold {c:?}");
     assert!((w.to_f64() + 4.529e-7).abs() < 1e-10, "warm {w:?}");
 }
+
+/// Fuzz finding (30-minute `collide_pair` run): two collinear, overlapping,
+/// zero-radius segments (255 ulp and 0.0117 long, both from the origin along
+/// +x). Their Minkowski difference has no area, GJK ends at distance 0 with
+/// whatever normal its start leads to, and the clipped depth was 0 along ±y
+/// for one warm-start id but −255 ulp along x from the cold start. Collinear
+/// cores now take the first segment's own normal: depth 0 for every start.
+#[test]
+fn collinear_overlapping_segments_agree_for_every_warm_start() {
+    let a = Geometry::Segment(Segment::new(Vect::new(r(255), r(0)), Vect::ZERO, r(0)));
+    let b = Geometry::Segment(Segment::new(
+        Vect::new(r(50_400_000), r(0)),
+        Vect::ZERO,
+        r(0),
+    ));
+    let cold = collide(&a, &b, 0);
+    assert!(cold.count > 0, "the segments overlap");
+    for c in cold.contacts() {
+        assert_eq!(c.distance, Real::ZERO);
+    }
+    for id in (0..=0xFFFF_u32)
+        .step_by(0x101)
+        .chain([0x1_0000, 0x100, 0x0101_0000])
+    {
+        let warm = collide(&a, &b, id);
+        assert_eq!(without_id(warm), without_id(cold), "id {id:#x}");
+        assert_mirror(&a, &b, id);
+    }
+}

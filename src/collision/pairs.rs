@@ -163,8 +163,17 @@ pub fn segment_to_segment(a: &Segment, b: &Segment, info: &mut CollisionInfo) {
 }
 
 fn segment_to_segment_ordered(a: &Segment, b: &Segment, info: &mut CollisionInfo) {
-    let points = gjk(&SupportContext::new(a, b), info.id);
+    let mut points = gjk(&SupportContext::new(a, b), info.id);
     note(info, &points);
+    // Collinear cores that overlap: the Minkowski difference has no area,
+    // GJK ends at distance 0 and its normal depends on where it started
+    // (the warm-start id). Every direction across the common line separates
+    // them at depth 0, so take the first segment's own normal: the answer no
+    // longer depends on the start (fuzz finding, regression test
+    // `collinear_overlapping_segments_agree_for_every_warm_start`).
+    if points.d.is_zero() && a.normal != Vect::ZERO && wide::cross(a.b - a.a, b.b - b.a) == 0 {
+        points.n = a.normal;
+    }
     let n = points.n;
     if points.d <= a.radius + b.radius + CONTACT_TOLERANCE
         && segment_allows(a, points.a, n, true)
