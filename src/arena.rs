@@ -5,7 +5,6 @@
 //! reaches the object that later reuses the slot. The free list is part of the
 //! simulation state (and of snapshots): a world restored from a snapshot hands
 //! out exactly the handles the original would have handed out.
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use core::marker::PhantomData;
 
 use serde::{Deserialize, Serialize};

@@ -14,7 +14,6 @@
 //! space has mass > 0 and moment > 0 (set explicitly or summed from shapes).
 //! Setters check them and return [`BodyError::IllegalBody`] instead of
 //! panicking. Fixed point has no NaN or infinity, so "finite" holds by type.
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use core::fmt;
 
 use serde::{Deserialize, Serialize};

@@ -12,7 +12,6 @@
 //!   ascending: the **canonical pair order**. The solver is Gauss–Seidel, so
 //!   its order changes results; this order depends only on the shapes' slot
 //!   indices and positions, never on a hash or on the sweep's internals.
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use crate::math::{Real, BB};
 
 /// A box to sort, with the shape slot it belongs to.

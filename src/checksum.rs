@@ -11,7 +11,6 @@
 //! Caveat for state types: `Hash` for slices of primitive integers
 //! (`[u32]`, `[i64]`) writes native-endian *bytes*; state types hash such
 //! slices element by element instead (see `Arena`'s `Hash`).
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use core::hash::{Hash, Hasher};
 
 /// Deterministic word-at-a-time hasher (see the module docs).

@@ -36,7 +36,6 @@
 //! scene.space.debug_draw(&mut count, &DebugDrawOptions::default());
 //! assert_eq!((count.segments, count.polygons), (1, 210)); // the ground, the boxes
 //! ```
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use crate::arbiter::ArbiterState;
 use crate::body::{Body, BodyType};
 use crate::math::{Real, Vect};

@@ -3,10 +3,15 @@
 #![forbid(unsafe_code)]
 #![cfg_attr(not(test), deny(clippy::float_arithmetic))]
 // No reachable panic in library code (issue 5): every index is checked
-// (`get`), every fallible conversion handled. Tests may unwrap.
+// (`get`), every fallible conversion handled. Tests may unwrap. No plain
+// integer arithmetic either (`arithmetic_side_effects`; `Real` and `Vect`
+// operators saturate and are exempt in clippy.toml): wide helpers,
+// saturating or checked operations that provably never saturate, or a local
+// `allow` with a range proof.
 #![cfg_attr(
     not(test),
     deny(
+        clippy::arithmetic_side_effects,
         clippy::unwrap_used,
         clippy::expect_used,
         clippy::panic,

@@ -33,6 +33,7 @@ use super::contact::{closest_points_new, nearest_feature, ClosestPoints, Nearest
 use super::support::{support, MinkowskiPoint, SupportContext, SupportShape};
 use super::wide;
 use super::WARN_EPA_ITERATIONS;
+use crate::shape::geometry::next_index;
 
 /// Hull capacity: the starting triangle plus one point per iteration.
 const HULL_CAP: usize = WARN_EPA_ITERATIONS as usize + 3;
@@ -70,16 +71,21 @@ fn line_key(c: u128, l2: u128) -> u128 {
     if c == 0 {
         return 0;
     }
-    let bits = |v: u128| 128 - v.leading_zeros();
+    // leading_zeros ≤ 128: never saturates.
+    let bits = |v: u128| 128u32.saturating_sub(v.leading_zeros());
     let sc = bits(c).saturating_sub(64);
     let cm = c >> sc;
-    // cm < 2^64, so the square fits.
-    let square = cm * cm;
+    // cm < 2^64, so the square fits (never saturates).
+    let square = cm.saturating_mul(cm);
     let up = square.leading_zeros();
     let sl = bits(l2).saturating_sub(64);
     let q = (square << up).checked_div(l2 >> sl).unwrap_or(0);
-    // c²/l2 = q · 2^(2·sc − up − sl); all terms are below 2^8.
-    let exp = 2 * sc as i32 - up as i32 - sl as i32;
+    // c²/l2 = q · 2^(2·sc − up − sl); all terms are below 2^8 (never
+    // saturates).
+    let exp = (sc as i32)
+        .saturating_mul(2)
+        .saturating_sub(up as i32)
+        .saturating_sub(sl as i32);
     float_key(q, exp)
 }
 
@@ -91,13 +97,17 @@ fn float_key(m: u128, e: i32) -> u128 {
     if m == 0 {
         return 0;
     }
-    let top = 127 - m.leading_zeros() as i32;
+    // m ≠ 0: top is in 0..=127, and the shifts below in 0..=118 (none of
+    // these subtractions saturates).
+    let top = 127i32.saturating_sub(m.leading_zeros() as i32);
     let mantissa = if top > 118 {
-        m >> (top - 118)
+        m >> top.saturating_sub(118)
     } else {
-        m << (118 - top)
+        m << 118i32.saturating_sub(top)
     };
-    let biased = u128::try_from((top + e + 256).clamp(1, 511)).unwrap_or(1);
+    // |e| < 2^9 for every caller: the sum never saturates.
+    let biased =
+        u128::try_from(top.saturating_add(e).saturating_add(256).clamp(1, 511)).unwrap_or(1);
     (biased << 119) | mantissa
 }
 
@@ -133,7 +143,8 @@ impl Hull {
         {
             *slot = p;
             *key = k;
-            hull.len += 1;
+            // At most 3 iterations: never saturates.
+            hull.len = hull.len.saturating_add(1);
         }
         hull
     }
@@ -141,11 +152,7 @@ impl Hull {
     /// The index after `i`, cyclically (no division).
     #[inline]
     fn next(&self, i: usize) -> usize {
-        if i + 1 >= self.len {
-            0
-        } else {
-            i + 1
-        }
+        next_index(i, self.len)
     }
 
     /// The index before `i`, cyclically.
@@ -154,7 +161,8 @@ impl Hull {
         if i == 0 {
             self.len.saturating_sub(1)
         } else {
-            i - 1
+            // i ≥ 1: never saturates.
+            i.saturating_sub(1)
         }
     }
 
@@ -187,12 +195,14 @@ impl Hull {
         let mut first = self.next(i);
         while keep > 2 && !convex(&p, &self.at(first), &self.at(self.next(first))) {
             first = self.next(first);
-            keep -= 1;
+            // keep > 2: never saturates.
+            keep = keep.saturating_sub(1);
         }
         let mut last = i;
         while keep > 2 && !convex(&self.at(self.prev(last)), &self.at(last), &p) {
             last = self.prev(last);
-            keep -= 1;
+            // keep > 2: never saturates.
+            keep = keep.saturating_sub(1);
         }
         let len = self.len;
         if let (Some(pts), Some(keys)) = (self.pts.get_mut(..len), self.keys.get_mut(..len)) {
@@ -201,14 +211,15 @@ impl Hull {
             keys.rotate_left(first);
         }
         // Survivors now occupy 0..keep (keep ≥ 2); the last one's edge now
-        // ends at p, and p's edge closes the polygon.
-        let (tail, head) = (self.at(keep - 1), self.at(0));
+        // ends at p, and p's edge closes the polygon. (keep ≥ 2 and
+        // keep < HULL_CAP below: the ±1 never saturate.)
+        let (tail, head) = (self.at(keep.saturating_sub(1)), self.at(0));
         let (key_tail, key_p) = (edge_key(&tail, &p), edge_key(&p, &head));
         if let (Some(slot), Some(k)) = (self.pts.get_mut(keep), self.keys.get_mut(keep)) {
             *slot = p;
             *k = key_p;
-            self.len = keep + 1;
-            if let Some(k) = self.keys.get_mut(keep - 1) {
+            self.len = keep.saturating_add(1);
+            if let Some(k) = self.keys.get_mut(keep.saturating_sub(1)) {
                 *k = key_tail;
             }
         }
@@ -262,7 +273,8 @@ pub(crate) fn epa_capped<A: SupportShape, B: SupportShape>(
             return best;
         }
         hull.insert(i, p);
-        iteration += 1;
+        // iteration < cap: never saturates.
+        iteration = iteration.saturating_add(1);
     }
 }
 

@@ -99,7 +99,8 @@ fn keep_first(v0: Vect, v1: Vect, p: Vect) -> bool {
         (true, true) => {
             let v1_side = wide::cross(to_v0, to_v1).signum();
             let o_side = wide::cross(p, to_v0).signum();
-            v1_side * o_side <= 0
+            // Signs in {−1, 0, 1}: the product never saturates.
+            v1_side.saturating_mul(o_side) <= 0
         }
     }
 }
@@ -176,7 +177,8 @@ pub(crate) fn gjk_capped<A: SupportShape, B: SupportShape>(
         } else {
             v0 = p;
         }
-        iteration += 1;
+        // iteration < cap (checked above): never saturates.
+        iteration = iteration.saturating_add(1);
     }
 }
 

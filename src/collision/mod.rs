@@ -159,7 +159,8 @@ impl CollisionInfo {
                 distance,
                 id,
             };
-            self.count += 1;
+            // count < contacts.len() (the slot exists): never saturates.
+            self.count = self.count.saturating_add(1);
         }
     }
 

@@ -36,6 +36,7 @@ use super::support::{support_edge_for_poly, support_edge_for_segment, SupportCon
 use super::wide;
 use super::{compare_circles, compare_polys, compare_segments, swap_id_shapes};
 use super::{CollisionInfo, CONTACT_TOLERANCE};
+use crate::math::exact::raw_sq;
 use crate::math::{Real, Vect};
 use crate::shape::{Circle, Poly, Segment};
 use core::cmp::Ordering;
@@ -43,8 +44,8 @@ use core::cmp::Ordering;
 /// `(r as unsigned raw)²`, exact, in units of 2^-64 (negative radii count as 0).
 #[inline]
 fn sq(r: Real) -> u128 {
-    let raw = u128::try_from(r.max(Real::ZERO).to_bits()).unwrap_or(0);
-    raw * raw
+    // Non-negative: the exact square of the raw bits (≤ 2^126).
+    raw_sq(r.max(Real::ZERO))
 }
 
 /// Records GJK's warm-start id and cap flag in the info.

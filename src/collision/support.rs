@@ -17,6 +17,7 @@
 use super::wide;
 use super::CollisionId;
 use crate::math::{Real, Vect};
+use crate::shape::geometry::next_index;
 use crate::shape::{Circle, Poly, Segment};
 
 /// A point of one shape's core with its feature index (MIS `SupportPoint`):
@@ -225,11 +226,13 @@ pub struct Edge {
 pub fn support_edge_for_poly(poly: &Poly, n: Vect) -> Edge {
     let count = poly.count();
     let i1 = poly_support_index(poly, n);
-    // count ≥ 1 whenever a vertex exists; max(1) keeps `%` panic-free for an
-    // empty polygon (whose edge is then the zero point).
+    // count ≥ 1 whenever a vertex exists; max(1) keeps the indices defined for
+    // an empty polygon (whose edge is then the zero point). i1 < m (an index
+    // of the vertices, or 0): i0 and i2 are its cyclic neighbours, i1 − 1 (or
+    // m − 1 before 0, never saturating as m ≥ 1) and i1 + 1 (or 0 after the last).
     let m = count.max(1);
-    let i0 = (i1 + m - 1) % m;
-    let i2 = (i1 + 1) % m;
+    let i0 = i1.checked_sub(1).unwrap_or(m.saturating_sub(1));
+    let i2 = next_index(i1, m);
     let (from, to) = if wide::dot(n, poly.normal(i0)) > wide::dot(n, poly.normal(i1)) {
         (i0, i1)
     } else {

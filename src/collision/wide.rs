@@ -11,6 +11,8 @@
 //! Units: a raw product of two `Real`s is in units of 2^-64.
 //! Overflow: each product is below 2^126 in magnitude; sums saturate, which can
 //! only happen for operands near `Real::MIN`/`MAX`, far outside the envelope.
+use crate::math::exact::raw_sq;
+use crate::math::real::wide_mul;
 use crate::math::{Real, Vect};
 
 /// Raw bits of a `Real` widened to `i128`.
@@ -22,21 +24,22 @@ fn w(r: Real) -> i128 {
 /// `a · b`, exact, in units of 2^-64.
 #[inline(always)]
 pub(crate) fn dot(a: Vect, b: Vect) -> i128 {
-    (w(a.x) * w(b.x)).saturating_add(w(a.y) * w(b.y))
+    let (ax, ay, bx, by) = (a.x.to_bits(), a.y.to_bits(), b.x.to_bits(), b.y.to_bits());
+    wide_mul(ax, bx).saturating_add(wide_mul(ay, by))
 }
 
 /// `a × b` (z of the 3D cross product), exact, in units of 2^-64.
 #[inline(always)]
 pub(crate) fn cross(a: Vect, b: Vect) -> i128 {
-    (w(a.x) * w(b.y)).saturating_sub(w(a.y) * w(b.x))
+    let (ax, ay, bx, by) = (a.x.to_bits(), a.y.to_bits(), b.x.to_bits(), b.y.to_bits());
+    wide_mul(ax, by).saturating_sub(wide_mul(ay, bx))
 }
 
 /// `|v|²`, exact, in units of 2^-64 (never overflows: each square < 2^126).
 #[inline(always)]
 pub(crate) fn len_sq(v: Vect) -> u128 {
-    let x = u128::from(v.x.to_bits().unsigned_abs());
-    let y = u128::from(v.y.to_bits().unsigned_abs());
-    x * x + y * y
+    // Each square ≤ 2^126, the sum ≤ 2^127: never saturates.
+    raw_sq(v.x).saturating_add(raw_sq(v.y))
 }
 
 /// `num / den` as a `Real` clamped to `[-1, 1]`, rounded to nearest.
@@ -58,29 +61,45 @@ pub(crate) fn unit_ratio(num: i128, den: u128) -> Real {
         } else {
             (mag, den >> 32)
         };
-        ((n + d / 2) / d).min(ONE_BITS)
+        // Never saturates: n < 2^127 and d/2 < 2^127 (first case) or n ≤ 2^127
+        // and d/2 < 2^95 (second). d ≠ 0: den ≠ 0, resp. d ≥ 2^63.
+        n.saturating_add(d / 2)
+            .checked_div(d)
+            .unwrap_or(ONE_BITS)
+            .min(ONE_BITS)
     };
     // q ≤ 2^32 fits an i64.
     let q = i64::try_from(q).unwrap_or(1 << 32);
-    Real::from_bits(if num < 0 { -q } else { q })
+    // q ≥ 0: the negation never saturates.
+    Real::from_bits(if num < 0 { q.saturating_neg() } else { q })
 }
 
 /// `v · (num / den)` for `0 < num < den` (same units), each component
 /// rounded once. Both are shifted right together until `den < 2^62`, so the
 /// products fit an `i128`; that drops only bits below 2^-62 relative.
 pub(crate) fn scale_by_ratio(v: Vect, num: i128, den: u128) -> Vect {
-    let k = (128 - den.leading_zeros()).saturating_sub(62);
+    // leading_zeros ≤ 128: the first subtraction never saturates.
+    let k = 128u32
+        .saturating_sub(den.leading_zeros())
+        .saturating_sub(62);
     let d = i128::try_from(den >> k).unwrap_or(i128::MAX);
     let n = num >> k;
     if d == 0 {
         return Vect::ZERO;
     }
     let comp = |c: Real| -> Real {
-        // |c| ≤ 2^63 and |n| ≤ d < 2^62: the product is below 2^125.
-        let p = w(c) * n;
-        let q = (p.unsigned_abs() + d.unsigned_abs() / 2) / d.unsigned_abs();
+        // |c| ≤ 2^63 and |n| ≤ d < 2^62 (0 < num < den): the product is below
+        // 2^125 and the rounded sum below 2^126, neither saturates; d > 0.
+        let p = w(c).saturating_mul(n);
+        let da = d.unsigned_abs();
+        let q = p
+            .unsigned_abs()
+            .saturating_add(da / 2)
+            .checked_div(da)
+            .unwrap_or(0);
         let q = i64::try_from(q).unwrap_or(i64::MAX);
-        Real::from_bits(if p < 0 { -q } else { q })
+        // q ≥ 0: the negation never saturates.
+        Real::from_bits(if p < 0 { q.saturating_neg() } else { q })
     };
     Vect::new(comp(v.x), comp(v.y))
 }
@@ -107,16 +126,19 @@ const RSQRT_SEED: [u64; 32] = {
 /// Newton's iteration for the reciprocal square root, `y ← y(3 − x·y²)/2`,
 /// uses only multiplications: from the table's ≤ 3% start, four steps reach
 /// the Q60 resolution (error 3% → 1e-3 → 2e-6 → 5e-12 → below 2^-58). All
-/// products are u64 × u64 and fit a u128; the iterates stay below 2^61.
+/// products fit a u128 (none saturates): the iterates stay at most about 2^61
+/// (the seeds are below 2^61, and a step never exceeds `1/√x ≤ 2`, the
+/// maximum of `y(3 − x·y²)/2`, by more than its truncations).
 #[inline]
 fn rsqrt_q60(m: u64) -> u64 {
     let bucket = usize::try_from(m >> 59).unwrap_or(31);
     let mut y = RSQRT_SEED.get(bucket).copied().unwrap_or(1 << 60);
     for _ in 0..4 {
-        let y2 = (u128::from(y) * u128::from(y)) >> 60; // ≤ 2^62
-        let xy2 = (u128::from(m) * y2) >> 64; // x·y², ≈ 2^60
+        let y2 = u128::from(y).saturating_mul(u128::from(y)) >> 60; // ≤ 2^62
+        let xy2 = u128::from(m).saturating_mul(y2) >> 64; // x·y², ≈ 2^60; m·y2 < 2^127
         let t = (3u128 << 60).saturating_sub(xy2);
-        y = u64::try_from((u128::from(y) * t) >> 61).unwrap_or(1 << 61);
+        // y < 2^64, t < 2^62: y·t < 2^126.
+        y = u64::try_from(u128::from(y).saturating_mul(t) >> 61).unwrap_or(1 << 61);
     }
     y
 }
@@ -141,27 +163,36 @@ pub(crate) fn normalize(v: Vect) -> Option<(Vect, Real)> {
     let shift = big.leading_zeros().saturating_sub(66);
     let (xs, ys) = (x << shift, y << shift);
     let (xa, ya) = (xs.unsigned_abs(), ys.unsigned_abs());
-    // Each square ≤ 2^126, the sum < 2^127 + 1: exact in a u128.
-    let sq = xa * xa + ya * ya;
+    // Each square ≤ 2^126, the sum < 2^127 + 1: exact in a u128 (never
+    // saturates).
+    let sq = xa.saturating_mul(xa).saturating_add(ya.saturating_mul(ya));
     // Even k with m = sq >> k in [2^62, 2^64): sq has 123..=127 bits.
-    let k = (128 - sq.leading_zeros()).saturating_sub(63) & !1;
+    // (leading_zeros ≤ 128: the first subtraction never saturates.)
+    let k = 128u32.saturating_sub(sq.leading_zeros()).saturating_sub(63) & !1;
     let m = u64::try_from(sq >> k).unwrap_or(u64::MAX);
     let r = u128::from(rsqrt_q60(m));
     // 1/|v_s| = r · 2^-(60 + 32 + k/2); the Real unit component is
     // c_s · 2^32 / |v_s| = c_s · r >> (60 + k/2). |c_s| ≤ 2^63, r ≤ 2^61.
-    let down = 60 + k / 2;
+    // k ≤ 64, so 60 ≤ down ≤ 92; p < 2^124 and the rounding bias ≤ 2^91: none
+    // of these operations saturates.
+    let down = 60u32.saturating_add(k / 2);
     let unit = |c: i128| -> Real {
-        let p = c.unsigned_abs() * r;
-        let q = i64::try_from((p + (1 << (down - 1))) >> down).unwrap_or(i64::MAX);
-        Real::from_bits(if c < 0 { -q } else { q })
+        let p = c.unsigned_abs().saturating_mul(r);
+        let half = 1u128 << down.saturating_sub(1);
+        let q = i64::try_from(p.saturating_add(half) >> down).unwrap_or(i64::MAX);
+        // q ≥ 0: the negation never saturates.
+        Real::from_bits(if c < 0 { q.saturating_neg() } else { q })
     };
     // |v_s| = √x · 2^(32 + k/2) with √x = x · r = m·r >> 60 in Q64 (≤ 2^65);
     // in raw units of v: √x_q64 · 2^(32 + k/2 − 64 − shift), a right shift
     // since k/2 ≤ 32.
-    let root_q64 = (u128::from(m) * r) >> 60;
-    let e = 32 + shift - k / 2;
+    // m < 2^64, r ≤ 2^61: the product never saturates.
+    let root_q64 = u128::from(m).saturating_mul(r) >> 60;
+    // shift ≤ 61 and k/2 ≤ 32: 0 ≤ e ≤ 93, never saturates.
+    let e = 32u32.saturating_add(shift).saturating_sub(k / 2);
     let length = if e > 0 {
-        (root_q64 + (1 << (e - 1))) >> e
+        // root_q64 < 2^65 and e − 1 < 93: never saturates.
+        root_q64.saturating_add(1u128 << e.saturating_sub(1)) >> e
     } else {
         root_q64
     };

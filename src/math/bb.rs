@@ -1,6 +1,5 @@
 //! `BB`: an axis-aligned bounding box (Chipmunk's `cpBB`: left, bottom,
 //! right, top), used by the broadphase and the bounding-box query.
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use serde::{Deserialize, Serialize};
 
 use super::{Real, Vect};

@@ -8,7 +8,6 @@
 //! `saturating_*` calls below never saturate on raw `Real` bits (each says
 //! why) and only give a defined result instead of a panic or a wrap if a
 //! future caller breaks the stated bound.
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use super::real::Real;
 
 /// `a + b` on raw bits (units of 2^-32), exact.

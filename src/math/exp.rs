@@ -9,7 +9,6 @@
 //! the result is within 1–2 ulp of exact. The factor table is built at
 //! compile time by repeated integer square roots of 2: no float, no table
 //! typed by hand.
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use super::real::{Real, FRAC_BITS};
 
 /// Working precision (fractional bits).

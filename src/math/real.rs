@@ -20,7 +20,6 @@
 //!
 //! Saturation is the only deviation from exact arithmetic, and it happens only
 //! outside the documented safe envelope.
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use core::cmp::Ordering;
 use core::fmt;
 use core::iter::Sum;

@@ -4,7 +4,6 @@
 //! is then two multiply-adds (no trig in the step), and integrating an angular
 //! velocity is a complex multiplication followed by a cheap renormalisation.
 //! The angle exists only on demand ([`Rot::angle`]).
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use serde::{Deserialize, Serialize};
 
 use super::{Real, Vect};

@@ -5,7 +5,6 @@
 //! | a  c  tx |   x' = a·x + c·y + tx
 //! | b  d  ty |   y' = b·x + d·y + ty
 //! ```
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use serde::{Deserialize, Serialize};
 
 use super::{Real, Rot, Vect};

@@ -74,7 +74,6 @@
 //! About 19 ns per `sin_cos` (independent of the angle's size) and 16 ns per
 //! `atan2` in release builds on the development machine (Xeon, x86-64):
 //! `cargo test --release --test math_trig -- --ignored --nocapture timing`.
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use super::Real;
 
 /// 2/π in Q64, rounded to nearest (< 2^64).

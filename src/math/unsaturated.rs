@@ -13,7 +13,6 @@
 //! is set, the caller discards the copies and runs the saturating version.
 //! The solver's fast path is tested against the saturating one on random and
 //! extreme inputs.
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use super::real::{wide_mul, Real, FRAC_BITS};
 
 /// `2^(FRAC_BITS − 1)`: the rounding half.

@@ -8,7 +8,6 @@
 //! Dot and cross products accumulate exactly on 128 bits and round once.
 //! Lengths use a 128-bit integer square root, so they are exact (floor) and
 //! never overflow, even for vectors whose squared length does not fit.
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use core::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
 
 use serde::{Deserialize, Serialize};

@@ -22,7 +22,6 @@
 //! Bodies without a collision partner still get a shape (a circle or box of
 //! the stated size) so the scene can be drawn and fed to other engines; their
 //! mass and moment are explicit, so the shapes are massless.
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use super::desc::{BodyDesc, ForceDesc, SceneDesc, SettingsDesc, ShapeDesc};
 use super::stacking;
 use crate::math::{Real, Vect};

@@ -9,7 +9,6 @@
 //! Bodies are created in description order and each body's shapes right
 //! after it, so handles (and therefore the state bytes) depend only on the
 //! description.
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use core::fmt;
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU64, Ordering};

@@ -13,7 +13,6 @@
 //!
 //! Use with `#[serde(with = "dec::real")]`, `dec::vect` (a `Vect` as
 //! `["x", "y"]`) and `dec::vects` (a list of those).
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use core::fmt;
 
 use fixed::types::I32F32;

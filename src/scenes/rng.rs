@@ -5,7 +5,6 @@
 //! by bit manipulation only (no float is ever involved). SplitMix64 (Steele,
 //! Lea and Flood, 2014) is tiny, has a full 2^64 period and passes BigCrush;
 //! that is plenty for placing bodies. The standard seed is [`SEED`].
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use crate::math::exact::raw_sq;
 use crate::math::{Real, Vect};
 

@@ -7,7 +7,6 @@
 //! contacts multiply the two frictions (Chipmunk), so box–box and box–ground
 //! pairs have friction 0.36; Box2D's `sqrt(f₁f₂)` gives 0.6. Default run:
 //! 1000 steps.
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use super::desc::{
     BodyDesc, BodyKind, GeometryDesc, Neighbors, SceneDesc, SettingsDesc, ShapeDesc, SpawnDesc,
 };

@@ -6,7 +6,6 @@
 //! from integers, exact literals, [`Real::sin_cos`] and the seeded
 //! [`SplitMix64`]; positions are drawn in body order (one rejection-sampled
 //! disk point per body, then its velocity where the scene has one).
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use super::desc::{BodyDesc, CounterDesc, SceneDesc, SettingsDesc, ShapeDesc};
 use super::rng::{SplitMix64, SEED};
 use crate::math::{Real, Vect};

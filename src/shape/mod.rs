@@ -9,7 +9,6 @@
 //! `segment_shape_new`, `poly_shape_new`, `poly_shape_new_raw`,
 //! `box_shape_new`, `box_shape_new2`) and validate their input: bad input is a
 //! [`ShapeError`], never a panic.
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 pub mod geometry;
 pub mod hull;
 pub mod mass;

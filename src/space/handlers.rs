@@ -14,7 +14,6 @@
 //!    handler).
 //!
 //! Handlers run in arbiter order (canonical), so they are deterministic too.
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use std::collections::BTreeMap;
 
 use crate::arbiter::Arbiter;

@@ -26,7 +26,6 @@
 //! * **Order:** results are in shape slot order (the canonical order), except
 //!   that segment hits are sorted by `alpha` with ties in slot order; "best"
 //!   queries keep the lowest slot on a tie. Nothing depends on a hash.
-#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 use super::{ShapeHandle, Space};
 use crate::collision::{shapes_collide, ContactPointSet};
 use crate::math::{Real, Vect, BB};
