@@ -2,7 +2,7 @@
 #![doc = include_str!("../README.md")]
 #![forbid(unsafe_code)]
 #![cfg_attr(not(test), deny(clippy::float_arithmetic))]
-// No reachable panic in library code (issue 5): every index is checked
+// No reachable panic in library code: every index is checked
 // (`get`), every fallible conversion handled. Tests may unwrap. No plain
 // integer arithmetic either (`arithmetic_side_effects`; `Real` and `Vect`
 // operators saturate and are exempt in clippy.toml): wide helpers,

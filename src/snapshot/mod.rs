@@ -141,7 +141,7 @@ pub const HEADER_LEN: usize = 20;
 /// allocating at most 1 MiB.
 pub const MAX_SNAPSHOT_BYTES: usize = 1 << 30;
 
-/// The bincode configuration of the payload (DESIGN §5).
+/// The bincode configuration of the payload (see `docs/architecture.md`).
 type Config = Configuration<LittleEndian, Fixint, Limit<MAX_SNAPSHOT_BYTES>>;
 
 const CONFIG: Config = bincode::config::standard()
