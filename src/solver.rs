@@ -444,7 +444,7 @@ impl SolverContact {
     /// The iteration runs first in [`Unsaturated`] arithmetic on copies;
     /// only if an operation left the range (the overflow flag) is it
     /// recomputed in saturating [`Real`] arithmetic. Both run the same
-    /// generic code ([`iterate`](Self::iterate)), so the result is always
+    /// generic code (`iterate`), so the result is always
     /// the saturating one, bit for bit, and ordinary scenes pay for no
     /// saturation checks.
     #[inline]

@@ -26,7 +26,7 @@
 //!    and ids bit-identical; the products also stay small (no saturation far
 //!    from the origin, where `x²` would overflow past 46,340).
 //! 3. **Dispatch** on the kinds with an exhaustive `match` to one of the six
-//!    pair functions ([`pairs`]): closed forms for circle–circle and
+//!    pair functions (`pairs.rs`): closed forms for circle–circle and
 //!    circle–segment, separating axes with edge clipping for poly–poly
 //!    (`sat.rs`, falling back to GJK for a corner near a corner), GJK
 //!    ([`gjk`]) with EPA ([`epa`]) and edge clipping ([`contact_points`]) for
