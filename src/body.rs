@@ -10,10 +10,13 @@
 //!   `angle` state variable; `rot` is what the simulation uses.
 //! * Inverse mass and moment are cached: the solver multiplies, never divides.
 //!
-//! Invariants (MIS §6.4.2): mass, moment ≥ 0; a dynamic body simulated by a
-//! space has mass > 0 and moment > 0 (set explicitly or summed from shapes).
-//! Setters check them and return [`BodyError::IllegalBody`] instead of
-//! panicking. Fixed point has no NaN or infinity, so "finite" holds by type.
+//! Invariants (MIS §6.4.2): mass, moment ≥ 0. A zero mass or moment on a
+//! dynamic body means *infinite* (inverse 0), not illegal: `Body::new(m, 0)`
+//! with `m > 0` is a body no impulse or torque turns (fixed rotation), and
+//! `Body::new(0, 0)` takes its mass and moment from its shapes' mass or
+//! density. Setters check the invariants and return
+//! [`BodyError::IllegalBody`] instead of panicking. Fixed point has no NaN or
+//! infinity, so "finite" holds by type.
 use core::fmt;
 
 use serde::{Deserialize, Serialize};
@@ -133,6 +136,8 @@ impl Body {
 
     /// MIS `bodyInit`: a dynamic body with the given mass and moment. Zero
     /// for both means "sum them from the shapes' mass or density" (Chipmunk).
+    /// A positive mass with zero moment is **fixed rotation**: the moment is
+    /// infinite, so the body never turns (Chipmunk's `cpBodySetMoment(INFINITY)`).
     pub fn new(mass: Real, moment: Real) -> Result<Body, BodyError> {
         check_non_negative(mass, "mass must be ≥ 0")?;
         check_non_negative(moment, "moment must be ≥ 0")?;
@@ -197,7 +202,8 @@ impl Body {
     }
 
     /// Sets an explicit moment of inertia (Chipmunk `cpBodySetMoment`).
-    /// Dynamic bodies only; must be > 0.
+    /// Dynamic bodies only; must be > 0 (for fixed rotation, create the body
+    /// with [`Body::new`]`(mass, 0)`).
     pub fn set_moment(&mut self, moment: Real) -> Result<(), BodyError> {
         if self.body_type != BodyType::Dynamic {
             return Err(BodyError::IllegalBody("only dynamic bodies have a moment"));
