@@ -52,7 +52,7 @@ impl Space {
         })
     }
 
-    /// MIS `spacePointQuery`: every shape whose surface is closer to `p` than
+    /// Chipmunk `cpSpacePointQuery`: every shape whose surface is closer to `p` than
     /// `max_distance` (strictly; a point inside a shape has a negative
     /// distance, so `max_distance = 0` finds the shapes containing `p`), with
     /// the nearest point, signed distance and gradient, in slot order.
@@ -72,7 +72,7 @@ impl Space {
             .collect()
     }
 
-    /// MIS `spacePointQueryNearest`: the shape whose surface is nearest to
+    /// Chipmunk `cpSpacePointQueryNearest`: the shape whose surface is nearest to
     /// `p`, if closer than `max_distance` (strictly); the lowest slot wins a
     /// tie. Sensors are skipped.
     pub fn point_query_nearest(
@@ -96,7 +96,7 @@ impl Space {
         best
     }
 
-    /// MIS `spaceSegmentQuery`: every shape hit by the segment `a → b` swept
+    /// Chipmunk `cpSpaceSegmentQuery`: every shape hit by the segment `a → b` swept
     /// by a circle of `radius` (0 for a ray), sorted by `alpha` (ties in slot
     /// order). A shape the query starts in (or within `radius` of) is hit at
     /// `alpha = 0`. Sensors included.
@@ -117,7 +117,7 @@ impl Space {
         hits
     }
 
-    /// MIS `spaceSegmentQueryFirst`: the first shape hit by the segment
+    /// Chipmunk `cpSpaceSegmentQueryFirst`: the first shape hit by the segment
     /// `a → b` swept by a circle of `radius`; the lowest slot wins a tie.
     /// Sensors are skipped.
     pub fn segment_query_first(
@@ -143,7 +143,7 @@ impl Space {
         best
     }
 
-    /// MIS `spaceBBQuery`: the shapes whose world bounding box touches `bb`
+    /// Chipmunk `cpSpaceBBQuery`: the shapes whose world bounding box touches `bb`
     /// (a box test only, like Chipmunk), in slot order. Sensors included.
     pub fn bb_query(&self, bb: BB, filter: ShapeFilter) -> Vec<ShapeHandle> {
         self.query_candidates(bb, filter)
@@ -151,7 +151,7 @@ impl Space {
             .collect()
     }
 
-    /// MIS `spaceShapeQuery`: the shapes touching the world-space `geometry`,
+    /// Chipmunk `cpSpaceShapeQuery`: the shapes touching the world-space `geometry`,
     /// each with its contact set from [`shapes_collide`] (normal from
     /// `geometry` toward the space's shape), in slot order. Sensors included.
     /// The query shape is not in the space, so nothing is excluded as "itself".
