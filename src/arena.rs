@@ -72,7 +72,14 @@ impl<T> Clone for Handle<T> {
 impl<T> Copy for Handle<T> {}
 impl<T> PartialEq for Handle<T> {
     fn eq(&self, o: &Self) -> bool {
-        self.index == o.index && self.generation == o.generation
+        // Every field named: a new one must be compared or said not to be.
+        let Handle {
+            index,
+            generation,
+            origin: _, // not state (see the type's docs)
+            _marker,
+        } = self;
+        *index == o.index && *generation == o.generation
     }
 }
 impl<T> Eq for Handle<T> {}
@@ -88,8 +95,15 @@ impl<T> Ord for Handle<T> {
 }
 impl<T> core::hash::Hash for Handle<T> {
     fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
-        self.index.hash(h);
-        self.generation.hash(h);
+        // Every field named, as in `eq`.
+        let Handle {
+            index,
+            generation,
+            origin: _, // not state
+            _marker,
+        } = self;
+        index.hash(h);
+        generation.hash(h);
     }
 }
 impl<T> core::fmt::Debug for Handle<T> {
@@ -125,15 +139,18 @@ pub struct Arena<T> {
 /// native-endian bytes, which differ between platforms.
 impl<T: core::hash::Hash> core::hash::Hash for Arena<T> {
     fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
-        h.write_u64(self.slots.len() as u64);
-        for slot in &self.slots {
+        // Every field named: a new one is a compile error until it is hashed
+        // (the world checksum must cover the whole state).
+        let Arena { slots, free, len } = self;
+        h.write_u64(slots.len() as u64);
+        for slot in slots {
             slot.hash(h);
         }
-        h.write_u64(self.free.len() as u64);
-        for &i in &self.free {
+        h.write_u64(free.len() as u64);
+        for &i in free {
             h.write_u32(i);
         }
-        h.write_u32(self.len);
+        h.write_u32(*len);
     }
 }
 
