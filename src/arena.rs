@@ -280,12 +280,15 @@ impl<T> Arena<T> {
     /// slots, each once, and `len` counts the full ones. Used by snapshot
     /// loading and by tests; returns a description of the first violation.
     pub fn validate(&self) -> Result<(), String> {
-        let full = self.slots.iter().filter(|s| s.value.is_some()).count();
-        if full != self.len as usize {
-            return Err(format!("arena length {} but {} live slots", self.len, full));
+        // Every field named: a new one must be checked or said not to need
+        // it (a slot's generation may be any value).
+        let Arena { slots, free, len } = self;
+        let full = slots.iter().filter(|s| s.value.is_some()).count();
+        if full != *len as usize {
+            return Err(format!("arena length {} but {} live slots", *len, full));
         }
-        let mut seen = vec![false; self.slots.len()];
-        for &i in &self.free {
+        let mut seen = vec![false; slots.len()];
+        for &i in free {
             let Some(flag) = seen.get_mut(i as usize) else {
                 return Err(format!("free list names slot {i} past the end"));
             };
@@ -302,12 +305,12 @@ impl<T> Arena<T> {
             }
         }
         // `full` counts some of the slots: never saturates.
-        let empty = self.slots.len().saturating_sub(full);
-        if empty != self.free.len() {
+        let empty = slots.len().saturating_sub(full);
+        if empty != free.len() {
             return Err(format!(
                 "{} empty slots but {} on the free list",
                 empty,
-                self.free.len()
+                free.len()
             ));
         }
         Ok(())

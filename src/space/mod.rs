@@ -11,6 +11,7 @@
 //!   (closures cannot be serialized; a game re-attaches them by collision
 //!   type after loading a snapshot).
 pub mod handlers;
+mod ledger;
 pub mod query;
 mod settings;
 mod step;
@@ -686,8 +687,11 @@ impl Space {
 /// in range; step counters consistent (no `dt` before the first step, a
 /// positive one after it); arenas (free lists, lengths); every body's
 /// invariants and cached inverses; every shape's body link, geometry and
-/// mass specification; arbiter order, references, contact counts, states
-/// and stamps. Returns a description of the first violation.
+/// mass specification; arbiter order, references, contact counts (cleared
+/// slots past the count), states and stamps. Returns a description of the
+/// first violation. What it checks of each field of the state, or why it
+/// checks nothing, is listed in the field ledger (`space/ledger.rs`), which
+/// the compiler keeps complete.
 pub fn validate_state(state: &WorldState) -> Result<(), String> {
     state
         .settings
@@ -741,6 +745,12 @@ pub fn validate_state(state: &WorldState) -> Result<(), String> {
         }
         if arb.count() != usize::from(arb.count) {
             return Err(format!("arbiter {key:?} has too many contacts"));
+        }
+        // The narrowphase clears the slots past the count, so that the state
+        // (and its checksum) does not depend on earlier contacts.
+        let unused = arb.contacts.get(arb.count()..).unwrap_or(&[]);
+        if unused.iter().any(|c| *c != Default::default()) {
+            return Err(format!("arbiter {key:?} has data past its contact count"));
         }
         // The narrowphase never pairs a body with itself or two bodies that
         // cannot move, and neither a shape's body nor a body's type changes.
@@ -828,5 +838,25 @@ mod step_validation_tests {
         } else {
             assert_eq!(found, Ok(()));
         }
+    }
+
+    #[test]
+    fn data_past_an_arbiters_contact_count_is_invalid() {
+        let mut w = resting().unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(validate_state(&w.state), Ok(()));
+        let arb = w
+            .state
+            .arbiters
+            .first_mut()
+            .unwrap_or_else(|| panic!("the ball touches the ground"));
+        assert_eq!(arb.count(), 1, "a circle on a box: one contact");
+        if let Some(unused) = arb.contacts.get_mut(1) {
+            unused.jt_acc = Real::ONE;
+        }
+        let found = validate_state(&w.state);
+        let Err(why) = found else {
+            panic!("not reported");
+        };
+        assert!(why.contains("past its contact count"), "{why}");
     }
 }
