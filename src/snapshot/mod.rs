@@ -66,7 +66,8 @@
 //! * arbiters: strictly increasing `(shape a, shape b)` slot order, both
 //!   shapes live, the bodies those of the shapes (two different bodies, one
 //!   of them dynamic), 1..=2 contacts with non-negative accumulated normal
-//!   impulse, stamp in `1..=world stamp`, and a state that fits the stamp
+//!   impulse and cleared slots past them, stamp in `1..=world stamp`, and a
+//!   state that fits the stamp
 //!   (`Cached` exactly when the pair did not touch in the last step, never
 //!   `FirstCollision`, which only exists inside a step).
 //!
