@@ -72,7 +72,14 @@ impl<T> Clone for Handle<T> {
 impl<T> Copy for Handle<T> {}
 impl<T> PartialEq for Handle<T> {
     fn eq(&self, o: &Self) -> bool {
-        self.index == o.index && self.generation == o.generation
+        // Every field named: a new one must be compared or said not to be.
+        let Handle {
+            index,
+            generation,
+            origin: _, // not state (see the type's docs)
+            _marker,
+        } = self;
+        *index == o.index && *generation == o.generation
     }
 }
 impl<T> Eq for Handle<T> {}
@@ -88,8 +95,15 @@ impl<T> Ord for Handle<T> {
 }
 impl<T> core::hash::Hash for Handle<T> {
     fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
-        self.index.hash(h);
-        self.generation.hash(h);
+        // Every field named, as in `eq`.
+        let Handle {
+            index,
+            generation,
+            origin: _, // not state
+            _marker,
+        } = self;
+        index.hash(h);
+        generation.hash(h);
     }
 }
 impl<T> core::fmt::Debug for Handle<T> {
@@ -125,15 +139,18 @@ pub struct Arena<T> {
 /// native-endian bytes, which differ between platforms.
 impl<T: core::hash::Hash> core::hash::Hash for Arena<T> {
     fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
-        h.write_u64(self.slots.len() as u64);
-        for slot in &self.slots {
+        // Every field named: a new one is a compile error until it is hashed
+        // (the world checksum must cover the whole state).
+        let Arena { slots, free, len } = self;
+        h.write_u64(slots.len() as u64);
+        for slot in slots {
             slot.hash(h);
         }
-        h.write_u64(self.free.len() as u64);
-        for &i in &self.free {
+        h.write_u64(free.len() as u64);
+        for &i in free {
             h.write_u32(i);
         }
-        h.write_u32(self.len);
+        h.write_u32(*len);
     }
 }
 
@@ -263,12 +280,15 @@ impl<T> Arena<T> {
     /// slots, each once, and `len` counts the full ones. Used by snapshot
     /// loading and by tests; returns a description of the first violation.
     pub fn validate(&self) -> Result<(), String> {
-        let full = self.slots.iter().filter(|s| s.value.is_some()).count();
-        if full != self.len as usize {
-            return Err(format!("arena length {} but {} live slots", self.len, full));
+        // Every field named: a new one must be checked or said not to need
+        // it (a slot's generation may be any value).
+        let Arena { slots, free, len } = self;
+        let full = slots.iter().filter(|s| s.value.is_some()).count();
+        if full != *len as usize {
+            return Err(format!("arena length {} but {} live slots", *len, full));
         }
-        let mut seen = vec![false; self.slots.len()];
-        for &i in &self.free {
+        let mut seen = vec![false; slots.len()];
+        for &i in free {
             let Some(flag) = seen.get_mut(i as usize) else {
                 return Err(format!("free list names slot {i} past the end"));
             };
@@ -285,12 +305,12 @@ impl<T> Arena<T> {
             }
         }
         // `full` counts some of the slots: never saturates.
-        let empty = self.slots.len().saturating_sub(full);
-        if empty != self.free.len() {
+        let empty = slots.len().saturating_sub(full);
+        if empty != free.len() {
             return Err(format!(
                 "{} empty slots but {} on the free list",
                 empty,
-                self.free.len()
+                free.len()
             ));
         }
         Ok(())

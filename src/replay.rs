@@ -213,12 +213,18 @@ pub fn apply_inputs(space: &mut Space, inputs: &[Input]) -> Result<(), SpaceErro
         let Some(b) = space.body_mut(input.body()) else {
             continue; // unreachable: checked above
         };
+        // Every field named (no `..`): a field added to an input does not
+        // compile until it is applied.
         match *input {
-            Input::Impulse { impulse, point, .. } => b.apply_impulse_at_world_point(impulse, point),
-            Input::Force { force, .. } => b.apply_force(force),
-            Input::Torque { torque, .. } => b.apply_torque(torque),
-            Input::Velocity { velocity, .. } => b.set_velocity(velocity),
-            Input::AngularVelocity { w, .. } => b.set_angular_velocity(w),
+            Input::Impulse {
+                body: _,
+                impulse,
+                point,
+            } => b.apply_impulse_at_world_point(impulse, point),
+            Input::Force { body: _, force } => b.apply_force(force),
+            Input::Torque { body: _, torque } => b.apply_torque(torque),
+            Input::Velocity { body: _, velocity } => b.set_velocity(velocity),
+            Input::AngularVelocity { body: _, w } => b.set_angular_velocity(w),
         }
     }
     Ok(())

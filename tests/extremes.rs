@@ -1,6 +1,7 @@
 //! The envelope report: every measured number of the "Safe envelope" and
 //! "Comparison with f32 and f64 engines" sections of `docs/numerics.md`,
-//! printed as the tables pasted there (release builds only, about 45 s):
+//! printed as the tables pasted there (release builds only, about 45 s; an
+//! ignored test, since it prints rather than checks):
 //!
 //! ```text
 //! cargo test --release --test extremes -- --nocapture envelope_report
@@ -11,7 +12,9 @@
 //! `extremes_scale.rs`, `extremes_motion.rs`; shared helpers in
 //! `extremes_common/mod.rs`). Everything except the timings is
 //! deterministic, so a change in a pasted table means the engine's numbers
-//! changed.
+//! changed. The format limits and the position resolution are cheap and
+//! follow from the format alone, so they are also checked here, on every
+//! `cargo test`, against their formulas.
 #![allow(clippy::float_arithmetic)]
 
 mod extremes_common;
@@ -84,13 +87,84 @@ fn box_mass(side: Real, density: Real) -> Result<(Real, Real), SceneError> {
         .map_or((Real::ZERO, Real::ZERO), |b| (b.mass(), b.moment())))
 }
 
+/// The format limits of the envelope, computed with the engine's own
+/// operations.
+struct FormatLimits {
+    /// Largest `x` with `x·x` unsaturated.
+    square: f64,
+    /// Largest speed for which `kinetic_energy()` of 1 kg is right to 10^-6.
+    kinetic: f64,
+    /// Per density: the side above which a square box's moment saturates,
+    /// and the side below which its moment rounds to 0 (massless).
+    boxes: Vec<(f64, f64, f64)>,
+}
+
+fn format_limits() -> FormatLimits {
+    let square = bisect(1.0, 1e6, |x| !(r(x) * r(x)).is_saturated());
+    let kinetic = bisect(1.0, 1e7, |v| {
+        let mut b = Body::new(Real::ONE, Real::ONE).unwrap_or_else(|e| panic!("{e}"));
+        b.set_velocity(Vect::new(r(v), Real::ZERO));
+        let exact = 0.5 * r(v).to_f64() * r(v).to_f64();
+        (b.kinetic_energy().to_f64() - exact).abs() <= 1e-6 * exact
+    });
+    let boxes = [1.0, 1000.0]
+        .into_iter()
+        .map(|density| {
+            let big = bisect(1.0, 10_000.0, |s| {
+                box_mass(r(s), r(density)).is_ok_and(|(_, i)| !i.is_saturated())
+            });
+            let small = bisect(1e-5, 1.0, |s| box_mass(r(s), r(density)).is_err());
+            (density, big, small)
+        })
+        .collect();
+    FormatLimits {
+        square,
+        kinetic,
+        boxes,
+    }
+}
+
+/// The limits are where the format says they are: I32F32 holds values
+/// below 2^31 and rounds below half an ulp (2^-33) to 0, so `x·x` saturates
+/// at x = 2^15.5, ½·m·v² (1 kg) at v = 2^16, and a square box's moment
+/// ρ·s⁴/6 saturates at s = (6·2^31/ρ)^¼ and rounds to 0 below
+/// s = (6·2^-33/ρ)^¼. Each measured limit must match its formula to 10^-4
+/// relative, plus, for the tiny boxes, what rounding the moment per unit
+/// mass s²/6 can move the threshold: an ulp of s²/6 is a relative error of
+/// ulp·6/s² in the moment, so a quarter of that in the side.
+#[test]
+fn format_limits_follow_from_the_format() {
+    let near_within = |measured: f64, formula: f64, rel: f64, what: &str| {
+        assert!(
+            (measured - formula).abs() <= rel * formula,
+            "{what}: measured {measured}, formula {formula}"
+        );
+    };
+    let near = |measured: f64, formula: f64, what: &str| {
+        near_within(measured, formula, 1e-4, what);
+    };
+    let limits = format_limits();
+    near(limits.square, 2f64.powf(15.5), "x·x");
+    near(limits.kinetic, 2f64.powi(16), "kinetic energy");
+    for &(density, big, small) in &limits.boxes {
+        near(
+            big,
+            (6.0 * 2f64.powi(31) / density).powf(0.25),
+            "moment saturates",
+        );
+        let formula = (6.0 * 2f64.powi(-33) / density).powf(0.25);
+        let rounding = ULP * 6.0 / (formula * formula) / 4.0;
+        near_within(small, formula, 1e-4 + rounding, "moment rounds to 0");
+    }
+}
+
 fn report_format_limits() {
     println!("## Format limits (computed with the engine's own operations)\n");
     println!("| quantity | value |\n|---|---|");
     println!("| range | ±{} |", Real::MAX.to_f64().round());
     println!("| resolution (1 ulp) | {ULP:.3e} |");
-    let sq = bisect(1.0, 1e6, |x| !(r(x) * r(x)).is_saturated());
-    println!("| largest x with x·x unsaturated | {sq:.2} |");
+    let limits = format_limits();
+    println!("| largest x with x·x unsaturated | {:.2} |", limits.square);
     println!(
         "| f32 / f64: significant bits, smallest normal value | {} / {}, {:.1e} / {:.1e} |",
         f32::MANTISSA_DIGITS,
@@ -98,18 +172,11 @@ fn report_format_limits() {
         f32::MIN_POSITIVE,
         f64::MIN_POSITIVE
     );
-    let ke = bisect(1.0, 1e7, |v| {
-        let mut b = Body::new(Real::ONE, Real::ONE).unwrap_or_else(|e| panic!("{e}"));
-        b.set_velocity(Vect::new(r(v), Real::ZERO));
-        let exact = 0.5 * r(v).to_f64() * r(v).to_f64();
-        (b.kinetic_energy().to_f64() - exact).abs() <= 1e-6 * exact
-    });
-    println!("| largest speed for which `kinetic_energy()` is right, 1 kg | {ke:.0} m/s |");
-    for density in [1.0, 1000.0] {
-        let big = bisect(1.0, 10_000.0, |s| {
-            box_mass(r(s), r(density)).is_ok_and(|(_, i)| !i.is_saturated())
-        });
-        let small = bisect(1e-5, 1.0, |s| box_mass(r(s), r(density)).is_err());
+    println!(
+        "| largest speed for which `kinetic_energy()` is right, 1 kg | {:.0} m/s |",
+        limits.kinetic
+    );
+    for (density, big, small) in limits.boxes {
         println!("| square box at density {density}: moment saturates above side | {big:.1} m |");
         println!(
             "| square box at density {density}: massless (moment rounds to 0) below side | {small:.2e} m |"
@@ -118,30 +185,53 @@ fn report_format_limits() {
     println!();
 }
 
+/// Distances from the origin of the position-resolution table.
+const SLIDE_STARTS: [(f64, &str); 4] = [
+    (1.0, "1"),
+    (1e4, "10^4"),
+    (1e6, "10^6"),
+    (1_073_741_824.0, "2^30"),
+];
+
+/// How far 60 steps of `x += v·dt` (v = 1 m/s, dt = 1/60 s) move a point
+/// starting at `x0`, in I32F32.
+fn slide(x0: f64) -> Real {
+    let (mut x, dt, v) = (r(x0), Real::ratio(1, 60), Real::ONE);
+    for _ in 0..60 {
+        x += v * dt;
+    }
+    x - r(x0)
+}
+
+/// Fixed point has one resolution everywhere: the slide moves a point by
+/// exactly 60 times the rounded step, wherever it starts (float steps grow
+/// with the distance from the origin).
+#[test]
+fn a_slide_moves_the_same_distance_at_every_distance_from_the_origin() {
+    let step = Real::ratio(1, 60);
+    let expected = Real::from_bits(step.to_bits() * 60);
+    for (x0, label) in SLIDE_STARTS {
+        assert_eq!(slide(x0), expected, "from {label}");
+    }
+}
+
 fn report_position_resolution() {
     println!("## Position resolution and a 1 m/s slide (60 steps of x += v·dt)\n");
     println!(
         "| distance from origin (m) | I32F32 step | f64 step | f32 step | I32F32 moved | f64 moved | f32 moved |"
     );
     println!("|---|---|---|---|---|---|---|");
-    for (x0, label) in [
-        (1.0f64, "1"),
-        (1e4, "10^4"),
-        (1e6, "10^6"),
-        (1_073_741_824.0, "2^30"),
-    ] {
+    for (x0, label) in SLIDE_STARTS {
         let ulp32 = f64::from(f32::from_bits((x0 as f32).to_bits() + 1) - x0 as f32);
         let ulp64 = f64::from_bits(x0.to_bits() + 1) - x0;
-        let (mut xr, mut x64, mut x32) = (r(x0), x0, x0 as f32);
-        let (dt, v) = (Real::ratio(1, 60), Real::ONE);
+        let (mut x64, mut x32) = (x0, x0 as f32);
         for _ in 0..60 {
-            xr += v * dt;
             x64 += 1.0 / 60.0;
             x32 += 1.0f32 / 60.0;
         }
         println!(
             "| {label} | {ULP:.1e} | {ulp64:.1e} | {ulp32:.1e} | {:.9} | {:.9} | {:.9} |",
-            (xr - r(x0)).to_f64(),
+            slide(x0).to_f64(),
             x64 - x0,
             f64::from(x32) - x0
         );

@@ -18,10 +18,12 @@ use core::fmt;
 
 use serde::{Deserialize, Serialize};
 
+use crate::arbiter::Arbiter;
 use crate::arena::{Arena, Handle};
 use crate::body::{Body, BodyHandle};
 use crate::checksum::checksum_of;
-use crate::space::{ShapeHandle, Space, WorldState};
+use crate::shape::Shape;
+use crate::space::{Settings, ShapeHandle, Space, WorldState};
 
 /// Digests of the parts of a world (see the module docs).
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -171,10 +173,23 @@ fn first_entry_mismatch<T>(a: &[(Handle<T>, u64)], b: &[(Handle<T>, u64)]) -> Op
     }
 }
 
-/// Compares fields in order; returns the first differing one as
-/// `(name, a, b)` in `Debug` form.
+/// Compares the fields of two values of struct `$ty` in the order given;
+/// returns the first differing one as `(name, a, b)` in `Debug` form.
+///
+/// The list is checked against the struct by the compiler: the macro first
+/// destructures `a` with exactly the listed fields and no `..`, so a field
+/// added to the struct (or one left out of the list) is a compile error
+/// here, and `first_difference` can never miss a field. Nested values
+/// (`Vect`, `Geometry`, `Material`, contact arrays) are compared whole by
+/// their derived `PartialEq`, which covers all their fields. The form with
+/// `_` instead of a type compares a subset of a struct whose completeness
+/// is checked by a destructuring elsewhere.
 macro_rules! first_field {
-    ($a:expr, $b:expr; $($field:ident),+ $(,)?) => {{
+    ($ty:ident; $a:expr, $b:expr; $($field:ident),+ $(,)?) => {{
+        let $ty { $($field: _),+ } = $a;
+        first_field!(_; $a, $b; $($field),+)
+    }};
+    (_; $a:expr, $b:expr; $($field:ident),+ $(,)?) => {{
         let (a, b) = ($a, $b);
         None$(.or_else(|| {
             (a.$field != b.$field).then(|| {
@@ -190,34 +205,48 @@ macro_rules! first_field {
 /// the count), counters. `None` if the states are equal.
 pub fn first_difference(a: &Space, b: &Space) -> Option<Difference> {
     let (sa, sb) = (a.state(), b.state());
+    // Every part of the state, named so that a new one is a compile error
+    // until it is compared below: settings, the two arenas, the arbiters
+    // (`arbiter_difference`) and the counters.
+    let WorldState {
+        settings,
+        bodies,
+        shapes,
+        arbiters: _,
+        stamp: _,
+        steps: _,
+        current_dt: _,
+        prev_dt: _,
+    } = sa;
     let diff = |subject, (field, a, b): (&'static str, String, String)| Difference {
         subject,
         field,
         a,
         b,
     };
-    let found = first_field!(&sa.settings, &sb.settings;
+    let found = first_field!(Settings; settings, &sb.settings;
         iterations, gravity, damping, collision_slop, collision_bias, collision_persistence,
         substeps, warm_starting, friction, restitution, bias_impulses)
     .map(|f| diff(Subject::Settings, f));
     found
-        .or_else(|| first_slot_difference(&sa.bodies, &sb.bodies, Subject::Body, body_fields))
-        .or_else(|| arena_rest(&sa.bodies, &sb.bodies, Subject::BodyArena))
-        .or_else(|| {
-            first_slot_difference(&sa.shapes, &sb.shapes, Subject::Shape, |x, y| {
-                first_field!(x, y; body, geometry, material, filter, collision_type, sensor, mass_spec)
-            })
-        })
-        .or_else(|| arena_rest(&sa.shapes, &sb.shapes, Subject::ShapeArena))
+        .or_else(|| first_slot_difference(bodies, &sb.bodies, Subject::Body, body_fields))
+        .or_else(|| arena_rest(bodies, &sb.bodies, Subject::BodyArena))
+        .or_else(|| first_slot_difference(shapes, &sb.shapes, Subject::Shape, shape_fields))
+        .or_else(|| arena_rest(shapes, &sb.shapes, Subject::ShapeArena))
         .or_else(|| arbiter_difference(sa, sb))
         .or_else(|| {
-            first_field!(sa, sb; stamp, steps, current_dt, prev_dt).map(|f| diff(Subject::Counters, f))
+            first_field!(_; sa, sb; stamp, steps, current_dt, prev_dt)
+                .map(|f| diff(Subject::Counters, f))
         })
 }
 
 fn body_fields(a: &Body, b: &Body) -> Option<(&'static str, String, String)> {
-    first_field!(a, b; body_type, mass, mass_inv, moment, moment_inv, explicit_mass, cog,
+    first_field!(Body; a, b; body_type, mass, mass_inv, moment, moment_inv, explicit_mass, cog,
         p, v, f, a, rot, w, t, v_bias, w_bias)
+}
+
+fn shape_fields(a: &Shape, b: &Shape) -> Option<(&'static str, String, String)> {
+    first_field!(Shape; a, b; body, geometry, material, filter, collision_type, sensor, mass_spec)
 }
 
 type FieldDiff = (&'static str, String, String);
@@ -286,7 +315,7 @@ fn arbiter_difference(sa: &WorldState, sb: &WorldState) -> Option<Difference> {
         .zip(&sb.arbiters)
         .enumerate()
         .find_map(|(i, (x, y))| {
-            first_field!(x, y; shape_a, shape_b, body_a, body_b, normal, count, contacts,
+            first_field!(Arbiter; x, y; shape_a, shape_b, body_a, body_b, normal, count, contacts,
                 restitution, friction, surface_velocity, collision_id, stamp, state, sensor)
             .map(|(field, a, b)| Difference {
                 subject: Subject::Arbiter(i),

@@ -66,7 +66,8 @@
 //! * arbiters: strictly increasing `(shape a, shape b)` slot order, both
 //!   shapes live, the bodies those of the shapes (two different bodies, one
 //!   of them dynamic), 1..=2 contacts with non-negative accumulated normal
-//!   impulse, stamp in `1..=world stamp`, and a state that fits the stamp
+//!   impulse and cleared slots past them, stamp in `1..=world stamp`, and a
+//!   state that fits the stamp
 //!   (`Cached` exactly when the pair did not touch in the last step, never
 //!   `FirstCollision`, which only exists inside a step).
 //!
@@ -79,6 +80,32 @@
 //! for 4·10^9 would otherwise make one step run for hours), but a game that
 //! loads snapshots from untrusted peers still checks the body count against
 //! its own limits before stepping.
+//!
+//! # Validation as a contract
+//! [`validate_state`] is the one statement of what a world state is:
+//! * **Every state the API produces passes it**, between any two calls: the
+//!   `validate` feature runs it after every [`Space::step`] (the crate's
+//!   tests enable it, see `Cargo.toml`), and the tests run
+//!   [`Space::validate`] after their world edits.
+//! * **Every state that passes it is safe to step**: loading checks nothing
+//!   else, so a step must neither panic nor loop on any state it accepts
+//!   (the snapshot fuzz target feeds it arbitrary bytes).
+//! * **It covers every field**: the field ledger (`space/ledger.rs`)
+//!   destructures each state type with no `..` and names, per field, the
+//!   check above that covers it or why any value is fine; a new field does
+//!   not compile until it is placed there. The desync tools are held to the
+//!   same rule: [`first_difference`] destructures the structs it compares,
+//!   and a test changes every leaf of a world's serde form and asserts that
+//!   `==`, [`Space::checksum`], [`checksum_parts`] and [`first_difference`]
+//!   all see the change.
+//! * **Nothing outside the state is needed**: everything else a space holds
+//!   is derived from the state or is scratch, and is rebuilt from it —
+//!   world-space shape geometry and bounding boxes (`ShapeCache`), broadphase
+//!   proxies and pairs, solver rows, the step-length constants (cleared when
+//!   the settings or the state are replaced), the static tree (rebuilt
+//!   after [`Space::restore_state`] and [`Space::from_state`]). Queries read
+//!   the state only. So a validated state stepped in a fresh space and in
+//!   the space it came from gives the same bits.
 //!
 //! # Two ways to roll back
 //! * In memory (fastest, no validation needed): keep `space.state().clone()`

@@ -11,6 +11,7 @@
 //!   (closures cannot be serialized; a game re-attaches them by collision
 //!   type after loading a snapshot).
 pub mod handlers;
+mod ledger;
 pub mod query;
 mod settings;
 mod step;
@@ -54,6 +55,11 @@ pub enum SpaceError {
     Locked,
     /// The handle was made by another space.
     ForeignHandle,
+    /// A step left the world breaking an invariant of [`validate_state`]
+    /// (named in the message): an engine bug. Only returned by builds with
+    /// the `validate` feature, which checks the state after every step
+    /// (see [`VALIDATES_STEPS`]).
+    InvalidState(String),
 }
 
 impl fmt::Display for SpaceError {
@@ -74,6 +80,7 @@ impl fmt::Display for SpaceError {
                 f.write_str("space is locked during the step; use a post-step callback")
             }
             SpaceError::ForeignHandle => f.write_str("handle belongs to another space"),
+            SpaceError::InvalidState(why) => write!(f, "the step broke an invariant: {why}"),
         }
     }
 }
@@ -656,12 +663,35 @@ impl Space {
     }
 }
 
+/// True in unoptimised builds (`debug_assertions`) with the `validate`
+/// feature: [`Space::step`] then runs [`validate_state`] after every step
+/// and returns [`SpaceError::InvalidState`] if the world breaks an
+/// invariant (Box2D's validation builds). The crate's own test suite
+/// enables the feature. The default build never validates, and optimised
+/// builds ignore the feature (timing runs measure the engine alone); the
+/// check only reads the state, so it changes no bit either way.
+pub const VALIDATES_STEPS: bool = cfg!(all(feature = "validate", debug_assertions));
+
+impl Space {
+    /// The check [`Space::step`] ends with: when [`VALIDATES_STEPS`], every
+    /// invariant of [`validate_state`]; otherwise nothing.
+    #[inline(always)]
+    pub(crate) fn check_step_invariants(&self) -> Result<(), SpaceError> {
+        #[cfg(all(feature = "validate", debug_assertions))]
+        validate_state(&self.state).map_err(SpaceError::InvalidState)?;
+        Ok(())
+    }
+}
+
 /// Checks a [`WorldState`]'s invariants (see [`Space::validate`]): settings
 /// in range; step counters consistent (no `dt` before the first step, a
 /// positive one after it); arenas (free lists, lengths); every body's
 /// invariants and cached inverses; every shape's body link, geometry and
-/// mass specification; arbiter order, references, contact counts, states
-/// and stamps. Returns a description of the first violation.
+/// mass specification; arbiter order, references, contact counts (cleared
+/// slots past the count), states and stamps. Returns a description of the
+/// first violation. What it checks of each field of the state, or why it
+/// checks nothing, is listed in the field ledger (`space/ledger.rs`), which
+/// the compiler keeps complete.
 pub fn validate_state(state: &WorldState) -> Result<(), String> {
     state
         .settings
@@ -724,6 +754,12 @@ pub fn validate_state(state: &WorldState) -> Result<(), String> {
         }
         arb.validate(state.stamp)
             .map_err(|e| format!("arbiter {key:?}: {e}"))?;
+        // The narrowphase clears the slots past the count, so that the state
+        // (and its checksum) does not depend on earlier contacts.
+        let unused = arb.contacts.get(arb.count()..).unwrap_or(&[]);
+        if unused.iter().any(|c| *c != Default::default()) {
+            return Err(format!("arbiter {key:?} has data past its contact count"));
+        }
     }
     Ok(())
 }
@@ -752,4 +788,75 @@ fn validate_counters(state: &WorldState) -> Result<(), String> {
         ));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod step_validation_tests {
+    use super::*;
+
+    /// A dynamic ball resting on a static box, after a few steps (so the
+    /// state has an arbiter).
+    fn resting() -> Result<Space, SpaceError> {
+        let mut w = Space::new();
+        w.set_gravity(Vect::new(Real::ZERO, Real::from_int(-10)));
+        let ground = w.add_body(Body::new_static())?;
+        w.add_shape(Shape::box_shape_new(
+            ground,
+            Real::from_int(10),
+            Real::ONE,
+            Real::ZERO,
+        )?)?;
+        let mut ball = Body::new(Real::ONE, Real::ONE)?;
+        ball.set_position(Vect::new(Real::ZERO, Real::ONE));
+        let ball = w.add_body(ball)?;
+        w.add_shape(Shape::circle_shape_new(ball, Real::HALF, Vect::ZERO)?)?;
+        for _ in 0..10 {
+            w.step(Real::ONE / Real::from_int(60))?;
+        }
+        Ok(w)
+    }
+
+    #[test]
+    fn the_step_check_reports_a_broken_invariant_only_in_validation_builds() {
+        let mut w = resting().unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(w.arbiters().len(), 1);
+        assert_eq!(w.check_step_invariants(), Ok(()));
+        // Break one invariant a step must keep: the cached inverse mass.
+        let (_, ball) = w
+            .state
+            .bodies
+            .iter_mut()
+            .find(|(_, b)| b.is_dynamic())
+            .unwrap_or_else(|| panic!("the ball"));
+        ball.mass_inv = Real::TWO;
+        let found = w.check_step_invariants();
+        if VALIDATES_STEPS {
+            let Err(SpaceError::InvalidState(why)) = found else {
+                panic!("not reported: {found:?}");
+            };
+            assert!(why.contains("inverse mass does not match mass"), "{why}");
+        } else {
+            assert_eq!(found, Ok(()));
+        }
+    }
+
+    #[test]
+    fn data_past_an_arbiters_contact_count_is_invalid() {
+        let mut w = resting().unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(validate_state(&w.state), Ok(()));
+        let arb = w
+            .state
+            .arbiters
+            .first_mut()
+            .unwrap_or_else(|| panic!("the ball touches the ground"));
+        assert_eq!(arb.count(), 1, "a circle on a box: one contact");
+        if let Some(unused) = arb.contacts.get_mut(1) {
+            unused.jt_acc = Real::ONE;
+        }
+        let found = validate_state(&w.state);
+        let Err(why) = found else {
+            panic!("not reported");
+        };
+        assert!(why.contains("past its contact count"), "{why}");
+    }
 }

@@ -82,7 +82,7 @@ impl Space {
         let substeps = self.state.settings.substeps;
         if substeps <= 1 {
             self.sub_step(dt);
-            return Ok(());
+            return self.check_step_invariants();
         }
         // The split is fixed here: a post-step callback that changes the
         // settings affects the next step, not the rest of this one.
@@ -102,7 +102,7 @@ impl Space {
             self.sub_step(sub_dt);
         }
         self.caches.frame_forces = forces;
-        Ok(())
+        self.check_step_invariants()
     }
 
     /// Adds the forces and torques the step started with to the bodies that
