@@ -73,14 +73,39 @@ impl Default for ShapeFilter {
 }
 
 /// Surface material: the arbiter multiplies the two shapes' values.
+///
+/// Valid ranges (checked by [`Material::validate`] wherever a material
+/// enters a space: `Space::add_shape`, `Space::modify_shape`,
+/// [`Shape::with_material`] and snapshot validation): friction ≥ 0 (a
+/// negative friction would push a sliding body forward); elasticity in
+/// [0, 1] (Chipmunk accepts more, but above 1 every bounce adds energy
+/// without bound; 1 is a perfect bounce); any surface velocity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct Material {
     /// Coulomb friction coefficient, ≥ 0.
     pub friction: Real,
-    /// Restitution (elasticity), ≥ 0; 1 is a perfect bounce.
+    /// Restitution (elasticity), in [0, 1]; 1 is a perfect bounce.
     pub elasticity: Real,
     /// Surface velocity (conveyor belts), in world coordinates.
     pub surface_velocity: Vect,
+}
+
+impl Material {
+    /// Checks the ranges: friction ≥ 0 ([`ShapeError::Negative`]),
+    /// elasticity in [0, 1] ([`ShapeError::Negative`],
+    /// [`ShapeError::AboveOne`]); every surface velocity is valid.
+    pub fn validate(&self) -> Result<(), ShapeError> {
+        if self.friction.is_negative() {
+            return Err(ShapeError::Negative("friction"));
+        }
+        if self.elasticity.is_negative() {
+            return Err(ShapeError::Negative("elasticity"));
+        }
+        if self.elasticity > Real::ONE {
+            return Err(ShapeError::AboveOne("elasticity"));
+        }
+        Ok(())
+    }
 }
 
 impl Default for Material {
@@ -133,8 +158,10 @@ pub enum ShapeError {
         /// Number of vertices.
         count: usize,
     },
-    /// A radius, size, mass or density was negative.
+    /// A radius, size, mass, density, friction or elasticity was negative.
     Negative(&'static str),
+    /// A value limited to [0, 1] (elasticity) was above 1.
+    AboveOne(&'static str),
     /// The points span no area (fewer than 3 distinct, non-collinear points).
     DegeneratePolygon,
     /// The points' convex hull has more than [`MAX_POLY_VERTICES`] vertices.
@@ -158,6 +185,7 @@ impl fmt::Display for ShapeError {
                 )
             }
             ShapeError::Negative(what) => write!(f, "{what} must not be negative"),
+            ShapeError::AboveOne(what) => write!(f, "{what} must not be above 1"),
             ShapeError::DegeneratePolygon => {
                 f.write_str("polygon needs at least 3 distinct, non-collinear points")
             }
@@ -363,15 +391,15 @@ impl Shape {
     }
 
     /// Builder form of the material setters.
+    /// Errors as [`Material::validate`].
     pub fn with_material(mut self, friction: Real, elasticity: Real) -> Result<Shape, ShapeError> {
-        if friction.is_negative() {
-            return Err(ShapeError::Negative("friction"));
-        }
-        if elasticity.is_negative() {
-            return Err(ShapeError::Negative("elasticity"));
-        }
-        self.material.friction = friction;
-        self.material.elasticity = elasticity;
+        let material = Material {
+            friction,
+            elasticity,
+            ..self.material
+        };
+        material.validate()?;
+        self.material = material;
         Ok(self)
     }
 

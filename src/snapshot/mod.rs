@@ -62,7 +62,8 @@
 //! * shapes: the body handle names a live body (generation included);
 //!   radii ≥ 0; segment normals exactly those of the endpoints; polygons of
 //!   3..=8 vertices, strictly convex and counter-clockwise, with exactly the
-//!   normals the constructor computes; mass and density ≥ 0;
+//!   normals the constructor computes; mass and density ≥ 0; friction
+//!   ≥ 0 and elasticity in [0, 1];
 //! * arbiters: strictly increasing `(shape a, shape b)` slot order, both
 //!   shapes live, the bodies those of the shapes (two different bodies, one
 //!   of them dynamic), 1..=2 contacts with non-negative accumulated normal

@@ -378,9 +378,11 @@ impl Space {
     }
 
     /// Adds a shape to the body it names; recomputes the body's mass from its
-    /// shapes unless the mass was set explicitly.
+    /// shapes unless the mass was set explicitly. Errors on an invalid
+    /// material ([`Material::validate`](crate::shape::Material::validate)).
     pub fn add_shape(&mut self, shape: Shape) -> Result<ShapeHandle, SpaceError> {
         self.check_unlocked()?;
+        shape.material.validate()?;
         let bh = shape.body;
         self.check_origin(bh)?;
         let body_type = self
@@ -461,8 +463,8 @@ impl Space {
     }
 
     /// Changes a shape through `f` (material, filter, geometry setters),
-    /// then refreshes the owning body's mass. Errors from `f` leave the
-    /// shape unchanged.
+    /// then refreshes the owning body's mass. Errors from `f`, or a material
+    /// left invalid by `f`, leave the shape unchanged.
     pub fn modify_shape<R>(
         &mut self,
         h: ShapeHandle,
@@ -477,6 +479,7 @@ impl Space {
             .ok_or(SpaceError::StaleShape(h))?;
         let mut copy = shape.clone();
         let out = f(&mut copy)?;
+        copy.material.validate()?;
         let body = copy.body;
         if !self.state.bodies.contains(body) {
             return Err(SpaceError::StaleBody(body));
@@ -693,6 +696,9 @@ pub fn validate_state(state: &WorldState) -> Result<(), String> {
                 .map_err(|e| format!("shape {h:?}: {e}"))?;
             checked = Some(&s.geometry);
         }
+        s.material
+            .validate()
+            .map_err(|e| format!("shape {h:?}: {e}"))?;
         if let MassSpec::Mass(v) | MassSpec::Density(v) = s.mass_spec {
             if v.is_negative() {
                 return Err(format!("shape {h:?}: negative mass or density"));
