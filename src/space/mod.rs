@@ -54,6 +54,11 @@ pub enum SpaceError {
     Locked,
     /// The handle was made by another space.
     ForeignHandle,
+    /// [`Space::step`] refused: this dynamic body has no mass (no explicit
+    /// mass, and no shape with a mass or density), so no contact could stop
+    /// it. Give it a mass (`Body::new`, `Body::set_mass`) or a shape a
+    /// density (`Shape::set_density`). The first such body in slot order.
+    MasslessDynamicBody(BodyHandle),
 }
 
 impl fmt::Display for SpaceError {
@@ -74,6 +79,10 @@ impl fmt::Display for SpaceError {
                 f.write_str("space is locked during the step; use a post-step callback")
             }
             SpaceError::ForeignHandle => f.write_str("handle belongs to another space"),
+            SpaceError::MasslessDynamicBody(h) => write!(
+                f,
+                "dynamic body {h:?} has no mass: give it a mass or a shape with mass or density"
+            ),
         }
     }
 }
@@ -141,7 +150,10 @@ pub struct StepStats {
     /// Dynamic bodies with infinite mass (no explicit mass and no shape
     /// with mass or density): gravity moves them but no contact can stop
     /// them, so they fall through everything — almost always a missing
-    /// density. Counted when the solver loads the bodies.
+    /// density. [`Space::step`] refuses to start with one
+    /// ([`SpaceError::MasslessDynamicBody`]), so this is 0 unless a
+    /// post-step callback made one between two sub-steps of a step. Counted
+    /// when the solver loads the bodies.
     pub massless_dynamic_bodies: u32,
 }
 
