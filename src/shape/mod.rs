@@ -231,21 +231,36 @@ impl Shape {
         }
     }
 
+    /// A shape from geometry that passed its constructor's checks, after the
+    /// extent rule ([`Geometry::check_extent`]).
+    pub(crate) fn checked(body: BodyHandle, geometry: Geometry) -> Result<Shape, ShapeError> {
+        geometry.check_extent()?;
+        Ok(Shape::from_geometry(body, geometry))
+    }
+
+    /// Replaces the geometry if it obeys the extent rule; otherwise leaves
+    /// the shape unchanged.
+    pub(crate) fn replace_geometry(&mut self, geometry: Geometry) -> Result<(), ShapeError> {
+        geometry.check_extent()?;
+        self.geometry = geometry;
+        Ok(())
+    }
+
     /// MIS `circleShapeNew`: a circle of `radius` centred at `offset` (body
-    /// coordinates). Errors on a negative radius.
+    /// coordinates). Errors on a negative radius, and on a circle outside
+    /// the extent rule ([`Geometry::check_extent`]: radius below 2^30 m).
     pub fn circle_shape_new(
         body: BodyHandle,
         radius: Real,
         offset: Vect,
     ) -> Result<Shape, ShapeError> {
         check_radius(radius)?;
-        Ok(Shape::from_geometry(
-            body,
-            Geometry::Circle(Circle::new(radius, offset)),
-        ))
+        Shape::checked(body, Geometry::Circle(Circle::new(radius, offset)))
     }
 
     /// Chipmunk `segmentShapeNew`: a segment (capsule) from `a` to `b`.
+    /// Errors on a negative radius and outside the extent rule
+    /// ([`Geometry::check_extent`]).
     pub fn segment_shape_new(
         body: BodyHandle,
         a: Vect,
@@ -253,10 +268,7 @@ impl Shape {
         radius: Real,
     ) -> Result<Shape, ShapeError> {
         check_radius(radius)?;
-        Ok(Shape::from_geometry(
-            body,
-            Geometry::Segment(Segment::new(a, b, radius)),
-        ))
+        Shape::checked(body, Geometry::Segment(Segment::new(a, b, radius)))
     }
 
     /// The body the shape is attached to.
@@ -299,22 +311,16 @@ impl Shape {
     /// owning body's mass is recomputed by the space.
     pub fn set_circle_radius(&mut self, radius: Real) -> Result<(), ShapeError> {
         check_radius(radius)?;
-        match &mut self.geometry {
-            Geometry::Circle(c) => {
-                c.radius = radius;
-                Ok(())
-            }
+        match self.geometry {
+            Geometry::Circle(c) => self.replace_geometry(Geometry::Circle(Circle { radius, ..c })),
             Geometry::Segment(_) | Geometry::Poly(_) => Err(ShapeError::NotCircleShape),
         }
     }
 
-    /// Chipmunk `circleShapeSetOffset`.
+    /// Chipmunk `circleShapeSetOffset` (extent rule as the constructor).
     pub fn set_circle_offset(&mut self, offset: Vect) -> Result<(), ShapeError> {
-        match &mut self.geometry {
-            Geometry::Circle(c) => {
-                c.offset = offset;
-                Ok(())
-            }
+        match self.geometry {
+            Geometry::Circle(c) => self.replace_geometry(Geometry::Circle(Circle { offset, ..c })),
             Geometry::Segment(_) | Geometry::Poly(_) => Err(ShapeError::NotCircleShape),
         }
     }
@@ -328,28 +334,24 @@ impl Shape {
     }
 
     /// Chipmunk `segmentShapeSetEndpoints`.
+    /// Errors outside the extent rule, leaving the shape unchanged.
     pub fn set_segment_endpoints(&mut self, a: Vect, b: Vect) -> Result<(), ShapeError> {
-        match &mut self.geometry {
-            Geometry::Segment(s) => {
-                let (ta, tb) = (s.a_tangent, s.b_tangent);
-                *s = Segment {
-                    a_tangent: ta,
-                    b_tangent: tb,
-                    ..Segment::new(a, b, s.radius)
-                };
-                Ok(())
-            }
+        match self.geometry {
+            Geometry::Segment(s) => self.replace_geometry(Geometry::Segment(Segment {
+                a_tangent: s.a_tangent,
+                b_tangent: s.b_tangent,
+                ..Segment::new(a, b, s.radius)
+            })),
             Geometry::Circle(_) | Geometry::Poly(_) => Err(ShapeError::NotSegmentShape),
         }
     }
 
-    /// Chipmunk `segmentShapeSetRadius`.
+    /// Chipmunk `segmentShapeSetRadius` (extent rule as the constructor).
     pub fn set_segment_radius(&mut self, radius: Real) -> Result<(), ShapeError> {
         check_radius(radius)?;
-        match &mut self.geometry {
+        match self.geometry {
             Geometry::Segment(s) => {
-                s.radius = radius;
-                Ok(())
+                self.replace_geometry(Geometry::Segment(Segment { radius, ..s }))
             }
             Geometry::Circle(_) | Geometry::Poly(_) => Err(ShapeError::NotSegmentShape),
         }
