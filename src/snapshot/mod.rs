@@ -109,9 +109,11 @@
 //! serialized): handles from the saved world are rejected by a space made
 //! with [`load`] (`SpaceError::ForeignHandle`), because it is a different
 //! space. Use [`Space::load_snapshot`] on the game's own space to keep its
-//! handles working, or, with [`load`], take handles from the loaded space
-//! (`bodies()`, `shapes()`) or build them with `Handle::from_raw_parts`
-//! (origin 0: accepted by every space).
+//! handles working, or, with [`load`], take handles from the loaded space:
+//! every handle it hands out is its own (`bodies()`, `shapes()`, queries,
+//! `Shape::body()`, `Arbiter::shapes()`/`bodies()`, handler contexts), or
+//! build them with `Handle::from_raw_parts` (origin 0: accepted by every
+//! space).
 pub mod diff;
 
 use core::fmt;

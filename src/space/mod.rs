@@ -249,9 +249,7 @@ impl Clone for Space {
     /// Clones the simulation state; handlers and post-step callbacks are not
     /// cloned (closures), the clone has none.
     fn clone(&self) -> Space {
-        let mut copy = Space::from_state(self.state.clone());
-        copy.origin = self.origin;
-        copy
+        Space::with_origin(self.state.clone(), self.origin)
     }
 }
 
@@ -261,9 +259,18 @@ impl Space {
         Space::from_state(WorldState::default())
     }
 
-    /// A space from a state (handlers empty; caches rebuilt on the next step).
-    /// Callers that take untrusted input validate the state first.
+    /// A space from a state (handlers empty; caches rebuilt on the next step),
+    /// with a new handle origin: the handles it hands out, including those
+    /// stored in the state (a shape's body, an arbiter's shapes and bodies),
+    /// are its own. Callers that take untrusted input validate the state
+    /// first.
     pub fn from_state(state: WorldState) -> Space {
+        Space::with_origin(state, new_origin())
+    }
+
+    /// A space from a state whose handles get the origin tag `origin`.
+    fn with_origin(mut state: WorldState, origin: u32) -> Space {
+        adopt_handles(&mut state, origin);
         Space {
             state,
             caches: Caches {
@@ -274,7 +281,7 @@ impl Space {
             post_step: Vec::new(),
             integrators: Integrators::default(),
             locked: false,
-            origin: new_origin(),
+            origin,
         }
     }
 
@@ -284,8 +291,11 @@ impl Space {
     }
 
     /// Replaces the simulation state in place, keeping handlers (rollback).
+    /// The handles in the state become this space's (the state may come from
+    /// another space).
     pub fn restore_state(&mut self, state: &WorldState) {
         self.state.clone_from(state);
+        adopt_handles(&mut self.state, self.origin);
         self.caches.statics_dirty = true;
         self.caches.dt_constants = [None, None];
     }
@@ -403,6 +413,11 @@ impl Space {
             .get(bh)
             .ok_or(SpaceError::StaleBody(bh))?
             .body_type();
+        // Stored handles carry the space's origin (the caller's may be 0).
+        let shape = Shape {
+            body: bh.with_origin(self.origin),
+            ..shape
+        };
         let h = self
             .state
             .shapes
@@ -520,9 +535,14 @@ impl Space {
             .map(move |(h, s)| (h.with_origin(origin), s))
     }
 
-    /// The shapes of one body, in slot order.
+    /// The shapes of one body, in slot order (none for a handle of another
+    /// space).
     pub fn body_shapes(&self, h: BodyHandle) -> impl Iterator<Item = (ShapeHandle, &Shape)> {
-        self.state.shapes.iter().filter(move |(_, s)| s.body == h)
+        let own = self.check_origin(h).is_ok();
+        self.state
+            .shapes
+            .iter()
+            .filter(move |(_, s)| own && s.body == h)
     }
 
     /// The arbiters in canonical order (touching and cached pairs).
@@ -668,6 +688,28 @@ impl Space {
     /// snapshot loading.
     pub fn validate(&self) -> Result<(), String> {
         validate_state(&self.state)
+    }
+}
+
+/// Puts the origin tag `origin` on a state's arenas (so every handle they
+/// make carries it) and on the handles stored in it: each shape's body and
+/// each arbiter's shapes and bodies. Nothing to do for a state that already
+/// has it (a state saved from this space or one of its clones: the tags are
+/// set whenever a handle is stored, see `add_shape` and the narrowphase).
+fn adopt_handles(state: &mut WorldState, origin: u32) {
+    if state.bodies.origin() == origin && state.shapes.origin() == origin {
+        return;
+    }
+    state.bodies.set_origin(origin);
+    state.shapes.set_origin(origin);
+    for (_, shape) in state.shapes.iter_mut() {
+        shape.body = shape.body.with_origin(origin);
+    }
+    for arb in &mut state.arbiters {
+        arb.shape_a = arb.shape_a.with_origin(origin);
+        arb.shape_b = arb.shape_b.with_origin(origin);
+        arb.body_a = arb.body_a.with_origin(origin);
+        arb.body_b = arb.body_b.with_origin(origin);
     }
 }
 
