@@ -12,7 +12,8 @@
 //!   allocate once the buffer has grown).
 //! * [`load`]: a fresh [`Space`] from bytes, after full validation.
 //! * [`Space::load_snapshot`]: replaces a live world's state in place, after
-//!   full validation, keeping its handlers, integrators and handle origin.
+//!   full validation, keeping its handlers, integrators and handle origin
+//!   (pending post-step callbacks are discarded).
 //!   On error the world is untouched (byte-identical).
 //! * [`decode_state`]: the validated [`WorldState`] alone; [`header`]: the
 //!   format version and checksum without decoding the body.
@@ -91,8 +92,10 @@
 //!
 //! # Handlers and integrators after loading
 //! Closures are never part of a snapshot. [`Space::load_snapshot`] keeps the
-//! live world's collision handlers, post-step callbacks and custom
-//! integrators: a rollback needs nothing re-attached. A space made by
+//! live world's collision handlers and custom integrators (also those of
+//! bodies removed since the save, which come back with them), and discards
+//! post-step callbacks still pending (see [`Space::restore_state`]): a
+//! rollback needs nothing re-attached. A space made by
 //! [`load`] has none, so re-register them on it as when the world was first
 //! built: collision handlers are keyed by collision type
 //! (`space.add_collision_handler(a, b)`, `add_wildcard_handler(t)`), so one
@@ -351,9 +354,10 @@ pub fn load(bytes: &[u8]) -> Result<Space, SnapshotError> {
 
 impl Space {
     /// Replaces this world's state by the snapshot's, after full
-    /// validation; handlers, post-step callbacks, custom integrators and the
-    /// handle origin stay (as with [`Space::restore_state`], which this
-    /// calls). On error nothing changes.
+    /// validation; handlers, custom integrators and the handle origin stay,
+    /// pending post-step callbacks are discarded (as with
+    /// [`Space::restore_state`], which this calls). On error nothing
+    /// changes.
     pub fn load_snapshot(&mut self, bytes: &[u8]) -> Result<(), SnapshotError> {
         let state = decode_state(bytes)?;
         self.restore_state(&state);

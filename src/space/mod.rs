@@ -290,10 +290,17 @@ impl Space {
         &self.state
     }
 
-    /// Replaces the simulation state in place, keeping handlers (rollback).
-    /// The handles in the state become this space's (the state may come from
-    /// another space).
+    /// Replaces the simulation state in place (rollback). The handles in the
+    /// state become this space's (the state may come from another space).
+    ///
+    /// Callbacks, which are not state: collision handlers (keyed by
+    /// collision type) stay; custom integrators (keyed by body handle) stay,
+    /// including those of bodies removed since the save, which come back
+    /// with their bodies; post-step callbacks still pending are discarded —
+    /// they were queued in the frames the rollback abandons (queue them from
+    /// handlers or before the step they belong to, never across a save).
     pub fn restore_state(&mut self, state: &WorldState) {
+        self.post_step.clear();
         self.state.clone_from(state);
         adopt_handles(&mut self.state, self.origin);
         self.caches.statics_dirty = true;
@@ -372,6 +379,10 @@ impl Space {
         if is_static {
             self.caches.statics_dirty = true;
         }
+        // A new body starts with the default integration, even under a
+        // handle a rollback re-issued (integrators outlive their bodies).
+        self.integrators.velocity.remove(&h);
+        self.integrators.position.remove(&h);
         Ok(h.with_origin(self.origin))
     }
 
@@ -394,8 +405,9 @@ impl Space {
             self.remove_shape(sh)?;
         }
         self.caches.statics_dirty = true;
-        self.integrators.velocity.remove(&h);
-        self.integrators.position.remove(&h);
+        // The body's custom integrators stay, keyed by its handle: a
+        // rollback to a state where it exists brings them back with it
+        // (`prune_integrators` frees them).
         self.state.bodies.remove(h).ok_or(SpaceError::StaleBody(h))
     }
 
@@ -569,7 +581,10 @@ impl Space {
 
     /// Replaces the default velocity integration of one body (MIS "kinematic
     /// functions set to default ones"; `None` restores the default). Like
-    /// handlers, these closures are not part of snapshots.
+    /// handlers, these closures are not part of snapshots; they outlive
+    /// `remove_body` so that a rollback restores them with the body (see
+    /// [`Space::restore_state`], [`Space::prune_integrators`]), and a body
+    /// newly added under the same handle starts without them.
     pub fn set_velocity_update_func(
         &mut self,
         h: BodyHandle,
@@ -602,6 +617,17 @@ impl Space {
             None => self.integrators.position.remove(&h),
         };
         Ok(())
+    }
+
+    /// Drops the custom integrators of bodies not in the current state.
+    /// Integrators survive `remove_body` so that a rollback to a state where
+    /// the body exists brings them back; call this once the removals are
+    /// older than the oldest state the game may still restore (e.g. on a
+    /// confirmed frame), to free their closures.
+    pub fn prune_integrators(&mut self) {
+        let bodies = &self.state.bodies;
+        self.integrators.velocity.retain(|h, _| bodies.contains(*h));
+        self.integrators.position.retain(|h, _| bodies.contains(*h));
     }
 
     /// Chipmunk `cpSpaceAddPostStepCallback`: runs `f` after the current (or
