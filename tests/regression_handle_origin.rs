@@ -125,7 +125,8 @@ fn arbiters_body_shapes_and_shape_body_name_their_space() {
 fn handler_contexts_hand_out_handles_of_their_space() {
     let mut a = world();
     let mut b = world();
-    let seen: Rc<RefCell<Vec<(ShapeHandle, ShapeHandle, BodyHandle, BodyHandle)>>> = Rc::default();
+    type Pair = (ShapeHandle, ShapeHandle, BodyHandle, BodyHandle);
+    let seen: Rc<RefCell<Vec<Pair>>> = Rc::default();
     let log = Rc::clone(&seen);
     a.add_collision_handler(2, 1).pre_solve = Some(Box::new(move |ctx| {
         let (s1, s2) = ctx.shapes();
