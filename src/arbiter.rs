@@ -123,12 +123,15 @@ impl Arbiter {
         self.surface_velocity = t * sv.dot(t);
     }
 
-    /// The two shapes, in the arbiter's order.
+    /// The two shapes, in the arbiter's (canonical) order. In a collision
+    /// handler, `ArbiterContext::shapes` and `ArbiterContext::bodies` give
+    /// the handler's order instead.
     pub fn shapes(&self) -> (ShapeHandle, ShapeHandle) {
         (self.shape_a, self.shape_b)
     }
 
-    /// The two bodies, in the arbiter's order.
+    /// The two bodies, in the arbiter's order: those of
+    /// [`shapes`](Self::shapes).
     pub fn bodies(&self) -> (BodyHandle, BodyHandle) {
         (self.body_a, self.body_b)
     }

@@ -11,11 +11,15 @@ use serde::{Deserialize, Serialize};
 
 /// A generational handle to an object of type `T` in an [`Arena`].
 ///
-/// Besides slot and generation, a handle handed out by a
-/// [`Space`](crate::space::Space) carries the space's *origin tag*, so that
-/// a handle of one world given to another is an error, not a silent alias
-/// of whatever lives in the same slot there. The tag is not simulation
-/// state: it is not serialized, compared or hashed (0 means "unknown").
+/// Besides slot and generation, every handle a
+/// [`Space`](crate::space::Space) hands out (from `add_body`, iteration,
+/// queries, arbiters, handler contexts, a shape's `body()`, error values)
+/// carries the space's *origin tag*, so that a handle of one world given to
+/// another is an error or `None`, not a silent alias of whatever lives in
+/// the same slot there. The tag is not simulation state: it is not
+/// serialized, compared or hashed (0 means "unknown" and is accepted by
+/// every space: a handle built by `from_raw_parts` or deserialised by the
+/// game).
 #[derive(Serialize, Deserialize)]
 #[serde(bound = "")]
 pub struct Handle<T> {
@@ -127,13 +131,35 @@ pub enum ArenaError {
 }
 
 /// A generational arena with a LIFO free list.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+///
+/// An arena of a [`Space`](crate::space::Space) carries the space's origin
+/// tag (see [`Handle`]): every handle it makes (`insert`, `iter`, …) has
+/// it, and lookups (`get`, `remove`, …) treat a handle of another origin as
+/// stale. Like the handle's, the arena's tag is not simulation state: it is
+/// not serialized, compared or hashed (0: unknown, accepts every handle).
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Arena<T> {
     slots: Vec<Slot<T>>,
     /// Free slot indices; the last one is reused first.
     free: Vec<u32>,
     len: u32,
+    #[serde(skip)]
+    origin: u32,
 }
+
+/// Compares the contents; the origin tag is not state.
+impl<T: PartialEq> PartialEq for Arena<T> {
+    fn eq(&self, o: &Self) -> bool {
+        let Arena {
+            slots,
+            free,
+            len,
+            origin: _, // not state
+        } = self;
+        *slots == o.slots && *free == o.free && *len == o.len
+    }
+}
+impl<T: Eq> Eq for Arena<T> {}
 
 /// Hashes value by value: `Hash` for a `[u32]` slice would feed the hasher
 /// native-endian bytes, which differ between platforms.
@@ -141,7 +167,12 @@ impl<T: core::hash::Hash> core::hash::Hash for Arena<T> {
     fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
         // Every field named: a new one is a compile error until it is hashed
         // (the world checksum must cover the whole state).
-        let Arena { slots, free, len } = self;
+        let Arena {
+            slots,
+            free,
+            len,
+            origin: _, // not state (see the type's docs)
+        } = self;
         h.write_u64(slots.len() as u64);
         for slot in slots {
             slot.hash(h);
@@ -160,6 +191,7 @@ impl<T> Default for Arena<T> {
             slots: Vec::new(),
             free: Vec::new(),
             len: 0,
+            origin: 0,
         }
     }
 }
@@ -168,6 +200,27 @@ impl<T> Arena<T> {
     /// An empty arena.
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// The origin tag put on the handles this arena makes (0: none).
+    pub(crate) fn origin(&self) -> u32 {
+        self.origin
+    }
+
+    /// Sets the origin tag (a space adopting the arena).
+    pub(crate) fn set_origin(&mut self, origin: u32) {
+        self.origin = origin;
+    }
+
+    /// The handle `(index, generation)` with this arena's origin tag.
+    fn handle(&self, index: u32, generation: u32) -> Handle<T> {
+        Handle::from_raw_parts(index, generation).with_origin(self.origin)
+    }
+
+    /// False for a handle made by an arena of another origin (tag 0 on
+    /// either side: unknown, accepted).
+    fn admits(&self, h: Handle<T>) -> bool {
+        h.origin == 0 || self.origin == 0 || h.origin == self.origin
     }
 
     /// Number of live objects.
@@ -193,7 +246,8 @@ impl<T> Arena<T> {
                 // `len` counts live slots, fewer than `u32::MAX` (the slot
                 // count's limit below): never saturates unless forged.
                 self.len = self.len.saturating_add(1);
-                return Ok(Handle::from_raw_parts(index, slot.generation));
+                let generation = slot.generation;
+                return Ok(self.handle(index, generation));
             }
         }
         let index = u32::try_from(self.slots.len()).map_err(|_| ArenaError::Full)?;
@@ -206,11 +260,14 @@ impl<T> Arena<T> {
         });
         // At most `index + 1 < u32::MAX` live slots: never saturates.
         self.len = self.len.saturating_add(1);
-        Ok(Handle::from_raw_parts(index, 0))
+        Ok(self.handle(index, 0))
     }
 
     /// Removes and returns the object, or `None` for a stale handle.
     pub fn remove(&mut self, h: Handle<T>) -> Option<T> {
+        if !self.admits(h) {
+            return None;
+        }
         let slot = self.slots.get_mut(h.index as usize)?;
         if slot.generation != h.generation || slot.value.is_none() {
             return None;
@@ -224,8 +281,11 @@ impl<T> Arena<T> {
         slot.value.take()
     }
 
-    /// The object, or `None` for a stale handle.
+    /// The object, or `None` for a stale handle (or one of another origin).
     pub fn get(&self, h: Handle<T>) -> Option<&T> {
+        if !self.admits(h) {
+            return None;
+        }
         let slot = self.slots.get(h.index as usize)?;
         if slot.generation == h.generation {
             slot.value.as_ref()
@@ -234,8 +294,12 @@ impl<T> Arena<T> {
         }
     }
 
-    /// The object mutably, or `None` for a stale handle.
+    /// The object mutably, or `None` for a stale handle (or one of another
+    /// origin).
     pub fn get_mut(&mut self, h: Handle<T>) -> Option<&mut T> {
+        if !self.admits(h) {
+            return None;
+        }
         let slot = self.slots.get_mut(h.index as usize)?;
         if slot.generation == h.generation {
             slot.value.as_mut()
@@ -254,25 +318,30 @@ impl<T> Arena<T> {
         let slot = self.slots.get(index as usize)?;
         slot.value
             .as_ref()
-            .map(|v| (Handle::from_raw_parts(index, slot.generation), v))
+            .map(|v| (self.handle(index, slot.generation), v))
     }
 
     /// Live objects in slot order (the canonical iteration order).
     pub fn iter(&self) -> impl Iterator<Item = (Handle<T>, &T)> {
-        self.slots.iter().enumerate().filter_map(|(i, s)| {
-            s.value
-                .as_ref()
-                .map(|v| (Handle::from_raw_parts(i as u32, s.generation), v))
+        let origin = self.origin;
+        self.slots.iter().enumerate().filter_map(move |(i, s)| {
+            s.value.as_ref().map(|v| {
+                (
+                    Handle::from_raw_parts(i as u32, s.generation).with_origin(origin),
+                    v,
+                )
+            })
         })
     }
 
     /// Live objects mutably, in slot order.
     pub fn iter_mut(&mut self) -> impl Iterator<Item = (Handle<T>, &mut T)> {
-        self.slots.iter_mut().enumerate().filter_map(|(i, s)| {
+        let origin = self.origin;
+        self.slots.iter_mut().enumerate().filter_map(move |(i, s)| {
             let g = s.generation;
             s.value
                 .as_mut()
-                .map(|v| (Handle::from_raw_parts(i as u32, g), v))
+                .map(|v| (Handle::from_raw_parts(i as u32, g).with_origin(origin), v))
         })
     }
 
@@ -282,7 +351,12 @@ impl<T> Arena<T> {
     pub fn validate(&self) -> Result<(), String> {
         // Every field named: a new one must be checked or said not to need
         // it (a slot's generation may be any value).
-        let Arena { slots, free, len } = self;
+        let Arena {
+            slots,
+            free,
+            len,
+            origin: _, // any tag is valid: it is not state
+        } = self;
         let full = slots.iter().filter(|s| s.value.is_some()).count();
         if full != *len as usize {
             return Err(format!("arena length {} but {} live slots", *len, full));

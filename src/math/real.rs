@@ -199,7 +199,18 @@ impl Real {
         Real(v.to_bits())
     }
 
-    /// Converts an `f64` at the API edge, rounding to nearest.
+    /// Converts an `f64` at the API edge (setup, scene files), rounding to
+    /// nearest, ties to even; NaN and ±∞ are [`RealError::NotFinite`],
+    /// values outside ±2^31 [`RealError::OutOfRange`].
+    ///
+    /// Deterministic for the same `f64` *bits*: the conversion is exact
+    /// integer work on the float's bits, so every platform and build makes
+    /// the same `Real` of the same `f64`. The `f64` arithmetic done *before*
+    /// it is not covered: transcendental functions (`sin`, `powf`, `exp`)
+    /// differ between platform math libraries, and targets without SSE2
+    /// (32-bit x86 on x87) round intermediate results differently. Feed it
+    /// literals, parsed text or values sent over the network as bits, and do
+    /// the arithmetic in `Real` (or use the [`real!`](crate::real) macro).
     pub fn from_f64(v: f64) -> Result<Real, RealError> {
         if !v.is_finite() {
             return Err(RealError::NotFinite);
@@ -214,13 +225,15 @@ impl Real {
         Real::from_f64(f64::from(v))
     }
 
-    /// Converts to `f64` for rendering and reports (exact: 64-bit mantissa
-    /// would be needed in the worst case, the error is below 2^-32 relative).
+    /// Converts to `f64` for rendering and reports (output only: the
+    /// simulation never reads floats). Exact for |v| < 2^21 (53 significant
+    /// bits); above, rounded to nearest (relative error ≤ 2^-53).
     pub fn to_f64(self) -> f64 {
         self.to_fixed().to_num::<f64>()
     }
 
-    /// Converts to `f32` for rendering.
+    /// Converts to `f32` for rendering (output only), rounded to nearest
+    /// (relative error ≤ 2^-24).
     pub fn to_f32(self) -> f32 {
         self.to_fixed().to_num::<f32>()
     }

@@ -46,6 +46,16 @@ impl Rot {
         }
     }
 
+    /// `(cos θ, sin θ)` as `f64`, for rendering (output only).
+    pub fn to_f64(self) -> (f64, f64) {
+        (self.c.to_f64(), self.s.to_f64())
+    }
+
+    /// `(cos θ, sin θ)` as `f32`, for rendering (output only).
+    pub fn to_f32(self) -> (f32, f32) {
+        (self.c.to_f32(), self.s.to_f32())
+    }
+
     /// The angle in `[-π, π]`.
     pub fn angle(self) -> Real {
         self.s.atan2(self.c)

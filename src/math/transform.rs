@@ -43,6 +43,19 @@ impl Transform {
         ty: Real::ZERO,
     };
 
+    /// `[a, b, c, d, tx, ty]` as `f64`, for rendering (output only): the
+    /// order of a canvas `setTransform(a, b, c, d, e, f)` and of a
+    /// column-major 2×3 matrix.
+    pub fn to_f64(&self) -> [f64; 6] {
+        [self.a, self.b, self.c, self.d, self.tx, self.ty].map(Real::to_f64)
+    }
+
+    /// `[a, b, c, d, tx, ty]` as `f32`, for rendering (output only; order as
+    /// [`Transform::to_f64`]).
+    pub fn to_f32(&self) -> [f32; 6] {
+        [self.a, self.b, self.c, self.d, self.tx, self.ty].map(Real::to_f32)
+    }
+
     /// A pure translation.
     pub fn translate(t: Vect) -> Transform {
         Transform {

@@ -55,14 +55,21 @@ impl Vect {
     }
 
     /// A vector from `f64`s at the API edge; errors on non-finite or
-    /// out-of-range components.
+    /// out-of-range components. Deterministic for the same `f64` bits (see
+    /// [`Real::from_f64`], also for what is not).
     pub fn from_f64(x: f64, y: f64) -> Result<Vect, super::RealError> {
         Ok(Vect::new(Real::from_f64(x)?, Real::from_f64(y)?))
     }
 
-    /// `(x, y)` as `f64` for rendering and reports.
+    /// `(x, y)` as `f64` for rendering and reports (output only; see
+    /// [`Real::to_f64`]).
     pub fn to_f64(self) -> (f64, f64) {
         (self.x.to_f64(), self.y.to_f64())
+    }
+
+    /// `(x, y)` as `f32` for rendering (output only; see [`Real::to_f32`]).
+    pub fn to_f32(self) -> (f32, f32) {
+        (self.x.to_f32(), self.y.to_f32())
     }
 
     /// MIS `vectEqual`: exact equality.

@@ -6,6 +6,7 @@
 //! nothing, and snapshots hold plain values.
 use serde::{Deserialize, Serialize};
 
+use super::ShapeError;
 use crate::math::{Real, Rot, Vect, BB};
 
 /// The most vertices a polygon may have (Box2D uses the same bound). Inline
@@ -274,8 +275,31 @@ impl Geometry {
         }
     }
 
+    /// The extent rule every shape obeys (checked by every constructor and
+    /// setter of [`Shape`](super::Shape) and by [`Geometry::validate`]): the
+    /// local bounding box, rounding radius included, lies inside the `Real`
+    /// range and spans *less than 2^31 m* on each axis. Then the difference
+    /// of any two points of the shape fits a `Real` (edge vectors, segment
+    /// directions, support-point differences), and so does the sum of two
+    /// shapes' radii (each below 2^30 m), the contact distance of two
+    /// rounded shapes. A circle's radius is thus below 2^30 m, a segment
+    /// shorter than 2^31 m − 2r. Errors with
+    /// [`ShapeError::OutOfRange`]`("shape extent")`.
+    pub fn check_extent(&self) -> Result<(), ShapeError> {
+        let fits = match self {
+            Geometry::Circle(c) => extent_fits(&[c.offset], c.radius),
+            Geometry::Segment(s) => extent_fits(&[s.a, s.b], s.radius),
+            Geometry::Poly(p) => extent_fits(p.verts(), p.radius),
+        };
+        if fits {
+            Ok(())
+        } else {
+            Err(ShapeError::OutOfRange("shape extent"))
+        }
+    }
+
     /// Checks stored geometry (snapshot loading, `Space::validate`): radius
-    /// ≥ 0; a segment's normal is exactly the one [`Segment::new`] computes
+    /// ≥ 0; the extent rule ([`Geometry::check_extent`]); a segment's normal is exactly the one [`Segment::new`] computes
     /// from its endpoints; a polygon has 3..=[`MAX_POLY_VERTICES`] vertices,
     /// is strictly convex and counter-clockwise, and equals what
     /// [`Poly::from_ccw`] builds from its vertices (same normals, zeros past
@@ -284,6 +308,7 @@ impl Geometry {
         if self.radius().is_negative() {
             return Err("negative radius".into());
         }
+        self.check_extent().map_err(|e| e.to_string())?;
         match self {
             Geometry::Circle(_) => Ok(()),
             Geometry::Segment(s) => {
@@ -310,4 +335,23 @@ impl Geometry {
             }
         }
     }
+}
+
+/// The extent rule of [`Geometry::check_extent`] for core points grown by
+/// `radius`, on exact 128-bit raw values: raw coordinates are within ±2^63
+/// and a valid radius in [0, 2^63), so no sum or difference below comes
+/// near the `i128` range (the saturating forms never saturate).
+fn extent_fits(points: &[Vect], radius: Real) -> bool {
+    let r = i128::from(radius.to_bits());
+    let (min, max) = (i128::from(i64::MIN), i128::from(i64::MAX));
+    let axis = |coord: fn(&Vect) -> Real| {
+        let mut it = points.iter().map(|p| i128::from(coord(p).to_bits()));
+        let Some(first) = it.next() else {
+            return true;
+        };
+        let (lo, hi) = it.fold((first, first), |(lo, hi), v| (lo.min(v), hi.max(v)));
+        let (lo, hi) = (lo.saturating_sub(r), hi.saturating_add(r));
+        lo >= min && hi <= max && hi.saturating_sub(lo) <= max
+    };
+    axis(|p| p.x) && axis(|p| p.y)
 }

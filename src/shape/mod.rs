@@ -73,14 +73,39 @@ impl Default for ShapeFilter {
 }
 
 /// Surface material: the arbiter multiplies the two shapes' values.
+///
+/// Valid ranges (checked by [`Material::validate`] wherever a material
+/// enters a space: `Space::add_shape`, `Space::modify_shape`,
+/// [`Shape::with_material`] and snapshot validation): friction ≥ 0 (a
+/// negative friction would push a sliding body forward); elasticity in
+/// [0, 1] (Chipmunk accepts more, but above 1 every bounce adds energy
+/// without bound; 1 is a perfect bounce); any surface velocity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct Material {
     /// Coulomb friction coefficient, ≥ 0.
     pub friction: Real,
-    /// Restitution (elasticity), ≥ 0; 1 is a perfect bounce.
+    /// Restitution (elasticity), in [0, 1]; 1 is a perfect bounce.
     pub elasticity: Real,
     /// Surface velocity (conveyor belts), in world coordinates.
     pub surface_velocity: Vect,
+}
+
+impl Material {
+    /// Checks the ranges: friction ≥ 0 ([`ShapeError::Negative`]),
+    /// elasticity in [0, 1] ([`ShapeError::Negative`],
+    /// [`ShapeError::AboveOne`]); every surface velocity is valid.
+    pub fn validate(&self) -> Result<(), ShapeError> {
+        if self.friction.is_negative() {
+            return Err(ShapeError::Negative("friction"));
+        }
+        if self.elasticity.is_negative() {
+            return Err(ShapeError::Negative("elasticity"));
+        }
+        if self.elasticity > Real::ONE {
+            return Err(ShapeError::AboveOne("elasticity"));
+        }
+        Ok(())
+    }
 }
 
 impl Default for Material {
@@ -133,8 +158,10 @@ pub enum ShapeError {
         /// Number of vertices.
         count: usize,
     },
-    /// A radius, size, mass or density was negative.
+    /// A radius, size, mass, density, friction or elasticity was negative.
     Negative(&'static str),
+    /// A value limited to [0, 1] (elasticity) was above 1.
+    AboveOne(&'static str),
     /// The points span no area (fewer than 3 distinct, non-collinear points).
     DegeneratePolygon,
     /// The points' convex hull has more than [`MAX_POLY_VERTICES`] vertices.
@@ -158,6 +185,7 @@ impl fmt::Display for ShapeError {
                 )
             }
             ShapeError::Negative(what) => write!(f, "{what} must not be negative"),
+            ShapeError::AboveOne(what) => write!(f, "{what} must not be above 1"),
             ShapeError::DegeneratePolygon => {
                 f.write_str("polygon needs at least 3 distinct, non-collinear points")
             }
@@ -203,21 +231,36 @@ impl Shape {
         }
     }
 
+    /// A shape from geometry that passed its constructor's checks, after the
+    /// extent rule ([`Geometry::check_extent`]).
+    pub(crate) fn checked(body: BodyHandle, geometry: Geometry) -> Result<Shape, ShapeError> {
+        geometry.check_extent()?;
+        Ok(Shape::from_geometry(body, geometry))
+    }
+
+    /// Replaces the geometry if it obeys the extent rule; otherwise leaves
+    /// the shape unchanged.
+    pub(crate) fn replace_geometry(&mut self, geometry: Geometry) -> Result<(), ShapeError> {
+        geometry.check_extent()?;
+        self.geometry = geometry;
+        Ok(())
+    }
+
     /// MIS `circleShapeNew`: a circle of `radius` centred at `offset` (body
-    /// coordinates). Errors on a negative radius.
+    /// coordinates). Errors on a negative radius, and on a circle outside
+    /// the extent rule ([`Geometry::check_extent`]: radius below 2^30 m).
     pub fn circle_shape_new(
         body: BodyHandle,
         radius: Real,
         offset: Vect,
     ) -> Result<Shape, ShapeError> {
         check_radius(radius)?;
-        Ok(Shape::from_geometry(
-            body,
-            Geometry::Circle(Circle::new(radius, offset)),
-        ))
+        Shape::checked(body, Geometry::Circle(Circle::new(radius, offset)))
     }
 
     /// Chipmunk `segmentShapeNew`: a segment (capsule) from `a` to `b`.
+    /// Errors on a negative radius and outside the extent rule
+    /// ([`Geometry::check_extent`]).
     pub fn segment_shape_new(
         body: BodyHandle,
         a: Vect,
@@ -225,10 +268,7 @@ impl Shape {
         radius: Real,
     ) -> Result<Shape, ShapeError> {
         check_radius(radius)?;
-        Ok(Shape::from_geometry(
-            body,
-            Geometry::Segment(Segment::new(a, b, radius)),
-        ))
+        Shape::checked(body, Geometry::Segment(Segment::new(a, b, radius)))
     }
 
     /// The body the shape is attached to.
@@ -271,22 +311,16 @@ impl Shape {
     /// owning body's mass is recomputed by the space.
     pub fn set_circle_radius(&mut self, radius: Real) -> Result<(), ShapeError> {
         check_radius(radius)?;
-        match &mut self.geometry {
-            Geometry::Circle(c) => {
-                c.radius = radius;
-                Ok(())
-            }
+        match self.geometry {
+            Geometry::Circle(c) => self.replace_geometry(Geometry::Circle(Circle { radius, ..c })),
             Geometry::Segment(_) | Geometry::Poly(_) => Err(ShapeError::NotCircleShape),
         }
     }
 
-    /// Chipmunk `circleShapeSetOffset`.
+    /// Chipmunk `circleShapeSetOffset` (extent rule as the constructor).
     pub fn set_circle_offset(&mut self, offset: Vect) -> Result<(), ShapeError> {
-        match &mut self.geometry {
-            Geometry::Circle(c) => {
-                c.offset = offset;
-                Ok(())
-            }
+        match self.geometry {
+            Geometry::Circle(c) => self.replace_geometry(Geometry::Circle(Circle { offset, ..c })),
             Geometry::Segment(_) | Geometry::Poly(_) => Err(ShapeError::NotCircleShape),
         }
     }
@@ -300,28 +334,24 @@ impl Shape {
     }
 
     /// Chipmunk `segmentShapeSetEndpoints`.
+    /// Errors outside the extent rule, leaving the shape unchanged.
     pub fn set_segment_endpoints(&mut self, a: Vect, b: Vect) -> Result<(), ShapeError> {
-        match &mut self.geometry {
-            Geometry::Segment(s) => {
-                let (ta, tb) = (s.a_tangent, s.b_tangent);
-                *s = Segment {
-                    a_tangent: ta,
-                    b_tangent: tb,
-                    ..Segment::new(a, b, s.radius)
-                };
-                Ok(())
-            }
+        match self.geometry {
+            Geometry::Segment(s) => self.replace_geometry(Geometry::Segment(Segment {
+                a_tangent: s.a_tangent,
+                b_tangent: s.b_tangent,
+                ..Segment::new(a, b, s.radius)
+            })),
             Geometry::Circle(_) | Geometry::Poly(_) => Err(ShapeError::NotSegmentShape),
         }
     }
 
-    /// Chipmunk `segmentShapeSetRadius`.
+    /// Chipmunk `segmentShapeSetRadius` (extent rule as the constructor).
     pub fn set_segment_radius(&mut self, radius: Real) -> Result<(), ShapeError> {
         check_radius(radius)?;
-        match &mut self.geometry {
+        match self.geometry {
             Geometry::Segment(s) => {
-                s.radius = radius;
-                Ok(())
+                self.replace_geometry(Geometry::Segment(Segment { radius, ..s }))
             }
             Geometry::Circle(_) | Geometry::Poly(_) => Err(ShapeError::NotSegmentShape),
         }
@@ -363,15 +393,15 @@ impl Shape {
     }
 
     /// Builder form of the material setters.
+    /// Errors as [`Material::validate`].
     pub fn with_material(mut self, friction: Real, elasticity: Real) -> Result<Shape, ShapeError> {
-        if friction.is_negative() {
-            return Err(ShapeError::Negative("friction"));
-        }
-        if elasticity.is_negative() {
-            return Err(ShapeError::Negative("elasticity"));
-        }
-        self.material.friction = friction;
-        self.material.elasticity = elasticity;
+        let material = Material {
+            friction,
+            elasticity,
+            ..self.material
+        };
+        material.validate()?;
+        self.material = material;
         Ok(self)
     }
 

@@ -159,7 +159,7 @@ impl Shape {
         radius: Real,
     ) -> Result<Shape, ShapeError> {
         let poly = Poly::from_points(points, transform, radius)?;
-        Ok(Shape::from_geometry(body, Geometry::Poly(poly)))
+        Shape::checked(body, Geometry::Poly(poly))
     }
 
     /// MIS `polyShapeNewRaw`: a polygon shape from vertices that are already
@@ -170,7 +170,7 @@ impl Shape {
         radius: Real,
     ) -> Result<Shape, ShapeError> {
         let poly = Poly::from_ccw(verts, radius)?;
-        Ok(Shape::from_geometry(body, Geometry::Poly(poly)))
+        Shape::checked(body, Geometry::Poly(poly))
     }
 
     /// MIS `boxShapeNew`: a `width × height` box centred on the body origin.
@@ -181,26 +181,18 @@ impl Shape {
         radius: Real,
     ) -> Result<Shape, ShapeError> {
         let poly = Poly::new_box(width, height, radius)?;
-        Ok(Shape::from_geometry(body, Geometry::Poly(poly)))
+        Shape::checked(body, Geometry::Poly(poly))
     }
 
     /// MIS `boxShapeNew2`: the box `bb` (body coordinates).
     pub fn box_shape_new2(body: BodyHandle, bb: BB, radius: Real) -> Result<Shape, ShapeError> {
         let poly = Poly::from_bb(bb, radius)?;
-        Ok(Shape::from_geometry(body, Geometry::Poly(poly)))
+        Shape::checked(body, Geometry::Poly(poly))
     }
 
     /// The polygon geometry, or [`ShapeError::NotPolyShape`].
     pub fn poly(&self) -> Result<&Poly, ShapeError> {
         match &self.geometry {
-            Geometry::Poly(p) => Ok(p),
-            Geometry::Circle(_) | Geometry::Segment(_) => Err(ShapeError::NotPolyShape),
-        }
-    }
-
-    /// The polygon geometry for replacement, or [`ShapeError::NotPolyShape`].
-    fn poly_mut(&mut self) -> Result<&mut Poly, ShapeError> {
-        match &mut self.geometry {
             Geometry::Poly(p) => Ok(p),
             Geometry::Circle(_) | Geometry::Segment(_) => Err(ShapeError::NotPolyShape),
         }
@@ -239,8 +231,7 @@ impl Shape {
     ) -> Result<(), ShapeError> {
         let radius = self.poly()?.radius();
         let new = Poly::from_points(points, transform, radius)?;
-        *self.poly_mut()? = new;
-        Ok(())
+        self.replace_geometry(Geometry::Poly(new))
     }
 
     /// MIS `polyShapeSetVertsRaw`: replaces the vertices by `verts`, which
@@ -249,16 +240,17 @@ impl Shape {
     pub fn set_poly_verts_raw(&mut self, verts: &[Vect]) -> Result<(), ShapeError> {
         let radius = self.poly()?.radius();
         let new = Poly::from_ccw(verts, radius)?;
-        *self.poly_mut()? = new;
-        Ok(())
+        self.replace_geometry(Geometry::Poly(new))
     }
 
     /// MIS `polyShapeSetRadius`: sets the rounding radius (≥ 0).
+    /// Errors outside the extent rule ([`Geometry::check_extent`]), leaving
+    /// the shape unchanged.
     pub fn set_poly_radius(&mut self, radius: Real) -> Result<(), ShapeError> {
-        let poly = self.poly_mut()?;
+        let mut poly = *self.poly()?;
         check_radius(radius)?;
         poly.radius = radius;
-        Ok(())
+        self.replace_geometry(Geometry::Poly(poly))
     }
 }
 

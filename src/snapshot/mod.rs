@@ -12,7 +12,8 @@
 //!   allocate once the buffer has grown).
 //! * [`load`]: a fresh [`Space`] from bytes, after full validation.
 //! * [`Space::load_snapshot`]: replaces a live world's state in place, after
-//!   full validation, keeping its handlers, integrators and handle origin.
+//!   full validation, keeping its handlers, integrators and handle origin
+//!   (pending post-step callbacks are discarded).
 //!   On error the world is untouched (byte-identical).
 //! * [`decode_state`]: the validated [`WorldState`] alone; [`header`]: the
 //!   format version and checksum without decoding the body.
@@ -62,7 +63,8 @@
 //! * shapes: the body handle names a live body (generation included);
 //!   radii ≥ 0; segment normals exactly those of the endpoints; polygons of
 //!   3..=8 vertices, strictly convex and counter-clockwise, with exactly the
-//!   normals the constructor computes; mass and density ≥ 0;
+//!   normals the constructor computes; mass and density ≥ 0; friction
+//!   ≥ 0 and elasticity in [0, 1];
 //! * arbiters: strictly increasing `(shape a, shape b)` slot order, both
 //!   shapes live, the bodies those of the shapes (two different bodies, one
 //!   of them dynamic), 1..=2 contacts with non-negative accumulated normal
@@ -117,8 +119,10 @@
 //!
 //! # Handlers and integrators after loading
 //! Closures are never part of a snapshot. [`Space::load_snapshot`] keeps the
-//! live world's collision handlers, post-step callbacks and custom
-//! integrators: a rollback needs nothing re-attached. A space made by
+//! live world's collision handlers and custom integrators (also those of
+//! bodies removed since the save, which come back with them), and discards
+//! post-step callbacks still pending (see [`Space::restore_state`]): a
+//! rollback needs nothing re-attached. A space made by
 //! [`load`] has none, so re-register them on it as when the world was first
 //! built: collision handlers are keyed by collision type
 //! (`space.add_collision_handler(a, b)`, `add_wildcard_handler(t)`), so one
@@ -135,9 +139,11 @@
 //! serialized): handles from the saved world are rejected by a space made
 //! with [`load`] (`SpaceError::ForeignHandle`), because it is a different
 //! space. Use [`Space::load_snapshot`] on the game's own space to keep its
-//! handles working, or, with [`load`], take handles from the loaded space
-//! (`bodies()`, `shapes()`) or build them with `Handle::from_raw_parts`
-//! (origin 0: accepted by every space).
+//! handles working, or, with [`load`], take handles from the loaded space:
+//! every handle it hands out is its own (`bodies()`, `shapes()`, queries,
+//! `Shape::body()`, `Arbiter::shapes()`/`bodies()`, handler contexts), or
+//! build them with `Handle::from_raw_parts` (origin 0: accepted by every
+//! space).
 pub mod diff;
 
 use core::fmt;
@@ -375,9 +381,10 @@ pub fn load(bytes: &[u8]) -> Result<Space, SnapshotError> {
 
 impl Space {
     /// Replaces this world's state by the snapshot's, after full
-    /// validation; handlers, post-step callbacks, custom integrators and the
-    /// handle origin stay (as with [`Space::restore_state`], which this
-    /// calls). On error nothing changes.
+    /// validation; handlers, custom integrators and the handle origin stay,
+    /// pending post-step callbacks are discarded (as with
+    /// [`Space::restore_state`], which this calls). On error nothing
+    /// changes.
     pub fn load_snapshot(&mut self, bytes: &[u8]) -> Result<(), SnapshotError> {
         let state = decode_state(bytes)?;
         self.restore_state(&state);

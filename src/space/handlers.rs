@@ -18,7 +18,7 @@ use std::collections::BTreeMap;
 
 use crate::arbiter::Arbiter;
 use crate::arena::Arena;
-use crate::body::Body;
+use crate::body::{Body, BodyHandle};
 use crate::collision::{ContactPoint, ContactPointSet, MAX_CONTACTS_PER_ARBITER};
 use crate::math::Vect;
 use crate::shape::{CollisionType, Shape, WILDCARD_COLLISION_TYPE};
@@ -84,6 +84,19 @@ impl ArbiterContext<'_> {
     /// The two shapes in the handler's order (a has the handler's `type_a`).
     pub fn shapes(&self) -> (ShapeHandle, ShapeHandle) {
         let (a, b) = self.arbiter.shapes();
+        if self.swapped {
+            (b, a)
+        } else {
+            (a, b)
+        }
+    }
+
+    /// The two bodies in the handler's order: those of
+    /// [`shapes`](Self::shapes), in the same order (Chipmunk
+    /// `cpArbiterGetBodies`). `self.arbiter.bodies()` is in the arbiter's
+    /// canonical order, like `self.arbiter.shapes()`.
+    pub fn bodies(&self) -> (BodyHandle, BodyHandle) {
+        let (a, b) = self.arbiter.bodies();
         if self.swapped {
             (b, a)
         } else {

@@ -60,6 +60,11 @@ pub enum SpaceError {
     /// the `validate` feature, which checks the state after every step
     /// (see [`VALIDATES_STEPS`]).
     InvalidState(String),
+    /// [`Space::step`] refused: this dynamic body has no mass (no explicit
+    /// mass, and no shape with a mass or density), so no contact could stop
+    /// it. Give it a mass (`Body::new`, `Body::set_mass`) or a shape a
+    /// density (`Shape::set_density`). The first such body in slot order.
+    MasslessDynamicBody(BodyHandle),
 }
 
 impl fmt::Display for SpaceError {
@@ -81,6 +86,10 @@ impl fmt::Display for SpaceError {
             }
             SpaceError::ForeignHandle => f.write_str("handle belongs to another space"),
             SpaceError::InvalidState(why) => write!(f, "the step broke an invariant: {why}"),
+            SpaceError::MasslessDynamicBody(h) => write!(
+                f,
+                "dynamic body {h:?} has no mass: give it a mass or a shape with mass or density"
+            ),
         }
     }
 }
@@ -148,7 +157,10 @@ pub struct StepStats {
     /// Dynamic bodies with infinite mass (no explicit mass and no shape
     /// with mass or density): gravity moves them but no contact can stop
     /// them, so they fall through everything — almost always a missing
-    /// density. Counted when the solver loads the bodies.
+    /// density. [`Space::step`] refuses to start with one
+    /// ([`SpaceError::MasslessDynamicBody`]), so this is 0 unless a
+    /// post-step callback made one between two sub-steps of a step. Counted
+    /// when the solver loads the bodies.
     pub massless_dynamic_bodies: u32,
 }
 
@@ -244,9 +256,7 @@ impl Clone for Space {
     /// Clones the simulation state; handlers and post-step callbacks are not
     /// cloned (closures), the clone has none.
     fn clone(&self) -> Space {
-        let mut copy = Space::from_state(self.state.clone());
-        copy.origin = self.origin;
-        copy
+        Space::with_origin(self.state.clone(), self.origin)
     }
 }
 
@@ -256,9 +266,18 @@ impl Space {
         Space::from_state(WorldState::default())
     }
 
-    /// A space from a state (handlers empty; caches rebuilt on the next step).
-    /// Callers that take untrusted input validate the state first.
+    /// A space from a state (handlers empty; caches rebuilt on the next step),
+    /// with a new handle origin: the handles it hands out, including those
+    /// stored in the state (a shape's body, an arbiter's shapes and bodies),
+    /// are its own. Callers that take untrusted input validate the state
+    /// first.
     pub fn from_state(state: WorldState) -> Space {
+        Space::with_origin(state, new_origin())
+    }
+
+    /// A space from a state whose handles get the origin tag `origin`.
+    fn with_origin(mut state: WorldState, origin: u32) -> Space {
+        adopt_handles(&mut state, origin);
         Space {
             state,
             caches: Caches {
@@ -269,7 +288,7 @@ impl Space {
             post_step: Vec::new(),
             integrators: Integrators::default(),
             locked: false,
-            origin: new_origin(),
+            origin,
         }
     }
 
@@ -278,9 +297,19 @@ impl Space {
         &self.state
     }
 
-    /// Replaces the simulation state in place, keeping handlers (rollback).
+    /// Replaces the simulation state in place (rollback). The handles in the
+    /// state become this space's (the state may come from another space).
+    ///
+    /// Callbacks, which are not state: collision handlers (keyed by
+    /// collision type) stay; custom integrators (keyed by body handle) stay,
+    /// including those of bodies removed since the save, which come back
+    /// with their bodies; post-step callbacks still pending are discarded —
+    /// they were queued in the frames the rollback abandons (queue them from
+    /// handlers or before the step they belong to, never across a save).
     pub fn restore_state(&mut self, state: &WorldState) {
+        self.post_step.clear();
         self.state.clone_from(state);
+        adopt_handles(&mut self.state, self.origin);
         self.caches.statics_dirty = true;
         self.caches.dt_constants = [None, None];
     }
@@ -357,6 +386,10 @@ impl Space {
         if is_static {
             self.caches.statics_dirty = true;
         }
+        // A new body starts with the default integration, even under a
+        // handle a rollback re-issued (integrators outlive their bodies).
+        self.integrators.velocity.remove(&h);
+        self.integrators.position.remove(&h);
         Ok(h.with_origin(self.origin))
     }
 
@@ -379,15 +412,18 @@ impl Space {
             self.remove_shape(sh)?;
         }
         self.caches.statics_dirty = true;
-        self.integrators.velocity.remove(&h);
-        self.integrators.position.remove(&h);
+        // The body's custom integrators stay, keyed by its handle: a
+        // rollback to a state where it exists brings them back with it
+        // (`prune_integrators` frees them).
         self.state.bodies.remove(h).ok_or(SpaceError::StaleBody(h))
     }
 
     /// Adds a shape to the body it names; recomputes the body's mass from its
-    /// shapes unless the mass was set explicitly.
+    /// shapes unless the mass was set explicitly. Errors on an invalid
+    /// material ([`Material::validate`](crate::shape::Material::validate)).
     pub fn add_shape(&mut self, shape: Shape) -> Result<ShapeHandle, SpaceError> {
         self.check_unlocked()?;
+        shape.material.validate()?;
         let bh = shape.body;
         self.check_origin(bh)?;
         let body_type = self
@@ -396,6 +432,11 @@ impl Space {
             .get(bh)
             .ok_or(SpaceError::StaleBody(bh))?
             .body_type();
+        // Stored handles carry the space's origin (the caller's may be 0).
+        let shape = Shape {
+            body: bh.with_origin(self.origin),
+            ..shape
+        };
         let h = self
             .state
             .shapes
@@ -468,8 +509,8 @@ impl Space {
     }
 
     /// Changes a shape through `f` (material, filter, geometry setters),
-    /// then refreshes the owning body's mass. Errors from `f` leave the
-    /// shape unchanged.
+    /// then refreshes the owning body's mass. Errors from `f`, or a material
+    /// left invalid by `f`, leave the shape unchanged.
     pub fn modify_shape<R>(
         &mut self,
         h: ShapeHandle,
@@ -484,6 +525,7 @@ impl Space {
             .ok_or(SpaceError::StaleShape(h))?;
         let mut copy = shape.clone();
         let out = f(&mut copy)?;
+        copy.material.validate()?;
         let body = copy.body;
         if !self.state.bodies.contains(body) {
             return Err(SpaceError::StaleBody(body));
@@ -512,9 +554,14 @@ impl Space {
             .map(move |(h, s)| (h.with_origin(origin), s))
     }
 
-    /// The shapes of one body, in slot order.
+    /// The shapes of one body, in slot order (none for a handle of another
+    /// space).
     pub fn body_shapes(&self, h: BodyHandle) -> impl Iterator<Item = (ShapeHandle, &Shape)> {
-        self.state.shapes.iter().filter(move |(_, s)| s.body == h)
+        let own = self.check_origin(h).is_ok();
+        self.state
+            .shapes
+            .iter()
+            .filter(move |(_, s)| own && s.body == h)
     }
 
     /// The arbiters in canonical order (touching and cached pairs).
@@ -541,7 +588,10 @@ impl Space {
 
     /// Replaces the default velocity integration of one body (MIS "kinematic
     /// functions set to default ones"; `None` restores the default). Like
-    /// handlers, these closures are not part of snapshots.
+    /// handlers, these closures are not part of snapshots; they outlive
+    /// `remove_body` so that a rollback restores them with the body (see
+    /// [`Space::restore_state`], [`Space::prune_integrators`]), and a body
+    /// newly added under the same handle starts without them.
     pub fn set_velocity_update_func(
         &mut self,
         h: BodyHandle,
@@ -574,6 +624,17 @@ impl Space {
             None => self.integrators.position.remove(&h),
         };
         Ok(())
+    }
+
+    /// Drops the custom integrators of bodies not in the current state.
+    /// Integrators survive `remove_body` so that a rollback to a state where
+    /// the body exists brings them back; call this once the removals are
+    /// older than the oldest state the game may still restore (e.g. on a
+    /// confirmed frame), to free their closures.
+    pub fn prune_integrators(&mut self) {
+        let bodies = &self.state.bodies;
+        self.integrators.velocity.retain(|h, _| bodies.contains(*h));
+        self.integrators.position.retain(|h, _| bodies.contains(*h));
     }
 
     /// Chipmunk `cpSpaceAddPostStepCallback`: runs `f` after the current (or
@@ -683,6 +744,28 @@ impl Space {
     }
 }
 
+/// Puts the origin tag `origin` on a state's arenas (so every handle they
+/// make carries it) and on the handles stored in it: each shape's body and
+/// each arbiter's shapes and bodies. Nothing to do for a state that already
+/// has it (a state saved from this space or one of its clones: the tags are
+/// set whenever a handle is stored, see `add_shape` and the narrowphase).
+fn adopt_handles(state: &mut WorldState, origin: u32) {
+    if state.bodies.origin() == origin && state.shapes.origin() == origin {
+        return;
+    }
+    state.bodies.set_origin(origin);
+    state.shapes.set_origin(origin);
+    for (_, shape) in state.shapes.iter_mut() {
+        shape.body = shape.body.with_origin(origin);
+    }
+    for arb in &mut state.arbiters {
+        arb.shape_a = arb.shape_a.with_origin(origin);
+        arb.shape_b = arb.shape_b.with_origin(origin);
+        arb.body_a = arb.body_a.with_origin(origin);
+        arb.body_b = arb.body_b.with_origin(origin);
+    }
+}
+
 /// Checks a [`WorldState`]'s invariants (see [`Space::validate`]): settings
 /// in range; step counters consistent (no `dt` before the first step, a
 /// positive one after it); arenas (free lists, lengths); every body's
@@ -723,6 +806,9 @@ pub fn validate_state(state: &WorldState) -> Result<(), String> {
                 .map_err(|e| format!("shape {h:?}: {e}"))?;
             checked = Some(&s.geometry);
         }
+        s.material
+            .validate()
+            .map_err(|e| format!("shape {h:?}: {e}"))?;
         if let MassSpec::Mass(v) | MassSpec::Density(v) = s.mass_spec {
             if v.is_negative() {
                 return Err(format!("shape {h:?}: negative mass or density"));

@@ -68,7 +68,9 @@ pub fn sub_step_dts(dt: Real, substeps: u32) -> impl Iterator<Item = Real> {
 impl Space {
     /// MIS `spaceStep`: advances the world by `dt`, in
     /// [`Settings::substeps`](super::Settings::substeps) sub-steps. `dt == 0`
-    /// does nothing; a negative `dt` is an error and changes nothing.
+    /// does nothing; a negative `dt` is an error and changes nothing, and so
+    /// is a dynamic body without mass ([`SpaceError::MasslessDynamicBody`]:
+    /// it would fall through everything).
     pub fn step(&mut self, dt: Real) -> Result<(), SpaceError> {
         if dt.is_negative() {
             return Err(SpaceError::NegativeTimeStep);
@@ -77,6 +79,16 @@ impl Space {
             return Ok(());
         }
         self.check_unlocked()?;
+        // A body's mass is summed from shapes added after it, so the first
+        // point where a missing mass is known for sure is the step.
+        if let Some((h, _)) = self
+            .state
+            .bodies
+            .iter()
+            .find(|(_, b)| b.body_type() == BodyType::Dynamic && b.mass_inv().is_zero())
+        {
+            return Err(SpaceError::MasslessDynamicBody(h.with_origin(self.origin)));
+        }
         // 2^64 steps never happen: never saturates.
         self.state.steps = self.state.steps.saturating_add(1);
         let substeps = self.state.settings.substeps;
