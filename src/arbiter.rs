@@ -13,11 +13,40 @@
 use serde::{Deserialize, Serialize};
 
 use crate::body::BodyHandle;
-use crate::collision::{CollisionInfo, MAX_CONTACTS_PER_ARBITER};
+use crate::collision::{CollisionInfo, WarmStartId, MAX_CONTACTS_PER_ARBITER};
 use crate::math::{Real, Vect};
 use crate::shape::Shape;
-use crate::solver::ContactConstraint;
 use crate::space::ShapeHandle;
+
+/// One point of an arbiter's contact manifold: the **persistent** state of
+/// one contact, kept in the arbiter from step to step (and serialized in
+/// snapshots): where it is and the impulses it has accumulated, carried to
+/// the next step for warm starting.
+///
+/// One of the engine's four contact types: the narrowphase produces a
+/// [`collision::Contact`](crate::collision::Contact) (a point pair with its
+/// feature id), the arbiter keeps it as a `ManifoldPoint`, the solver
+/// turns it into a per-step
+/// [`solver::ContactConstraint`](crate::solver::ContactConstraint) row, and
+/// the public query [`shapes_collide`](crate::collision::shapes_collide)
+/// answers with [`collision::ContactPoint`](crate::collision::ContactPoint)s
+/// (no feature id).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct ManifoldPoint {
+    /// Contact point relative to body a's centre of gravity.
+    pub r1: Vect,
+    /// Contact point relative to body b's centre of gravity.
+    pub r2: Vect,
+    /// Signed separation (negative when penetrating).
+    pub dist: Real,
+    /// Feature id ([`collision::Contact::id`](crate::collision::Contact::id)):
+    /// matches this contact with last step's for warm starting.
+    pub feature_id: u32,
+    /// Accumulated normal impulse (warm-started).
+    pub jn_acc: Real,
+    /// Accumulated friction impulse (warm-started).
+    pub jt_acc: Real,
+}
 
 /// Where an arbiter is in its life.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -42,15 +71,16 @@ pub struct Arbiter {
     /// Contact normal, from shape a to shape b.
     pub(crate) normal: Vect,
     pub(crate) count: u8,
-    pub(crate) contacts: [ContactConstraint; MAX_CONTACTS_PER_ARBITER],
+    pub(crate) contacts: [ManifoldPoint; MAX_CONTACTS_PER_ARBITER],
     /// Restitution (product of the shapes' elasticities unless a handler changed it).
     pub restitution: Real,
     /// Friction (product of the shapes' frictions unless a handler changed it).
     pub friction: Real,
     /// Relative surface velocity, tangential part (conveyor belts).
     pub surface_velocity: Vect,
-    /// GJK warm-start cache for the next narrowphase of this pair.
-    pub(crate) collision_id: u32,
+    /// GJK warm-start cache for the next narrowphase of this pair (MIS
+    /// `CollisionID`; not a feature id).
+    pub(crate) warm_start_id: WarmStartId,
     /// Step stamp of the last step the shapes touched.
     pub(crate) stamp: u64,
     pub(crate) state: ArbiterState,
@@ -68,11 +98,11 @@ impl Arbiter {
             body_b: b.body,
             normal: Vect::ZERO,
             count: 0,
-            contacts: [ContactConstraint::default(); MAX_CONTACTS_PER_ARBITER],
+            contacts: [ManifoldPoint::default(); MAX_CONTACTS_PER_ARBITER],
             restitution: Real::ZERO,
             friction: Real::ZERO,
             surface_velocity: Vect::ZERO,
-            collision_id: 0,
+            warm_start_id: 0,
             stamp: 0,
             state: ArbiterState::FirstCollision,
             sensor: a.sensor || b.sensor,
@@ -94,20 +124,24 @@ impl Arbiter {
         let old = self.contacts;
         let old_count = usize::from(self.count).min(MAX_CONTACTS_PER_ARBITER);
         self.normal = info.normal;
-        self.collision_id = info.id;
+        self.warm_start_id = info.warm_start_id;
         self.count = 0;
         // Slots past the new count are cleared, so the state (and its
         // checksum) does not depend on how many contacts the pair had before.
-        self.contacts = [ContactConstraint::default(); MAX_CONTACTS_PER_ARBITER];
+        self.contacts = [ManifoldPoint::default(); MAX_CONTACTS_PER_ARBITER];
         for (slot, c) in self.contacts.iter_mut().zip(info.contacts()) {
-            let mut new = ContactConstraint {
+            let mut new = ManifoldPoint {
                 r1: c.point_a - pa,
                 r2: c.point_b - pb,
                 dist: c.distance,
-                id: c.id,
-                ..ContactConstraint::default()
+                feature_id: c.feature_id,
+                ..ManifoldPoint::default()
             };
-            if let Some(prev) = old.iter().take(old_count).find(|o| o.id == c.id) {
+            if let Some(prev) = old
+                .iter()
+                .take(old_count)
+                .find(|o| o.feature_id == c.feature_id)
+            {
                 new.jn_acc = prev.jn_acc;
                 new.jt_acc = prev.jt_acc;
             }
@@ -143,8 +177,8 @@ impl Arbiter {
         self.normal
     }
 
-    /// The contacts' solver state.
-    pub fn contacts(&self) -> &[ContactConstraint] {
+    /// The contact manifold: the persistent state of each contact.
+    pub fn contacts(&self) -> &[ManifoldPoint] {
         self.contacts.get(..self.count()).unwrap_or(&[])
     }
 

@@ -165,7 +165,7 @@ pub(crate) struct Caches {
     pub(crate) static_tree: StaticTree,
     pub(crate) statics_dirty: bool,
     pub(crate) solver_bodies: Vec<crate::solver::SolverBody>,
-    pub(crate) solver_contacts: Vec<crate::solver::SolverContact>,
+    pub(crate) contact_constraints: Vec<crate::solver::ContactConstraint>,
     /// Last step's arbiter buffer, kept for its allocation.
     pub(crate) arbiter_spare: Vec<Arbiter>,
     /// Indices of the arbiters solved this step.

@@ -12,11 +12,11 @@
 //! 9. solver iterations: bias, normal and friction impulses;
 //! 10. post-solve handlers; 11. post-step callbacks.
 //!
-//! With [`Settings::substeps`](super::Settings::substeps) = k, [`Space::step`]
-//! runs stages 1–11 k times on sub-steps of `dt` split exactly (see
-//! [`sub_step_dts`]): bit for bit the same as k calls with those lengths.
+//! With [`Settings::substeps`](super::Settings::substeps) = n, [`Space::step`]
+//! runs stages 1–11 n times on sub-steps of `dt` split exactly (see
+//! [`sub_step_dts`]): bit for bit the same as n calls with those lengths.
 //! Collision runs in every sub-step because positions move in every one;
-//! running it once per step and only the solver k times (Box2D v3's and
+//! running it once per step and only the solver n times (Box2D v3's and
 //! Rapier's choice) needs a contact model that tracks separation between
 //! sub-steps, which ours (Chipmunk's) does not.
 //!
@@ -34,7 +34,7 @@ use crate::body::{BodyHandle, BodyType};
 use crate::broadphase::{Proxy, StaticTree};
 use crate::collision::collide;
 use crate::math::{Real, Vect};
-use crate::solver::{ContactFeatures, ContactParams, PairParams, SolverBody, SolverContact};
+use crate::solver::{ContactConstraint, ContactFeatures, ContactParams, PairParams, SolverBody};
 
 use super::{Caches, DtConstants, ShapeCache, Space, SpaceError, StepStats};
 
@@ -52,15 +52,15 @@ use super::{Caches, DtConstants, ShapeCache, Space, SpaceError, StepStats};
 /// assert_eq!(dts, [3, 3, 2, 2].map(Real::from_bits));
 /// ```
 pub fn sub_step_dts(dt: Real, substeps: u32) -> impl Iterator<Item = Real> {
-    let k = i64::from(substeps.max(1));
+    let n = i64::from(substeps.max(1));
     let bits = dt.to_bits().max(0);
-    // k ≥ 1 and bits ≥ 0: the checked division and remainder never fail
+    // n ≥ 1 and bits ≥ 0: the checked division and remainder never fail
     // (the fallbacks are unreachable), and q + 1 ≤ bits whenever r > 0.
     let (q, r) = (
-        bits.checked_div(k).unwrap_or(bits),
-        bits.checked_rem(k).unwrap_or(0),
+        bits.checked_div(n).unwrap_or(bits),
+        bits.checked_rem(n).unwrap_or(0),
     );
-    (0..k)
+    (0..n)
         .map(move |i| Real::from_bits(q.wrapping_add(i64::from(i < r))))
         .filter(|d| d.is_positive())
 }
@@ -123,7 +123,7 @@ impl Space {
         self.state.stamp = self.state.stamp.saturating_add(1);
         self.state.prev_dt = self.state.current_dt;
         self.state.current_dt = dt;
-        let k = self.dt_constants(dt);
+        let dtc = self.dt_constants(dt);
         let features = self.contact_features();
 
         self.integrate_positions(dt);
@@ -131,8 +131,8 @@ impl Space {
         self.find_pairs();
         let active = self.collide_pairs();
         self.load_solver_bodies();
-        self.pre_step(&active, &k, features);
-        self.integrate_velocities(&k);
+        self.pre_step(&active, &dtc, features);
+        self.integrate_velocities(&dtc);
         if features.warm_starting {
             self.warm_start(features);
         }
@@ -153,7 +153,7 @@ impl Space {
             warm_starting: s.warm_starting,
             friction: s.friction,
             restitution: s.restitution,
-            bias: s.bias_impulses,
+            bias_impulses: s.bias_impulses,
         }
     }
 
@@ -360,7 +360,7 @@ impl Space {
         let info = collide(
             &ca.geometry,
             &cb.geometry,
-            existing.map_or(0, |a| a.collision_id),
+            existing.map_or(0, |a| a.warm_start_id),
         );
         (info.count > 0).then_some(info)
     }
@@ -409,21 +409,21 @@ impl Space {
 
     /// Stage 6: effective masses, bias and bounce for every active contact,
     /// gathered into the contiguous solver array.
-    fn pre_step(&mut self, active: &[u32], k: &DtConstants, features: ContactFeatures) {
+    fn pre_step(&mut self, active: &[u32], dtc: &DtConstants, features: ContactFeatures) {
         let s = &self.state.settings;
         let params = ContactParams {
-            dt_inv: k.dt_inv,
+            dt_inv: dtc.dt_inv,
             slop: s.collision_slop,
-            bias_coef: k.bias_coef,
+            bias_coef: dtc.bias_coef,
             max_bias: Real::MAX,
             features,
         };
         let Caches {
             solver_bodies,
-            solver_contacts,
+            contact_constraints,
             ..
         } = &mut self.caches;
-        solver_contacts.clear();
+        contact_constraints.clear();
         for &i in active {
             let Some(arb) = self.state.arbiters.get(i as usize) else {
                 continue;
@@ -437,23 +437,23 @@ impl Space {
                 surface_vr: arb.surface_velocity,
             };
             for (slot, c) in arb.contacts().iter().enumerate() {
-                let mut sc = SolverContact::new(c, solver_bodies, &pair, &params);
+                let mut sc = ContactConstraint::new(c, solver_bodies, &pair, &params);
                 sc.arbiter = i;
                 sc.slot = slot as u32;
-                solver_contacts.push(sc);
+                contact_constraints.push(sc);
             }
         }
-        self.caches.stats.solver_contacts = solver_contacts.len() as u32;
+        self.caches.stats.solver_contacts = contact_constraints.len() as u32;
     }
 
     /// Stage 7: gravity, damping and forces; clears force accumulators.
-    fn integrate_velocities(&mut self, k: &DtConstants) {
+    fn integrate_velocities(&mut self, dtc: &DtConstants) {
         let g = self.state.settings.gravity;
         let custom = &mut self.integrators.velocity;
         for (h, body) in self.state.bodies.iter_mut() {
             match custom.get_mut(&h) {
-                Some(f) => f(body, g, k.damping, k.dt),
-                None => body.update_velocity(g, k.damping, k.dt),
+                Some(f) => f(body, g, dtc.damping, dtc.dt),
+                None => body.update_velocity(g, dtc.damping, dtc.dt),
             }
             if let Some(slot) = self.caches.solver_bodies.get_mut(h.index() as usize) {
                 slot.v = body.velocity();
@@ -473,25 +473,25 @@ impl Space {
         };
         let Caches {
             solver_bodies,
-            solver_contacts,
+            contact_constraints,
             ..
         } = &mut self.caches;
         if features.friction {
-            for c in solver_contacts.iter() {
+            for c in contact_constraints.iter() {
                 c.warm_start(solver_bodies, dt_coef);
             }
         } else {
-            for c in solver_contacts.iter() {
+            for c in contact_constraints.iter() {
                 c.warm_start_normal(solver_bodies, dt_coef);
             }
         }
     }
 
     /// Stage 9: the solver iterations, with the iteration routine of the
-    /// switched-on features chosen once (see [`SolverContact::solve_with`]).
+    /// switched-on features chosen once (see [`ContactConstraint::solve_with`]).
     fn solve(&mut self, features: ContactFeatures) {
         let n = self.state.settings.iterations;
-        match (features.friction, features.bias) {
+        match (features.friction, features.bias_impulses) {
             (true, true) => self.iterate::<true, true>(n),
             (true, false) => self.iterate::<true, false>(n),
             (false, true) => self.iterate::<false, true>(n),
@@ -503,11 +503,11 @@ impl Space {
     fn iterate<const FRICTION: bool, const BIAS: bool>(&mut self, n: u32) {
         let Caches {
             solver_bodies,
-            solver_contacts,
+            contact_constraints,
             ..
         } = &mut self.caches;
         for _ in 0..n {
-            for c in solver_contacts.iter_mut() {
+            for c in contact_constraints.iter_mut() {
                 c.solve_with::<FRICTION, BIAS>(solver_bodies);
             }
         }
@@ -516,7 +516,7 @@ impl Space {
     /// Copies solved velocities back into the bodies and accumulated
     /// impulses back into the arbiters (for warm starting and handlers).
     fn store_solver_results(&mut self) {
-        for c in &self.caches.solver_contacts {
+        for c in &self.caches.contact_constraints {
             let contact = self
                 .state
                 .arbiters
