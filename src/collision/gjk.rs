@@ -29,8 +29,8 @@
 use super::contact::{closest_points_new, nearest_feature, pack_id, ClosestPoints, Nearest};
 use super::epa::epa;
 use super::support::{support, MinkowskiPoint, SupportContext, SupportPoint, SupportShape};
-use super::wide;
 use super::{WarmStartId, WARN_GJK_ITERATIONS};
+use crate::math::wide;
 use crate::math::Vect;
 
 /// MIS `GJK`: closest points of the cores of `ctx.a` and `ctx.b`, or (through

@@ -41,7 +41,6 @@ mod gjk;
 mod pairs;
 mod sat;
 mod support;
-mod wide;
 
 use core::cmp::Ordering;
 

@@ -51,8 +51,8 @@
 //! only unchecked construction can produce) take the GJK path.
 use super::contact::{contact_points, ClosestPoints};
 use super::support::support_edge_for_poly;
-use super::wide;
 use super::{CollisionInfo, CONTACT_TOLERANCE};
+use crate::math::wide;
 use crate::math::{Real, Vect};
 use crate::shape::Poly;
 use core::cmp::Ordering;

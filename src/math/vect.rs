@@ -12,8 +12,8 @@ use core::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
 
 use serde::{Deserialize, Serialize};
 
-use super::exact::raw_mul;
 use super::real::{Real, FRAC_BITS};
+use super::wide::wide_mul;
 
 /// A 2D vector (or point) of [`Real`]s.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -109,8 +109,8 @@ impl Vect {
             return Vect::ZERO;
         }
         // t = (self·other)/|other|², with both on 128 bits: no overflow, one rounding.
-        let dot = raw_mul(self.x.to_bits(), other.x.to_bits())
-            .saturating_add(raw_mul(self.y.to_bits(), other.y.to_bits()));
+        let dot = wide_mul(self.x.to_bits(), other.x.to_bits())
+            .saturating_add(wide_mul(self.y.to_bits(), other.y.to_bits()));
         let t = wide_ratio(dot, len_sq);
         other.mult(t)
     }

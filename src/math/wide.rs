@@ -1,0 +1,679 @@
+//! Wide integer arithmetic: everything the engine computes on more bits
+//! than a [`Real`] holds, in one place.
+//!
+//! * **Raw sums and products on `i128`** ([`wide_mul`], [`raw_sum`],
+//!   [`raw_diff`], [`raw_sq`]): exact on raw `i64` bits; the products of
+//!   `Real`'s own operations, the mass properties, the kinetic energy, the
+//!   static tree's sort keys, the hull's orientation test.
+//! * **[`I256`]** for exact sums of products of those (mass integrals,
+//!   kinetic energy, the hull's orientation far from the origin); the caller
+//!   rounds once at the end.
+//! * **Exact vector predicates** ([`dot`], [`cross`], [`len_sq`]) and the
+//!   precise [`normalize`] of the collision code. Every decision GJK and EPA
+//!   take (which vertex is the support point, which side of an edge the
+//!   origin is on, whether a new point makes progress) is a sign of a dot or
+//!   cross product. Computed on the raw `i64` bits of the operands, a product
+//!   fits an `i128` exactly, so these decisions are *exact*: no rounding can
+//!   make the algorithms cycle, and the same inputs take the same branch on
+//!   every platform. Only the final outputs (points, normal, distance) are
+//!   rounded, once each.
+//!
+//! Units: a raw product of two `Real`s is in units of 2^-64.
+//!
+//! Every operation here is exact for the stated operand ranges; the
+//! `saturating_*` calls never saturate on raw `Real` bits (each says why)
+//! and only give a defined result instead of a panic or a wrap if a future
+//! caller breaks the stated bound; the vector predicates' sums saturate only
+//! for operands near `Real::MIN`/`MAX`, far outside the envelope.
+use super::real::Real;
+use super::vect::Vect;
+
+/// `a + b` on raw bits (units of 2^-32), exact.
+#[inline]
+pub(crate) fn raw_sum(a: Real, b: Real) -> i128 {
+    // |a|, |b| ≤ 2^63: the sum needs 65 bits, never saturates.
+    i128::from(a.to_bits()).saturating_add(i128::from(b.to_bits()))
+}
+
+/// `a − b` on raw bits (units of 2^-32), exact.
+#[inline]
+pub(crate) fn raw_diff(a: Real, b: Real) -> i128 {
+    // |a|, |b| ≤ 2^63: the difference needs 65 bits, never saturates.
+    i128::from(a.to_bits()).saturating_sub(i128::from(b.to_bits()))
+}
+
+/// The exact 128-bit product of two raw values (units of 2^-64 for `Real`
+/// bits): |a·b| ≤ 2^126, so it never overflows `i128` (the one product the
+/// `arithmetic_side_effects` lint cannot see is bounded).
+#[inline(always)]
+#[allow(clippy::arithmetic_side_effects)]
+pub(crate) const fn wide_mul(a: i64, b: i64) -> i128 {
+    a as i128 * b as i128
+}
+
+/// `|a|²` of raw bits (units of 2^-64), exact: at most 2^126.
+#[inline]
+pub(crate) fn raw_sq(a: Real) -> u128 {
+    let m = u128::from(a.to_bits().unsigned_abs());
+    // m ≤ 2^63: m² ≤ 2^126, never saturates.
+    m.saturating_mul(m)
+}
+
+/// A wide raw value as a `Real`, saturated to `Real::MIN`/`Real::MAX`.
+#[inline]
+pub(crate) fn saturate_to_real(raw: i128) -> Real {
+    Real::from_bits(i64::try_from(raw).unwrap_or(if raw < 0 { i64::MIN } else { i64::MAX }))
+}
+
+/// A 256-bit two's-complement integer, just enough for exact sums of
+/// products of two `i128`: products, sums, shifts, one rounded division and
+/// a rounded power-of-two division.
+///
+/// Additions are modulo 2^256 (two's complement on two `u128` limbs). Each
+/// caller states the bound that keeps its sums below 2^255 in magnitude, so
+/// they never actually wrap: the mass integrals add terms below 2^228 (a sum
+/// over fewer than 2^26 vertices stays below 2^254; 2^26 vertices would take
+/// 3 GiB with their wide copies, and beyond that the result is defined but
+/// meaningless, never a panic), the kinetic energy three terms below 2^189.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct I256 {
+    hi: u128,
+    lo: u128,
+}
+
+impl I256 {
+    pub(crate) const ZERO: I256 = I256 { hi: 0, lo: 0 };
+    const ONE: I256 = I256 { hi: 0, lo: 1 };
+
+    pub(crate) fn from_i128(v: i128) -> I256 {
+        I256 {
+            hi: if v < 0 { u128::MAX } else { 0 },
+            lo: v as u128,
+        }
+    }
+
+    fn from_magnitude(negative: bool, m: I256) -> I256 {
+        if negative {
+            m.neg()
+        } else {
+            m
+        }
+    }
+
+    pub(crate) fn is_negative(self) -> bool {
+        self.hi >> 127 == 1
+    }
+
+    pub(crate) fn is_zero(self) -> bool {
+        self == I256::ZERO
+    }
+
+    /// `self + o` modulo 2^256: the carry out of the low limb goes into the
+    /// high limb, and the high limb wraps as two's complement does (the
+    /// intended semantics of a 256-bit integer, see the type's docs).
+    pub(crate) fn add(self, o: I256) -> I256 {
+        let (lo, carry) = self.lo.overflowing_add(o.lo);
+        I256 {
+            hi: self.hi.wrapping_add(o.hi).wrapping_add(u128::from(carry)),
+            lo,
+        }
+    }
+
+    pub(crate) fn sub(self, o: I256) -> I256 {
+        self.add(o.neg())
+    }
+
+    pub(crate) fn neg(self) -> I256 {
+        I256 {
+            hi: !self.hi,
+            lo: !self.lo,
+        }
+        .add(I256::ONE)
+    }
+
+    /// |self| as an unsigned 256-bit value (stored in the same struct).
+    fn magnitude(self) -> I256 {
+        if self.is_negative() {
+            self.neg()
+        } else {
+            self
+        }
+    }
+
+    /// Left shift by `k` bits (bits shifted past bit 255 are lost; `k ≥ 256`
+    /// gives 0).
+    // The subtractions are range-checked by the match: `128 − k` for k in
+    // 1..=127, `k − 128` for k in 128..=255.
+    #[allow(clippy::arithmetic_side_effects)]
+    pub(crate) fn shl(self, k: u32) -> I256 {
+        match k {
+            0 => self,
+            1..=127 => I256 {
+                hi: (self.hi << k) | (self.lo >> (128 - k)),
+                lo: self.lo << k,
+            },
+            128..=255 => I256 {
+                hi: self.lo << (k - 128),
+                lo: 0,
+            },
+            _ => I256::ZERO,
+        }
+    }
+
+    /// Multiplication by a small constant (here 3 or 6).
+    pub(crate) fn mul_small(self, k: u32) -> I256 {
+        (0..k).fold(I256::ZERO, |acc, _| acc.add(self))
+    }
+
+    /// The exact product of two `i128`.
+    // Schoolbook multiplication on 64-bit halves: each partial product of two
+    // values below 2^64 is below 2^128; `mid` is below 3·2^64; and `hi` is the
+    // top half of a product of two values ≤ 2^127, below 2^126 + 3·2^64.
+    #[allow(clippy::arithmetic_side_effects)]
+    pub(crate) fn mul_i128(a: i128, b: i128) -> I256 {
+        let (x, y) = (a.unsigned_abs(), b.unsigned_abs());
+        const M: u128 = u64::MAX as u128;
+        let (x1, x0, y1, y0) = (x >> 64, x & M, y >> 64, y & M);
+        let (p00, p01, p10, p11) = (x0 * y0, x0 * y1, x1 * y0, x1 * y1);
+        let mid = (p00 >> 64) + (p01 & M) + (p10 & M);
+        let m = I256 {
+            hi: p11 + (p01 >> 64) + (p10 >> 64) + (mid >> 64),
+            lo: (p00 & M) | (mid << 64),
+        };
+        I256::from_magnitude((a < 0) != (b < 0), m)
+    }
+
+    /// Unsigned comparison of magnitudes.
+    fn ge_unsigned(self, o: I256) -> bool {
+        (self.hi, self.lo) >= (o.hi, o.lo)
+    }
+
+    /// A magnitude below 2^256 with a sign, saturated to `i128`.
+    fn signed_saturated(negative: bool, mag: I256) -> i128 {
+        let mag = if mag.hi == 0 { mag.lo } else { u128::MAX };
+        if negative {
+            0i128.checked_sub_unsigned(mag).unwrap_or(i128::MIN)
+        } else {
+            i128::try_from(mag).unwrap_or(i128::MAX)
+        }
+    }
+
+    /// The value saturated to `i128` (keeping its sign).
+    pub(crate) fn saturating_to_i128(self) -> i128 {
+        I256::signed_saturated(self.is_negative(), self.magnitude())
+    }
+
+    /// `self / den` rounded to nearest (ties away from zero), saturated to
+    /// `i128`; `den == 0` follows `Real`'s division policy (0 for 0/0, else
+    /// the saturated value with the sign of the numerator).
+    pub(crate) fn ratio_round(self, den: I256) -> i128 {
+        if den.is_zero() {
+            return match (self.is_zero(), self.is_negative()) {
+                (true, _) => 0,
+                (false, false) => i128::MAX,
+                (false, true) => i128::MIN,
+            };
+        }
+        let negative = self.is_negative() != den.is_negative();
+        let (n, d) = (self.magnitude(), den.magnitude());
+        // Restoring long division, one quotient bit at a time (256 steps,
+        // high limb first; mass properties are computed when shapes change,
+        // not per step).
+        let (mut q, mut r) = (I256::ZERO, I256::ZERO);
+        for limb in [n.hi, n.lo] {
+            for j in (0..128u32).rev() {
+                let bit = (limb >> j) & 1;
+                // A remainder that overflows the shift is certainly ≥ d.
+                let carry = r.hi >> 127;
+                r = r.shl(1);
+                r.lo |= bit;
+                q = q.shl(1);
+                if carry == 1 || r.ge_unsigned(d) {
+                    r = r.sub(d);
+                    q.lo |= 1;
+                }
+            }
+        }
+        // Round half up in magnitude (r ≥ d − r is 2r ≥ d without overflow).
+        if r.ge_unsigned(d.sub(r)) {
+            q = q.add(I256::ONE);
+        }
+        I256::signed_saturated(negative, q)
+    }
+
+    /// `self / 2^k` rounded to nearest (ties away from zero), saturated to
+    /// `i128`, for `k` in `1..=127` (other `k` are clamped to that range).
+    /// The same value as `ratio_round` by `2^k`, without the long division.
+    pub(crate) fn round_shr(self, k: u32) -> i128 {
+        let k = k.clamp(1, 127);
+        let negative = self.is_negative();
+        // A magnitude is at most 2^255, so adding half of 2^k < 2^127 to it
+        // cannot carry out of the high limb.
+        let m = self.magnitude().add(I256::ONE.shl(k.saturating_sub(1)));
+        // Bits of the high limb that land in the low one: `hi << (128 − k)`
+        // (k ≥ 1, so the shift is at most 127).
+        let shifted = I256 {
+            hi: m.hi >> k,
+            lo: (m.lo >> k) | (m.hi << u128::BITS.saturating_sub(k)),
+        };
+        I256::signed_saturated(negative, shifted)
+    }
+}
+
+// ---- Exact vector predicates and normalisation (the collision code) ----
+
+/// Raw bits of a `Real` widened to `i128`.
+#[inline(always)]
+fn w(r: Real) -> i128 {
+    i128::from(r.to_bits())
+}
+
+/// `a · b`, exact, in units of 2^-64.
+#[inline(always)]
+pub(crate) fn dot(a: Vect, b: Vect) -> i128 {
+    let (ax, ay, bx, by) = (a.x.to_bits(), a.y.to_bits(), b.x.to_bits(), b.y.to_bits());
+    wide_mul(ax, bx).saturating_add(wide_mul(ay, by))
+}
+
+/// `a × b` (z of the 3D cross product), exact, in units of 2^-64.
+#[inline(always)]
+pub(crate) fn cross(a: Vect, b: Vect) -> i128 {
+    let (ax, ay, bx, by) = (a.x.to_bits(), a.y.to_bits(), b.x.to_bits(), b.y.to_bits());
+    wide_mul(ax, by).saturating_sub(wide_mul(ay, bx))
+}
+
+/// `|v|²`, exact, in units of 2^-64 (never overflows: each square < 2^126).
+#[inline(always)]
+pub(crate) fn len_sq(v: Vect) -> u128 {
+    // Each square ≤ 2^126, the sum ≤ 2^127: never saturates.
+    raw_sq(v.x).saturating_add(raw_sq(v.y))
+}
+
+/// `num / den` as a `Real` clamped to `[-1, 1]`, rounded to nearest.
+/// `den == 0` gives 0. Both arguments are in the same units (they cancel).
+pub(crate) fn unit_ratio(num: i128, den: u128) -> Real {
+    const ONE_BITS: u128 = 1 << 32;
+    if den == 0 {
+        return Real::ZERO;
+    }
+    let mag = num.unsigned_abs();
+    let q = if mag >= den {
+        ONE_BITS
+    } else {
+        // Shift the numerator up by 32 fractional bits if it has room, else
+        // shift the denominator down (then den > mag ≥ 2^95, so den >> 32 is
+        // still ≥ 2^63 and the quotient keeps full precision).
+        let (n, d) = if mag.leading_zeros() >= 33 {
+            (mag << 32, den)
+        } else {
+            (mag, den >> 32)
+        };
+        // Never saturates: n < 2^127 and d/2 < 2^127 (first case) or n ≤ 2^127
+        // and d/2 < 2^95 (second). d ≠ 0: den ≠ 0, resp. d ≥ 2^63.
+        n.saturating_add(d / 2)
+            .checked_div(d)
+            .unwrap_or(ONE_BITS)
+            .min(ONE_BITS)
+    };
+    // q ≤ 2^32 fits an i64.
+    let q = i64::try_from(q).unwrap_or(1 << 32);
+    // q ≥ 0: the negation never saturates.
+    Real::from_bits(if num < 0 { q.saturating_neg() } else { q })
+}
+
+/// `v · (num / den)` for `0 < num < den` (same units), each component
+/// rounded once. Both are shifted right together until `den < 2^62`, so the
+/// products fit an `i128`; that drops only bits below 2^-62 relative.
+pub(crate) fn scale_by_ratio(v: Vect, num: i128, den: u128) -> Vect {
+    // leading_zeros ≤ 128: the first subtraction never saturates.
+    let k = 128u32
+        .saturating_sub(den.leading_zeros())
+        .saturating_sub(62);
+    let d = i128::try_from(den >> k).unwrap_or(i128::MAX);
+    let n = num >> k;
+    if d == 0 {
+        return Vect::ZERO;
+    }
+    let comp = |c: Real| -> Real {
+        // |c| ≤ 2^63 and |n| ≤ d < 2^62 (0 < num < den): the product is below
+        // 2^125 and the rounded sum below 2^126, neither saturates; d > 0.
+        let p = w(c).saturating_mul(n);
+        let da = d.unsigned_abs();
+        let q = p
+            .unsigned_abs()
+            .saturating_add(da / 2)
+            .checked_div(da)
+            .unwrap_or(0);
+        let q = i64::try_from(q).unwrap_or(i64::MAX);
+        // q ≥ 0: the negation never saturates.
+        Real::from_bits(if p < 0 { q.saturating_neg() } else { q })
+    };
+    Vect::new(comp(v.x), comp(v.y))
+}
+
+/// Starting guesses for [`rsqrt_q60`]: entry `b` (for `b` in 8..32) is
+/// `1/√x` in Q60 at the middle of the bucket `x ∈ [b/32, (b+1)/32)`, i.e.
+/// `√(2^126 / (2b + 1))`, computed at compile time with integers (the
+/// indexing and the cast run in const evaluation: b < 32, r < 2^62).
+// Const evaluation: an out-of-range index would fail the build, never run.
+#[allow(clippy::indexing_slicing)]
+const RSQRT_SEED: [u64; 32] = {
+    let mut t = [0u64; 32];
+    let mut b = 8;
+    while b < 32 {
+        let r = ((1u128 << 126) / (2 * b as u128 + 1)).isqrt();
+        t[b] = r as u64;
+        b += 1;
+    }
+    t
+};
+
+/// `1/√x` in Q60 for `x = m / 2^64`, `m ∈ [2^62, 2^64)` (so `1/√x ∈ (1, 2]`).
+///
+/// Newton's iteration for the reciprocal square root, `y ← y(3 − x·y²)/2`,
+/// uses only multiplications: from the table's ≤ 3% start, four steps reach
+/// the Q60 resolution (error 3% → 1e-3 → 2e-6 → 5e-12 → below 2^-58). All
+/// products fit a u128 (none saturates): the iterates stay at most about 2^61
+/// (the seeds are below 2^61, and a step never exceeds `1/√x ≤ 2`, the
+/// maximum of `y(3 − x·y²)/2`, by more than its truncations).
+#[inline]
+fn rsqrt_q60(m: u64) -> u64 {
+    let bucket = usize::try_from(m >> 59).unwrap_or(31);
+    let mut y = RSQRT_SEED.get(bucket).copied().unwrap_or(1 << 60);
+    for _ in 0..4 {
+        let y2 = u128::from(y).saturating_mul(u128::from(y)) >> 60; // ≤ 2^62
+        let xy2 = u128::from(m).saturating_mul(y2) >> 64; // x·y², ≈ 2^60; m·y2 < 2^127
+        let t = (3u128 << 60).saturating_sub(xy2);
+        // y < 2^64, t < 2^62: y·t < 2^126.
+        y = u64::try_from(u128::from(y).saturating_mul(t) >> 61).unwrap_or(1 << 61);
+    }
+    y
+}
+
+/// `(v / |v|, |v|)`, or `None` for the zero vector.
+///
+/// The vector is first scaled by a power of two (exact) so its larger
+/// component has 62 significant bits; `|v|²` is then formed exactly on 128
+/// bits and `1/|v|` comes from [`rsqrt_q60`] (multiplications only: no square
+/// root, no division, ~4× cheaper than an integer `isqrt` plus two 128-bit
+/// divisions). Each component of the unit vector is within 0.5 ulp (+2^-25
+/// ulp) of the true value even for tiny vectors (a separation of a few ulp
+/// still gives a unit normal), so `||n| − 1| < 1 ulp`; the length is within
+/// 0.5 ulp + 2^-56 relative (exact to the ulp below 2^24 units).
+pub(crate) fn normalize(v: Vect) -> Option<(Vect, Real)> {
+    let (x, y) = (w(v.x), w(v.y));
+    let big = x.unsigned_abs().max(y.unsigned_abs());
+    if big == 0 {
+        return None;
+    }
+    // big ≤ 2^63; put its top bit at position 61 (or leave it if higher).
+    let shift = big.leading_zeros().saturating_sub(66);
+    let (xs, ys) = (x << shift, y << shift);
+    let (xa, ya) = (xs.unsigned_abs(), ys.unsigned_abs());
+    // Each square ≤ 2^126, the sum < 2^127 + 1: exact in a u128 (never
+    // saturates).
+    let sq = xa.saturating_mul(xa).saturating_add(ya.saturating_mul(ya));
+    // Even k with m = sq >> k in [2^62, 2^64): sq has 123..=127 bits.
+    // (leading_zeros ≤ 128: the first subtraction never saturates.)
+    let k = 128u32.saturating_sub(sq.leading_zeros()).saturating_sub(63) & !1;
+    let m = u64::try_from(sq >> k).unwrap_or(u64::MAX);
+    let r = u128::from(rsqrt_q60(m));
+    // 1/|v_s| = r · 2^-(60 + 32 + k/2); the Real unit component is
+    // c_s · 2^32 / |v_s| = c_s · r >> (60 + k/2). |c_s| ≤ 2^63, r ≤ 2^61.
+    // k ≤ 64, so 60 ≤ down ≤ 92; p < 2^124 and the rounding bias ≤ 2^91: none
+    // of these operations saturates.
+    let down = 60u32.saturating_add(k / 2);
+    let unit = |c: i128| -> Real {
+        let p = c.unsigned_abs().saturating_mul(r);
+        let half = 1u128 << down.saturating_sub(1);
+        let q = i64::try_from(p.saturating_add(half) >> down).unwrap_or(i64::MAX);
+        // q ≥ 0: the negation never saturates.
+        Real::from_bits(if c < 0 { q.saturating_neg() } else { q })
+    };
+    // |v_s| = √x · 2^(32 + k/2) with √x = x · r = m·r >> 60 in Q64 (≤ 2^65);
+    // in raw units of v: √x_q64 · 2^(32 + k/2 − 64 − shift), a right shift
+    // since k/2 ≤ 32.
+    // m < 2^64, r ≤ 2^61: the product never saturates.
+    let root_q64 = u128::from(m).saturating_mul(r) >> 60;
+    // shift ≤ 61 and k/2 ≤ 32: 0 ≤ e ≤ 93, never saturates.
+    let e = 32u32.saturating_add(shift).saturating_sub(k / 2);
+    let length = if e > 0 {
+        // root_q64 < 2^65 and e − 1 < 93: never saturates.
+        root_q64.saturating_add(1u128 << e.saturating_sub(1)) >> e
+    } else {
+        root_q64
+    };
+    let length = i64::try_from(length).unwrap_or(i64::MAX);
+    Some((Vect::new(unit(xs), unit(ys)), Real::from_bits(length)))
+}
+
+/// `normalize(v)` with a fallback for the zero vector.
+#[inline]
+pub(crate) fn unit_or(v: Vect, fallback: Vect) -> Vect {
+    normalize(v).map_or(fallback, |(n, _)| n)
+}
+
+#[cfg(test)]
+#[allow(clippy::float_arithmetic)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn raw_helpers_are_exact_at_the_range_edges() {
+        let (max, min) = (Real::MAX, Real::MIN);
+        assert_eq!(raw_sum(max, max), 2 * i128::from(i64::MAX));
+        assert_eq!(raw_sum(min, min), 2 * i128::from(i64::MIN));
+        assert_eq!(raw_diff(max, min), i128::from(u64::MAX));
+        assert_eq!(raw_diff(min, max), -i128::from(u64::MAX));
+        assert_eq!(wide_mul(i64::MIN, i64::MIN), 1 << 126);
+        assert_eq!(wide_mul(i64::MIN, i64::MAX), -(1 << 126) + (1 << 63));
+        assert_eq!(raw_sq(min), 1 << 126);
+        assert_eq!(saturate_to_real(1 << 64), max);
+        assert_eq!(saturate_to_real(-(1 << 64)), min);
+        assert_eq!(saturate_to_real(-5), Real::from_bits(-5));
+    }
+
+    #[test]
+    fn i256_saturates_to_i128_keeping_the_sign() {
+        let one = I256::from_i128(1);
+        assert_eq!(I256::from_i128(i128::MAX).saturating_to_i128(), i128::MAX);
+        assert_eq!(I256::from_i128(i128::MIN).saturating_to_i128(), i128::MIN);
+        assert_eq!(I256::from_i128(-5).saturating_to_i128(), -5);
+        assert_eq!(one.shl(127).saturating_to_i128(), i128::MAX);
+        assert_eq!(one.shl(127).neg().saturating_to_i128(), i128::MIN);
+        assert_eq!(one.shl(127).neg().sub(one).saturating_to_i128(), i128::MIN);
+        // 2^130 − 2^130 + 7: exact in between, back in range at the end.
+        let big = I256::mul_i128(1 << 65, 1 << 65);
+        assert_eq!(big.saturating_to_i128(), i128::MAX);
+        assert_eq!(big.neg().saturating_to_i128(), i128::MIN);
+        let seven = big
+            .sub(I256::mul_i128(1 << 65, 1 << 65))
+            .add(I256::from_i128(7));
+        assert_eq!(seven.saturating_to_i128(), 7);
+    }
+
+    #[test]
+    fn i256_division_rounds_and_signs() {
+        let n = I256::mul_i128(i128::MAX, 3);
+        let d = I256::from_i128(i128::MAX);
+        assert_eq!(n.ratio_round(d), 3);
+        assert_eq!(I256::from_i128(-7).ratio_round(I256::from_i128(2)), -4);
+        assert_eq!(I256::from_i128(7).ratio_round(I256::from_i128(-2)), -4);
+        assert_eq!(I256::from_i128(5).ratio_round(I256::from_i128(3)), 2);
+        assert_eq!(I256::from_i128(1).ratio_round(I256::ZERO), i128::MAX);
+        assert_eq!(I256::from_i128(-1).ratio_round(I256::ZERO), i128::MIN);
+        assert_eq!(I256::ZERO.ratio_round(I256::ZERO), 0);
+        let big = I256::mul_i128(i128::MIN, i128::MIN);
+        assert_eq!(big.ratio_round(I256::from_i128(1)), i128::MAX);
+        assert_eq!(big.neg().ratio_round(I256::from_i128(1)), i128::MIN);
+        // 2^200 / 2^190 = 2^10 exactly.
+        let p = I256::mul_i128(1 << 100, 1 << 100);
+        assert_eq!(p.ratio_round(I256::from_i128(1 << 100).shl(90)), 1 << 10);
+    }
+
+    #[test]
+    fn i256_shifts_past_the_limb_boundary() {
+        let one = I256::from_i128(1);
+        assert_eq!(one.shl(0), one);
+        assert_eq!(
+            one.shl(127),
+            I256 {
+                hi: 0,
+                lo: 1 << 127
+            }
+        );
+        assert_eq!(one.shl(128), I256 { hi: 1, lo: 0 });
+        assert_eq!(
+            one.shl(255),
+            I256 {
+                hi: 1 << 127,
+                lo: 0
+            }
+        );
+        assert_eq!(one.shl(256), I256::ZERO);
+        assert_eq!(one.shl(u32::MAX), I256::ZERO);
+    }
+
+    #[test]
+    fn round_shr_matches_the_long_division() {
+        // Values around the rounding ties and the saturation edges, both
+        // signs, shifts across the limb boundary.
+        let mut values = vec![
+            I256::ZERO,
+            I256::mul_i128(i128::MAX, i128::MAX),
+            I256::mul_i128(i128::MIN, i128::MIN),
+            I256::mul_i128(i128::MIN, i128::MAX),
+            I256::mul_i128(1 << 100, 3 << 80).add(I256::from_i128(1 << 64)),
+        ];
+        for e in [0u32, 1, 2, 31, 63, 64, 65, 100, 126, 127, 128, 190] {
+            let p = I256::from_i128(1).shl(e);
+            for d in [-1i128, 0, 1] {
+                values.push(p.add(I256::from_i128(d)));
+            }
+        }
+        for k in [1u32, 2, 32, 64, 65, 96, 127] {
+            let den = I256::from_i128(1).shl(k);
+            for &v in &values {
+                for v in [v, v.neg()] {
+                    let half_up = v.add(I256::from_i128(1).shl(k - 1));
+                    assert_eq!(v.round_shr(k), v.ratio_round(den), "{v:?} >> {k}");
+                    assert_eq!(
+                        half_up.round_shr(k),
+                        half_up.ratio_round(den),
+                        "{half_up:?} >> {k}"
+                    );
+                }
+            }
+        }
+        assert_eq!(I256::from_i128(3).round_shr(1), 2);
+        assert_eq!(I256::from_i128(-3).round_shr(1), -2);
+        assert_eq!(I256::from_i128(5).round_shr(2), 1);
+    }
+
+    #[test]
+    fn unit_ratio_clamps_and_rounds() {
+        assert_eq!(unit_ratio(1, 2), Real::HALF);
+        assert_eq!(unit_ratio(-1, 2), -Real::HALF);
+        assert_eq!(unit_ratio(5, 2), Real::ONE);
+        assert_eq!(unit_ratio(-5, 2), -Real::ONE);
+        assert_eq!(unit_ratio(7, 0), Real::ZERO);
+        // Huge numerator: the denominator is shifted instead.
+        let big = 1i128 << 120;
+        assert_eq!(unit_ratio(big, (big as u128) * 4), Real::from_bits(1 << 30));
+    }
+
+    #[test]
+    fn normalize_tiny_vectors_exactly() {
+        let tiny = Vect::new(Real::DELTA, Real::DELTA);
+        let (n, len) = normalize(tiny).unwrap_or_default();
+        let expect = (0.5f64).sqrt();
+        assert!((n.x.to_f64() - expect).abs() <= 2.4e-10, "{n:?}");
+        assert_eq!(len, Real::DELTA); // √2 ulp rounds to 1 ulp
+        assert!(normalize(Vect::ZERO).is_none());
+        let (n, len) = normalize(Vect::from_ints(3, 4)).unwrap_or_default();
+        assert_eq!(len, Real::from_int(5));
+        assert!((n.x.to_f64() - 0.6).abs() <= 1.2e-10);
+        let (n, _) = normalize(Vect::new(Real::MIN, Real::MIN)).unwrap_or_default();
+        assert!((n.x.to_f64() + expect).abs() <= 2.4e-10);
+    }
+
+    /// The exact reference: 128-bit integer square root and divisions.
+    fn normalize_reference(v: Vect) -> (i64, i64, i64) {
+        let (x, y) = (w(v.x), w(v.y));
+        let shift = x
+            .unsigned_abs()
+            .max(y.unsigned_abs())
+            .leading_zeros()
+            .saturating_sub(66);
+        let (xs, ys) = (x << shift, y << shift);
+        let len = (xs.unsigned_abs().pow(2) + ys.unsigned_abs().pow(2)).isqrt();
+        let unit = |c: i128| {
+            let q = ((c.unsigned_abs() << 32) + len / 2) / len;
+            if c < 0 {
+                -(q as i64)
+            } else {
+                q as i64
+            }
+        };
+        let half = if shift == 0 { 0 } else { 1u128 << (shift - 1) };
+        let length = i64::try_from((len + half) >> shift).unwrap_or(i64::MAX);
+        (unit(xs), unit(ys), length)
+    }
+
+    #[test]
+    fn normalize_matches_exact_reference_within_one_raw_unit() {
+        // A deterministic spread of magnitudes and directions (xorshift).
+        let mut state = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for i in 0..200_000u32 {
+            let bits = i % 64;
+            let x = (next() as i64) >> bits;
+            let y = (next() as i64) >> (next() % 64) as u32;
+            let v = Vect::new(Real::from_bits(x), Real::from_bits(y));
+            let Some((n, len)) = normalize(v) else {
+                assert_eq!((x, y), (0, 0));
+                continue;
+            };
+            let (rx, ry, rl) = normalize_reference(v);
+            assert!((n.x.to_bits() - rx).abs() <= 1, "{v:?}: {n:?} vs {rx} {ry}");
+            assert!((n.y.to_bits() - ry).abs() <= 1, "{v:?}: {n:?} vs {rx} {ry}");
+            assert!(
+                (len.to_bits() - rl).abs() <= 1 + (rl >> 56),
+                "{v:?}: {len:?} vs {rl}"
+            );
+        }
+        for v in [
+            Vect::new(Real::MIN, Real::MIN),
+            Vect::new(Real::MAX, Real::MIN),
+            Vect::new(Real::MIN, Real::ZERO),
+            Vect::new(Real::DELTA, Real::ZERO),
+            Vect::new(Real::ZERO, -Real::DELTA),
+        ] {
+            let (n, len) = normalize(v).unwrap_or_default();
+            let (rx, ry, rl) = normalize_reference(v);
+            assert!(
+                (n.x.to_bits() - rx).abs() <= 1 && (n.y.to_bits() - ry).abs() <= 1,
+                "{v:?}"
+            );
+            assert!(
+                (len.to_bits() - rl).abs() <= 1 + (rl >> 56),
+                "{v:?} {len:?} {rl}"
+            );
+        }
+        assert_eq!(normalize(Vect::X), Some((Vect::X, Real::ONE)));
+        assert_eq!(normalize(-Vect::Y), Some((-Vect::Y, Real::ONE)));
+    }
+
+    #[test]
+    fn predicates_are_exact_for_ulp_sized_differences() {
+        let a = Vect::new(Real::from_int(10_000), Real::DELTA);
+        let b = Vect::new(Real::from_int(10_000), Real::ZERO);
+        assert!(cross(b, a) > 0);
+        assert!(dot(a, Vect::Y) > dot(b, Vect::Y));
+    }
+}
