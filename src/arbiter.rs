@@ -10,6 +10,23 @@
 //! Arbiters are kept in a `Vec` sorted by `(shape_a, shape_b)` slot indices —
 //! the canonical pair order — so lookup is a binary search and the solver's
 //! order depends only on the state.
+//!
+//! # Lifecycle
+//! Every state change is a method here; the step (`space/step.rs`) only
+//! decides when to call which:
+//!
+//! | when (step stage) | method | state |
+//! |---|---|---|
+//! | 4, a pair touches for the first time | [`Arbiter::new`], then [`touch`](Arbiter::touch) | `FirstCollision` |
+//! | 4, a known pair touches | [`touch`](Arbiter::touch): contacts matched by feature id, stamp set | `Cached` → `FirstCollision`, others kept |
+//! | 4, the begin handler rejects it | [`ignore`](Arbiter::ignore) | `FirstCollision` → `Ignore` (until the shapes separate) |
+//! | 4, a known pair does not touch | separate handler (unless already `Cached`), then [`cache`](Arbiter::cache) | → `Cached` |
+//! | 4, `Cached` for `collision_persistence` steps | [`is_expired`](Arbiter::is_expired): dropped | — |
+//! | 10, after the post-solve handlers | [`settle`](Arbiter::settle) | `FirstCollision` → `Normal` |
+//!
+//! Between steps an arbiter is therefore `Normal` or `Ignore` (touched in the
+//! last step) or `Cached` (not touched), never `FirstCollision`
+//! ([`Arbiter::validate`]).
 use serde::{Deserialize, Serialize};
 
 use crate::body::BodyHandle;
@@ -89,7 +106,8 @@ pub struct Arbiter {
 }
 
 impl Arbiter {
-    /// A fresh arbiter for a touching pair.
+    /// A fresh arbiter for a touching pair (state `FirstCollision`, no
+    /// contacts yet: [`touch`](Self::touch) follows).
     pub(crate) fn new(sa: ShapeHandle, a: &Shape, sb: ShapeHandle, b: &Shape) -> Arbiter {
         Arbiter {
             shape_a: sa,
@@ -109,18 +127,67 @@ impl Arbiter {
         }
     }
 
-    /// Takes this step's narrowphase result: new contacts inherit the
-    /// accumulated impulses of last step's contacts with the same feature id;
-    /// material values are recomputed (handlers may override them afterwards).
-    /// `pa`/`pb` are the bodies' centres of gravity.
-    pub(crate) fn update(
+    /// The shapes touch in this step (stamp `stamp`): takes the narrowphase
+    /// result ([`update`](Self::update)), and a `Cached` arbiter starts a new
+    /// contact (`FirstCollision`: the begin handler runs again).
+    pub(crate) fn touch(
         &mut self,
         info: &CollisionInfo,
         a: &Shape,
         b: &Shape,
-        pa: Vect,
-        pb: Vect,
+        centers: (Vect, Vect),
+        stamp: u64,
     ) {
+        self.update(info, a, b, centers.0, centers.1);
+        if self.state == ArbiterState::Cached {
+            self.state = ArbiterState::FirstCollision;
+        }
+        self.stamp = stamp;
+    }
+
+    /// The begin handler rejected the pair: ignored (no pre-solve, no
+    /// solving) until the shapes separate.
+    pub(crate) fn ignore(&mut self) {
+        self.state = ArbiterState::Ignore;
+    }
+
+    /// True while a begin handler's rejection holds.
+    pub(crate) fn is_ignored(&self) -> bool {
+        self.state == ArbiterState::Ignore
+    }
+
+    /// True when the shapes did not touch in the last step that saw them
+    /// (the separate handler has run).
+    pub(crate) fn is_cached(&self) -> bool {
+        self.state == ArbiterState::Cached
+    }
+
+    /// The shapes stopped touching (the caller has run the separate
+    /// handler): kept only for warm starting until it expires.
+    pub(crate) fn cache(&mut self) {
+        self.state = ArbiterState::Cached;
+    }
+
+    /// True once the shapes have not touched for `persistence` steps
+    /// (`world_stamp − stamp ≥ persistence`): the arbiter is dropped.
+    pub(crate) fn is_expired(&self, world_stamp: u64, persistence: u32) -> bool {
+        let idle = world_stamp.saturating_sub(self.stamp);
+        idle >= u64::from(persistence)
+    }
+
+    /// End of a step that touched it (`stamp` is the world's): a first
+    /// contact becomes `Normal`, so the begin handler does not run again.
+    pub(crate) fn settle(&mut self, stamp: u64) {
+        if self.stamp == stamp && self.state == ArbiterState::FirstCollision {
+            self.state = ArbiterState::Normal;
+        }
+    }
+
+    /// Takes this step's narrowphase result: new contacts inherit the
+    /// accumulated impulses of last step's contacts with the same feature id;
+    /// material values are recomputed (handlers may override them afterwards).
+    /// `pa`/`pb` are the bodies' centres of gravity.
+    fn update(&mut self, info: &CollisionInfo, a: &Shape, b: &Shape, pa: Vect, pb: Vect) {
         let old = self.contacts;
         let old_count = usize::from(self.count).min(MAX_CONTACTS_PER_ARBITER);
         self.normal = info.normal;

@@ -23,7 +23,7 @@ pub use handlers::{ArbiterContext, CollisionHandler, PostStepFn};
 pub use settings::{Settings, DEFAULT_COLLISION_BIAS, MAX_ITERATIONS, MAX_SUBSTEPS};
 pub use step::sub_step_dts;
 
-use crate::arbiter::{Arbiter, ArbiterState};
+use crate::arbiter::Arbiter;
 use crate::arena::{Arena, Handle};
 use crate::body::{Body, BodyError, BodyHandle, BodyType};
 use crate::broadphase::{Broadphase, StaticTree};
@@ -418,7 +418,7 @@ impl Space {
             !hit
         });
         for mut arb in removed {
-            if arb.state != ArbiterState::Cached {
+            if !arb.is_cached() {
                 self.handlers.separate(
                     &mut arb,
                     &self.state.bodies,

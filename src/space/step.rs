@@ -29,7 +29,7 @@
 //! an address or a thread.
 use core::mem;
 
-use crate::arbiter::{Arbiter, ArbiterState};
+use crate::arbiter::Arbiter;
 use crate::body::{BodyHandle, BodyType};
 use crate::broadphase::{Proxy, StaticTree};
 use crate::collision::collide;
@@ -240,80 +240,27 @@ impl Space {
         arbiters.clear();
         let mut active = mem::take(&mut self.caches.active);
         active.clear();
-        let stamp = self.state.stamp;
         let pairs = mem::take(&mut self.caches.broadphase.pairs);
         self.caches.stats = StepStats {
             candidate_pairs: pairs.len() as u32,
             ..StepStats::default()
         };
-        // `Drain::as_slice` peeks without moving: each kept arbiter is moved
-        // once out of `old` and once into `arbiters` (they are 240 bytes).
         let mut old_iter = old.drain(..);
         for &(ia, ib) in &pairs {
             // Arbiters of pairs that the broadphase no longer reports.
-            while old_iter
-                .as_slice()
-                .first()
-                .is_some_and(|a| a.key() < (ia, ib))
-            {
-                if let Some(mut arb) = old_iter.next() {
-                    if self.retire(&mut arb) {
-                        arbiters.push(arb);
-                    }
+            while let Some(arb) = take_if(&mut old_iter, |key| key < (ia, ib)) {
+                self.retire(arb, &mut arbiters);
+            }
+            let existing = take_if(&mut old_iter, |key| key == (ia, ib));
+            if let Some(mut arb) = self.collide_pair(ia, ib, existing, &mut arbiters) {
+                if self.run_contact_handlers(&mut arb) {
+                    active.push(arbiters.len() as u32);
                 }
-            }
-            let existing = if old_iter
-                .as_slice()
-                .first()
-                .is_some_and(|a| a.key() == (ia, ib))
-            {
-                old_iter.next()
-            } else {
-                None
-            };
-            let info = self.narrowphase(ia, ib, existing.as_ref());
-            if let Some(info) = &info {
-                let stats = &mut self.caches.stats;
-                stats.touching_pairs = stats.touching_pairs.saturating_add(1);
-                stats.iteration_cap_hits = stats
-                    .iteration_cap_hits
-                    .saturating_add(u32::from(info.hit_iteration_cap));
-            }
-            let Some(info) = info else {
-                if let Some(mut arb) = existing {
-                    if self.retire(&mut arb) {
-                        arbiters.push(arb);
-                    }
-                }
-                continue;
-            };
-            let (Some((ha, sa)), Some((hb, sb))) = (
-                self.state.shapes.get_by_index(ia),
-                self.state.shapes.get_by_index(ib),
-            ) else {
-                continue;
-            };
-            let (Some(body_a), Some(body_b)) = (
-                self.state.bodies.get(sa.body),
-                self.state.bodies.get(sb.body),
-            ) else {
-                continue;
-            };
-            let mut arb = existing.unwrap_or_else(|| Arbiter::new(ha, sa, hb, sb));
-            arb.update(&info, sa, sb, body_a.center(), body_b.center());
-            if arb.state == ArbiterState::Cached {
-                arb.state = ArbiterState::FirstCollision;
-            }
-            arb.stamp = stamp;
-            if self.run_contact_handlers(&mut arb) {
-                active.push(arbiters.len() as u32);
-            }
-            arbiters.push(arb);
-        }
-        for mut arb in old_iter {
-            if self.retire(&mut arb) {
                 arbiters.push(arb);
             }
+        }
+        for arb in old_iter {
+            self.retire(arb, &mut arbiters);
         }
         self.caches.broadphase.pairs = pairs;
         self.state.arbiters = arbiters;
@@ -321,21 +268,54 @@ impl Space {
         active
     }
 
+    /// One candidate pair: the narrowphase, then the touched arbiter (the
+    /// pair's `existing` one or a new one). A pair that does not touch
+    /// retires its existing arbiter into `arbiters` and gives `None`.
+    fn collide_pair(
+        &mut self,
+        ia: u32,
+        ib: u32,
+        existing: Option<Arbiter>,
+        arbiters: &mut Vec<Arbiter>,
+    ) -> Option<Arbiter> {
+        let Some(info) = self.narrowphase(ia, ib, existing.as_ref()) else {
+            if let Some(arb) = existing {
+                self.retire(arb, arbiters);
+            }
+            return None;
+        };
+        let stats = &mut self.caches.stats;
+        stats.touching_pairs = stats.touching_pairs.saturating_add(1);
+        stats.iteration_cap_hits = stats
+            .iteration_cap_hits
+            .saturating_add(u32::from(info.hit_iteration_cap));
+        let (ha, sa) = self.state.shapes.get_by_index(ia)?;
+        let (hb, sb) = self.state.shapes.get_by_index(ib)?;
+        let body_a = self.state.bodies.get(sa.body)?;
+        let body_b = self.state.bodies.get(sb.body)?;
+        let mut arb = existing.unwrap_or_else(|| Arbiter::new(ha, sa, hb, sb));
+        let centers = (body_a.center(), body_b.center());
+        arb.touch(&info, sa, sb, centers, self.state.stamp);
+        Some(arb)
+    }
+
     /// An arbiter whose shapes did not touch this step: the separate handler
-    /// runs once (it becomes `Cached`), and it is dropped once it has not
-    /// touched for `collision_persistence` steps (returns whether to keep it).
-    fn retire(&mut self, arb: &mut Arbiter) -> bool {
-        if arb.state != ArbiterState::Cached {
+    /// runs once (it becomes `Cached`), and it is kept in `arbiters` until it
+    /// has not touched for `collision_persistence` steps.
+    fn retire(&mut self, mut arb: Arbiter, arbiters: &mut Vec<Arbiter>) {
+        if !arb.is_cached() {
             self.handlers.separate(
-                arb,
+                &mut arb,
                 &self.state.bodies,
                 &self.state.shapes,
                 &mut self.post_step,
             );
-            arb.state = ArbiterState::Cached;
+            arb.cache();
         }
-        let idle = self.state.stamp.saturating_sub(arb.stamp);
-        idle < u64::from(self.state.settings.collision_persistence)
+        let persistence = self.state.settings.collision_persistence;
+        if !arb.is_expired(self.state.stamp, persistence) {
+            arbiters.push(arb);
+        }
     }
 
     /// Filters a candidate pair and collides it; `None` if rejected or not touching.
@@ -368,11 +348,10 @@ impl Space {
     /// Begin and pre-solve handlers; true if the arbiter goes to the solver.
     fn run_contact_handlers(&mut self, arb: &mut Arbiter) -> bool {
         let (bodies, shapes, q) = (&self.state.bodies, &self.state.shapes, &mut self.post_step);
-        if arb.state == ArbiterState::FirstCollision && !self.handlers.begin(arb, bodies, shapes, q)
-        {
-            arb.state = ArbiterState::Ignore;
+        if arb.is_first_contact() && !self.handlers.begin(arb, bodies, shapes, q) {
+            arb.ignore();
         }
-        if arb.state == ArbiterState::Ignore {
+        if arb.is_ignored() {
             return false;
         }
         let accept = self.handlers.pre_solve(arb, bodies, shapes, q);
@@ -571,9 +550,7 @@ impl Space {
         }
         let stamp = self.state.stamp;
         for arb in self.state.arbiters.iter_mut() {
-            if arb.stamp == stamp && arb.state == ArbiterState::FirstCollision {
-                arb.state = ArbiterState::Normal;
-            }
+            arb.settle(stamp);
         }
     }
 
@@ -586,5 +563,19 @@ impl Space {
                 f(self);
             }
         }
+    }
+}
+
+/// The next arbiter of `old` if its pair key satisfies `pred`.
+/// `Drain::as_slice` peeks without moving: each kept arbiter is moved once
+/// out of the old list and once into the new one (they are 240 bytes).
+fn take_if(
+    old: &mut std::vec::Drain<'_, Arbiter>,
+    pred: impl FnOnce((u32, u32)) -> bool,
+) -> Option<Arbiter> {
+    if old.as_slice().first().is_some_and(|a| pred(a.key())) {
+        old.next()
+    } else {
+        None
     }
 }
