@@ -65,6 +65,18 @@ pub struct ManifoldPoint {
     pub jt_acc: Real,
 }
 
+/// The arbiter stage's buffers in the space (stages 4–5; not simulation
+/// state): the allocation of last step's arbiter list, reused for the next
+/// one, and the indices of the arbiters solved this step.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ArbiterBuffers {
+    /// Last step's arbiter buffer, kept for its allocation.
+    pub(crate) spare: Vec<Arbiter>,
+    /// Indices (into the world's arbiter list) of the arbiters solved this
+    /// step.
+    pub(crate) active: Vec<u32>,
+}
+
 /// Where an arbiter is in its life.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum ArbiterState {

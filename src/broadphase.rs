@@ -192,6 +192,31 @@ impl Broadphase {
     }
 }
 
+/// The broadphase stage's buffers in the space (stage 3; not simulation
+/// state: derived from the shapes and rebuilt as needed).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct BroadphaseCache {
+    /// The moving shapes' boxes of this step.
+    pub(crate) proxies: Vec<Proxy>,
+    /// The static shapes' tree, rebuilt only when `statics_dirty`.
+    pub(crate) static_tree: StaticTree,
+    /// Set when static shapes were added, removed or moved (or the state
+    /// replaced): the next step rebuilds the static tree.
+    pub(crate) statics_dirty: bool,
+    /// The sweep and its output pairs.
+    pub(crate) sweep: Broadphase,
+}
+
+impl BroadphaseCache {
+    /// Empty buffers whose static tree is rebuilt on the next step.
+    pub(crate) fn dirty() -> BroadphaseCache {
+        BroadphaseCache {
+            statics_dirty: true,
+            ..BroadphaseCache::default()
+        }
+    }
+}
+
 /// `lo + hi` of two raw coordinates, exact on i128: twice the centre of
 /// `[lo, hi]`, the static tree's sort key. On `Real` the sum would saturate
 /// for boxes near ±2^31 and every such box would get the same key.

@@ -85,6 +85,17 @@ pub struct SolverBody {
     pub i_inv: Real,
 }
 
+/// The solver stages' scratch in the space (stages 6–9; not simulation
+/// state): the contiguous body array, indexed by body slot, and this step's
+/// contact constraints in canonical order.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct SolverScratch {
+    /// Velocities and inverse masses of every body slot.
+    pub(crate) bodies: Vec<SolverBody>,
+    /// One row per contact of the solved arbiters.
+    pub(crate) constraints: Vec<ContactConstraint>,
+}
+
 /// MIS UnsolvableCollision: both bodies have infinite mass along the
 /// direction, so no impulse can change their relative velocity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

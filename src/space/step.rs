@@ -34,9 +34,38 @@ use crate::body::{BodyHandle, BodyType};
 use crate::broadphase::{Proxy, StaticTree};
 use crate::collision::collide;
 use crate::math::{Real, Vect};
-use crate::solver::{ContactConstraint, ContactFeatures, ContactParams, PairParams, SolverBody};
+use crate::solver::{
+    ContactConstraint, ContactFeatures, ContactParams, PairParams, SolverBody, SolverScratch,
+};
 
-use super::{Caches, DtConstants, ShapeCache, Space, SpaceError, StepStats};
+use crate::math::exp;
+
+use super::{ShapeCache, Space, SpaceError, StepStats};
+
+/// Per-`dt` constants: the only `pow`, reciprocal and such of a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct DtConstants {
+    pub(crate) dt: Real,
+    pub(crate) dt_inv: Real,
+    /// `damping^dt`.
+    pub(crate) damping: Real,
+    /// `1 − collision_bias^dt`.
+    pub(crate) bias_coef: Real,
+}
+
+/// The step driver's caches in the space (not simulation state).
+#[derive(Default)]
+pub(crate) struct StepCache {
+    /// Constants of the last two distinct step lengths (cleared when
+    /// settings change): two, because sub-steps of a step that `substeps`
+    /// does not divide evenly differ by one ulp.
+    pub(crate) dt_constants: [Option<DtConstants>; 2],
+    /// Forces and torques set before a sub-stepped step, re-applied before
+    /// each of its later sub-steps.
+    pub(crate) frame_forces: Vec<(BodyHandle, Vect, Real)>,
+    /// Counters of the last (sub-)step.
+    pub(crate) stats: StepStats,
+}
 
 /// The lengths of the `substeps` sub-steps of a step of `dt`, in order:
 /// with `q = dt / substeps` and `r = dt mod substeps` on the raw bits, the
@@ -86,7 +115,7 @@ impl Space {
         }
         // The split is fixed here: a post-step callback that changes the
         // settings affects the next step, not the rest of this one.
-        let mut forces = mem::take(&mut self.caches.frame_forces);
+        let mut forces = mem::take(&mut self.caches.step.frame_forces);
         forces.clear();
         forces.extend(
             self.state
@@ -101,7 +130,7 @@ impl Space {
             }
             self.sub_step(sub_dt);
         }
-        self.caches.frame_forces = forces;
+        self.caches.step.frame_forces = forces;
         Ok(())
     }
 
@@ -140,10 +169,27 @@ impl Space {
         self.store_solver_results();
         self.count_saturated_bodies();
         self.post_solve(&active);
-        self.caches.active = active;
+        self.caches.arbiters.active = active;
 
         self.locked = false;
         self.run_post_step_callbacks();
+    }
+
+    /// Per-`dt` constants, recomputed only when `dt` or the settings change.
+    fn dt_constants(&mut self, dt: Real) -> DtConstants {
+        let cached = self.caches.step.dt_constants;
+        if let Some(c) = cached.iter().flatten().find(|c| c.dt == dt) {
+            return *c;
+        }
+        let s = &self.state.settings;
+        let c = DtConstants {
+            dt,
+            dt_inv: dt.recip(),
+            damping: exp::pow(s.damping, dt),
+            bias_coef: Real::ONE - exp::pow(s.collision_bias, dt),
+        };
+        self.caches.step.dt_constants = [Some(c), cached[0]];
+        c
     }
 
     /// The solver switches of the settings.
@@ -197,7 +243,7 @@ impl Space {
                 .and_then(|(_, s)| bodies.get(s.body))
                 .is_some_and(|b| b.body_type() == BodyType::Static)
         };
-        if self.caches.statics_dirty {
+        if self.caches.broadphase.statics_dirty {
             let statics: Vec<Proxy> = self
                 .caches
                 .shapes
@@ -210,10 +256,10 @@ impl Space {
                     })
                 })
                 .collect();
-            self.caches.static_tree = StaticTree::build(statics);
-            self.caches.statics_dirty = false;
+            self.caches.broadphase.static_tree = StaticTree::build(statics);
+            self.caches.broadphase.statics_dirty = false;
         }
-        let proxies = &mut self.caches.proxies;
+        let proxies = &mut self.caches.broadphase.proxies;
         proxies.clear();
         for (i, c) in self.caches.shapes.iter().enumerate() {
             if let Some(c) = c.as_ref().filter(|_| !is_static(i)) {
@@ -223,9 +269,8 @@ impl Space {
                 });
             }
         }
-        self.caches
-            .broadphase
-            .find_pairs(&self.caches.proxies, &self.caches.static_tree);
+        let bp = &mut self.caches.broadphase;
+        bp.sweep.find_pairs(&bp.proxies, &bp.static_tree);
     }
 
     /// Stages 4–5: narrowphase and arbiter matching. Old and new arbiters
@@ -236,12 +281,12 @@ impl Space {
         // Double-buffered: last step's list is drained into this step's,
         // and both allocations are kept for the next step.
         let mut old = mem::take(&mut self.state.arbiters);
-        let mut arbiters = mem::take(&mut self.caches.arbiter_spare);
+        let mut arbiters = mem::take(&mut self.caches.arbiters.spare);
         arbiters.clear();
-        let mut active = mem::take(&mut self.caches.active);
+        let mut active = mem::take(&mut self.caches.arbiters.active);
         active.clear();
-        let pairs = mem::take(&mut self.caches.broadphase.pairs);
-        self.caches.stats = StepStats {
+        let pairs = mem::take(&mut self.caches.broadphase.sweep.pairs);
+        self.caches.step.stats = StepStats {
             candidate_pairs: pairs.len() as u32,
             ..StepStats::default()
         };
@@ -262,9 +307,9 @@ impl Space {
         for arb in old_iter {
             self.retire(arb, &mut arbiters);
         }
-        self.caches.broadphase.pairs = pairs;
+        self.caches.broadphase.sweep.pairs = pairs;
         self.state.arbiters = arbiters;
-        self.caches.arbiter_spare = old;
+        self.caches.arbiters.spare = old;
         active
     }
 
@@ -284,7 +329,7 @@ impl Space {
             }
             return None;
         };
-        let stats = &mut self.caches.stats;
+        let stats = &mut self.caches.step.stats;
         stats.touching_pairs = stats.touching_pairs.saturating_add(1);
         stats.iteration_cap_hits = stats
             .iteration_cap_hits
@@ -361,7 +406,7 @@ impl Space {
     /// Copies velocities and inverse masses into the contiguous solver array
     /// (indexed by body slot).
     fn load_solver_bodies(&mut self) {
-        let sb = &mut self.caches.solver_bodies;
+        let sb = &mut self.caches.solver.bodies;
         sb.clear();
         sb.resize(self.state.bodies.capacity_slots(), SolverBody::default());
         let mut massless = 0u32;
@@ -383,7 +428,7 @@ impl Space {
                 };
             }
         }
-        self.caches.stats.massless_dynamic_bodies = massless;
+        self.caches.step.stats.massless_dynamic_bodies = massless;
     }
 
     /// Stage 6: effective masses, bias and bounce for every active contact,
@@ -397,11 +442,10 @@ impl Space {
             max_bias: Real::MAX,
             features,
         };
-        let Caches {
-            solver_bodies,
-            contact_constraints,
-            ..
-        } = &mut self.caches;
+        let SolverScratch {
+            bodies: solver_bodies,
+            constraints: contact_constraints,
+        } = &mut self.caches.solver;
         contact_constraints.clear();
         for &i in active {
             let Some(arb) = self.state.arbiters.get(i as usize) else {
@@ -422,7 +466,7 @@ impl Space {
                 contact_constraints.push(sc);
             }
         }
-        self.caches.stats.solver_contacts = contact_constraints.len() as u32;
+        self.caches.step.stats.solver_contacts = contact_constraints.len() as u32;
     }
 
     /// Stage 7: gravity, damping and forces; clears force accumulators.
@@ -434,7 +478,7 @@ impl Space {
                 Some(f) => f(body, g, dtc.damping, dtc.dt),
                 None => body.update_velocity(g, dtc.damping, dtc.dt),
             }
-            if let Some(slot) = self.caches.solver_bodies.get_mut(h.index() as usize) {
+            if let Some(slot) = self.caches.solver.bodies.get_mut(h.index() as usize) {
                 slot.v = body.velocity();
                 slot.w = body.angular_velocity();
             }
@@ -450,11 +494,10 @@ impl Space {
         } else {
             self.state.current_dt / prev
         };
-        let Caches {
-            solver_bodies,
-            contact_constraints,
-            ..
-        } = &mut self.caches;
+        let SolverScratch {
+            bodies: solver_bodies,
+            constraints: contact_constraints,
+        } = &mut self.caches.solver;
         if features.friction {
             for c in contact_constraints.iter() {
                 c.warm_start(solver_bodies, dt_coef);
@@ -480,11 +523,10 @@ impl Space {
 
     /// `n` Gauss–Seidel passes over the active contacts, in canonical order.
     fn iterate<const FRICTION: bool, const BIAS: bool>(&mut self, n: u32) {
-        let Caches {
-            solver_bodies,
-            contact_constraints,
-            ..
-        } = &mut self.caches;
+        let SolverScratch {
+            bodies: solver_bodies,
+            constraints: contact_constraints,
+        } = &mut self.caches.solver;
         for _ in 0..n {
             for c in contact_constraints.iter_mut() {
                 c.solve_with::<FRICTION, BIAS>(solver_bodies);
@@ -495,7 +537,7 @@ impl Space {
     /// Copies solved velocities back into the bodies and accumulated
     /// impulses back into the arbiters (for warm starting and handlers).
     fn store_solver_results(&mut self) {
-        for c in &self.caches.contact_constraints {
+        for c in &self.caches.solver.constraints {
             let contact = self
                 .state
                 .arbiters
@@ -510,7 +552,7 @@ impl Space {
             if body.body_type() != BodyType::Dynamic {
                 continue;
             }
-            if let Some(s) = self.caches.solver_bodies.get(h.index() as usize) {
+            if let Some(s) = self.caches.solver.bodies.get(h.index() as usize) {
                 body.v = s.v;
                 body.w = s.w;
                 body.v_bias = s.v_bias;
@@ -530,7 +572,7 @@ impl Space {
             .iter()
             .filter(|(_, b)| b.p.is_saturated() || b.v.is_saturated() || b.w.is_saturated())
             .count();
-        self.caches.stats.saturated_bodies = u32::try_from(saturated).unwrap_or(u32::MAX);
+        self.caches.step.stats.saturated_bodies = u32::try_from(saturated).unwrap_or(u32::MAX);
     }
 
     /// Stage 10: post-solve handlers, then first contacts become normal.
