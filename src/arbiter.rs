@@ -20,9 +20,9 @@
 //! | 4, a pair touches for the first time | [`Arbiter::new`], then [`touch`](Arbiter::touch) | `FirstCollision` |
 //! | 4, a known pair touches | [`touch`](Arbiter::touch): contacts matched by feature id, stamp set | `Cached` → `FirstCollision`, others kept |
 //! | 4, the begin handler rejects it | [`ignore`](Arbiter::ignore) | `FirstCollision` → `Ignore` (until the shapes separate) |
-//! | 4, a known pair does not touch | separate handler (unless already `Cached`), then [`cache`](Arbiter::cache) | → `Cached` |
-//! | 4, `Cached` for `collision_persistence` steps | [`is_expired`](Arbiter::is_expired): dropped | — |
-//! | 10, after the post-solve handlers | [`settle`](Arbiter::settle) | `FirstCollision` → `Normal` |
+//! | 5, a known pair does not touch | separate handler (unless already `Cached`), then [`cache`](Arbiter::cache) | → `Cached` |
+//! | 5, `Cached` for `collision_persistence` steps | [`is_expired`](Arbiter::is_expired): dropped | — |
+//! | 13, after the post-solve handlers | [`settle`](Arbiter::settle) | `FirstCollision` → `Normal` |
 //!
 //! Between steps an arbiter is therefore `Normal` or `Ignore` (touched in the
 //! last step) or `Cached` (not touched), never `FirstCollision`

@@ -85,7 +85,7 @@ pub struct SolverBody {
     pub i_inv: Real,
 }
 
-/// The solver stages' scratch in the space (stages 6–9; not simulation
+/// The solver stages' scratch in the space (stages 6–11; not simulation
 /// state): the contiguous body array, indexed by body slot, and this step's
 /// contact constraints in canonical order.
 #[derive(Clone, Debug, Default)]

@@ -157,7 +157,7 @@ pub(crate) struct Caches {
     pub(crate) broadphase: BroadphaseCache,
     /// Stages 4–5 ([`crate::arbiter`]).
     pub(crate) arbiters: ArbiterBuffers,
-    /// Stages 6–9 ([`crate::solver`]).
+    /// Stages 6–11 ([`crate::solver`]).
     pub(crate) solver: SolverScratch,
     /// The step driver's own (`space/step.rs`): `dt` constants, sub-step
     /// forces, counters.

@@ -5,15 +5,22 @@
 //! 3. broadphase: candidate pairs in canonical order;
 //! 4. narrowphase: filter, collide, match arbiters by feature id (warm start),
 //!    run begin / pre-solve handlers;
-//! 5. expire arbiters of pairs that stopped touching (separate handlers);
-//! 6. pre-step: effective masses, bias and bounce (all divisions here);
-//! 7. integrate velocities (gravity, damping, forces);
-//! 8. apply cached impulses (warm start), scaled by `dt / prev_dt`;
-//! 9. solver iterations: bias, normal and friction impulses;
-//! 10. post-solve handlers; 11. post-step callbacks.
+//! 5. retire arbiters of pairs that stopped touching (separate handlers,
+//!    expiry) — in the same merge pass as stage 4;
+//! 6. load the solver bodies: velocities and inverse masses into one
+//!    contiguous array;
+//! 7. pre-step: effective masses, bias and bounce (all divisions here);
+//! 8. integrate velocities (gravity, damping, forces);
+//! 9. apply cached impulses (warm start), scaled by `dt / prev_dt`;
+//! 10. solver iterations: bias, normal and friction impulses;
+//! 11. store the solver results: velocities back into the bodies,
+//!     accumulated impulses back into the arbiters' manifold points;
+//! 12. diagnostics: count saturated bodies;
+//! 13. post-solve handlers, first contacts become normal;
+//! 14. post-step callbacks.
 //!
 //! With [`Settings::substeps`](super::Settings::substeps) = n, [`Space::step`]
-//! runs stages 1–11 n times on sub-steps of `dt` split exactly (see
+//! runs stages 1–14 n times on sub-steps of `dt` split exactly (see
 //! [`sub_step_dts`]): bit for bit the same as n calls with those lengths.
 //! Collision runs in every sub-step because positions move in every one;
 //! running it once per step and only the solver n times (Box2D v3's and
@@ -145,7 +152,7 @@ impl Space {
         }
     }
 
-    /// Stages 1–11 for one (sub-)step of `dt > 0`.
+    /// Stages 1–14 for one (sub-)step of `dt > 0`.
     fn sub_step(&mut self, dt: Real) {
         self.locked = true;
         // 2^64 sub-steps never happen: never saturates.
@@ -155,24 +162,24 @@ impl Space {
         let dtc = self.dt_constants(dt);
         let features = self.contact_features();
 
-        self.integrate_positions(dt);
-        self.update_shape_caches();
-        self.find_pairs();
-        let active = self.collide_pairs();
-        self.load_solver_bodies();
-        self.pre_step(&active, &dtc, features);
-        self.integrate_velocities(&dtc);
+        self.integrate_positions(dt); // 1
+        self.update_shape_caches(); // 2
+        self.find_pairs(); // 3
+        let active = self.collide_pairs(); // 4, 5
+        self.load_solver_bodies(); // 6
+        self.pre_step(&active, &dtc, features); // 7
+        self.integrate_velocities(&dtc); // 8
         if features.warm_starting {
-            self.warm_start(features);
+            self.warm_start(features); // 9
         }
-        self.solve(features);
-        self.store_solver_results();
-        self.count_saturated_bodies();
-        self.post_solve(&active);
+        self.solve(features); // 10
+        self.store_solver_results(); // 11
+        self.count_saturated_bodies(); // 12
+        self.post_solve(&active); // 13
         self.caches.arbiters.active = active;
 
         self.locked = false;
-        self.run_post_step_callbacks();
+        self.run_post_step_callbacks(); // 14
     }
 
     /// Per-`dt` constants, recomputed only when `dt` or the settings change.
@@ -313,9 +320,10 @@ impl Space {
         active
     }
 
-    /// One candidate pair: the narrowphase, then the touched arbiter (the
-    /// pair's `existing` one or a new one). A pair that does not touch
-    /// retires its existing arbiter into `arbiters` and gives `None`.
+    /// Stage 4 for one candidate pair: the narrowphase, then the touched
+    /// arbiter (the pair's `existing` one or a new one). A pair that does
+    /// not touch retires its existing arbiter into `arbiters` (stage 5) and
+    /// gives `None`.
     fn collide_pair(
         &mut self,
         ia: u32,
@@ -344,9 +352,9 @@ impl Space {
         Some(arb)
     }
 
-    /// An arbiter whose shapes did not touch this step: the separate handler
-    /// runs once (it becomes `Cached`), and it is kept in `arbiters` until it
-    /// has not touched for `collision_persistence` steps.
+    /// Stage 5 for one arbiter whose shapes did not touch this step: the
+    /// separate handler runs once (it becomes `Cached`), and it is kept in
+    /// `arbiters` until it has not touched for `collision_persistence` steps.
     fn retire(&mut self, mut arb: Arbiter, arbiters: &mut Vec<Arbiter>) {
         if !arb.is_cached() {
             self.handlers.separate(
@@ -403,8 +411,8 @@ impl Space {
         accept && !arb.sensor
     }
 
-    /// Copies velocities and inverse masses into the contiguous solver array
-    /// (indexed by body slot).
+    /// Stage 6: copies velocities and inverse masses into the contiguous
+    /// solver array (indexed by body slot).
     fn load_solver_bodies(&mut self) {
         let sb = &mut self.caches.solver.bodies;
         sb.clear();
@@ -431,7 +439,7 @@ impl Space {
         self.caches.step.stats.massless_dynamic_bodies = massless;
     }
 
-    /// Stage 6: effective masses, bias and bounce for every active contact,
+    /// Stage 7: effective masses, bias and bounce for every active contact,
     /// gathered into the contiguous solver array.
     fn pre_step(&mut self, active: &[u32], dtc: &DtConstants, features: ContactFeatures) {
         let s = &self.state.settings;
@@ -469,7 +477,7 @@ impl Space {
         self.caches.step.stats.solver_contacts = contact_constraints.len() as u32;
     }
 
-    /// Stage 7: gravity, damping and forces; clears force accumulators.
+    /// Stage 8: gravity, damping and forces; clears force accumulators.
     fn integrate_velocities(&mut self, dtc: &DtConstants) {
         let g = self.state.settings.gravity;
         let custom = &mut self.integrators.velocity;
@@ -485,7 +493,7 @@ impl Space {
         }
     }
 
-    /// Stage 8: re-apply last step's accumulated impulses (only called with
+    /// Stage 9: re-apply last step's accumulated impulses (only called with
     /// warm starting on).
     fn warm_start(&mut self, features: ContactFeatures) {
         let prev = self.state.prev_dt;
@@ -509,7 +517,7 @@ impl Space {
         }
     }
 
-    /// Stage 9: the solver iterations, with the iteration routine of the
+    /// Stage 10: the solver iterations, with the iteration routine of the
     /// switched-on features chosen once (see [`ContactConstraint::solve_with`]).
     fn solve(&mut self, features: ContactFeatures) {
         let n = self.state.settings.iterations;
@@ -534,8 +542,9 @@ impl Space {
         }
     }
 
-    /// Copies solved velocities back into the bodies and accumulated
-    /// impulses back into the arbiters (for warm starting and handlers).
+    /// Stage 11: copies solved velocities back into the bodies and
+    /// accumulated impulses back into the arbiters' manifold points (for
+    /// warm starting and handlers).
     fn store_solver_results(&mut self) {
         for c in &self.caches.solver.constraints {
             let contact = self
@@ -561,10 +570,10 @@ impl Space {
         }
     }
 
-    /// Diagnostics ([`StepStats::saturated_bodies`]): bodies whose position,
-    /// velocity or angular velocity saturated. Runs after the solver, so it
-    /// sees this step's positions and final velocities; five comparisons per
-    /// body, no arithmetic.
+    /// Stage 12, diagnostics ([`StepStats::saturated_bodies`]): bodies whose
+    /// position, velocity or angular velocity saturated. Runs after the
+    /// solver, so it sees this step's positions and final velocities; five
+    /// comparisons per body, no arithmetic.
     fn count_saturated_bodies(&mut self) {
         let saturated = self
             .state
@@ -575,7 +584,7 @@ impl Space {
         self.caches.step.stats.saturated_bodies = u32::try_from(saturated).unwrap_or(u32::MAX);
     }
 
-    /// Stage 10: post-solve handlers, then first contacts become normal.
+    /// Stage 13: post-solve handlers, then first contacts become normal.
     fn post_solve(&mut self, active: &[u32]) {
         if !self.handlers.is_empty() {
             for &i in active {
@@ -596,7 +605,7 @@ impl Space {
         }
     }
 
-    /// Stage 11: post-step callbacks, in the order they were queued.
+    /// Stage 14: post-step callbacks, in the order they were queued.
     fn run_post_step_callbacks(&mut self) {
         // Callbacks may queue more callbacks; those run after this step too.
         while !self.post_step.is_empty() {
