@@ -32,8 +32,7 @@ use serde::{Deserialize, Serialize};
 use crate::body::BodyHandle;
 use crate::collision::{CollisionInfo, WarmStartId, MAX_CONTACTS_PER_ARBITER};
 use crate::math::{Real, Vect};
-use crate::shape::Shape;
-use crate::space::ShapeHandle;
+use crate::shape::{Shape, ShapeHandle};
 
 /// One point of an arbiter's contact manifold: the **persistent** state of
 /// one contact, kept in the arbiter from step to step (and serialized in

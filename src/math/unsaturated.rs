@@ -14,7 +14,7 @@
 //! The solver's fast path is tested against the saturating one on random and
 //! extreme inputs.
 use super::real::{Real, FRAC_BITS};
-use super::wide::wide_mul;
+use super::wide::int::wide_mul;
 
 /// `2^(FRAC_BITS − 1)`: the rounding half.
 const HALF: i128 = 1 << (FRAC_BITS - 1);

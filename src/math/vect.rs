@@ -13,7 +13,7 @@ use core::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
 use serde::{Deserialize, Serialize};
 
 use super::real::{Real, FRAC_BITS};
-use super::wide::wide_mul;
+use super::wide::int::wide_mul;
 
 /// A 2D vector (or point) of [`Real`]s.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]

@@ -31,8 +31,7 @@ use crate::math::{Real, Vect, BB};
 use crate::shape::{CollisionType, Geometry, MassSpec, Shape, ShapeError};
 use crate::solver::SolverScratch;
 
-/// Handle of a shape in a space.
-pub type ShapeHandle = Handle<Shape>;
+pub use crate::shape::ShapeHandle;
 
 /// Errors of space operations. Each leaves the space unchanged.
 #[derive(Clone, Debug, PartialEq, Eq)]
