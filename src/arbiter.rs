@@ -17,16 +17,16 @@
 //!
 //! | when (step stage) | method | state |
 //! |---|---|---|
-//! | 4, a pair touches for the first time | [`Arbiter::new`], then [`touch`](Arbiter::touch) | `FirstCollision` |
-//! | 4, a known pair touches | [`touch`](Arbiter::touch): contacts matched by feature id, stamp set | `Cached` → `FirstCollision`, others kept |
-//! | 4, the begin handler rejects it | [`ignore`](Arbiter::ignore) | `FirstCollision` → `Ignore` (until the shapes separate) |
-//! | 5, a known pair does not touch | separate handler (unless already `Cached`), then [`cache`](Arbiter::cache) | → `Cached` |
-//! | 5, `Cached` for `collision_persistence` steps | [`is_expired`](Arbiter::is_expired): dropped | — |
-//! | 13, after the post-solve handlers | [`settle`](Arbiter::settle) | `FirstCollision` → `Normal` |
+//! | 4, a pair touches for the first time | `Arbiter::new`, then `touch` | `FirstCollision` |
+//! | 4, a known pair touches | `touch`: contacts matched by feature id, stamp set | `Cached` → `FirstCollision`, others kept |
+//! | 4, the begin handler rejects it | `ignore` | `FirstCollision` → `Ignore` (until the shapes separate) |
+//! | 5, a known pair does not touch | separate handler (unless already `Cached`), then `cache` | → `Cached` |
+//! | 5, `Cached` for `collision_persistence` steps | `is_expired`: dropped | — |
+//! | 13, after the post-solve handlers | `settle` | `FirstCollision` → `Normal` |
 //!
 //! Between steps an arbiter is therefore `Normal` or `Ignore` (touched in the
 //! last step) or `Cached` (not touched), never `FirstCollision`
-//! ([`Arbiter::validate`]).
+//! (`Arbiter::validate`).
 use serde::{Deserialize, Serialize};
 
 use crate::body::BodyHandle;
@@ -43,7 +43,7 @@ use crate::shape::{Shape, ShapeHandle};
 /// [`collision::Contact`](crate::collision::Contact) (a point pair with its
 /// feature id), the arbiter keeps it as a `ManifoldPoint`, the solver
 /// turns it into a per-step
-/// [`solver::ContactConstraint`](crate::solver::ContactConstraint) row, and
+/// `solver::ContactConstraint` row, and
 /// the public query [`shapes_collide`](crate::collision::shapes_collide)
 /// answers with [`collision::ContactPoint`](crate::collision::ContactPoint)s
 /// (no feature id).
@@ -55,7 +55,7 @@ pub struct ManifoldPoint {
     pub r2: Vect,
     /// Signed separation (negative when penetrating).
     pub dist: Real,
-    /// Feature id ([`collision::Contact::id`](crate::collision::Contact::id)):
+    /// Feature id ([`collision::Contact::feature_id`](crate::collision::Contact::feature_id)):
     /// matches this contact with last step's for warm starting.
     pub feature_id: u32,
     /// Accumulated normal impulse (warm-started).

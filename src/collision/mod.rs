@@ -26,7 +26,7 @@
 //!    and ids bit-identical; the products also stay small (no saturation far
 //!    from the origin, where `x²` would overflow past 46,340).
 //! 3. **Dispatch** on the kinds with an exhaustive `match` to one of the six
-//!    pair functions ([`pairs`]): closed forms for circle–circle and
+//!    pair functions (`pairs.rs`): closed forms for circle–circle and
 //!    circle–segment, separating axes with edge clipping for poly–poly
 //!    (`sat.rs`, falling back to GJK for a corner near a corner), GJK
 //!    ([`gjk`]) with EPA ([`epa`]) and edge clipping ([`contact_points`]) for
@@ -104,7 +104,7 @@ pub type WarmStartId = u32;
 /// feature id (an element of MIS `CollisionInfo`, per step). The arbiter
 /// keeps it as an [`arbiter::ManifoldPoint`](crate::arbiter::ManifoldPoint),
 /// the solver turns that into a
-/// [`solver::ContactConstraint`](crate::solver::ContactConstraint); the public
+/// `solver::ContactConstraint`; the public
 /// query type is [`ContactPoint`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct Contact {
@@ -200,7 +200,7 @@ fn swap_id_shapes(id: WarmStartId) -> WarmStartId {
 /// One point pair of a [`ContactPointSet`]: the public query answer (MIS /
 /// Chipmunk), without feature id. The engine's other contact types are
 /// [`Contact`] (narrowphase), [`arbiter::ManifoldPoint`](crate::arbiter::ManifoldPoint)
-/// (persistent) and [`solver::ContactConstraint`](crate::solver::ContactConstraint)
+/// (persistent) and `solver::ContactConstraint`
 /// (solver row).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct ContactPoint {

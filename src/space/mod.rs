@@ -152,11 +152,11 @@ pub(crate) struct Caches {
     /// Stage 2: world-space geometry and box of each shape, indexed by shape
     /// slot (`None` for free slots); read by stages 3 and 4.
     pub(crate) shapes: Vec<Option<ShapeCache>>,
-    /// Stage 3 ([`crate::broadphase`]).
+    /// Stage 3 (`crate::broadphase`).
     pub(crate) broadphase: BroadphaseCache,
     /// Stages 4–5 ([`crate::arbiter`]).
     pub(crate) arbiters: ArbiterBuffers,
-    /// Stages 6–11 ([`crate::solver`]).
+    /// Stages 6–11 (`crate::solver`).
     pub(crate) solver: SolverScratch,
     /// The step driver's own (`space/step.rs`): `dt` constants, sub-step
     /// forces, counters.
