@@ -1,7 +1,7 @@
 //! The `Real`/`Vect` layer of [`math::wide`](super): exact sums and
 //! squares of raw `Real` bits, the exact vector predicates and the precise
 //! normalisation of the collision code.
-use super::int::wide_mul;
+use super::int::{sum_sq, wide_mul};
 use crate::math::real::Real;
 use crate::math::vect::Vect;
 
@@ -56,8 +56,7 @@ pub(crate) fn cross(a: Vect, b: Vect) -> i128 {
 /// `|v|²`, exact, in units of 2^-64 (never overflows: each square < 2^126).
 #[inline(always)]
 pub(crate) fn len_sq(v: Vect) -> u128 {
-    // Each square ≤ 2^126, the sum ≤ 2^127: never saturates.
-    raw_sq(v.x).saturating_add(raw_sq(v.y))
+    sum_sq(v.x.to_bits(), v.y.to_bits())
 }
 
 /// `num / den` as a `Real` clamped to `[-1, 1]`, rounded to nearest.
@@ -234,6 +233,8 @@ mod tests {
         let (max, min) = (Real::MAX, Real::MIN);
         assert_eq!(raw_sum(max, max), 2 * i128::from(i64::MAX));
         assert_eq!(raw_sum(min, min), 2 * i128::from(i64::MIN));
+        // Keys near the top of the range stay distinct (the static tree's sort).
+        assert!(raw_sum(max - Real::ONE, max) < raw_sum(max, max));
         assert_eq!(raw_diff(max, min), i128::from(u64::MAX));
         assert_eq!(raw_diff(min, max), -i128::from(u64::MAX));
         assert_eq!(wide_mul(i64::MIN, i64::MIN), 1 << 126);

@@ -11,6 +11,16 @@ pub(crate) const fn wide_mul(a: i64, b: i64) -> i128 {
     a as i128 * b as i128
 }
 
+/// `x² + y²` of two raw values, exact (units of 2^-64 for `Real` bits):
+/// each square is at most 2^126, the sum at most 2^127, so it never
+/// overflows `u128`.
+#[inline(always)]
+pub(crate) fn sum_sq(x: i64, y: i64) -> u128 {
+    let (x, y) = (u128::from(x.unsigned_abs()), u128::from(y.unsigned_abs()));
+    // x, y ≤ 2^63: never saturates.
+    x.saturating_mul(x).saturating_add(y.saturating_mul(y))
+}
+
 /// A 256-bit two's-complement integer, just enough for exact sums of
 /// products of two `i128`: products, sums, shifts, one rounded division and
 /// a rounded power-of-two division.
