@@ -180,7 +180,7 @@ fn pairs(c: &mut Criterion) {
     poly_pair(c, "octagons_overlap_cold", 2, (&oa, &ob));
     let mut first = CollisionInfo::new(0);
     poly_to_poly_gjk(&oa, &ob, &mut first);
-    let warm_id = first.id;
+    let warm_id = first.warm_start_id;
     c.bench_function("poly_to_poly/octagons_overlap_warm", |bch| {
         bch.iter(|| {
             let mut info = CollisionInfo::new(black_box(warm_id));
@@ -216,7 +216,7 @@ fn gjk_epa(c: &mut Criterion) {
     c.bench_function("gjk/octagons_apart_cold", |bch| {
         bch.iter(|| gjk(black_box(&ctx), black_box(0)))
     });
-    let id = gjk(&ctx, 0).id;
+    let id = gjk(&ctx, 0).warm_start_id;
     c.bench_function("gjk/octagons_apart_warm", |bch| {
         bch.iter(|| gjk(black_box(&ctx), black_box(id)))
     });

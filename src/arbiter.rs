@@ -10,14 +10,71 @@
 //! Arbiters are kept in a `Vec` sorted by `(shape_a, shape_b)` slot indices —
 //! the canonical pair order — so lookup is a binary search and the solver's
 //! order depends only on the state.
+//!
+//! # Lifecycle
+//! Every state change is a method here; the step (`space/step.rs`) only
+//! decides when to call which:
+//!
+//! | when (step stage) | method | state |
+//! |---|---|---|
+//! | 4, a pair touches for the first time | `Arbiter::new`, then `touch` | `FirstCollision` |
+//! | 4, a known pair touches | `touch`: contacts matched by feature id, stamp set | `Cached` → `FirstCollision`, others kept |
+//! | 4, the begin handler rejects it | `ignore` | `FirstCollision` → `Ignore` (until the shapes separate) |
+//! | 5, a known pair does not touch | separate handler (unless already `Cached`), then `cache` | → `Cached` |
+//! | 5, `Cached` for `collision_persistence` steps | `is_expired`: dropped | — |
+//! | 13, after the post-solve handlers | `settle` | `FirstCollision` → `Normal` |
+//!
+//! Between steps an arbiter is therefore `Normal` or `Ignore` (touched in the
+//! last step) or `Cached` (not touched), never `FirstCollision`
+//! (`Arbiter::validate`).
 use serde::{Deserialize, Serialize};
 
 use crate::body::BodyHandle;
-use crate::collision::{CollisionInfo, MAX_CONTACTS_PER_ARBITER};
+use crate::collision::{CollisionInfo, WarmStartId, MAX_CONTACTS_PER_ARBITER};
 use crate::math::{Real, Vect};
-use crate::shape::Shape;
-use crate::solver::ContactConstraint;
-use crate::space::ShapeHandle;
+use crate::shape::{Shape, ShapeHandle};
+
+/// One point of an arbiter's contact manifold: the **persistent** state of
+/// one contact, kept in the arbiter from step to step (and serialized in
+/// snapshots): where it is and the impulses it has accumulated, carried to
+/// the next step for warm starting.
+///
+/// One of the engine's four contact types: the narrowphase produces a
+/// [`collision::Contact`](crate::collision::Contact) (a point pair with its
+/// feature id), the arbiter keeps it as a `ManifoldPoint`, the solver
+/// turns it into a per-step
+/// `solver::ContactConstraint` row, and
+/// the public query [`shapes_collide`](crate::collision::shapes_collide)
+/// answers with [`collision::ContactPoint`](crate::collision::ContactPoint)s
+/// (no feature id).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct ManifoldPoint {
+    /// Contact point relative to body a's centre of gravity.
+    pub r1: Vect,
+    /// Contact point relative to body b's centre of gravity.
+    pub r2: Vect,
+    /// Signed separation (negative when penetrating).
+    pub dist: Real,
+    /// Feature id ([`collision::Contact::feature_id`](crate::collision::Contact::feature_id)):
+    /// matches this contact with last step's for warm starting.
+    pub feature_id: u32,
+    /// Accumulated normal impulse (warm-started).
+    pub jn_acc: Real,
+    /// Accumulated friction impulse (warm-started).
+    pub jt_acc: Real,
+}
+
+/// The arbiter stage's buffers in the space (stages 4–5; not simulation
+/// state): the allocation of last step's arbiter list, reused for the next
+/// one, and the indices of the arbiters solved this step.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ArbiterBuffers {
+    /// Last step's arbiter buffer, kept for its allocation.
+    pub(crate) spare: Vec<Arbiter>,
+    /// Indices (into the world's arbiter list) of the arbiters solved this
+    /// step.
+    pub(crate) active: Vec<u32>,
+}
 
 /// Where an arbiter is in its life.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -42,15 +99,16 @@ pub struct Arbiter {
     /// Contact normal, from shape a to shape b.
     pub(crate) normal: Vect,
     pub(crate) count: u8,
-    pub(crate) contacts: [ContactConstraint; MAX_CONTACTS_PER_ARBITER],
+    pub(crate) contacts: [ManifoldPoint; MAX_CONTACTS_PER_ARBITER],
     /// Restitution (product of the shapes' elasticities unless a handler changed it).
     pub restitution: Real,
     /// Friction (product of the shapes' frictions unless a handler changed it).
     pub friction: Real,
     /// Relative surface velocity, tangential part (conveyor belts).
     pub surface_velocity: Vect,
-    /// GJK warm-start cache for the next narrowphase of this pair.
-    pub(crate) collision_id: u32,
+    /// GJK warm-start cache for the next narrowphase of this pair (MIS
+    /// `CollisionID`; not a feature id).
+    pub(crate) warm_start_id: WarmStartId,
     /// Step stamp of the last step the shapes touched.
     pub(crate) stamp: u64,
     pub(crate) state: ArbiterState,
@@ -59,7 +117,8 @@ pub struct Arbiter {
 }
 
 impl Arbiter {
-    /// A fresh arbiter for a touching pair.
+    /// A fresh arbiter for a touching pair (state `FirstCollision`, no
+    /// contacts yet: [`touch`](Self::touch) follows).
     pub(crate) fn new(sa: ShapeHandle, a: &Shape, sb: ShapeHandle, b: &Shape) -> Arbiter {
         Arbiter {
             shape_a: sa,
@@ -68,14 +127,70 @@ impl Arbiter {
             body_b: b.body,
             normal: Vect::ZERO,
             count: 0,
-            contacts: [ContactConstraint::default(); MAX_CONTACTS_PER_ARBITER],
+            contacts: [ManifoldPoint::default(); MAX_CONTACTS_PER_ARBITER],
             restitution: Real::ZERO,
             friction: Real::ZERO,
             surface_velocity: Vect::ZERO,
-            collision_id: 0,
+            warm_start_id: 0,
             stamp: 0,
             state: ArbiterState::FirstCollision,
             sensor: a.sensor || b.sensor,
+        }
+    }
+
+    /// The shapes touch in this step (stamp `stamp`): takes the narrowphase
+    /// result ([`update`](Self::update)), and a `Cached` arbiter starts a new
+    /// contact (`FirstCollision`: the begin handler runs again).
+    pub(crate) fn touch(
+        &mut self,
+        info: &CollisionInfo,
+        a: &Shape,
+        b: &Shape,
+        centers: (Vect, Vect),
+        stamp: u64,
+    ) {
+        self.update(info, a, b, centers.0, centers.1);
+        if self.state == ArbiterState::Cached {
+            self.state = ArbiterState::FirstCollision;
+        }
+        self.stamp = stamp;
+    }
+
+    /// The begin handler rejected the pair: ignored (no pre-solve, no
+    /// solving) until the shapes separate.
+    pub(crate) fn ignore(&mut self) {
+        self.state = ArbiterState::Ignore;
+    }
+
+    /// True while a begin handler's rejection holds.
+    pub(crate) fn is_ignored(&self) -> bool {
+        self.state == ArbiterState::Ignore
+    }
+
+    /// True when the shapes did not touch in the last step that saw them
+    /// (the separate handler has run).
+    pub(crate) fn is_cached(&self) -> bool {
+        self.state == ArbiterState::Cached
+    }
+
+    /// The shapes stopped touching (the caller has run the separate
+    /// handler): kept only for warm starting until it expires.
+    pub(crate) fn cache(&mut self) {
+        self.state = ArbiterState::Cached;
+    }
+
+    /// True once the shapes have not touched for `persistence` steps
+    /// (`world_stamp − stamp ≥ persistence`): the arbiter is dropped.
+    pub(crate) fn is_expired(&self, world_stamp: u64, persistence: u32) -> bool {
+        let idle = world_stamp.saturating_sub(self.stamp);
+        idle >= u64::from(persistence)
+    }
+
+    /// End of a step that touched it (`stamp` is the world's): a first
+    /// contact becomes `Normal`, so the begin handler does not run again.
+    pub(crate) fn settle(&mut self, stamp: u64) {
+        if self.stamp == stamp && self.state == ArbiterState::FirstCollision {
+            self.state = ArbiterState::Normal;
         }
     }
 
@@ -83,31 +198,28 @@ impl Arbiter {
     /// accumulated impulses of last step's contacts with the same feature id;
     /// material values are recomputed (handlers may override them afterwards).
     /// `pa`/`pb` are the bodies' centres of gravity.
-    pub(crate) fn update(
-        &mut self,
-        info: &CollisionInfo,
-        a: &Shape,
-        b: &Shape,
-        pa: Vect,
-        pb: Vect,
-    ) {
+    fn update(&mut self, info: &CollisionInfo, a: &Shape, b: &Shape, pa: Vect, pb: Vect) {
         let old = self.contacts;
         let old_count = usize::from(self.count).min(MAX_CONTACTS_PER_ARBITER);
         self.normal = info.normal;
-        self.collision_id = info.id;
+        self.warm_start_id = info.warm_start_id;
         self.count = 0;
         // Slots past the new count are cleared, so the state (and its
         // checksum) does not depend on how many contacts the pair had before.
-        self.contacts = [ContactConstraint::default(); MAX_CONTACTS_PER_ARBITER];
+        self.contacts = [ManifoldPoint::default(); MAX_CONTACTS_PER_ARBITER];
         for (slot, c) in self.contacts.iter_mut().zip(info.contacts()) {
-            let mut new = ContactConstraint {
+            let mut new = ManifoldPoint {
                 r1: c.point_a - pa,
                 r2: c.point_b - pb,
                 dist: c.distance,
-                id: c.id,
-                ..ContactConstraint::default()
+                feature_id: c.feature_id,
+                ..ManifoldPoint::default()
             };
-            if let Some(prev) = old.iter().take(old_count).find(|o| o.id == c.id) {
+            if let Some(prev) = old
+                .iter()
+                .take(old_count)
+                .find(|o| o.feature_id == c.feature_id)
+            {
                 new.jn_acc = prev.jn_acc;
                 new.jt_acc = prev.jt_acc;
             }
@@ -146,8 +258,8 @@ impl Arbiter {
         self.normal
     }
 
-    /// The contacts' solver state.
-    pub fn contacts(&self) -> &[ContactConstraint] {
+    /// The contact manifold: the persistent state of each contact.
+    pub fn contacts(&self) -> &[ManifoldPoint] {
         self.contacts.get(..self.count()).unwrap_or(&[])
     }
 

@@ -22,8 +22,8 @@ use core::fmt;
 use serde::{Deserialize, Serialize};
 
 use crate::arena::Handle;
-use crate::math::exact::{raw_mul, saturate_to_real, I256};
 use crate::math::real::FRAC_BITS;
+use crate::math::wide::{saturate_to_real, wide_mul, I256};
 use crate::math::{Real, Rot, Vect};
 
 /// Handle of a body in a [`Space`](crate::space::Space).
@@ -379,7 +379,7 @@ impl Body {
         // in raw `Real` bits (2^-32) is (m·|v|² + I·ω²) / 2^65 with the ½.
         // Each product is below 2^63 · 2^126 = 2^189: the sum cannot wrap.
         let term = |k: Real, r: Real| {
-            I256::mul_i128(i128::from(k.to_bits()), raw_mul(r.to_bits(), r.to_bits()))
+            I256::mul_i128(i128::from(k.to_bits()), wide_mul(r.to_bits(), r.to_bits()))
         };
         let twice = term(self.mass, self.v.x)
             .add(term(self.mass, self.v.y))

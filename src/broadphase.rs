@@ -12,7 +12,8 @@
 //!   ascending: the **canonical pair order**. The solver is Gauss–Seidel, so
 //!   its order changes results; this order depends only on the shapes' slot
 //!   indices and positions, never on a hash or on the sweep's internals.
-use crate::math::{Real, BB};
+use crate::math::wide::{raw_diff, raw_sum};
+use crate::math::BB;
 
 /// A box to sort, with the shape slot it belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -85,13 +86,15 @@ impl StaticTree {
             leaf: false,
         });
         // Extents and centres on i128, exact: `Real` sums and differences
-        // saturate for boxes near ±2^31, which would spoil the balance.
-        let wide = extent(bb.l, bb.r) >= extent(bb.b, bb.t);
+        // saturate for boxes near ±2^31, which would spoil the balance (and
+        // give every such box the same key). The sort key `l + r` is twice
+        // the centre.
+        let wide = raw_diff(bb.r, bb.l) >= raw_diff(bb.t, bb.b);
         if let Some(slice) = self.proxies.get_mut(start..end) {
             if wide {
-                slice.sort_unstable_by_key(|p| (twice_centre(p.bb.l, p.bb.r), p.index));
+                slice.sort_unstable_by_key(|p| (raw_sum(p.bb.l, p.bb.r), p.index));
             } else {
-                slice.sort_unstable_by_key(|p| (twice_centre(p.bb.b, p.bb.t), p.index));
+                slice.sort_unstable_by_key(|p| (raw_sum(p.bb.b, p.bb.t), p.index));
             }
         }
         // `count` is the length of `proxies[start..end]`, so the sum is at
@@ -192,17 +195,29 @@ impl Broadphase {
     }
 }
 
-/// `lo + hi` of two raw coordinates, exact on i128: twice the centre of
-/// `[lo, hi]`, the static tree's sort key. On `Real` the sum would saturate
-/// for boxes near ±2^31 and every such box would get the same key.
-fn twice_centre(lo: Real, hi: Real) -> i128 {
-    // Each operand is below 2^63 in magnitude: the sum needs 65 bits.
-    i128::from(lo.to_bits()).saturating_add(i128::from(hi.to_bits()))
+/// The broadphase stage's buffers in the space (stage 3; not simulation
+/// state: derived from the shapes and rebuilt as needed).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct BroadphaseCache {
+    /// The moving shapes' boxes of this step.
+    pub(crate) proxies: Vec<Proxy>,
+    /// The static shapes' tree, rebuilt only when `statics_dirty`.
+    pub(crate) static_tree: StaticTree,
+    /// Set when static shapes were added, removed or moved (or the state
+    /// replaced): the next step rebuilds the static tree.
+    pub(crate) statics_dirty: bool,
+    /// The sweep and its output pairs.
+    pub(crate) sweep: Broadphase,
 }
 
-/// `hi − lo` of two raw coordinates, exact on i128 (65 bits at most).
-fn extent(lo: Real, hi: Real) -> i128 {
-    i128::from(hi.to_bits()).saturating_sub(i128::from(lo.to_bits()))
+impl BroadphaseCache {
+    /// Empty buffers whose static tree is rebuilt on the next step.
+    pub(crate) fn dirty() -> BroadphaseCache {
+        BroadphaseCache {
+            statics_dirty: true,
+            ..BroadphaseCache::default()
+        }
+    }
 }
 
 fn ordered(a: u32, b: u32) -> (u32, u32) {
@@ -300,14 +315,5 @@ mod tests {
         want.sort_unstable();
         assert_eq!(got, want);
         assert_eq!(want.len(), 3);
-    }
-
-    #[test]
-    fn static_tree_keys_are_exact_at_the_range_edges() {
-        let (max, min) = (Real::MAX, Real::MIN);
-        assert_eq!(twice_centre(max, max), 2 * i128::from(i64::MAX));
-        assert_eq!(twice_centre(min, min), 2 * i128::from(i64::MIN));
-        assert!(twice_centre(max - Real::ONE, max) < twice_centre(max, max));
-        assert_eq!(extent(min, max), i128::from(u64::MAX));
     }
 }

@@ -25,6 +25,9 @@
 pub mod arbiter;
 pub mod arena;
 pub mod body;
+// Engine internals (not user API): public only for benches and the MIS
+// conformance map, hidden from the documentation.
+#[doc(hidden)]
 pub mod broadphase;
 pub mod checksum;
 pub mod collision;
@@ -35,6 +38,7 @@ pub mod replay;
 pub mod scenes;
 pub mod shape;
 pub mod snapshot;
+#[doc(hidden)]
 pub mod solver;
 pub mod space;
 

@@ -2,24 +2,61 @@
 //! effective masses, and normal, friction and bias impulses.
 //!
 //! # Glossary
+//!
+//! The engine's four contact types, from narrowphase to solver:
+//! * [`collision::Contact`](crate::collision::Contact): one narrowphase
+//!   output point pair (world-space points on both surfaces, signed
+//!   distance, feature id), an element of MIS `CollisionInfo`; per step.
+//! * [`arbiter::ManifoldPoint`](crate::arbiter::ManifoldPoint): the
+//!   *persistent* state of one contact, kept in its arbiter between steps
+//!   and serialized in snapshots (`r1`, `r2`, `dist`, `feature_id`,
+//!   `jn_acc`, `jt_acc`).
+//! * [`ContactConstraint`]: the per-step solver row built from a manifold
+//!   point by the pre-step; its impulses are written back to the manifold
+//!   point after the iterations.
+//! * [`collision::ContactPoint`](crate::collision::ContactPoint) /
+//!   [`ContactPointSet`](crate::collision::ContactPointSet): the public query
+//!   answer of `shapes_collide` and the handlers (no feature id).
+//!
+//! Two ids, never mixed:
+//! * **feature id** (`Contact::feature_id`, `ManifoldPoint::feature_id`):
+//!   `(feature on a) << 16 | (feature on b)`; matches a contact with last
+//!   step's for warm starting the impulses.
+//! * **warm-start id** ([`WarmStartId`](crate::collision::WarmStartId), MIS
+//!   `CollisionID`; `CollisionInfo::warm_start_id`, `Arbiter::warm_start_id`):
+//!   the GJK/EPA starting edge for the next narrowphase of the pair.
+//!
+//! Symbols:
 //! * `a`, `b`: the two bodies of a contact; the normal `n` points from a to b.
 //! * `r1`, `r2`: contact point relative to a's and b's centre of gravity.
 //! * `vr`: relative velocity of b with respect to a at the contact,
 //!   `(v_b + ω_b × r2) − (v_a + ω_a × r1)`.
-//! * `k`: effective inverse mass along a direction `d`,
+//! * `m_inv`, `i_inv` (per body), `m_inv_a`, `m_inv_b` (per contact):
+//!   inverse mass and inverse moment, 0 for infinite mass.
+//! * `k`: effective inverse mass along a direction `d` (only this meaning),
 //!   `k = m_a⁻¹ + m_b⁻¹ + I_a⁻¹ (r1 × d)² + I_b⁻¹ (r2 × d)²`; an impulse `j`
 //!   along `d` changes `vr·d` by `k·j`, so `j = −Δ/k` cancels a velocity error
 //!   `Δ`. `n_mass = 1/k(n)` and `t_mass = 1/k(t)` are computed once per step
-//!   (pre-step): the iterations only multiply.
-//! * `jn_acc`, `jt_acc`: accumulated normal and tangent (friction) impulses.
-//!   Clamping the *accumulated* value (`jn_acc ≥ 0`, `|jt_acc| ≤ μ·jn_acc`)
-//!   instead of each increment lets later iterations take back impulse, which
-//!   is what makes sequential impulses converge (Catto, GDC 2006).
-//! * `bias`: target separation velocity that removes penetration beyond the
-//!   slop: `bias = −bias_coef · min(0, dist + slop) / dt`. It is applied as a
-//!   *pseudo-velocity* (`v_bias`, `ω_bias`, `j_bias`) that moves positions in
-//!   the next position update but adds no momentum, so resolving overlap does
-//!   not make objects bounce.
+//!   (pre-step): the iterations only multiply. (`kn_a` … `kt_b` are the
+//!   angular terms `I⁻¹ (r × d)`; the step's `dt`-derived constants are
+//!   `dtc`.)
+//! * `jn_acc`, `jt_acc`, `jb_acc`: accumulated normal, tangent (friction)
+//!   and bias impulses. Clamping the *accumulated* value (`jn_acc ≥ 0`,
+//!   `|jt_acc| ≤ μ·jn_acc`, `jb_acc ≥ 0`) instead of each increment lets
+//!   later iterations take back impulse, which is what makes sequential
+//!   impulses converge (Catto, GDC 2006).
+//! * **bias** — position correction by impulses on pseudo-velocities:
+//!   - `collision_bias` (setting, Chipmunk's name): fraction of overlap
+//!     left uncorrected after one second;
+//!   - `bias_coef = 1 − collision_bias^dt`: fraction corrected this step;
+//!   - `bias_target`: the separation velocity one contact's bias row aims for,
+//!     `−bias_coef · min(0, dist + slop) / dt`, capped at `max_bias`;
+//!   - `v_bias`, `w_bias`: the bodies' *pseudo-velocities*, changed only by
+//!     bias impulses; they move positions in the next position update but
+//!     add no momentum, so resolving overlap does not make objects bounce;
+//!   - `jb_acc`: the accumulated bias impulse;
+//!   - `bias_impulses` (setting and [`ContactFeatures`] switch): whether the
+//!     bias row runs at all (`BIAS` in the monomorphised iteration).
 //! * `bounce`: restitution target, `e · (vr·n)` at the start of the step, so
 //!   the normal impulse drives `vr·n` to `−bounce`.
 //!
@@ -28,6 +65,7 @@
 //! kinematic bodies have zero inverse mass, so impulses leave them unchanged.
 use core::fmt;
 
+use crate::arbiter::ManifoldPoint;
 use crate::math::{FixedArith, Real, Saturating, Unsaturated, Vect};
 
 /// The per-body data the iterations touch, stored contiguously.
@@ -45,6 +83,17 @@ pub struct SolverBody {
     pub m_inv: Real,
     /// Inverse moment (0 for infinite moment).
     pub i_inv: Real,
+}
+
+/// The solver stages' scratch in the space (stages 6–11; not simulation
+/// state): the contiguous body array, indexed by body slot, and this step's
+/// contact constraints in canonical order.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct SolverScratch {
+    /// Velocities and inverse masses of every body slot.
+    pub(crate) bodies: Vec<SolverBody>,
+    /// One row per contact of the solved arbiters.
+    pub(crate) constraints: Vec<ContactConstraint>,
 }
 
 /// MIS UnsolvableCollision: both bodies have infinite mass along the
@@ -133,31 +182,11 @@ pub fn k_scalar(
     }
 }
 
-/// The persistent part of one contact: where it is and the impulses it has
-/// accumulated (carried to the next step for warm starting).
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
-)]
-pub struct ContactConstraint {
-    /// Contact point relative to body a's centre of gravity.
-    pub r1: Vect,
-    /// Contact point relative to body b's centre of gravity.
-    pub r2: Vect,
-    /// Signed separation (negative when penetrating).
-    pub dist: Real,
-    /// Feature id: matches this contact with last step's for warm starting.
-    pub id: u32,
-    /// Accumulated normal impulse (warm-started).
-    pub jn_acc: Real,
-    /// Accumulated friction impulse (warm-started).
-    pub jt_acc: Real,
-}
-
 /// Which parts of the contact model the solver computes (from the space's
 /// [`Settings`](crate::space::Settings)). A part switched off is skipped,
 /// not computed and discarded: the pre-step leaves its constants at zero,
 /// the warm-start stage is not run, and the iterations use a routine
-/// compiled without the friction or bias row ([`SolverContact::solve_with`]).
+/// compiled without the friction or bias row ([`ContactConstraint::solve_with`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ContactFeatures {
     /// Start from last step's impulses (otherwise from zero).
@@ -167,7 +196,7 @@ pub struct ContactFeatures {
     /// Restitution targets (otherwise as if every elasticity were 0).
     pub restitution: bool,
     /// Bias impulses (otherwise overlap is never corrected).
-    pub bias: bool,
+    pub bias_impulses: bool,
 }
 
 impl ContactFeatures {
@@ -176,7 +205,7 @@ impl ContactFeatures {
         warm_starting: true,
         friction: true,
         restitution: true,
-        bias: true,
+        bias_impulses: true,
     };
 }
 
@@ -193,7 +222,8 @@ pub struct ContactParams {
     pub dt_inv: Real,
     /// Allowed overlap that is not corrected.
     pub slop: Real,
-    /// Fraction of the remaining overlap corrected this step, `1 − bias^dt`.
+    /// Fraction of the remaining overlap corrected this step,
+    /// `1 − collision_bias^dt`.
     pub bias_coef: Real,
     /// Largest bias velocity (Chipmunk's arbiter `maxBias`, unbounded by default).
     pub max_bias: Real,
@@ -218,7 +248,10 @@ pub struct PairParams {
     pub surface_vr: Vect,
 }
 
-/// One contact prepared for the iterations: everything the inner loop needs,
+/// One contact prepared for the iterations (the per-step solver row, built
+/// from an [`arbiter::ManifoldPoint`](crate::arbiter::ManifoldPoint); the
+/// other contact types are `collision::Contact` and `collision::ContactPoint`,
+/// see the module glossary): everything the inner loop needs,
 /// side by side, with every division and cross product done once.
 ///
 /// With `t = perp(n)`, the velocity along a direction `d` at the contact is
@@ -227,7 +260,7 @@ pub struct PairParams {
 /// rounding), and storing `I⁻¹ (r × d)` turns each angular impulse into one
 /// multiplication.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct SolverContact {
+pub struct ContactConstraint {
     /// Solver index of body a.
     pub a: u32,
     /// Solver index of body b.
@@ -249,24 +282,24 @@ pub struct SolverContact {
     pub kt_a: Real,
     pub kt_b: Real,
     /// Inverse masses.
-    pub m_a: Real,
-    pub m_b: Real,
+    pub m_inv_a: Real,
+    pub m_inv_b: Real,
     /// `1/k(n)`, `1/k(t)`.
     pub n_mass: Real,
     pub t_mass: Real,
-    /// Target bias velocity and restitution target.
-    pub bias: Real,
+    /// Bias row target velocity and restitution target.
+    pub bias_target: Real,
     pub bounce: Real,
     /// Friction coefficient and tangential surface velocity.
     pub friction: Real,
     pub surface_t: Real,
-    /// Accumulated impulses.
+    /// Accumulated normal, friction and bias impulses.
     pub jn_acc: Real,
     pub jt_acc: Real,
-    pub j_bias: Real,
+    pub jb_acc: Real,
 }
 
-impl SolverContact {
+impl ContactConstraint {
     /// Pre-step for one contact (Chipmunk `preStep`): effective masses
     /// `1/k`, bias `−bias_coef·min(0, dist + slop)/dt` and bounce
     /// `e·(vr·n)` from the velocities before gravity. The only divisions of
@@ -276,11 +309,11 @@ impl SolverContact {
     /// restitution no bounce, without bias no bias target, without warm
     /// starting no cached impulses.
     pub fn new(
-        c: &ContactConstraint,
+        c: &ManifoldPoint,
         bodies: &[SolverBody],
         pair: &PairParams,
         params: &ContactParams,
-    ) -> SolverContact {
+    ) -> ContactConstraint {
         let zero = SolverBody::default();
         let a = bodies.get(pair.a as usize).unwrap_or(&zero);
         let b = bodies.get(pair.b as usize).unwrap_or(&zero);
@@ -289,7 +322,7 @@ impl SolverContact {
         let (rn_a, rn_b) = (c.r1.cross(n), c.r2.cross(n));
         // A zero k (two infinite masses) gives mass 0: the contact applies no impulse.
         let n_mass = k_scalar(a, b, c.r1, c.r2, n).map_or(Real::ZERO, Real::recip);
-        let mut sc = SolverContact {
+        let mut sc = ContactConstraint {
             a: pair.a,
             b: pair.b,
             n,
@@ -297,10 +330,10 @@ impl SolverContact {
             rn_b,
             kn_a: a.i_inv * rn_a,
             kn_b: b.i_inv * rn_b,
-            m_a: a.m_inv,
-            m_b: b.m_inv,
+            m_inv_a: a.m_inv,
+            m_inv_b: b.m_inv,
             n_mass,
-            ..SolverContact::default()
+            ..ContactConstraint::default()
         };
         if f.friction {
             let t = n.perp();
@@ -313,9 +346,9 @@ impl SolverContact {
             sc.friction = pair.friction;
             sc.surface_t = pair.surface_vr.dot(t);
         }
-        if f.bias {
+        if f.bias_impulses {
             let overlap = (c.dist + params.slop).min(Real::ZERO);
-            sc.bias = (-params.bias_coef * overlap * params.dt_inv).min(params.max_bias);
+            sc.bias_target = (-params.bias_coef * overlap * params.dt_inv).min(params.max_bias);
         }
         if f.restitution {
             sc.bounce = normal_relative_velocity(a, b, c.r1, c.r2, n) * pair.e;
@@ -344,7 +377,17 @@ impl SolverContact {
         let p = Vect::new(ar.mul_sub2(n.x, jn, n.y, jt), ar.mul_add2(n.y, jn, n.x, jt));
         let dwa = ar.mul_add2(self.kn_a, jn, self.kt_a, jt);
         let dwb = ar.mul_add2(self.kn_b, jn, self.kt_b, jt);
-        move_bodies(a, b, p, dwa, dwb, self.m_a, self.m_b, ar, Velocity::Real);
+        move_bodies(
+            a,
+            b,
+            p,
+            dwa,
+            dwb,
+            self.m_inv_a,
+            self.m_inv_b,
+            ar,
+            Velocity::Real,
+        );
     }
 
     /// Applies the normal impulse `n·jn` alone (the friction-free
@@ -362,7 +405,7 @@ impl SolverContact {
         let p = Vect::new(ar.mul(n.x, jn), ar.mul(n.y, jn));
         let dwa = ar.mul(self.kn_a, jn);
         let dwb = ar.mul(self.kn_b, jn);
-        move_bodies(a, b, p, dwa, dwb, self.m_a, self.m_b, ar, which);
+        move_bodies(a, b, p, dwa, dwb, self.m_inv_a, self.m_inv_b, ar, which);
     }
 
     /// Applies the cached (warm-start) impulse, scaled by `dt_coef = dt/prev_dt`.
@@ -424,7 +467,7 @@ impl SolverContact {
 
     /// One iteration (Chipmunk `applyImpulse`): bias, normal and friction.
     ///
-    /// * bias: `jb = (bias − vb·n)·n_mass` on the pseudo-velocities,
+    /// * bias: `jb = (bias_target − vb·n)·n_mass` on the pseudo-velocities,
     ///   accumulated and clamped ≥ 0;
     /// * normal: `jn = −(bounce + vr·n)·n_mass`, accumulated and clamped ≥ 0;
     /// * friction: `jt = −(vr·t + surface_vr·t)·t_mass`, accumulated and
@@ -455,7 +498,7 @@ impl SolverContact {
         let Some((a0, b0)) = load_pair(bodies, self.a, self.b) else {
             return;
         };
-        let acc0 = [self.j_bias, self.jn_acc, self.jt_acc];
+        let acc0 = [self.jb_acc, self.jn_acc, self.jt_acc];
         let (mut a, mut b, mut acc) = (a0, b0, acc0);
         let mut fast = Unsaturated::new();
         self.iterate::<_, FRICTION, BIAS>(&mut a, &mut b, &mut acc, &mut fast);
@@ -463,7 +506,7 @@ impl SolverContact {
             (a, b, acc) = (a0, b0, acc0);
             self.iterate_saturating::<FRICTION, BIAS>(&mut a, &mut b, &mut acc);
         }
-        [self.j_bias, self.jn_acc, self.jt_acc] = acc;
+        [self.jb_acc, self.jn_acc, self.jt_acc] = acc;
         store_pair(bodies, self.a, a, self.b, b);
     }
 
@@ -481,7 +524,7 @@ impl SolverContact {
     }
 
     /// One iteration on body copies `a`, `b` and the accumulated impulses
-    /// `acc = [j_bias, jn_acc, jt_acc]`, in the arithmetic `ar`.
+    /// `acc = [jb_acc, jn_acc, jt_acc]`, in the arithmetic `ar`.
     #[inline(always)]
     fn iterate<A: FixedArith, const FRICTION: bool, const BIAS: bool>(
         &self,
@@ -502,7 +545,7 @@ impl SolverContact {
                 [dvb.x, dvb.y, b.w_bias, a.w_bias],
                 [n.x, n.y, self.rn_b, -self.rn_a],
             );
-            let err = ar.sub(self.bias, vbn);
+            let err = ar.sub(self.bias_target, vbn);
             let jb = ar.mul(err, self.n_mass);
             acc[0] = ar.add(jb_old, jb).max(Real::ZERO);
             let djb = ar.sub(acc[0], jb_old);
@@ -540,7 +583,7 @@ enum Velocity {
     Bias,
 }
 
-/// `a −= (p·m_a, dwa)`, `b += (p·m_b, dwb)` on the chosen velocity.
+/// `a −= (p·m_inv_a, dwa)`, `b += (p·m_inv_b, dwb)` on the chosen velocity.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)] // all scalars of one impulse, inlined
 fn move_bodies<A: FixedArith>(
@@ -549,13 +592,13 @@ fn move_bodies<A: FixedArith>(
     p: Vect,
     dwa: Real,
     dwb: Real,
-    m_a: Real,
-    m_b: Real,
+    m_inv_a: Real,
+    m_inv_b: Real,
     ar: &mut A,
     which: Velocity,
 ) {
-    let pa = Vect::new(ar.mul(p.x, m_a), ar.mul(p.y, m_a));
-    let pb = Vect::new(ar.mul(p.x, m_b), ar.mul(p.y, m_b));
+    let pa = Vect::new(ar.mul(p.x, m_inv_a), ar.mul(p.y, m_inv_a));
+    let pb = Vect::new(ar.mul(p.x, m_inv_b), ar.mul(p.y, m_inv_b));
     let (va, wa, vb, wb) = match which {
         Velocity::Real => (&mut a.v, &mut a.w, &mut b.v, &mut b.w),
         Velocity::Bias => (&mut a.v_bias, &mut a.w_bias, &mut b.v_bias, &mut b.w_bias),
@@ -654,7 +697,7 @@ mod tests {
             friction: Real::ZERO,
             surface_vr: Vect::ZERO,
         };
-        let mut c = SolverContact::new(&ContactConstraint::default(), &bodies, &pair, &params);
+        let mut c = ContactConstraint::new(&ManifoldPoint::default(), &bodies, &pair, &params);
         c.solve(&mut bodies);
         assert_eq!(bodies[0].v, Vect::ZERO);
         assert_eq!(bodies[1].v, Vect::ZERO);
@@ -687,7 +730,7 @@ mod tests {
             friction: Real::HALF,
             surface_vr: Vect::ZERO,
         };
-        let mut c = SolverContact::new(&ContactConstraint::default(), &bodies, &pair, &params);
+        let mut c = ContactConstraint::new(&ManifoldPoint::default(), &bodies, &pair, &params);
         c.solve(&mut bodies);
         assert_eq!(c.jn_acc, Real::ONE);
         assert_eq!(c.jt_acc.abs(), Real::HALF);
@@ -720,9 +763,9 @@ mod tests {
         }
     }
 
-    fn contact(v: &[Real]) -> SolverContact {
+    fn contact(v: &[Real]) -> ContactConstraint {
         let r = |i: usize| v.get(i).copied().unwrap_or(Real::ZERO);
-        SolverContact {
+        ContactConstraint {
             a: 0,
             b: 1,
             n: Vect::new(r(0), r(1)),
@@ -734,25 +777,25 @@ mod tests {
             kn_b: r(7),
             kt_a: r(8),
             kt_b: r(9),
-            m_a: r(10),
-            m_b: r(11),
+            m_inv_a: r(10),
+            m_inv_b: r(11),
             n_mass: r(12),
             t_mass: r(13),
-            bias: r(14),
+            bias_target: r(14),
             bounce: r(15),
             friction: r(16).abs(),
             surface_t: r(17),
             jn_acc: r(18).abs(),
             jt_acc: r(19),
-            j_bias: r(20).abs(),
-            ..SolverContact::default()
+            jb_acc: r(20).abs(),
+            ..ContactConstraint::default()
         }
     }
 
     /// `solve_with` (fast path, fallback on overflow) against the
     /// saturating reference alone, for one feature combination.
     fn check_fast_path<const F: bool, const B: bool>(
-        c: SolverContact,
+        c: ContactConstraint,
         a: SolverBody,
         b: SolverBody,
     ) -> Result<(), proptest::test_runner::TestCaseError> {
@@ -760,16 +803,16 @@ mod tests {
         let mut bodies = [a, b];
         fast.solve_with::<F, B>(&mut bodies);
         let (mut ra, mut rb) = (a, b);
-        let mut acc = [c.j_bias, c.jn_acc, c.jt_acc];
+        let mut acc = [c.jb_acc, c.jn_acc, c.jt_acc];
         c.iterate_saturating::<F, B>(&mut ra, &mut rb, &mut acc);
         proptest::prop_assert_eq!(bodies, [ra, rb]);
-        proptest::prop_assert_eq!([fast.j_bias, fast.jn_acc, fast.jt_acc], acc);
+        proptest::prop_assert_eq!([fast.jb_acc, fast.jn_acc, fast.jt_acc], acc);
         Ok(())
     }
 
     /// The same for the warm start.
     fn check_fast_warm_start<const F: bool>(
-        c: SolverContact,
+        c: ContactConstraint,
         a: SolverBody,
         b: SolverBody,
         dt_coef: Real,

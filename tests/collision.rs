@@ -420,7 +420,7 @@ proptest! {
             prop_assert_eq!(x.point_a, y.point_b);
             prop_assert_eq!(x.point_b, y.point_a);
             prop_assert_eq!(x.distance, y.distance);
-            prop_assert_eq!(x.id, y.id.rotate_left(16));
+            prop_assert_eq!(x.feature_id, y.feature_id.rotate_left(16));
         }
         let set = shapes_collide(&ga, &gb);
         prop_assert_eq!((set.count, set.normal), (ab.count, ab.normal));
@@ -434,13 +434,13 @@ proptest! {
         check_info(&before)?;
         prop_assert_eq!(before.count, after.count);
         prop_assert_eq!(before.normal, after.normal);
-        prop_assert_eq!(before.id, after.id);
+        prop_assert_eq!(before.warm_start_id, after.warm_start_id);
         prop_assert_eq!(before.hit_iteration_cap, after.hit_iteration_cap);
         for (x, y) in before.contacts().iter().zip(after.contacts()) {
             prop_assert_eq!(x.point_a + t, y.point_a);
             prop_assert_eq!(x.point_b + t, y.point_b);
             prop_assert_eq!(x.distance, y.distance);
-            prop_assert_eq!(x.id, y.id);
+            prop_assert_eq!(x.feature_id, y.feature_id);
         }
     }
 
@@ -448,7 +448,7 @@ proptest! {
     fn warm_start_agrees_with_cold_start((a, b, ca, cb) in near_pair()) {
         let (ga, gb) = (place(&a, ca), place(&b, cb));
         let cold = collide(&ga, &gb, 0);
-        let warm = collide(&ga, &gb, cold.id);
+        let warm = collide(&ga, &gb, cold.warm_start_id);
         check_info(&warm)?;
         prop_assert!(!cold.hit_iteration_cap && !warm.hit_iteration_cap);
         prop_assert_eq!(cold.count, warm.count);

@@ -134,7 +134,7 @@ fn agree(a: &Poly, b: &Poly, new: &CollisionInfo, old: &CollisionInfo) -> Result
             if (cn.distance.to_f64() - co.distance.to_f64()).abs() > tol {
                 return Err(format!("distance differs: {cn:?} vs {co:?}"));
             }
-            if cn.id != co.id {
+            if cn.feature_id != co.feature_id {
                 return Err(format!("feature id differs: {cn:?} vs {co:?}"));
             }
         }
@@ -326,7 +326,7 @@ proptest! {
         prop_assert_eq!(swapped.count, new.count);
         for (s, n) in swapped.contacts().iter().zip(new.contacts()) {
             prop_assert_eq!((s.point_a, s.point_b, s.distance), (n.point_b, n.point_a, n.distance));
-            prop_assert_eq!(s.id, n.id.rotate_left(16));
+            prop_assert_eq!(s.feature_id, n.feature_id.rotate_left(16));
         }
         let (ga, gb) = (Geometry::Poly(a), Geometry::Poly(b));
         let ab = collide(&ga, &gb, 0);

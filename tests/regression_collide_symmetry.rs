@@ -50,7 +50,7 @@ fn swap_id(id: u32) -> u32 {
 }
 
 fn without_id(mut info: CollisionInfo) -> CollisionInfo {
-    info.id = 0;
+    info.warm_start_id = 0;
     info
 }
 
@@ -62,11 +62,16 @@ fn assert_mirror(a: &Geometry, b: &Geometry, id: u32) {
         let ba = collide(b, a, swap_id(id));
         assert_eq!(ab.count, ba.count, "id {id:#x}: {ab:?}\n{ba:?}");
         assert_eq!(ab.normal, -ba.normal, "id {id:#x}");
-        assert_eq!(ab.id, swap_id(ba.id), "id {id:#x}");
+        assert_eq!(ab.warm_start_id, swap_id(ba.warm_start_id), "id {id:#x}");
         for (x, y) in ab.contacts().iter().zip(ba.contacts()) {
             assert_eq!(
-                (x.point_a, x.point_b, x.distance, x.id),
-                (y.point_b, y.point_a, y.distance, y.id.rotate_left(16)),
+                (x.point_a, x.point_b, x.distance, x.feature_id),
+                (
+                    y.point_b,
+                    y.point_a,
+                    y.distance,
+                    y.feature_id.rotate_left(16)
+                ),
                 "id {id:#x}"
             );
         }

@@ -119,9 +119,9 @@ fn mirrored(mut info: CollisionInfo) -> CollisionInfo {
     info.normal = -info.normal;
     for c in info.contacts.iter_mut().take(info.count) {
         core::mem::swap(&mut c.point_a, &mut c.point_b);
-        c.id = c.id.rotate_left(16);
+        c.feature_id = c.feature_id.rotate_left(16);
     }
-    info.id = swap_id(info.id);
+    info.warm_start_id = swap_id(info.warm_start_id);
     info
 }
 

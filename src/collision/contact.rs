@@ -16,8 +16,8 @@
 //! Cost: `closest_points_new` does one 128-bit division (`closest_t`) and one
 //! multiply-only normalisation; `contact_points` at most eight `mul_div`s
 //! (only for clip points inside an edge). GJK and EPA call them once per pair.
-use super::wide;
-use super::{CollisionId, CollisionInfo, Edge, MinkowskiPoint, CONTACT_TOLERANCE};
+use super::{CollisionInfo, Edge, MinkowskiPoint, WarmStartId, CONTACT_TOLERANCE};
+use crate::math::wide;
 use crate::math::{Real, Vect};
 
 /// Closest points between two shape cores (MIS `ClosestPoints`).
@@ -35,7 +35,7 @@ pub struct ClosestPoints {
     pub d: Real,
     /// Warm-start id: the vertex indices of the edge's two Minkowski points,
     /// `(v0.id & 0xFFFF) << 16 | (v1.id & 0xFFFF)`.
-    pub id: CollisionId,
+    pub warm_start_id: WarmStartId,
     /// True if GJK or EPA stopped at its iteration cap (the answer is the best
     /// found so far).
     pub hit_iteration_cap: bool,
@@ -94,7 +94,7 @@ pub(crate) fn nearest_feature(v0: Vect, v1: Vect) -> Nearest {
 
 /// Packs two Minkowski ids into a warm-start id.
 #[inline]
-pub(crate) fn pack_id(v0: &MinkowskiPoint, v1: &MinkowskiPoint) -> CollisionId {
+pub(crate) fn pack_id(v0: &MinkowskiPoint, v1: &MinkowskiPoint) -> WarmStartId {
     ((v0.id & 0xFFFF) << 16) | (v1.id & 0xFFFF)
 }
 
@@ -141,7 +141,7 @@ pub fn closest_points_new(v0: &MinkowskiPoint, v1: &MinkowskiPoint) -> ClosestPo
         b,
         n,
         d,
-        id,
+        warm_start_id: id,
         hit_iteration_cap: false,
     }
 }
@@ -258,7 +258,7 @@ mod tests {
         let c = closest_points_new(&v0, &v1);
         assert_eq!((c.n, c.d), (Vect::Y, Real::TWO));
         assert_eq!(c.b, Vect::from_ints(0, 2));
-        assert_eq!(c.id, 1);
+        assert_eq!(c.warm_start_id, 1);
         // Vertex case: closest point (3, 4), normal along it.
         let v0 = mp(Vect::ZERO, Vect::from_ints(3, 4), 0, 0);
         let v1 = mp(Vect::ZERO, Vect::from_ints(3, 9), 0, 1);
@@ -334,8 +334,8 @@ mod tests {
         assert_eq!(c[0].point_a, Vect::from_ints(1, 0));
         assert_eq!(c[0].point_b, Vect::new(Real::ONE, -Real::HALF));
         assert_eq!(c[0].distance, -Real::HALF);
-        assert_eq!(c[0].id, 1 << 16);
+        assert_eq!(c[0].feature_id, 1 << 16);
         assert_eq!(c[1].point_a, Vect::from_ints(-1, 0));
-        assert_eq!(c[1].id, (2 << 16) | 3);
+        assert_eq!(c[1].feature_id, (2 << 16) | 3);
     }
 }

@@ -31,8 +31,8 @@
 //!   so far with `hit_iteration_cap` set.
 use super::contact::{closest_points_new, nearest_feature, ClosestPoints, Nearest};
 use super::support::{support, MinkowskiPoint, SupportContext, SupportShape};
-use super::wide;
 use super::WARN_EPA_ITERATIONS;
+use crate::math::wide;
 use crate::shape::geometry::next_index;
 
 /// Hull capacity: the starting triangle plus one point per iteration.

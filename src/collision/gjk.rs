@@ -29,8 +29,8 @@
 use super::contact::{closest_points_new, nearest_feature, pack_id, ClosestPoints, Nearest};
 use super::epa::epa;
 use super::support::{support, MinkowskiPoint, SupportContext, SupportPoint, SupportShape};
-use super::wide;
-use super::{CollisionId, WARN_GJK_ITERATIONS};
+use super::{WarmStartId, WARN_GJK_ITERATIONS};
+use crate::math::wide;
 use crate::math::Vect;
 
 /// MIS `GJK`: closest points of the cores of `ctx.a` and `ctx.b`, or (through
@@ -38,7 +38,7 @@ use crate::math::Vect;
 /// this pair, or 0; the new one is in the result.
 pub fn gjk<A: SupportShape, B: SupportShape>(
     ctx: &SupportContext<'_, A, B>,
-    id: CollisionId,
+    id: WarmStartId,
 ) -> ClosestPoints {
     gjk_capped(ctx, id, WARN_GJK_ITERATIONS)
 }
@@ -61,7 +61,7 @@ fn point_at<A: SupportShape, B: SupportShape>(
 /// vertices and describes a non-degenerate pair of index pairs.
 fn warm_start<A: SupportShape, B: SupportShape>(
     ctx: &SupportContext<'_, A, B>,
-    id: CollisionId,
+    id: WarmStartId,
 ) -> Option<(MinkowskiPoint, MinkowskiPoint)> {
     let (hi, lo) = (id >> 16, id & 0xFFFF);
     if id == 0 || hi == lo {
@@ -111,14 +111,14 @@ fn keep_first(v0: Vect, v1: Vect, p: Vect) -> bool {
 fn touching<A: SupportShape, B: SupportShape>(
     ctx: &SupportContext<'_, A, B>,
     v: &MinkowskiPoint,
-    id: CollisionId,
+    id: WarmStartId,
 ) -> ClosestPoints {
     ClosestPoints {
         a: v.a,
         b: v.b,
         n: wide::unit_or(ctx.b.center() - ctx.a.center(), Vect::X),
         d: crate::math::Real::ZERO,
-        id,
+        warm_start_id: id,
         hit_iteration_cap: false,
     }
 }
@@ -126,7 +126,7 @@ fn touching<A: SupportShape, B: SupportShape>(
 /// [`gjk`] with an explicit iteration cap (tests exercise small caps).
 pub(crate) fn gjk_capped<A: SupportShape, B: SupportShape>(
     ctx: &SupportContext<'_, A, B>,
-    id: CollisionId,
+    id: WarmStartId,
     cap: u32,
 ) -> ClosestPoints {
     let (mut v0, mut v1, mut warm) = match warm_start(ctx, id) {
@@ -213,7 +213,7 @@ mod tests {
         assert_eq!(r.n, Vect::X);
         assert!(!r.hit_iteration_cap);
         // Warm start from the answer gives the same answer.
-        let again = gjk(&SupportContext::new(&a, &b), r.id);
+        let again = gjk(&SupportContext::new(&a, &b), r.warm_start_id);
         assert_eq!((again.d, again.n), (r.d, r.n));
     }
 

@@ -41,7 +41,6 @@ mod gjk;
 mod pairs;
 mod sat;
 mod support;
-mod wide;
 
 use core::cmp::Ordering;
 
@@ -83,7 +82,7 @@ pub const WARN_GJK_ITERATIONS: u32 = 30;
 /// EPA iteration cap (MIS `WARN_EPA_ITERATIONS`); the same reasoning as GJK.
 pub const WARN_EPA_ITERATIONS: u32 = 30;
 
-/// GJK warm-start cache (MIS `CollisionID`): the vertex indices of the last
+/// GJK warm-start id (MIS `CollisionID`; not a feature id): the vertex indices of the last
 /// closest edge of the Minkowski difference, one byte each,
 /// `a₀ << 24 | b₀ << 16 | a₁ << 8 | b₁` (indices on shape `a` and `b` of the
 /// caller). 0 means "no cache". Store the id a [`collide`] call returns and
@@ -99,9 +98,14 @@ pub const WARN_EPA_ITERATIONS: u32 = 30;
 /// is still deterministic, since the id is part of the arbiter state.
 /// Polygon pairs answered by separating axes (see [`poly_to_poly`]) neither
 /// read nor change the id, so their answer is the same for every id.
-pub type CollisionId = u32;
+pub type WarmStartId = u32;
 
-/// One contact: a pair of points on the two surfaces.
+/// One narrowphase contact: a pair of points on the two surfaces with its
+/// feature id (an element of MIS `CollisionInfo`, per step). The arbiter
+/// keeps it as an [`arbiter::ManifoldPoint`](crate::arbiter::ManifoldPoint),
+/// the solver turns that into a
+/// `solver::ContactConstraint`; the public
+/// query type is [`ContactPoint`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct Contact {
     /// World-space point on the surface of `a` (rounding radius included).
@@ -115,11 +119,12 @@ pub struct Contact {
     /// Feature id, `(feature on a) << 16 | (feature on b)`, where a feature is
     /// a vertex / endpoint index (0 for a circle). The same touching features
     /// keep the same id from step to step.
-    pub id: u32,
+    pub feature_id: u32,
 }
 
 /// The result of [`collide`] (MIS `CollisionInfo`). A per-step value, not
-/// snapshot state (it holds a `usize`); arbiters keep the [`Contact`]s and `id`.
+/// snapshot state (it holds a `usize`); arbiters keep the [`Contact`]s (as
+/// [`ManifoldPoint`](crate::arbiter::ManifoldPoint)s) and `warm_start_id`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct CollisionInfo {
     /// Unit normal from `a` toward `b` (zero when `count == 0`).
@@ -129,17 +134,17 @@ pub struct CollisionInfo {
     /// The contacts; entries past `count` are zero.
     pub contacts: [Contact; MAX_CONTACTS_PER_ARBITER],
     /// Warm-start id for the next call on this pair.
-    pub id: CollisionId,
+    pub warm_start_id: WarmStartId,
     /// True if GJK or EPA stopped at its iteration cap; the answer is then
     /// the best found, not necessarily the exact one.
     pub hit_iteration_cap: bool,
 }
 
 impl CollisionInfo {
-    /// An empty info carrying the warm-start id `id`.
-    pub fn new(id: CollisionId) -> CollisionInfo {
+    /// An empty info carrying the warm-start id `warm_start_id`.
+    pub fn new(warm_start_id: WarmStartId) -> CollisionInfo {
         CollisionInfo {
-            id,
+            warm_start_id,
             ..CollisionInfo::default()
         }
     }
@@ -151,13 +156,13 @@ impl CollisionInfo {
 
     /// MIS `collisionInfoPushContact`. A third contact cannot be produced by
     /// the pair functions; it would be ignored rather than overflow.
-    pub fn push_contact(&mut self, point_a: Vect, point_b: Vect, distance: Real, id: u32) {
+    pub fn push_contact(&mut self, point_a: Vect, point_b: Vect, distance: Real, feature_id: u32) {
         if let Some(slot) = self.contacts.get_mut(self.count) {
             *slot = Contact {
                 point_a,
                 point_b,
                 distance,
-                id,
+                feature_id,
             };
             // count < contacts.len() (the slot exists): never saturates.
             self.count = self.count.saturating_add(1);
@@ -178,9 +183,9 @@ impl CollisionInfo {
         self.normal = -self.normal;
         for c in self.contacts.iter_mut().take(self.count) {
             core::mem::swap(&mut c.point_a, &mut c.point_b);
-            c.id = c.id.rotate_left(16);
+            c.feature_id = c.feature_id.rotate_left(16);
         }
-        self.id = swap_id_shapes(self.id);
+        self.warm_start_id = swap_id_shapes(self.warm_start_id);
         self
     }
 }
@@ -188,11 +193,15 @@ impl CollisionInfo {
 /// A warm-start id with the roles of the two shapes exchanged (the A and B
 /// bytes of each Minkowski point swap places).
 #[inline]
-fn swap_id_shapes(id: CollisionId) -> CollisionId {
+fn swap_id_shapes(id: WarmStartId) -> WarmStartId {
     ((id & 0x00FF_00FF) << 8) | ((id >> 8) & 0x00FF_00FF)
 }
 
-/// One point pair of a [`ContactPointSet`].
+/// One point pair of a [`ContactPointSet`]: the public query answer (MIS /
+/// Chipmunk), without feature id. The engine's other contact types are
+/// [`Contact`] (narrowphase), [`arbiter::ManifoldPoint`](crate::arbiter::ManifoldPoint)
+/// (persistent) and `solver::ContactConstraint`
+/// (solver row).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct ContactPoint {
     /// Point on the surface of `a`.
@@ -233,12 +242,16 @@ pub fn shapes_collide(a: &Geometry, b: &Geometry) -> ContactPointSet {
 }
 
 /// MIS `collide`: contacts between two world-space geometries, in the
-/// caller's order (`normal` from `a` toward `b`). `id` is the warm-start id
+/// caller's order (`normal` from `a` toward `b`). `warm_start_id` is the warm-start id
 /// the previous call on this pair returned, or 0.
-pub fn collide(a: &Geometry, b: &Geometry, id: CollisionId) -> CollisionInfo {
+pub fn collide(a: &Geometry, b: &Geometry, warm_start_id: WarmStartId) -> CollisionInfo {
     let swap = comes_after(a, b);
     let (first, second) = if swap { (b, a) } else { (a, b) };
-    let id = if swap { swap_id_shapes(id) } else { id };
+    let id = if swap {
+        swap_id_shapes(warm_start_id)
+    } else {
+        warm_start_id
+    };
     let anchor = anchor_of(first);
     let (first, second) = (moved(first, anchor), moved(second, anchor));
     let mut info = CollisionInfo::new(id);
@@ -261,7 +274,7 @@ pub fn collide(a: &Geometry, b: &Geometry, id: CollisionId) -> CollisionInfo {
 fn dispatch(a: &Geometry, b: &Geometry, info: &mut CollisionInfo) {
     use Geometry::{Circle as C, Poly as P, Segment as S};
     let mirror = |info: &mut CollisionInfo, f: &dyn Fn(&mut CollisionInfo)| {
-        let mut m = CollisionInfo::new(swap_id_shapes(info.id));
+        let mut m = CollisionInfo::new(swap_id_shapes(info.warm_start_id));
         f(&mut m);
         *info = m.mirrored();
     };
@@ -418,12 +431,12 @@ mod tests {
                 (x.point_a, x.point_b, x.distance),
                 (y.point_b, y.point_a, y.distance)
             );
-            assert_eq!(x.id, y.id.rotate_left(16));
+            assert_eq!(x.feature_id, y.feature_id.rotate_left(16));
         }
-        assert_eq!(ab.id, swap_id_shapes(ba.id));
+        assert_eq!(ab.warm_start_id, swap_id_shapes(ba.warm_start_id));
         // Warm-started calls agree with cold ones, in both orders.
-        assert_eq!(collide(&a, &b, ab.id), ab);
-        assert_eq!(collide(&b, &a, ba.id), ba);
+        assert_eq!(collide(&a, &b, ab.warm_start_id), ab);
+        assert_eq!(collide(&b, &a, ba.warm_start_id), ba);
     }
 
     #[test]
@@ -448,7 +461,7 @@ mod tests {
         for (x, y) in far_a.contacts().iter().zip(far_b.contacts()) {
             assert_eq!(x.point_a + shift, y.point_a);
             assert_eq!(x.point_b + shift, y.point_b);
-            assert_eq!((x.distance, x.id), (y.distance, y.id));
+            assert_eq!((x.distance, x.feature_id), (y.distance, y.feature_id));
         }
     }
 

@@ -33,10 +33,10 @@ use super::contact::{contact_points, ClosestPoints};
 use super::gjk::gjk;
 use super::sat::poly_to_poly_sat;
 use super::support::{support_edge_for_poly, support_edge_for_segment, SupportContext};
-use super::wide;
 use super::{compare_circles, compare_polys, compare_segments, swap_id_shapes};
 use super::{CollisionInfo, CONTACT_TOLERANCE};
-use crate::math::exact::raw_sq;
+use crate::math::wide;
+use crate::math::wide::raw_sq;
 use crate::math::{Real, Vect};
 use crate::shape::{Circle, Poly, Segment};
 use core::cmp::Ordering;
@@ -51,7 +51,7 @@ fn sq(r: Real) -> u128 {
 /// Records GJK's warm-start id and cap flag in the info.
 #[inline]
 fn note(info: &mut CollisionInfo, points: &ClosestPoints) {
-    info.id = points.id;
+    info.warm_start_id = points.warm_start_id;
     info.hit_iteration_cap |= points.hit_iteration_cap;
 }
 
@@ -66,7 +66,7 @@ fn in_canonical_order(
     f: impl FnOnce(bool, &mut CollisionInfo),
 ) {
     if order == Ordering::Greater {
-        let mut swapped = CollisionInfo::new(swap_id_shapes(info.id));
+        let mut swapped = CollisionInfo::new(swap_id_shapes(info.warm_start_id));
         f(true, &mut swapped);
         *info = swapped.mirrored();
     } else {
@@ -164,7 +164,7 @@ pub fn segment_to_segment(a: &Segment, b: &Segment, info: &mut CollisionInfo) {
 }
 
 fn segment_to_segment_ordered(a: &Segment, b: &Segment, info: &mut CollisionInfo) {
-    let mut points = gjk(&SupportContext::new(a, b), info.id);
+    let mut points = gjk(&SupportContext::new(a, b), info.warm_start_id);
     note(info, &points);
     // Collinear cores that overlap: the Minkowski difference has no area,
     // GJK ends at distance 0 and its normal depends on where it started
@@ -188,7 +188,7 @@ fn segment_to_segment_ordered(a: &Segment, b: &Segment, info: &mut CollisionInfo
 
 /// MIS `CircleToPoly`: GJK from the centre to the polygon core; one contact.
 pub fn circle_to_poly(a: &Circle, b: &Poly, info: &mut CollisionInfo) {
-    let points = gjk(&SupportContext::new(a, b), info.id);
+    let points = gjk(&SupportContext::new(a, b), info.warm_start_id);
     note(info, &points);
     let min_dist = a.radius + b.radius();
     if points.d <= min_dist + CONTACT_TOLERANCE {
@@ -202,7 +202,7 @@ pub fn circle_to_poly(a: &Circle, b: &Poly, info: &mut CollisionInfo) {
 
 /// MIS `SegmentToPoly`: GJK, the neighbour rule, then edge clipping.
 pub fn segment_to_poly(a: &Segment, b: &Poly, info: &mut CollisionInfo) {
-    let points = gjk(&SupportContext::new(a, b), info.id);
+    let points = gjk(&SupportContext::new(a, b), info.warm_start_id);
     note(info, &points);
     let n = points.n;
     if points.d <= a.radius + b.radius() + CONTACT_TOLERANCE && segment_allows(a, points.a, n, true)
@@ -238,7 +238,7 @@ pub fn poly_to_poly_gjk(a: &Poly, b: &Poly, info: &mut CollisionInfo) {
 }
 
 fn poly_to_poly_gjk_ordered(a: &Poly, b: &Poly, info: &mut CollisionInfo) {
-    let points = gjk(&SupportContext::new(a, b), info.id);
+    let points = gjk(&SupportContext::new(a, b), info.warm_start_id);
     note(info, &points);
     let n = points.n;
     if points.d <= a.radius() + b.radius() + CONTACT_TOLERANCE {
@@ -410,7 +410,7 @@ mod tests {
         let xs: Vec<_> = info.contacts().iter().map(|c| c.point_a.x).collect();
         assert_eq!(xs, vec![-Real::ONE, Real::ONE]);
         // Ids name (ground vertex, box vertex): ground top edge 1 → 2, box bottom 3 → 0.
-        let ids: Vec<_> = info.contacts().iter().map(|c| c.id).collect();
+        let ids: Vec<_> = info.contacts().iter().map(|c| c.feature_id).collect();
         assert_eq!(ids, vec![(2 << 16) | 3, 1 << 16]);
         // The other order is the exact mirror.
         let mut swapped = CollisionInfo::new(0);

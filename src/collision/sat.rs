@@ -51,8 +51,8 @@
 //! only unchecked construction can produce) take the GJK path.
 use super::contact::{contact_points, ClosestPoints};
 use super::support::support_edge_for_poly;
-use super::wide;
 use super::{CollisionInfo, CONTACT_TOLERANCE};
+use crate::math::wide;
 use crate::math::{Real, Vect};
 use crate::shape::Poly;
 use core::cmp::Ordering;
@@ -175,7 +175,7 @@ pub(crate) fn poly_to_poly_sat(a: &Poly, b: &Poly, info: &mut CollisionInfo) -> 
     };
     let e1 = support_edge_for_poly(a, n);
     let e2 = support_edge_for_poly(b, -n);
-    let mut out = CollisionInfo::new(info.id);
+    let mut out = CollisionInfo::new(info.warm_start_id);
     contact_points(&e1, &e2, &points, &mut out);
     // The deepest contact must be as deep as the axis says (the support
     // vertex lies on the incident edge inside the reference face's slab).

@@ -14,8 +14,8 @@
 //! Support queries compare exact 128-bit dot products (`wide::dot`), and ties
 //! go to the lowest index, so the chosen vertex is the same on every platform
 //! and unaffected by rounding.
-use super::wide;
-use super::CollisionId;
+use super::WarmStartId;
+use crate::math::wide;
 use crate::math::{Real, Vect};
 use crate::shape::geometry::next_index;
 use crate::shape::{Circle, Poly, Segment};
@@ -42,7 +42,7 @@ pub struct MinkowskiPoint {
     /// `b − a`.
     pub ab: Vect,
     /// `(index on A & 0xFF) << 8 | (index on B & 0xFF)`.
-    pub id: CollisionId,
+    pub id: WarmStartId,
 }
 
 impl MinkowskiPoint {

@@ -28,6 +28,8 @@ use core::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAss
 use fixed::types::I32F32;
 use serde::{Deserialize, Serialize};
 
+use super::wide::int::wide_mul;
+
 /// Number of fractional bits of [`Real`].
 pub const FRAC_BITS: u32 = 32;
 
@@ -58,15 +60,6 @@ impl fmt::Display for RealError {
 }
 
 impl std::error::Error for RealError {}
-
-/// The exact 128-bit product of two raw values: |a·b| ≤ 2^126, so it never
-/// overflows `i128` (the one product the `arithmetic_side_effects` lint
-/// cannot see is bounded).
-#[inline(always)]
-#[allow(clippy::arithmetic_side_effects)]
-pub(crate) const fn wide_mul(a: i64, b: i64) -> i128 {
-    a as i128 * b as i128
-}
 
 /// Saturates an `i128` raw value into the `i64` range of `Real`.
 #[inline(always)]

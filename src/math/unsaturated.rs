@@ -13,7 +13,8 @@
 //! is set, the caller discards the copies and runs the saturating version.
 //! The solver's fast path is tested against the saturating one on random and
 //! extreme inputs.
-use super::real::{wide_mul, Real, FRAC_BITS};
+use super::real::{Real, FRAC_BITS};
+use super::wide::int::wide_mul;
 
 /// `2^(FRAC_BITS − 1)`: the rounding half.
 const HALF: i128 = 1 << (FRAC_BITS - 1);

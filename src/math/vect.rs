@@ -12,8 +12,8 @@ use core::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
 
 use serde::{Deserialize, Serialize};
 
-use super::exact::raw_mul;
 use super::real::{Real, FRAC_BITS};
+use super::wide::int::{sum_sq, wide_mul};
 
 /// A 2D vector (or point) of [`Real`]s.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -24,14 +24,10 @@ pub struct Vect {
     pub y: Real,
 }
 
-/// Exact `|v|²` in units of 2^-64 (never overflows: each square < 2^126).
-// x, y ≤ 2^63: x² + y² ≤ 2^127 < u128::MAX.
-#[allow(clippy::arithmetic_side_effects)]
+/// Exact `|v|²` in units of 2^-64.
 #[inline(always)]
-fn length_sq_wide(v: Vect) -> u128 {
-    let x = v.x.to_bits().unsigned_abs() as u128;
-    let y = v.y.to_bits().unsigned_abs() as u128;
-    x * x + y * y
+fn len_sq_raw(v: Vect) -> u128 {
+    sum_sq(v.x.to_bits(), v.y.to_bits())
 }
 
 impl Vect {
@@ -111,13 +107,13 @@ impl Vect {
     /// MIS `vectProject`: projection of `self` onto `other`;
     /// projecting onto the zero vector gives zero.
     pub fn project(self, other: Vect) -> Vect {
-        let len_sq = length_sq_wide(other);
+        let len_sq = len_sq_raw(other);
         if len_sq == 0 {
             return Vect::ZERO;
         }
         // t = (self·other)/|other|², with both on 128 bits: no overflow, one rounding.
-        let dot = raw_mul(self.x.to_bits(), other.x.to_bits())
-            .saturating_add(raw_mul(self.y.to_bits(), other.y.to_bits()));
+        let dot = wide_mul(self.x.to_bits(), other.x.to_bits())
+            .saturating_add(wide_mul(self.y.to_bits(), other.y.to_bits()));
         let t = wide_ratio(dot, len_sq);
         other.mult(t)
     }
@@ -162,7 +158,7 @@ impl Vect {
     /// the computation (saturates only if the length itself exceeds `Real::MAX`).
     #[inline]
     pub fn length(self) -> Real {
-        let root = length_sq_wide(self).isqrt();
+        let root = len_sq_raw(self).isqrt();
         Real::from_bits(i64::try_from(root).unwrap_or(i64::MAX))
     }
 
@@ -234,7 +230,7 @@ impl Vect {
         // lim < 2^63: the square is below 2^126.
         #[allow(clippy::arithmetic_side_effects)]
         let lim_sq = lim * lim;
-        length_sq_wide(d) < lim_sq
+        len_sq_raw(d) < lim_sq
     }
 
     /// Component-wise minimum.

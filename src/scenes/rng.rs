@@ -5,7 +5,7 @@
 //! by bit manipulation only (no float is ever involved). SplitMix64 (Steele,
 //! Lea and Flood, 2014) is tiny, has a full 2^64 period and passes BigCrush;
 //! that is plenty for placing bodies. The standard seed is [`SEED`].
-use crate::math::exact::raw_sq;
+use crate::math::wide::raw_sq;
 use crate::math::{Real, Vect};
 
 /// Seed of every built-in scene that needs randomness (BENCH_SCENES.md).

@@ -28,66 +28,8 @@
 //! (the value is saturated to `i128` only beyond 2^127, where just its sign
 //! and order matter). A fuzz-found case (extent ≥ 2^31 with saturated
 //! differences) produced a duplicated vertex before this.
-use crate::math::exact::raw_diff;
+use crate::math::wide::{raw_diff, I256};
 use crate::math::{Real, Vect};
-
-/// Raw-bit difference `a − b` (units of 2^-32): exact, 65 bits.
-#[inline]
-fn diff(a: Real, b: Real) -> i128 {
-    raw_diff(a, b)
-}
-
-/// `|x| · |y|` for `|x|, |y| < 2^66` as a 256-bit `(high, low)` pair.
-// Products of 64-bit halves are below 2^128; the high halves are at most 3,
-// so the cross terms stay below 2^67 and `high` below 2^5: no overflow.
-#[allow(clippy::arithmetic_side_effects)]
-#[inline]
-fn wide_mul(x: u128, y: u128) -> (u128, u128) {
-    const MASK: u128 = (1 << 64) - 1;
-    let (xh, xl, yh, yl) = (x >> 64, x & MASK, y >> 64, y & MASK);
-    let ll = xl * yl;
-    // xh, yh ≤ 3, so the cross terms stay below 2^67.
-    let mid = xh * yl + xl * yh;
-    let (low, carry) = ll.overflowing_add((mid & MASK) << 64);
-    let high = xh * yh + (mid >> 64) + u128::from(carry);
-    (high, low)
-}
-
-/// `x · y` for 65-bit signed inputs, as a sign and a 256-bit magnitude.
-#[inline]
-fn signed_wide_mul(x: i128, y: i128) -> (bool, (u128, u128)) {
-    (
-        (x < 0) != (y < 0),
-        wide_mul(x.unsigned_abs(), y.unsigned_abs()),
-    )
-}
-
-/// `p − q` of two signed 256-bit values, saturated to `i128`.
-fn wide_sub_saturating(p: (bool, (u128, u128)), q: (bool, (u128, u128))) -> i128 {
-    // Turn each into a (high: i128, low: u128) two's-complement pair.
-    let to_twos = |(neg, (h, l)): (bool, (u128, u128))| -> (i128, u128) {
-        let (h, l) = (h as i128, l);
-        if neg && (h != 0 || l != 0) {
-            let l2 = (!l).wrapping_add(1);
-            let h2 = (!h).wrapping_add(i128::from(l2 == 0));
-            (h2, l2)
-        } else {
-            (h, l)
-        }
-    };
-    let (ph, pl) = to_twos(p);
-    let (qh, ql) = to_twos(q);
-    let (low, borrow) = pl.overflowing_sub(ql);
-    // |p|, |q| < 2^131: the high halves are tiny, no overflow here.
-    #[allow(clippy::arithmetic_side_effects)]
-    let high = ph - qh - i128::from(borrow);
-    match high {
-        0 if low <= i128::MAX as u128 => low as i128,
-        -1 if low >= (1u128 << 127) => low as i128,
-        h if h < 0 => i128::MIN,
-        _ => i128::MAX,
-    }
-}
 
 /// Exact orientation of the triangle `a, b, c`: `(b − a) × (c − a)` in units
 /// of 2^-64 (twice the signed area). Positive when `c` lies left of `a → b`
@@ -97,8 +39,8 @@ fn wide_sub_saturating(p: (bool, (u128, u128)), q: (bool, (u128, u128))) -> i128
 /// only when the triangle is wider than the `Real` range.
 #[inline]
 pub fn orientation(a: Vect, b: Vect, c: Vect) -> i128 {
-    let (abx, aby) = (diff(b.x, a.x), diff(b.y, a.y));
-    let (acx, acy) = (diff(c.x, a.x), diff(c.y, a.y));
+    let (abx, aby) = (raw_diff(b.x, a.x), raw_diff(b.y, a.y));
+    let (acx, acy) = (raw_diff(c.x, a.x), raw_diff(c.y, a.y));
     if abx
         .unsigned_abs()
         .max(aby.unsigned_abs())
@@ -111,7 +53,9 @@ pub fn orientation(a: Vect, b: Vect, c: Vect) -> i128 {
         let fast = abx * acy - aby * acx;
         return fast;
     }
-    wide_sub_saturating(signed_wide_mul(abx, acy), signed_wide_mul(aby, acx))
+    I256::mul_i128(abx, acy)
+        .sub(I256::mul_i128(aby, acx))
+        .saturating_to_i128()
 }
 
 /// `tolerance · |b − a|` in units of 2^-64: the orientation value a point
@@ -121,8 +65,8 @@ fn threshold(a: Vect, b: Vect, tolerance: Real) -> i128 {
     if tolerance.is_zero() {
         return 0;
     }
-    let dx = diff(b.x, a.x).unsigned_abs();
-    let dy = diff(b.y, a.y).unsigned_abs();
+    let dx = raw_diff(b.x, a.x).unsigned_abs();
+    let dy = raw_diff(b.y, a.y).unsigned_abs();
     // dx, dy ≤ 2^64: saturate the (unphysical) squares beyond u128.
     let len = dx
         .saturating_mul(dx)
@@ -144,13 +88,13 @@ fn outside(points: impl Iterator<Item = Vect>, a: Vect, b: Vect, tolerance: Real
 /// parallel to the chord) go to the one nearest `a` along the chord, so the
 /// choice never depends on the input order.
 fn farthest(a: Vect, b: Vect, points: &[Vect]) -> Option<Vect> {
-    let (dx, dy) = (diff(b.x, a.x), diff(b.y, a.y));
+    let (dx, dy) = (raw_diff(b.x, a.x), raw_diff(b.y, a.y));
     // Differences take 65 bits: saturate the products and their sum (only
     // the order of nearly-equal far-away points can be affected).
     let along = |p: &Vect| {
-        diff(p.x, a.x)
+        raw_diff(p.x, a.x)
             .saturating_mul(dx)
-            .saturating_add(diff(p.y, a.y).saturating_mul(dy))
+            .saturating_add(raw_diff(p.y, a.y).saturating_mul(dy))
     };
     points
         .iter()

@@ -21,11 +21,16 @@ use serde::{Deserialize, Serialize};
 
 pub use geometry::{Circle, Geometry, Poly, Segment, ShapeKind, MAX_POLY_VERTICES};
 
+use crate::arena::Handle;
 use crate::body::BodyHandle;
 use crate::math::{Real, Vect, BB};
 
 /// A collision type: selects collision handlers (MIS `CollisionType`).
 pub type CollisionType = u32;
+
+/// Handle of a shape in a [`Space`](crate::space::Space) (also exported as
+/// `space::ShapeHandle`).
+pub type ShapeHandle = Handle<Shape>;
 
 /// The wildcard collision type (Chipmunk `CP_WILDCARD_COLLISION_TYPE`, `~0`).
 pub const WILDCARD_COLLISION_TYPE: CollisionType = u32::MAX;

@@ -57,7 +57,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::geometry::{next_index, Circle, Geometry, Poly, Segment};
-use crate::math::exact::{raw_mul, raw_sq};
+use crate::math::wide::{raw_sq, wide_mul};
 use crate::math::{Real, Vect};
 
 /// The result of a point query (Chipmunk `cpPointQueryInfo`).
@@ -279,8 +279,8 @@ impl Fraction {
     /// `self > other`, by cross multiplication on 128 bits (each product of
     /// two raw `i64` values is below 2^126: exact).
     fn gt(self, other: Fraction) -> bool {
-        let lhs = raw_mul(self.num.to_bits(), other.den.to_bits());
-        let rhs = raw_mul(other.num.to_bits(), self.den.to_bits());
+        let lhs = wide_mul(self.num.to_bits(), other.den.to_bits());
+        let rhs = wide_mul(other.num.to_bits(), self.den.to_bits());
         lhs > rhs
     }
 

@@ -316,7 +316,7 @@ fn arbiter_difference(sa: &WorldState, sb: &WorldState) -> Option<Difference> {
         .enumerate()
         .find_map(|(i, (x, y))| {
             first_field!(Arbiter; x, y; shape_a, shape_b, body_a, body_b, normal, count, contacts,
-                restitution, friction, surface_velocity, collision_id, stamp, state, sensor)
+                restitution, friction, surface_velocity, warm_start_id, stamp, state, sensor)
             .map(|(field, a, b)| Difference {
                 subject: Subject::Arbiter(i),
                 field,

@@ -15,10 +15,9 @@
 //! [`Arena::validate`](crate::arena::Arena::validate), which destructures
 //! its own type the same way.
 use super::{Settings, WorldState};
-use crate::arbiter::{Arbiter, ArbiterState};
+use crate::arbiter::{Arbiter, ArbiterState, ManifoldPoint};
 use crate::body::{Body, BodyType};
 use crate::shape::{Circle, Geometry, MassSpec, Material, Poly, Segment, Shape, ShapeFilter};
-use crate::solver::ContactConstraint;
 
 const _WORLD: fn(&WorldState) = |s| {
     let WorldState {
@@ -140,10 +139,10 @@ const _ARBITER: fn(&Arbiter) = |a| {
         restitution: _,      // any value (handlers may set it)
         friction: _,         // any value (handlers may set it)
         surface_velocity: _, // any value (handlers may set it)
-        collision_id: _, // any value (a warm-start hint; one naming no vertices means a cold start)
-        stamp: _,        // 1..=world stamp
-        state: _,        // see below
-        sensor: _,       // any value
+        warm_start_id: _, // any value (a warm-start hint; one naming no vertices means a cold start)
+        stamp: _,         // 1..=world stamp
+        state: _,         // see below
+        sensor: _,        // any value
     } = a;
     match a.state {
         ArbiterState::FirstCollision => {} // never between steps
@@ -152,13 +151,13 @@ const _ARBITER: fn(&Arbiter) = |a| {
     }
 };
 
-const _CONTACT: fn(&ContactConstraint) = |c| {
-    let ContactConstraint {
-        r1: _,     // any value
-        r2: _,     // any value
-        dist: _,   // any value
-        id: _,     // any value (matched by equality only)
-        jn_acc: _, // ≥ 0 (the solver clamps the accumulated normal impulse)
-        jt_acc: _, // any value
+const _CONTACT: fn(&ManifoldPoint) = |c| {
+    let ManifoldPoint {
+        r1: _,         // any value
+        r2: _,         // any value
+        dist: _,       // any value
+        feature_id: _, // any value (matched by equality only)
+        jn_acc: _,     // ≥ 0 (the solver clamps the accumulated normal impulse)
+        jt_acc: _,     // any value
     } = c;
 };

@@ -24,15 +24,15 @@ pub use handlers::{ArbiterContext, CollisionHandler, PostStepFn};
 pub use settings::{Settings, DEFAULT_COLLISION_BIAS, MAX_ITERATIONS, MAX_SUBSTEPS};
 pub use step::sub_step_dts;
 
-use crate::arbiter::{Arbiter, ArbiterState};
+use crate::arbiter::{Arbiter, ArbiterBuffers};
 use crate::arena::{Arena, Handle};
 use crate::body::{Body, BodyError, BodyHandle, BodyType};
-use crate::broadphase::{Broadphase, StaticTree};
-use crate::math::{exp, Real, Vect, BB};
+use crate::broadphase::BroadphaseCache;
+use crate::math::{Real, Vect, BB};
 use crate::shape::{CollisionType, Geometry, MassSpec, Shape, ShapeError};
+use crate::solver::SolverScratch;
 
-/// Handle of a shape in a space.
-pub type ShapeHandle = Handle<Shape>;
+pub use crate::shape::ShapeHandle;
 
 /// Errors of space operations. Each leaves the space unchanged.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -164,40 +164,22 @@ pub struct StepStats {
     pub massless_dynamic_bodies: u32,
 }
 
-/// Per-`dt` constants: the only `pow`, reciprocal and such of a step.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct DtConstants {
-    pub(crate) dt: Real,
-    pub(crate) dt_inv: Real,
-    /// `damping^dt`.
-    pub(crate) damping: Real,
-    /// `1 − collision_bias^dt`.
-    pub(crate) bias_coef: Real,
-}
-
-/// Caches derived from the state; never serialized.
+/// Caches derived from the state, never serialized: one struct per stage,
+/// each defined by the module of its stage.
 #[derive(Default)]
 pub(crate) struct Caches {
-    /// Indexed by shape slot; `None` for free slots.
+    /// Stage 2: world-space geometry and box of each shape, indexed by shape
+    /// slot (`None` for free slots); read by stages 3 and 4.
     pub(crate) shapes: Vec<Option<ShapeCache>>,
-    pub(crate) broadphase: Broadphase,
-    pub(crate) static_tree: StaticTree,
-    pub(crate) statics_dirty: bool,
-    pub(crate) solver_bodies: Vec<crate::solver::SolverBody>,
-    pub(crate) solver_contacts: Vec<crate::solver::SolverContact>,
-    /// Last step's arbiter buffer, kept for its allocation.
-    pub(crate) arbiter_spare: Vec<Arbiter>,
-    /// Indices of the arbiters solved this step.
-    pub(crate) active: Vec<u32>,
-    pub(crate) stats: StepStats,
-    /// Constants of the last two distinct step lengths (cleared when
-    /// settings change): two, because sub-steps of a step that `substeps`
-    /// does not divide evenly differ by one ulp.
-    pub(crate) dt_constants: [Option<DtConstants>; 2],
-    pub(crate) proxies: Vec<crate::broadphase::Proxy>,
-    /// Forces and torques set before a sub-stepped step, re-applied before
-    /// each of its later sub-steps.
-    pub(crate) frame_forces: Vec<(BodyHandle, Vect, Real)>,
+    /// Stage 3 (`crate::broadphase`).
+    pub(crate) broadphase: BroadphaseCache,
+    /// Stages 4–5 ([`crate::arbiter`]).
+    pub(crate) arbiters: ArbiterBuffers,
+    /// Stages 6–11 (`crate::solver`).
+    pub(crate) solver: SolverScratch,
+    /// The step driver's own (`space/step.rs`): `dt` constants, sub-step
+    /// forces, counters.
+    pub(crate) step: step::StepCache,
 }
 
 /// The world: bodies, shapes, arbiters, settings and handlers.
@@ -281,7 +263,7 @@ impl Space {
         Space {
             state,
             caches: Caches {
-                statics_dirty: true,
+                broadphase: BroadphaseCache::dirty(),
                 ..Caches::default()
             },
             handlers: handlers::HandlerTable::default(),
@@ -310,8 +292,8 @@ impl Space {
         self.post_step.clear();
         self.state.clone_from(state);
         adopt_handles(&mut self.state, self.origin);
-        self.caches.statics_dirty = true;
-        self.caches.dt_constants = [None, None];
+        self.caches.broadphase.statics_dirty = true;
+        self.caches.step.dt_constants = [None, None];
     }
 
     /// The settings.
@@ -323,14 +305,14 @@ impl Space {
     pub fn set_settings(&mut self, settings: Settings) -> Result<(), SpaceError> {
         settings.validate()?;
         self.state.settings = settings;
-        self.caches.dt_constants = [None, None];
+        self.caches.step.dt_constants = [None, None];
         Ok(())
     }
 
     /// MIS `spaceSetGravity`.
     pub fn set_gravity(&mut self, gravity: Vect) {
         self.state.settings.gravity = gravity;
-        self.caches.dt_constants = [None, None];
+        self.caches.step.dt_constants = [None, None];
     }
 
     /// Gravity.
@@ -365,7 +347,7 @@ impl Space {
     /// Counters of the last step (broadphase pairs, contacts, iteration-cap
     /// hits); of its last sub-step with [`Settings::substeps`] > 1.
     pub fn last_step_stats(&self) -> StepStats {
-        self.caches.stats
+        self.caches.step.stats
     }
 
     /// True while the step runs (handlers see a locked space).
@@ -384,7 +366,7 @@ impl Space {
             .insert(body)
             .map_err(|_| SpaceError::Full)?;
         if is_static {
-            self.caches.statics_dirty = true;
+            self.caches.broadphase.statics_dirty = true;
         }
         // A new body starts with the default integration, even under a
         // handle a rollback re-issued (integrators outlive their bodies).
@@ -411,7 +393,7 @@ impl Space {
         for sh in owned {
             self.remove_shape(sh)?;
         }
-        self.caches.statics_dirty = true;
+        self.caches.broadphase.statics_dirty = true;
         // The body's custom integrators stay, keyed by its handle: a
         // rollback to a state where it exists brings them back with it
         // (`prune_integrators` frees them).
@@ -443,7 +425,7 @@ impl Space {
             .insert(shape)
             .map_err(|_| SpaceError::Full)?;
         if body_type != BodyType::Dynamic {
-            self.caches.statics_dirty = true;
+            self.caches.broadphase.statics_dirty = true;
         }
         self.update_mass_from_shapes(bh);
         Ok(h.with_origin(self.origin))
@@ -466,7 +448,7 @@ impl Space {
             !hit
         });
         for mut arb in removed {
-            if arb.state != ArbiterState::Cached {
+            if !arb.is_cached() {
                 self.handlers.separate(
                     &mut arb,
                     &self.state.bodies,
@@ -480,7 +462,7 @@ impl Space {
             .shapes
             .remove(h)
             .ok_or(SpaceError::StaleShape(h))?;
-        self.caches.statics_dirty = true;
+        self.caches.broadphase.statics_dirty = true;
         self.update_mass_from_shapes(shape.body);
         Ok(shape)
     }
@@ -497,7 +479,7 @@ impl Space {
         self.check_origin(h).ok()?;
         let body = self.state.bodies.get_mut(h)?;
         if body.body_type() != BodyType::Dynamic {
-            self.caches.statics_dirty = true;
+            self.caches.broadphase.statics_dirty = true;
         }
         Some(body)
     }
@@ -531,7 +513,7 @@ impl Space {
             return Err(SpaceError::StaleBody(body));
         }
         *shape = copy;
-        self.caches.statics_dirty = true;
+        self.caches.broadphase.statics_dirty = true;
         self.update_mass_from_shapes(body);
         Ok(out)
     }
@@ -690,23 +672,6 @@ impl Space {
         if let Some(body) = self.state.bodies.get_mut(bh) {
             body.set_mass_properties(mass, moment, cog);
         }
-    }
-
-    /// Per-`dt` constants, recomputed only when `dt` or the settings change.
-    pub(crate) fn dt_constants(&mut self, dt: Real) -> DtConstants {
-        let cached = self.caches.dt_constants;
-        if let Some(c) = cached.iter().flatten().find(|c| c.dt == dt) {
-            return *c;
-        }
-        let s = &self.state.settings;
-        let c = DtConstants {
-            dt,
-            dt_inv: dt.recip(),
-            damping: exp::pow(s.damping, dt),
-            bias_coef: Real::ONE - exp::pow(s.collision_bias, dt),
-        };
-        self.caches.dt_constants = [Some(c), cached[0]];
-        c
     }
 
     /// A portable 64-bit checksum of the whole simulation state (see

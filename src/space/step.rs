@@ -5,18 +5,25 @@
 //! 3. broadphase: candidate pairs in canonical order;
 //! 4. narrowphase: filter, collide, match arbiters by feature id (warm start),
 //!    run begin / pre-solve handlers;
-//! 5. expire arbiters of pairs that stopped touching (separate handlers);
-//! 6. pre-step: effective masses, bias and bounce (all divisions here);
-//! 7. integrate velocities (gravity, damping, forces);
-//! 8. apply cached impulses (warm start), scaled by `dt / prev_dt`;
-//! 9. solver iterations: bias, normal and friction impulses;
-//! 10. post-solve handlers; 11. post-step callbacks.
+//! 5. retire arbiters of pairs that stopped touching (separate handlers,
+//!    expiry) — in the same merge pass as stage 4;
+//! 6. load the solver bodies: velocities and inverse masses into one
+//!    contiguous array;
+//! 7. pre-step: effective masses, bias and bounce (all divisions here);
+//! 8. integrate velocities (gravity, damping, forces);
+//! 9. apply cached impulses (warm start), scaled by `dt / prev_dt`;
+//! 10. solver iterations: bias, normal and friction impulses;
+//! 11. store the solver results: velocities back into the bodies,
+//!     accumulated impulses back into the arbiters' manifold points;
+//! 12. diagnostics: count saturated bodies;
+//! 13. post-solve handlers, first contacts become normal;
+//! 14. post-step callbacks.
 //!
-//! With [`Settings::substeps`](super::Settings::substeps) = k, [`Space::step`]
-//! runs stages 1–11 k times on sub-steps of `dt` split exactly (see
-//! [`sub_step_dts`]): bit for bit the same as k calls with those lengths.
+//! With [`Settings::substeps`](super::Settings::substeps) = n, [`Space::step`]
+//! runs stages 1–14 n times on sub-steps of `dt` split exactly (see
+//! [`sub_step_dts`]): bit for bit the same as n calls with those lengths.
 //! Collision runs in every sub-step because positions move in every one;
-//! running it once per step and only the solver k times (Box2D v3's and
+//! running it once per step and only the solver n times (Box2D v3's and
 //! Rapier's choice) needs a contact model that tracks separation between
 //! sub-steps, which ours (Chipmunk's) does not.
 //!
@@ -29,14 +36,43 @@
 //! an address or a thread.
 use core::mem;
 
-use crate::arbiter::{Arbiter, ArbiterState};
+use crate::arbiter::Arbiter;
 use crate::body::{BodyHandle, BodyType};
 use crate::broadphase::{Proxy, StaticTree};
 use crate::collision::collide;
 use crate::math::{Real, Vect};
-use crate::solver::{ContactFeatures, ContactParams, PairParams, SolverBody, SolverContact};
+use crate::solver::{
+    ContactConstraint, ContactFeatures, ContactParams, PairParams, SolverBody, SolverScratch,
+};
 
-use super::{Caches, DtConstants, ShapeCache, Space, SpaceError, StepStats};
+use crate::math::exp;
+
+use super::{ShapeCache, Space, SpaceError, StepStats};
+
+/// Per-`dt` constants: the only `pow`, reciprocal and such of a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct DtConstants {
+    pub(crate) dt: Real,
+    pub(crate) dt_inv: Real,
+    /// `damping^dt`.
+    pub(crate) damping: Real,
+    /// `1 − collision_bias^dt`.
+    pub(crate) bias_coef: Real,
+}
+
+/// The step driver's caches in the space (not simulation state).
+#[derive(Default)]
+pub(crate) struct StepCache {
+    /// Constants of the last two distinct step lengths (cleared when
+    /// settings change): two, because sub-steps of a step that `substeps`
+    /// does not divide evenly differ by one ulp.
+    pub(crate) dt_constants: [Option<DtConstants>; 2],
+    /// Forces and torques set before a sub-stepped step, re-applied before
+    /// each of its later sub-steps.
+    pub(crate) frame_forces: Vec<(BodyHandle, Vect, Real)>,
+    /// Counters of the last (sub-)step.
+    pub(crate) stats: StepStats,
+}
 
 /// The lengths of the `substeps` sub-steps of a step of `dt`, in order:
 /// with `q = dt / substeps` and `r = dt mod substeps` on the raw bits, the
@@ -52,15 +88,15 @@ use super::{Caches, DtConstants, ShapeCache, Space, SpaceError, StepStats};
 /// assert_eq!(dts, [3, 3, 2, 2].map(Real::from_bits));
 /// ```
 pub fn sub_step_dts(dt: Real, substeps: u32) -> impl Iterator<Item = Real> {
-    let k = i64::from(substeps.max(1));
+    let n = i64::from(substeps.max(1));
     let bits = dt.to_bits().max(0);
-    // k ≥ 1 and bits ≥ 0: the checked division and remainder never fail
+    // n ≥ 1 and bits ≥ 0: the checked division and remainder never fail
     // (the fallbacks are unreachable), and q + 1 ≤ bits whenever r > 0.
     let (q, r) = (
-        bits.checked_div(k).unwrap_or(bits),
-        bits.checked_rem(k).unwrap_or(0),
+        bits.checked_div(n).unwrap_or(bits),
+        bits.checked_rem(n).unwrap_or(0),
     );
-    (0..k)
+    (0..n)
         .map(move |i| Real::from_bits(q.wrapping_add(i64::from(i < r))))
         .filter(|d| d.is_positive())
 }
@@ -98,7 +134,7 @@ impl Space {
         }
         // The split is fixed here: a post-step callback that changes the
         // settings affects the next step, not the rest of this one.
-        let mut forces = mem::take(&mut self.caches.frame_forces);
+        let mut forces = mem::take(&mut self.caches.step.frame_forces);
         forces.clear();
         forces.extend(
             self.state
@@ -113,7 +149,7 @@ impl Space {
             }
             self.sub_step(sub_dt);
         }
-        self.caches.frame_forces = forces;
+        self.caches.step.frame_forces = forces;
         self.check_step_invariants()
     }
 
@@ -128,34 +164,51 @@ impl Space {
         }
     }
 
-    /// Stages 1–11 for one (sub-)step of `dt > 0`.
+    /// Stages 1–14 for one (sub-)step of `dt > 0`.
     fn sub_step(&mut self, dt: Real) {
         self.locked = true;
         // 2^64 sub-steps never happen: never saturates.
         self.state.stamp = self.state.stamp.saturating_add(1);
         self.state.prev_dt = self.state.current_dt;
         self.state.current_dt = dt;
-        let k = self.dt_constants(dt);
+        let dtc = self.dt_constants(dt);
         let features = self.contact_features();
 
-        self.integrate_positions(dt);
-        self.update_shape_caches();
-        self.find_pairs();
-        let active = self.collide_pairs();
-        self.load_solver_bodies();
-        self.pre_step(&active, &k, features);
-        self.integrate_velocities(&k);
+        self.integrate_positions(dt); // 1
+        self.update_shape_caches(); // 2
+        self.find_pairs(); // 3
+        let active = self.collide_pairs(); // 4, 5
+        self.load_solver_bodies(); // 6
+        self.pre_step(&active, &dtc, features); // 7
+        self.integrate_velocities(&dtc); // 8
         if features.warm_starting {
-            self.warm_start(features);
+            self.warm_start(features); // 9
         }
-        self.solve(features);
-        self.store_solver_results();
-        self.count_saturated_bodies();
-        self.post_solve(&active);
-        self.caches.active = active;
+        self.solve(features); // 10
+        self.store_solver_results(); // 11
+        self.count_saturated_bodies(); // 12
+        self.post_solve(&active); // 13
+        self.caches.arbiters.active = active;
 
         self.locked = false;
-        self.run_post_step_callbacks();
+        self.run_post_step_callbacks(); // 14
+    }
+
+    /// Per-`dt` constants, recomputed only when `dt` or the settings change.
+    fn dt_constants(&mut self, dt: Real) -> DtConstants {
+        let cached = self.caches.step.dt_constants;
+        if let Some(c) = cached.iter().flatten().find(|c| c.dt == dt) {
+            return *c;
+        }
+        let s = &self.state.settings;
+        let c = DtConstants {
+            dt,
+            dt_inv: dt.recip(),
+            damping: exp::pow(s.damping, dt),
+            bias_coef: Real::ONE - exp::pow(s.collision_bias, dt),
+        };
+        self.caches.step.dt_constants = [Some(c), cached[0]];
+        c
     }
 
     /// The solver switches of the settings.
@@ -165,7 +218,7 @@ impl Space {
             warm_starting: s.warm_starting,
             friction: s.friction,
             restitution: s.restitution,
-            bias: s.bias_impulses,
+            bias_impulses: s.bias_impulses,
         }
     }
 
@@ -209,7 +262,7 @@ impl Space {
                 .and_then(|(_, s)| bodies.get(s.body))
                 .is_some_and(|b| b.body_type() == BodyType::Static)
         };
-        if self.caches.statics_dirty {
+        if self.caches.broadphase.statics_dirty {
             let statics: Vec<Proxy> = self
                 .caches
                 .shapes
@@ -222,10 +275,10 @@ impl Space {
                     })
                 })
                 .collect();
-            self.caches.static_tree = StaticTree::build(statics);
-            self.caches.statics_dirty = false;
+            self.caches.broadphase.static_tree = StaticTree::build(statics);
+            self.caches.broadphase.statics_dirty = false;
         }
-        let proxies = &mut self.caches.proxies;
+        let proxies = &mut self.caches.broadphase.proxies;
         proxies.clear();
         for (i, c) in self.caches.shapes.iter().enumerate() {
             if let Some(c) = c.as_ref().filter(|_| !is_static(i)) {
@@ -235,9 +288,8 @@ impl Space {
                 });
             }
         }
-        self.caches
-            .broadphase
-            .find_pairs(&self.caches.proxies, &self.caches.static_tree);
+        let bp = &mut self.caches.broadphase;
+        bp.sweep.find_pairs(&bp.proxies, &bp.static_tree);
     }
 
     /// Stages 4–5: narrowphase and arbiter matching. Old and new arbiters
@@ -248,106 +300,87 @@ impl Space {
         // Double-buffered: last step's list is drained into this step's,
         // and both allocations are kept for the next step.
         let mut old = mem::take(&mut self.state.arbiters);
-        let mut arbiters = mem::take(&mut self.caches.arbiter_spare);
+        let mut arbiters = mem::take(&mut self.caches.arbiters.spare);
         arbiters.clear();
-        let mut active = mem::take(&mut self.caches.active);
+        let mut active = mem::take(&mut self.caches.arbiters.active);
         active.clear();
-        let stamp = self.state.stamp;
-        let pairs = mem::take(&mut self.caches.broadphase.pairs);
-        self.caches.stats = StepStats {
+        let pairs = mem::take(&mut self.caches.broadphase.sweep.pairs);
+        self.caches.step.stats = StepStats {
             candidate_pairs: pairs.len() as u32,
             ..StepStats::default()
         };
-        // `Drain::as_slice` peeks without moving: each kept arbiter is moved
-        // once out of `old` and once into `arbiters` (they are 240 bytes).
         let mut old_iter = old.drain(..);
         for &(ia, ib) in &pairs {
             // Arbiters of pairs that the broadphase no longer reports.
-            while old_iter
-                .as_slice()
-                .first()
-                .is_some_and(|a| a.key() < (ia, ib))
-            {
-                if let Some(mut arb) = old_iter.next() {
-                    if self.retire(&mut arb) {
-                        arbiters.push(arb);
-                    }
+            while let Some(arb) = take_if(&mut old_iter, |key| key < (ia, ib)) {
+                self.retire(arb, &mut arbiters);
+            }
+            let existing = take_if(&mut old_iter, |key| key == (ia, ib));
+            if let Some(mut arb) = self.collide_pair(ia, ib, existing, &mut arbiters) {
+                if self.run_contact_handlers(&mut arb) {
+                    active.push(arbiters.len() as u32);
                 }
-            }
-            let existing = if old_iter
-                .as_slice()
-                .first()
-                .is_some_and(|a| a.key() == (ia, ib))
-            {
-                old_iter.next()
-            } else {
-                None
-            };
-            let info = self.narrowphase(ia, ib, existing.as_ref());
-            if let Some(info) = &info {
-                let stats = &mut self.caches.stats;
-                stats.touching_pairs = stats.touching_pairs.saturating_add(1);
-                stats.iteration_cap_hits = stats
-                    .iteration_cap_hits
-                    .saturating_add(u32::from(info.hit_iteration_cap));
-            }
-            let Some(info) = info else {
-                if let Some(mut arb) = existing {
-                    if self.retire(&mut arb) {
-                        arbiters.push(arb);
-                    }
-                }
-                continue;
-            };
-            let (Some((ha, sa)), Some((hb, sb))) = (
-                self.state.shapes.get_by_index(ia),
-                self.state.shapes.get_by_index(ib),
-            ) else {
-                continue;
-            };
-            let (Some(body_a), Some(body_b)) = (
-                self.state.bodies.get(sa.body),
-                self.state.bodies.get(sb.body),
-            ) else {
-                continue;
-            };
-            let mut arb = existing.unwrap_or_else(|| Arbiter::new(ha, sa, hb, sb));
-            arb.update(&info, sa, sb, body_a.center(), body_b.center());
-            if arb.state == ArbiterState::Cached {
-                arb.state = ArbiterState::FirstCollision;
-            }
-            arb.stamp = stamp;
-            if self.run_contact_handlers(&mut arb) {
-                active.push(arbiters.len() as u32);
-            }
-            arbiters.push(arb);
-        }
-        for mut arb in old_iter {
-            if self.retire(&mut arb) {
                 arbiters.push(arb);
             }
         }
-        self.caches.broadphase.pairs = pairs;
+        for arb in old_iter {
+            self.retire(arb, &mut arbiters);
+        }
+        self.caches.broadphase.sweep.pairs = pairs;
         self.state.arbiters = arbiters;
-        self.caches.arbiter_spare = old;
+        self.caches.arbiters.spare = old;
         active
     }
 
-    /// An arbiter whose shapes did not touch this step: the separate handler
-    /// runs once (it becomes `Cached`), and it is dropped once it has not
-    /// touched for `collision_persistence` steps (returns whether to keep it).
-    fn retire(&mut self, arb: &mut Arbiter) -> bool {
-        if arb.state != ArbiterState::Cached {
+    /// Stage 4 for one candidate pair: the narrowphase, then the touched
+    /// arbiter (the pair's `existing` one or a new one). A pair that does
+    /// not touch retires its existing arbiter into `arbiters` (stage 5) and
+    /// gives `None`.
+    fn collide_pair(
+        &mut self,
+        ia: u32,
+        ib: u32,
+        existing: Option<Arbiter>,
+        arbiters: &mut Vec<Arbiter>,
+    ) -> Option<Arbiter> {
+        let Some(info) = self.narrowphase(ia, ib, existing.as_ref()) else {
+            if let Some(arb) = existing {
+                self.retire(arb, arbiters);
+            }
+            return None;
+        };
+        let stats = &mut self.caches.step.stats;
+        stats.touching_pairs = stats.touching_pairs.saturating_add(1);
+        stats.iteration_cap_hits = stats
+            .iteration_cap_hits
+            .saturating_add(u32::from(info.hit_iteration_cap));
+        let (ha, sa) = self.state.shapes.get_by_index(ia)?;
+        let (hb, sb) = self.state.shapes.get_by_index(ib)?;
+        let body_a = self.state.bodies.get(sa.body)?;
+        let body_b = self.state.bodies.get(sb.body)?;
+        let mut arb = existing.unwrap_or_else(|| Arbiter::new(ha, sa, hb, sb));
+        let centers = (body_a.center(), body_b.center());
+        arb.touch(&info, sa, sb, centers, self.state.stamp);
+        Some(arb)
+    }
+
+    /// Stage 5 for one arbiter whose shapes did not touch this step: the
+    /// separate handler runs once (it becomes `Cached`), and it is kept in
+    /// `arbiters` until it has not touched for `collision_persistence` steps.
+    fn retire(&mut self, mut arb: Arbiter, arbiters: &mut Vec<Arbiter>) {
+        if !arb.is_cached() {
             self.handlers.separate(
-                arb,
+                &mut arb,
                 &self.state.bodies,
                 &self.state.shapes,
                 &mut self.post_step,
             );
-            arb.state = ArbiterState::Cached;
+            arb.cache();
         }
-        let idle = self.state.stamp.saturating_sub(arb.stamp);
-        idle < u64::from(self.state.settings.collision_persistence)
+        let persistence = self.state.settings.collision_persistence;
+        if !arb.is_expired(self.state.stamp, persistence) {
+            arbiters.push(arb);
+        }
     }
 
     /// Filters a candidate pair and collides it; `None` if rejected or not touching.
@@ -372,7 +405,7 @@ impl Space {
         let info = collide(
             &ca.geometry,
             &cb.geometry,
-            existing.map_or(0, |a| a.collision_id),
+            existing.map_or(0, |a| a.warm_start_id),
         );
         (info.count > 0).then_some(info)
     }
@@ -380,21 +413,20 @@ impl Space {
     /// Begin and pre-solve handlers; true if the arbiter goes to the solver.
     fn run_contact_handlers(&mut self, arb: &mut Arbiter) -> bool {
         let (bodies, shapes, q) = (&self.state.bodies, &self.state.shapes, &mut self.post_step);
-        if arb.state == ArbiterState::FirstCollision && !self.handlers.begin(arb, bodies, shapes, q)
-        {
-            arb.state = ArbiterState::Ignore;
+        if arb.is_first_contact() && !self.handlers.begin(arb, bodies, shapes, q) {
+            arb.ignore();
         }
-        if arb.state == ArbiterState::Ignore {
+        if arb.is_ignored() {
             return false;
         }
         let accept = self.handlers.pre_solve(arb, bodies, shapes, q);
         accept && !arb.sensor
     }
 
-    /// Copies velocities and inverse masses into the contiguous solver array
-    /// (indexed by body slot).
+    /// Stage 6: copies velocities and inverse masses into the contiguous
+    /// solver array (indexed by body slot).
     fn load_solver_bodies(&mut self) {
-        let sb = &mut self.caches.solver_bodies;
+        let sb = &mut self.caches.solver.bodies;
         sb.clear();
         sb.resize(self.state.bodies.capacity_slots(), SolverBody::default());
         let mut massless = 0u32;
@@ -416,26 +448,25 @@ impl Space {
                 };
             }
         }
-        self.caches.stats.massless_dynamic_bodies = massless;
+        self.caches.step.stats.massless_dynamic_bodies = massless;
     }
 
-    /// Stage 6: effective masses, bias and bounce for every active contact,
+    /// Stage 7: effective masses, bias and bounce for every active contact,
     /// gathered into the contiguous solver array.
-    fn pre_step(&mut self, active: &[u32], k: &DtConstants, features: ContactFeatures) {
+    fn pre_step(&mut self, active: &[u32], dtc: &DtConstants, features: ContactFeatures) {
         let s = &self.state.settings;
         let params = ContactParams {
-            dt_inv: k.dt_inv,
+            dt_inv: dtc.dt_inv,
             slop: s.collision_slop,
-            bias_coef: k.bias_coef,
+            bias_coef: dtc.bias_coef,
             max_bias: Real::MAX,
             features,
         };
-        let Caches {
-            solver_bodies,
-            solver_contacts,
-            ..
-        } = &mut self.caches;
-        solver_contacts.clear();
+        let SolverScratch {
+            bodies: solver_bodies,
+            constraints: contact_constraints,
+        } = &mut self.caches.solver;
+        contact_constraints.clear();
         for &i in active {
             let Some(arb) = self.state.arbiters.get(i as usize) else {
                 continue;
@@ -449,32 +480,32 @@ impl Space {
                 surface_vr: arb.surface_velocity,
             };
             for (slot, c) in arb.contacts().iter().enumerate() {
-                let mut sc = SolverContact::new(c, solver_bodies, &pair, &params);
+                let mut sc = ContactConstraint::new(c, solver_bodies, &pair, &params);
                 sc.arbiter = i;
                 sc.slot = slot as u32;
-                solver_contacts.push(sc);
+                contact_constraints.push(sc);
             }
         }
-        self.caches.stats.solver_contacts = solver_contacts.len() as u32;
+        self.caches.step.stats.solver_contacts = contact_constraints.len() as u32;
     }
 
-    /// Stage 7: gravity, damping and forces; clears force accumulators.
-    fn integrate_velocities(&mut self, k: &DtConstants) {
+    /// Stage 8: gravity, damping and forces; clears force accumulators.
+    fn integrate_velocities(&mut self, dtc: &DtConstants) {
         let g = self.state.settings.gravity;
         let custom = &mut self.integrators.velocity;
         for (h, body) in self.state.bodies.iter_mut() {
             match custom.get_mut(&h) {
-                Some(f) => f(body, g, k.damping, k.dt),
-                None => body.update_velocity(g, k.damping, k.dt),
+                Some(f) => f(body, g, dtc.damping, dtc.dt),
+                None => body.update_velocity(g, dtc.damping, dtc.dt),
             }
-            if let Some(slot) = self.caches.solver_bodies.get_mut(h.index() as usize) {
+            if let Some(slot) = self.caches.solver.bodies.get_mut(h.index() as usize) {
                 slot.v = body.velocity();
                 slot.w = body.angular_velocity();
             }
         }
     }
 
-    /// Stage 8: re-apply last step's accumulated impulses (only called with
+    /// Stage 9: re-apply last step's accumulated impulses (only called with
     /// warm starting on).
     fn warm_start(&mut self, features: ContactFeatures) {
         let prev = self.state.prev_dt;
@@ -483,27 +514,26 @@ impl Space {
         } else {
             self.state.current_dt / prev
         };
-        let Caches {
-            solver_bodies,
-            solver_contacts,
-            ..
-        } = &mut self.caches;
+        let SolverScratch {
+            bodies: solver_bodies,
+            constraints: contact_constraints,
+        } = &mut self.caches.solver;
         if features.friction {
-            for c in solver_contacts.iter() {
+            for c in contact_constraints.iter() {
                 c.warm_start(solver_bodies, dt_coef);
             }
         } else {
-            for c in solver_contacts.iter() {
+            for c in contact_constraints.iter() {
                 c.warm_start_normal(solver_bodies, dt_coef);
             }
         }
     }
 
-    /// Stage 9: the solver iterations, with the iteration routine of the
-    /// switched-on features chosen once (see [`SolverContact::solve_with`]).
+    /// Stage 10: the solver iterations, with the iteration routine of the
+    /// switched-on features chosen once (see [`ContactConstraint::solve_with`]).
     fn solve(&mut self, features: ContactFeatures) {
         let n = self.state.settings.iterations;
-        match (features.friction, features.bias) {
+        match (features.friction, features.bias_impulses) {
             (true, true) => self.iterate::<true, true>(n),
             (true, false) => self.iterate::<true, false>(n),
             (false, true) => self.iterate::<false, true>(n),
@@ -513,22 +543,22 @@ impl Space {
 
     /// `n` Gauss–Seidel passes over the active contacts, in canonical order.
     fn iterate<const FRICTION: bool, const BIAS: bool>(&mut self, n: u32) {
-        let Caches {
-            solver_bodies,
-            solver_contacts,
-            ..
-        } = &mut self.caches;
+        let SolverScratch {
+            bodies: solver_bodies,
+            constraints: contact_constraints,
+        } = &mut self.caches.solver;
         for _ in 0..n {
-            for c in solver_contacts.iter_mut() {
+            for c in contact_constraints.iter_mut() {
                 c.solve_with::<FRICTION, BIAS>(solver_bodies);
             }
         }
     }
 
-    /// Copies solved velocities back into the bodies and accumulated
-    /// impulses back into the arbiters (for warm starting and handlers).
+    /// Stage 11: copies solved velocities back into the bodies and
+    /// accumulated impulses back into the arbiters' manifold points (for
+    /// warm starting and handlers).
     fn store_solver_results(&mut self) {
-        for c in &self.caches.solver_contacts {
+        for c in &self.caches.solver.constraints {
             let contact = self
                 .state
                 .arbiters
@@ -543,7 +573,7 @@ impl Space {
             if body.body_type() != BodyType::Dynamic {
                 continue;
             }
-            if let Some(s) = self.caches.solver_bodies.get(h.index() as usize) {
+            if let Some(s) = self.caches.solver.bodies.get(h.index() as usize) {
                 body.v = s.v;
                 body.w = s.w;
                 body.v_bias = s.v_bias;
@@ -552,10 +582,10 @@ impl Space {
         }
     }
 
-    /// Diagnostics ([`StepStats::saturated_bodies`]): bodies whose position,
-    /// velocity or angular velocity saturated. Runs after the solver, so it
-    /// sees this step's positions and final velocities; five comparisons per
-    /// body, no arithmetic.
+    /// Stage 12, diagnostics ([`StepStats::saturated_bodies`]): bodies whose
+    /// position, velocity or angular velocity saturated. Runs after the
+    /// solver, so it sees this step's positions and final velocities; five
+    /// comparisons per body, no arithmetic.
     fn count_saturated_bodies(&mut self) {
         let saturated = self
             .state
@@ -563,10 +593,10 @@ impl Space {
             .iter()
             .filter(|(_, b)| b.p.is_saturated() || b.v.is_saturated() || b.w.is_saturated())
             .count();
-        self.caches.stats.saturated_bodies = u32::try_from(saturated).unwrap_or(u32::MAX);
+        self.caches.step.stats.saturated_bodies = u32::try_from(saturated).unwrap_or(u32::MAX);
     }
 
-    /// Stage 10: post-solve handlers, then first contacts become normal.
+    /// Stage 13: post-solve handlers, then first contacts become normal.
     fn post_solve(&mut self, active: &[u32]) {
         if !self.handlers.is_empty() {
             for &i in active {
@@ -583,13 +613,11 @@ impl Space {
         }
         let stamp = self.state.stamp;
         for arb in self.state.arbiters.iter_mut() {
-            if arb.stamp == stamp && arb.state == ArbiterState::FirstCollision {
-                arb.state = ArbiterState::Normal;
-            }
+            arb.settle(stamp);
         }
     }
 
-    /// Stage 11: post-step callbacks, in the order they were queued.
+    /// Stage 14: post-step callbacks, in the order they were queued.
     fn run_post_step_callbacks(&mut self) {
         // Callbacks may queue more callbacks; those run after this step too.
         while !self.post_step.is_empty() {
@@ -598,5 +626,19 @@ impl Space {
                 f(self);
             }
         }
+    }
+}
+
+/// The next arbiter of `old` if its pair key satisfies `pred`.
+/// `Drain::as_slice` peeks without moving: each kept arbiter is moved once
+/// out of the old list and once into the new one (they are 240 bytes).
+fn take_if(
+    old: &mut std::vec::Drain<'_, Arbiter>,
+    pred: impl FnOnce((u32, u32)) -> bool,
+) -> Option<Arbiter> {
+    if old.as_slice().first().is_some_and(|a| pred(a.key())) {
+        old.next()
+    } else {
+        None
     }
 }

@@ -1,48 +1,24 @@
-//! Exact integer arithmetic wider than [`Real`]: sums, differences and
-//! products of raw `Real` bits on `i128`, and [`I256`] for sums of products
-//! of those. Used where a `Real` intermediate would round or saturate (mass
-//! properties, kinetic energy, the static tree's sort keys); the caller
-//! rounds once at the end.
-//!
-//! Every operation here is exact for the stated operand ranges; the
-//! `saturating_*` calls below never saturate on raw `Real` bits (each says
-//! why) and only give a defined result instead of a panic or a wrap if a
-//! future caller breaks the stated bound.
-use super::real::Real;
+//! The integer layer of [`math::wide`](super): exact products of raw
+//! `i64` values on `i128` and a 256-bit integer for sums of products of
+//! `i128`s. Depends on nothing, so `Real` itself is built on it.
 
-/// `a + b` on raw bits (units of 2^-32), exact.
-#[inline]
-pub(crate) fn raw_sum(a: Real, b: Real) -> i128 {
-    // |a|, |b| ≤ 2^63: the sum needs 65 bits, never saturates.
-    i128::from(a.to_bits()).saturating_add(i128::from(b.to_bits()))
+/// The exact 128-bit product of two raw values (units of 2^-64 for `Real`
+/// bits): |a·b| ≤ 2^126, so it never overflows `i128` (the one product the
+/// `arithmetic_side_effects` lint cannot see is bounded).
+#[inline(always)]
+#[allow(clippy::arithmetic_side_effects)]
+pub(crate) const fn wide_mul(a: i64, b: i64) -> i128 {
+    a as i128 * b as i128
 }
 
-/// `a − b` on raw bits (units of 2^-32), exact.
-#[inline]
-pub(crate) fn raw_diff(a: Real, b: Real) -> i128 {
-    // |a|, |b| ≤ 2^63: the difference needs 65 bits, never saturates.
-    i128::from(a.to_bits()).saturating_sub(i128::from(b.to_bits()))
-}
-
-/// `a · b` of two raw values (units of 2^-64 for `Real` bits), exact.
-#[inline]
-pub(crate) fn raw_mul(a: i64, b: i64) -> i128 {
-    // |a|, |b| ≤ 2^63: |a·b| ≤ 2^126 < 2^127, never saturates.
-    i128::from(a).saturating_mul(i128::from(b))
-}
-
-/// `|a|²` of raw bits (units of 2^-64), exact: at most 2^126.
-#[inline]
-pub(crate) fn raw_sq(a: Real) -> u128 {
-    let m = u128::from(a.to_bits().unsigned_abs());
-    // m ≤ 2^63: m² ≤ 2^126, never saturates.
-    m.saturating_mul(m)
-}
-
-/// A wide raw value as a `Real`, saturated to `Real::MIN`/`Real::MAX`.
-#[inline]
-pub(crate) fn saturate_to_real(raw: i128) -> Real {
-    Real::from_bits(i64::try_from(raw).unwrap_or(if raw < 0 { i64::MIN } else { i64::MAX }))
+/// `x² + y²` of two raw values, exact (units of 2^-64 for `Real` bits):
+/// each square is at most 2^126, the sum at most 2^127, so it never
+/// overflows `u128`.
+#[inline(always)]
+pub(crate) fn sum_sq(x: i64, y: i64) -> u128 {
+    let (x, y) = (u128::from(x.unsigned_abs()), u128::from(y.unsigned_abs()));
+    // x, y ≤ 2^63: never saturates.
+    x.saturating_mul(x).saturating_add(y.saturating_mul(y))
 }
 
 /// A 256-bit two's-complement integer, just enough for exact sums of
@@ -178,6 +154,11 @@ impl I256 {
         }
     }
 
+    /// The value saturated to `i128` (keeping its sign).
+    pub(crate) fn saturating_to_i128(self) -> i128 {
+        I256::signed_saturated(self.is_negative(), self.magnitude())
+    }
+
     /// `self / den` rounded to nearest (ties away from zero), saturated to
     /// `i128`; `den == 0` follows `Real`'s division policy (0 for 0/0, else
     /// the saturated value with the sign of the numerator).
@@ -240,18 +221,22 @@ mod tests {
     use super::*;
 
     #[test]
-    fn raw_helpers_are_exact_at_the_range_edges() {
-        let (max, min) = (Real::MAX, Real::MIN);
-        assert_eq!(raw_sum(max, max), 2 * i128::from(i64::MAX));
-        assert_eq!(raw_sum(min, min), 2 * i128::from(i64::MIN));
-        assert_eq!(raw_diff(max, min), i128::from(u64::MAX));
-        assert_eq!(raw_diff(min, max), -i128::from(u64::MAX));
-        assert_eq!(raw_mul(i64::MIN, i64::MIN), 1 << 126);
-        assert_eq!(raw_mul(i64::MIN, i64::MAX), -(1 << 126) + (1 << 63));
-        assert_eq!(raw_sq(min), 1 << 126);
-        assert_eq!(saturate_to_real(1 << 64), max);
-        assert_eq!(saturate_to_real(-(1 << 64)), min);
-        assert_eq!(saturate_to_real(-5), Real::from_bits(-5));
+    fn i256_saturates_to_i128_keeping_the_sign() {
+        let one = I256::from_i128(1);
+        assert_eq!(I256::from_i128(i128::MAX).saturating_to_i128(), i128::MAX);
+        assert_eq!(I256::from_i128(i128::MIN).saturating_to_i128(), i128::MIN);
+        assert_eq!(I256::from_i128(-5).saturating_to_i128(), -5);
+        assert_eq!(one.shl(127).saturating_to_i128(), i128::MAX);
+        assert_eq!(one.shl(127).neg().saturating_to_i128(), i128::MIN);
+        assert_eq!(one.shl(127).neg().sub(one).saturating_to_i128(), i128::MIN);
+        // 2^130 − 2^130 + 7: exact in between, back in range at the end.
+        let big = I256::mul_i128(1 << 65, 1 << 65);
+        assert_eq!(big.saturating_to_i128(), i128::MAX);
+        assert_eq!(big.neg().saturating_to_i128(), i128::MIN);
+        let seven = big
+            .sub(I256::mul_i128(1 << 65, 1 << 65))
+            .add(I256::from_i128(7));
+        assert_eq!(seven.saturating_to_i128(), 7);
     }
 
     #[test]

@@ -1,19 +1,37 @@
-//! Exact 128-bit predicates and a precise normalisation for the collision code.
-//!
-//! Every decision GJK and EPA take (which vertex is the support point, which
-//! side of an edge the origin is on, whether a new point makes progress) is a
-//! sign of a dot or cross product. Computed on the raw `i64` bits of the
-//! operands, a product fits an `i128` exactly, so these decisions are *exact*:
-//! no rounding can make the algorithms cycle, and the same inputs take the same
-//! branch on every platform. Only the final outputs (points, normal, distance)
-//! are rounded, once each.
-//!
-//! Units: a raw product of two `Real`s is in units of 2^-64.
-//! Overflow: each product is below 2^126 in magnitude; sums saturate, which can
-//! only happen for operands near `Real::MIN`/`MAX`, far outside the envelope.
-use crate::math::exact::raw_sq;
-use crate::math::real::wide_mul;
-use crate::math::{Real, Vect};
+//! The `Real`/`Vect` layer of [`math::wide`](super): exact sums and
+//! squares of raw `Real` bits, the exact vector predicates and the precise
+//! normalisation of the collision code.
+use super::int::{sum_sq, wide_mul};
+use crate::math::real::Real;
+use crate::math::vect::Vect;
+
+/// `a + b` on raw bits (units of 2^-32), exact.
+#[inline]
+pub(crate) fn raw_sum(a: Real, b: Real) -> i128 {
+    // |a|, |b| ≤ 2^63: the sum needs 65 bits, never saturates.
+    i128::from(a.to_bits()).saturating_add(i128::from(b.to_bits()))
+}
+
+/// `a − b` on raw bits (units of 2^-32), exact.
+#[inline]
+pub(crate) fn raw_diff(a: Real, b: Real) -> i128 {
+    // |a|, |b| ≤ 2^63: the difference needs 65 bits, never saturates.
+    i128::from(a.to_bits()).saturating_sub(i128::from(b.to_bits()))
+}
+
+/// `|a|²` of raw bits (units of 2^-64), exact: at most 2^126.
+#[inline]
+pub(crate) fn raw_sq(a: Real) -> u128 {
+    let m = u128::from(a.to_bits().unsigned_abs());
+    // m ≤ 2^63: m² ≤ 2^126, never saturates.
+    m.saturating_mul(m)
+}
+
+/// A wide raw value as a `Real`, saturated to `Real::MIN`/`Real::MAX`.
+#[inline]
+pub(crate) fn saturate_to_real(raw: i128) -> Real {
+    Real::from_bits(i64::try_from(raw).unwrap_or(if raw < 0 { i64::MIN } else { i64::MAX }))
+}
 
 /// Raw bits of a `Real` widened to `i128`.
 #[inline(always)]
@@ -38,8 +56,7 @@ pub(crate) fn cross(a: Vect, b: Vect) -> i128 {
 /// `|v|²`, exact, in units of 2^-64 (never overflows: each square < 2^126).
 #[inline(always)]
 pub(crate) fn len_sq(v: Vect) -> u128 {
-    // Each square ≤ 2^126, the sum ≤ 2^127: never saturates.
-    raw_sq(v.x).saturating_add(raw_sq(v.y))
+    sum_sq(v.x.to_bits(), v.y.to_bits())
 }
 
 /// `num / den` as a `Real` clamped to `[-1, 1]`, rounded to nearest.
@@ -210,6 +227,23 @@ pub(crate) fn unit_or(v: Vect, fallback: Vect) -> Vect {
 #[allow(clippy::float_arithmetic)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn raw_helpers_are_exact_at_the_range_edges() {
+        let (max, min) = (Real::MAX, Real::MIN);
+        assert_eq!(raw_sum(max, max), 2 * i128::from(i64::MAX));
+        assert_eq!(raw_sum(min, min), 2 * i128::from(i64::MIN));
+        // Keys near the top of the range stay distinct (the static tree's sort).
+        assert!(raw_sum(max - Real::ONE, max) < raw_sum(max, max));
+        assert_eq!(raw_diff(max, min), i128::from(u64::MAX));
+        assert_eq!(raw_diff(min, max), -i128::from(u64::MAX));
+        assert_eq!(wide_mul(i64::MIN, i64::MIN), 1 << 126);
+        assert_eq!(wide_mul(i64::MIN, i64::MAX), -(1 << 126) + (1 << 63));
+        assert_eq!(raw_sq(min), 1 << 126);
+        assert_eq!(saturate_to_real(1 << 64), max);
+        assert_eq!(saturate_to_real(-(1 << 64)), min);
+        assert_eq!(saturate_to_real(-5), Real::from_bits(-5));
+    }
 
     #[test]
     fn unit_ratio_clamps_and_rounds() {
