@@ -32,7 +32,6 @@ pub mod collision;
 pub mod debug_draw;
 pub mod math;
 pub mod replay;
-pub mod scenes;
 pub mod shape;
 pub mod snapshot;
 pub mod solver;

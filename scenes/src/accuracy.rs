@@ -24,9 +24,9 @@
 //! mass and moment are explicit, so the shapes are massless.
 use super::desc::{BodyDesc, ForceDesc, SceneDesc, SettingsDesc, ShapeDesc};
 use super::stacking;
-use crate::math::{Real, Vect};
-use crate::real;
-use crate::shape::mass::{moment_for_box, moment_for_circle};
+use tamias2d::math::{Real, Vect};
+use tamias2d::real;
+use tamias2d::shape::mass::{moment_for_box, moment_for_circle};
 
 /// Standard gravity used by the SI accuracy scenes (SRS symbol table).
 pub const G: Real = real!(9.81);

@@ -8,10 +8,9 @@
 //! disk point per body, then its velocity where the scene has one).
 use super::desc::{BodyDesc, CounterDesc, SceneDesc, SettingsDesc, ShapeDesc};
 use super::rng::{SplitMix64, SEED};
-use crate::math::{Real, Vect};
-use crate::real;
-use crate::shape::geometry::next_index;
-use crate::shape::mass::{moment_for_box, moment_for_circle, moment_for_poly};
+use tamias2d::math::{Real, Vect};
+use tamias2d::real;
+use tamias2d::shape::mass::{moment_for_box, moment_for_circle, moment_for_poly};
 
 /// Vertices of the bowl loop.
 const BOWL_VERTS: i32 = 48;
@@ -211,4 +210,13 @@ pub fn no_collide() -> SceneDesc {
         type_b: NO_COLLIDE_TYPE,
     });
     desc
+}
+
+/// The index after `i` around a closed polygon of `n` vertices: `i + 1`, or
+/// 0 after the last.
+fn next_index(i: usize, n: usize) -> usize {
+    match i.checked_add(1) {
+        Some(j) if j < n => j,
+        _ => 0,
+    }
 }

@@ -11,8 +11,8 @@ use super::desc::{
     BodyDesc, BodyKind, GeometryDesc, Neighbors, SceneDesc, SettingsDesc, ShapeDesc, SpawnDesc,
 };
 use super::rng::{SplitMix64, SEED};
-use crate::math::{Real, Vect};
-use crate::real;
+use tamias2d::math::{Real, Vect};
+use tamias2d::real;
 
 /// Friction of every shape in section B.
 const FRICTION: Real = real!(0.6);
