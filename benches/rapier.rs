@@ -1,6 +1,6 @@
 //! Tamias2D beside Rapier2D on the standard scenes (BENCH_SCENES.md A and B).
 //!
-//! Both engines are built from the *same* [`SceneDesc`](tamias2d::scenes::SceneDesc)
+//! Both engines are built from the *same* [`SceneDesc`](tamias2d_scenes::SceneDesc)
 //! (the converter is `common::rapier_world`): same bodies, shapes,
 //! materials (product combine rule), gravity, `dt` and 10 solver iterations;
 //! scripted forces and spawns replayed the same way. Each scene is warmed up

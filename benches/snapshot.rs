@@ -17,7 +17,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use tamias2d::scenes;
+use tamias2d_scenes as scenes;
 use tamias2d::snapshot;
 use tamias2d::space::Space;
 use tamias2d::Real;

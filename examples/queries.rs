@@ -9,7 +9,7 @@
 use tamias2d::body::BodyType;
 use tamias2d::math::{Real, Vect, BB};
 use tamias2d::real;
-use tamias2d::scenes;
+use tamias2d_scenes as scenes;
 use tamias2d::shape::{Circle, Geometry, ShapeFilter};
 use tamias2d::space::{ShapeHandle, Space};
 

@@ -8,19 +8,19 @@
 //! Exact equality (`==` on the whole `WorldState`, and the checksum) is the
 //! only acceptable outcome here: a lockstep engine has no tolerance.
 use tamias2d::body::{Body, BodyHandle, BodyType};
-use tamias2d::scenes::{self, Scene};
+use tamias2d_scenes::{self as scenes, ScriptedWorld};
 use tamias2d::shape::Shape;
 use tamias2d::space::{Space, WorldState};
 use tamias2d::{Real, Vect};
 
-fn build(name: &str) -> Scene {
+fn build(name: &str) -> ScriptedWorld {
     scenes::builtin(name)
         .unwrap_or_else(|| panic!("{name} is a listed scene"))
         .build()
         .unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
-fn step(scene: &mut Scene, name: &str) {
+fn step(scene: &mut ScriptedWorld, name: &str) {
     scene.step().unwrap_or_else(|e| panic!("{name}: {e}"));
 }
 
@@ -157,7 +157,7 @@ fn section_c_accuracy_scenes_step_in_lockstep() {
 }
 
 /// Steps both scenes `steps` times and requires equal states after each.
-fn continue_in_lockstep(a: &mut Scene, b: &mut Scene, steps: u32, what: &str) {
+fn continue_in_lockstep(a: &mut ScriptedWorld, b: &mut ScriptedWorld, steps: u32, what: &str) {
     for n in 1..=steps {
         step(a, what);
         step(b, what);
@@ -177,7 +177,7 @@ fn world_rebuilt_from_a_snapshot_continues_identically() {
     // worlds are driven at the Space level: the scripted forces are applied
     // to both before every step, through handles stripped of their origin
     // tag (a `Space::from_state` world has a new origin, so the handles
-    // `Scene` keeps from the original world are foreign to it).
+    // `ScriptedWorld` keeps from the original world are foreign to it).
     for (name, k, m) in [
         ("bowl_boxes_100", 60, 60),
         ("tumbler_500", 40, 40),
@@ -185,7 +185,7 @@ fn world_rebuilt_from_a_snapshot_continues_identically() {
         ("incline_slide", 30, 60),
     ] {
         let desc = scenes::builtin(name).unwrap_or_else(|| panic!("{name}"));
-        assert!(desc.spawns.is_empty(), "{name}: spawns need the Scene");
+        assert!(desc.spawns.is_empty(), "{name}: spawns need the ScriptedWorld");
         let mut a = build(name);
         let dt = a.dt;
         a.step_n(k).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -232,10 +232,10 @@ fn world_rebuilt_from_a_snapshot_continues_identically() {
 
 #[test]
 fn rain_rebuilt_from_a_snapshot_keeps_spawning_identically() {
-    // Spawns are scripted by the Scene: swap a rebuilt space into a second
+    // Spawns are scripted by the ScriptedWorld: swap a rebuilt space into a second
     // scene that has taken the same number of steps (so its spawn script is
     // at the same point), and let both scenes spawn the next rows. rain has
-    // no scripted forces, so no Scene-held handle is needed after the swap.
+    // no scripted forces, so no ScriptedWorld-held handle is needed after the swap.
     let name = "rain_1000";
     let desc = scenes::builtin(name).unwrap_or_else(|| panic!("{name}"));
     assert!(desc.forces.is_empty());

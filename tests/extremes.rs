@@ -26,7 +26,7 @@ use extremes_common::{
 };
 use tamias2d::body::Body;
 use tamias2d::real;
-use tamias2d::scenes::{self, BodyDesc, SceneDesc, SceneError, ShapeDesc};
+use tamias2d_scenes::{self as scenes, BodyDesc, SceneDesc, SceneError, ShapeDesc};
 use tamias2d::{Real, Vect};
 
 /// One ulp of `Real` (2^-32) as an `f64`.

@@ -19,7 +19,7 @@ use extremes_common::{build, int, lone_ball, trace_x, Watch, FRICTION};
 use tamias2d::body::Body;
 use tamias2d::math::{RealError, Transform};
 use tamias2d::real;
-use tamias2d::scenes::{
+use tamias2d_scenes::{
     self, BodyDesc, BodyKind, BodyPath, SceneDesc, SceneError, SettingsDesc, ShapeDesc,
 };
 use tamias2d::shape::{Shape, ShapeError};

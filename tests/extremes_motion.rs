@@ -15,7 +15,7 @@ use extremes_common::{
     build, coincident, positions, run_displacement, separate, stack_with_dt, tunnel_count,
     worst_displacement, Watch, SLOP,
 };
-use tamias2d::scenes;
+use tamias2d_scenes as scenes;
 use tamias2d::Real;
 
 // ---------------------------------------------------------------------------

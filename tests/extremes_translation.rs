@@ -17,7 +17,7 @@
 mod extremes_common;
 
 use extremes_common::{compare_shifted, int, x_vect};
-use tamias2d::scenes::{self, SceneDesc};
+use tamias2d_scenes::{self as scenes, SceneDesc};
 use tamias2d::Vect;
 
 /// Steps per comparison (debug builds are ~30x slower).

@@ -18,7 +18,7 @@
 
 use tamias2d::body::Body;
 use tamias2d::real;
-use tamias2d::scenes::{self, Scene};
+use tamias2d_scenes::{self as scenes, ScriptedWorld};
 use tamias2d::shape::mass::moment_for_box;
 use tamias2d::{Real, Vect};
 
@@ -28,21 +28,21 @@ const ULP: f64 = 1.0 / 4_294_967_296.0;
 /// `f64` rounding, 10^-18 s, is negligible against the bounds below).
 const DT: f64 = 1.0 / 60.0;
 
-fn build(name: &str) -> Scene {
+fn build(name: &str) -> ScriptedWorld {
     scenes::builtin(name)
         .unwrap_or_else(|| panic!("{name} is a listed scene"))
         .build()
         .unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
-fn body<'a>(scene: &'a Scene, label: &str) -> &'a Body {
+fn body<'a>(scene: &'a ScriptedWorld, label: &str) -> &'a Body {
     scene
         .body(label)
         .and_then(|h| scene.space.body(h))
         .unwrap_or_else(|| panic!("no body labelled {label}"))
 }
 
-fn step(scene: &mut Scene) {
+fn step(scene: &mut ScriptedWorld) {
     scene.step().unwrap_or_else(|e| panic!("step: {e}"));
 }
 
@@ -426,7 +426,7 @@ fn spin_matches_discrete_and_continuous_closed_forms() {
 // ---------------------------------------------------------------------------
 
 /// Sum of `½mv² + ½Iω²` over the labelled bodies, as `f64`.
-fn kinetic_energy(scene: &Scene, labels: &[&str]) -> f64 {
+fn kinetic_energy(scene: &ScriptedWorld, labels: &[&str]) -> f64 {
     labels
         .iter()
         .map(|l| body(scene, l).kinetic_energy().to_f64())
@@ -434,7 +434,7 @@ fn kinetic_energy(scene: &Scene, labels: &[&str]) -> f64 {
 }
 
 /// Sum of `m·v` over the labelled bodies, in `Real` (exact sums).
-fn momentum(scene: &Scene, labels: &[&str]) -> Vect {
+fn momentum(scene: &ScriptedWorld, labels: &[&str]) -> Vect {
     labels.iter().fold(Vect::ZERO, |acc, l| {
         let b = body(scene, l);
         acc + b.velocity() * b.mass()

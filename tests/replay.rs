@@ -5,7 +5,7 @@ use tamias2d::checksum::checksum_of;
 use tamias2d::replay::{
     Input, Recorder, Replay, ReplayError, Start, FORMAT_VERSION, HEADER_LEN, MAGIC,
 };
-use tamias2d::scenes::{self, BodyDesc, ShapeDesc};
+use tamias2d_scenes::{self as scenes, BodyDesc, ShapeDesc};
 use tamias2d::{real, snapshot, Real, Vect};
 
 /// A few impulses and forces on the two balls of `elastic_pair`, which
@@ -209,7 +209,7 @@ fn start_problems_are_reported() {
         },
         ..replay.clone()
     };
-    assert!(matches!(zero_dt.verify(), Err(ReplayError::Scene(_))));
+    assert!(matches!(zero_dt.verify(), Err(ReplayError::ScriptedWorld(_))));
     let bad_snapshot = Replay {
         start: Start::Snapshot {
             bytes: vec![1, 2, 3],
@@ -232,7 +232,7 @@ fn scene_description_start_round_trips() {
         .labeled("player")
         .with_shape(ShapeDesc::circle(real!(6.5)).material(real!(0.7), real!(0.25)));
     desc.bodies.push(player);
-    let mut rec = Recorder::new(Start::Scene(Box::new(desc))).expect("builds");
+    let mut rec = Recorder::new(Start::ScriptedWorld(Box::new(desc))).expect("builds");
     let player = rec.body("player").expect("labelled");
     for f in 0..60 {
         let inputs: &[Input] = if f % 10 == 0 {
@@ -348,7 +348,7 @@ fn damaged_payload_with_a_valid_digest_never_panics() {
     let (replay, _) = record_elastic_pair(8, 2);
     let bytes = replay.to_bytes();
     let payload = &bytes[HEADER_LEN..];
-    let mut rng = tamias2d::scenes::rng::SplitMix64::new(7);
+    let mut rng = tamias2d_scenes::rng::SplitMix64::new(7);
     let mut decoded = 0;
     for round in 0..400 {
         let mut damaged = payload.to_vec();

@@ -4,8 +4,8 @@
 //! builds stay fast), and bad descriptions are errors, never panics.
 use serde::{Deserialize, Serialize};
 use tamias2d::real;
-use tamias2d::scenes::rng::{SplitMix64, SEED};
-use tamias2d::scenes::{
+use tamias2d_scenes::rng::{SplitMix64, SEED};
+use tamias2d_scenes::{
     self, accuracy, stacking, terrain, BodyDesc, BodyKind, BodyPath, ForceDesc, GeometryDesc,
     MassDesc, SceneDesc, SceneError, ShapeDesc,
 };
@@ -183,7 +183,7 @@ fn json_reals_are_decimal_strings() {
 }
 
 #[derive(Debug, PartialEq, Serialize, Deserialize)]
-struct OneReal(#[serde(with = "tamias2d::scenes::dec::real")] Real);
+struct OneReal(#[serde(with = "tamias2d_scenes::dec::real")] Real);
 
 #[test]
 fn decimal_reals_round_trip_every_bit_pattern() {
@@ -450,7 +450,7 @@ fn rain_releases_a_row_every_ten_steps_until_the_count() {
     let mut scene = stacking::rain(120)
         .build()
         .unwrap_or_else(|e| panic!("{e}"));
-    let count = |s: &scenes::Scene| s.space.bodies().count();
+    let count = |s: &scenes::ScriptedWorld| s.space.bodies().count();
     assert_eq!(count(&scene), 51);
     scene.step_n(9).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(count(&scene), 51);

@@ -11,13 +11,13 @@ use std::sync::OnceLock;
 
 use proptest::prelude::*;
 use tamias2d::body::{Body, BodyHandle};
-use tamias2d::scenes::{self, Scene};
+use tamias2d_scenes::{self as scenes, ScriptedWorld};
 use tamias2d::shape::Shape;
 use tamias2d::snapshot::{self, SnapshotError, Subject, FORMAT_VERSION, HEADER_LEN, MAGIC};
 use tamias2d::space::{ShapeHandle, Space, WorldState};
 use tamias2d::{Real, Transform, Vect};
 
-fn build(name: &str) -> Scene {
+fn build(name: &str) -> ScriptedWorld {
     scenes::builtin(name)
         .unwrap_or_else(|| panic!("{name} is a listed scene"))
         .build()
@@ -78,7 +78,7 @@ fn diverge(space: &mut Space, dt: Real) {
 fn round_trip(name: &str, steps: u32, forks: &[u32]) {
     let mut reference = build(name);
     let dt = reference.dt;
-    let mut in_place: Vec<(u32, Scene)> = forks.iter().map(|&k| (k, build(name))).collect();
+    let mut in_place: Vec<(u32, ScriptedWorld)> = forks.iter().map(|&k| (k, build(name))).collect();
     let mut raw: Vec<(u32, Space, Space)> = Vec::new();
     for t in 0..=steps {
         if t > 0 {

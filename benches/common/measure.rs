@@ -16,7 +16,7 @@
 //! contacts, our cached arbiters).
 use tamias2d::arbiter::ArbiterState;
 use tamias2d::body::BodyType;
-use tamias2d::scenes::{Scene, SceneDesc};
+use tamias2d_scenes::{ScriptedWorld, SceneDesc};
 
 use super::Config;
 
@@ -101,11 +101,11 @@ pub trait Engine {
     }
 }
 
-/// A Tamias2D scene; one report step is one `Scene::step` (sub-steps are
+/// A Tamias2D scene; one report step is one `ScriptedWorld::step` (sub-steps are
 /// the library's, `Settings::substeps`).
 pub struct TamiasRun {
     /// The scene (its `dt` is the whole step).
-    pub scene: Scene,
+    pub scene: ScriptedWorld,
 }
 
 impl TamiasRun {

@@ -4,7 +4,7 @@
 //! * [`rapier_world`] turns a [`SceneDesc`] into a Rapier world with the same
 //!   bodies, shapes, materials, gravity, time step and iteration count, and
 //!   replays the description's scripted forces and spawns the same way
-//!   [`Scene::step`](tamias2d::scenes::Scene::step) does.
+//!   [`ScriptedWorld::step`](tamias2d_scenes::ScriptedWorld::step) does.
 //! * [`measure`] reads what both engines deliver in one common form: body
 //!   states in creation order and penetration of touching pairs.
 //!
@@ -15,7 +15,7 @@ pub mod measure;
 pub mod rapier_world;
 
 use tamias2d::math::Real;
-use tamias2d::scenes::{self, SceneDesc};
+use tamias2d_scenes::{self as scenes, SceneDesc};
 
 #[allow(unused_imports)] // each user takes a different part
 pub use measure::{BodyState, Engine, Penetration, TamiasRun};

@@ -1,6 +1,6 @@
 //! A [`SceneDesc`] as a Rapier world: same bodies, shapes, materials,
 //! gravity, time step and iteration count, with the scripted forces and
-//! spawns replayed as [`Scene::step`](tamias2d::scenes::Scene::step) does.
+//! spawns replayed as [`ScriptedWorld::step`](tamias2d_scenes::ScriptedWorld::step) does.
 //!
 //! The mapping, shape by shape (Chipmunk's rounding radius is Rapier's
 //! border radius: both grow the core shape outward):
@@ -32,7 +32,7 @@
 //! angular damping (`−ln damping`), though every built-in scene has none.
 use rapier2d::prelude::*;
 use tamias2d::math::Vect;
-use tamias2d::scenes::{
+use tamias2d_scenes::{
     BodyDesc, BodyKind, GeometryDesc, MassDesc, SceneDesc, ShapeDesc, ShapeMassDesc, SpawnDesc,
 };
 use tamias2d::shape::ShapeFilter;

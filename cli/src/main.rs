@@ -47,9 +47,9 @@ enum Command {
     List,
     /// Runs a scene headless: prints timing and the final checksum.
     Run(RunArgs),
-    /// Scene files.
+    /// ScriptedWorld files.
     #[command(subcommand)]
-    Scene(SceneCommand),
+    ScriptedWorld(SceneCommand),
     /// Save a world after N steps; continue from the file.
     #[command(subcommand)]
     Snapshot(SnapshotCommand),
@@ -210,7 +210,7 @@ fn main() -> ExitCode {
             Ok(())
         }
         Some(Command::Run(args)) => run::run(&args),
-        Some(Command::Scene(SceneCommand::Dump { scene, output })) => {
+        Some(Command::ScriptedWorld(SceneCommand::Dump { scene, output })) => {
             files::scene_dump(&scene, output.as_deref())
         }
         Some(Command::Snapshot(SnapshotCommand::Save {
@@ -247,8 +247,8 @@ fn main() -> ExitCode {
 
 /// `tamias list`.
 fn list() {
-    for (name, about) in tamias2d::scenes::list() {
-        println!("{name:<22} {about}");
+    for s in tamias2d_scenes::REGISTRY {
+        println!("{:<22} {}: {}", s.name, s.section.letter(), s.about);
     }
     println!("{:<22} {}", source::SHOWCASE, source::SHOWCASE_ABOUT);
 }

@@ -19,7 +19,7 @@ use ggrs::{
 };
 use tamias2d::body::BodyHandle;
 use tamias2d::replay::{self, Input};
-use tamias2d::scenes::{self, rng::SplitMix64, BodyDesc, BodyKind, ShapeDesc};
+use tamias2d_scenes::{self as scenes, rng::SplitMix64, BodyDesc, BodyKind, ShapeDesc};
 use tamias2d::space::{Space, WorldState};
 use tamias2d::{real, Real, Vect};
 

@@ -273,6 +273,26 @@ impl ScriptedWorld {
         self.labels.retain(|_, h| live.contains(h));
     }
 
+    /// A world with no script around `space` (a bare engine snapshot, say):
+    /// each step is the space's step by `dt`. Its bodies, in slot order,
+    /// are its creation-order bodies.
+    pub fn unscripted(space: Space, dt: Real) -> ScriptedWorld {
+        let bodies: Vec<BodyHandle> = space.bodies().map(|(h, _)| h).collect();
+        ScriptedWorld {
+            initial_bodies: bodies.len(),
+            bodies,
+            labels: BTreeMap::new(),
+            forces: Vec::new(),
+            spawns: Vec::new(),
+            next_spawn: 0,
+            counters: Vec::new(),
+            steps_taken: space.steps(),
+            steps: 0,
+            dt,
+            space,
+        }
+    }
+
     /// Takes `n` steps.
     pub fn step_n(&mut self, n: u32) -> Result<(), SceneError> {
         (0..n).try_for_each(|_| self.step())

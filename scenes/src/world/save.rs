@@ -291,6 +291,12 @@ impl ScriptedWorld {
         Ok(())
     }
 
+    /// Whether `bytes` start like a saved scripted world (its magic); a
+    /// bare engine snapshot does not.
+    pub fn is_saved(bytes: &[u8]) -> bool {
+        bytes.get(0..8) == Some(&MAGIC[..])
+    }
+
     /// A world with nothing in it and no script (what [`ScriptedWorld::load`]
     /// fills in).
     fn empty() -> ScriptedWorld {
