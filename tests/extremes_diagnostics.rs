@@ -20,7 +20,7 @@ use tamias2d::body::Body;
 use tamias2d::math::{RealError, Transform};
 use tamias2d::real;
 use tamias2d_scenes::{
-    self, BodyDesc, BodyKind, BodyPath, SceneDesc, SceneError, SettingsDesc, ShapeDesc,
+    self as scenes, BodyDesc, BodyKind, BodyPath, SceneDesc, SceneError, SettingsDesc, ShapeDesc,
 };
 use tamias2d::shape::{Shape, ShapeError};
 use tamias2d::space::{Space, SpaceError};

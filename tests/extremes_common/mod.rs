@@ -12,7 +12,7 @@
 use tamias2d::body::BodyHandle;
 use tamias2d::real;
 use tamias2d_scenes::{
-    self, BodyDesc, BodyKind, ScriptedWorld, SceneDesc, SceneError, SettingsDesc, ShapeDesc,
+    self as scenes, BodyDesc, BodyKind, ScriptedWorld, SceneDesc, SceneError, SettingsDesc, ShapeDesc,
 };
 use tamias2d::space::Space;
 use tamias2d::{Real, Vect};
