@@ -29,7 +29,7 @@
 //! ```
 #![allow(clippy::float_arithmetic)] // timing report only
 
-mod common;
+use tamias2d_scenes::bench as common;
 
 use std::cell::RefCell;
 use std::hint::black_box;

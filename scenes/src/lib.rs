@@ -50,8 +50,12 @@
 )]
 
 pub mod accuracy;
+#[cfg(feature = "bench")]
+pub mod bench;
 pub mod dec;
 pub mod desc;
+#[cfg(feature = "ggrs")]
+pub mod ggrs_game;
 pub mod registry;
 pub mod rng;
 pub mod stacking;

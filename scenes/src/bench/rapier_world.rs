@@ -1,6 +1,6 @@
 //! A [`SceneDesc`] as a Rapier world: same bodies, shapes, materials,
 //! gravity, time step and iteration count, with the scripted forces and
-//! spawns replayed as [`ScriptedWorld::step`](tamias2d_scenes::ScriptedWorld::step) does.
+//! spawns replayed as [`ScriptedWorld::step`](crate::ScriptedWorld::step) does.
 //!
 //! The mapping, shape by shape (Chipmunk's rounding radius is Rapier's
 //! border radius: both grow the core shape outward):
@@ -32,13 +32,13 @@
 //! angular damping (`−ln damping`), though every built-in scene has none.
 use rapier2d::prelude::*;
 use tamias2d::math::Vect;
-use tamias2d_scenes::{
+use crate::{
     BodyDesc, BodyKind, GeometryDesc, MassDesc, SceneDesc, ShapeDesc, ShapeMassDesc, SpawnDesc,
 };
 use tamias2d::shape::ShapeFilter;
 
-use super::measure::{BodyState, Engine, Penetration};
-use super::Config;
+use crate::bench::measure::{BodyState, Engine, Penetration};
+use crate::bench::Config;
 
 /// A Rapier world built from a scene description.
 pub struct RapierRun {

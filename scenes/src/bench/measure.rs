@@ -16,9 +16,9 @@
 //! contacts, our cached arbiters).
 use tamias2d::arbiter::ArbiterState;
 use tamias2d::body::BodyType;
-use tamias2d_scenes::{ScriptedWorld, SceneDesc};
+use crate::{ScriptedWorld, SceneDesc};
 
-use super::Config;
+use crate::bench::Config;
 
 /// A body's state at one moment, engine-independent.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -551,9 +551,6 @@ fn live_world() -> Space {
     w
 }
 
-#[path = "snapshot/diagnosis.rs"]
 mod diagnosis;
-#[path = "snapshot/format.rs"]
 mod format;
-#[path = "snapshot/malformed.rs"]
 mod malformed;
