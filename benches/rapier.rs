@@ -1,4 +1,4 @@
-//! Tamias2D beside Rapier2D on the standard scenes (BENCH_SCENES.md A and B).
+//! Tamias2D beside Rapier2D on the standard scenes (scenes/README.md A and B).
 //!
 //! Both engines are built from the *same* [`SceneDesc`](tamias2d_scenes::SceneDesc)
 //! (the converter is `common::rapier_world`): same bodies, shapes,

@@ -10,7 +10,7 @@
 //! largest body speed (a resting pile has small speeds), and the sizes of
 //! the circle and hexagon piles for comparison.
 //!
-//! Targets (DESIGN §5, not enforced): ≤ 300 bytes per body in a resting
+//! Targets (not enforced): ≤ 300 bytes per body in a resting
 //! pile; per 1,000 bodies save ≤ 0.1 ms, load ≤ 0.2 ms, checksum ≤ 0.02 ms;
 //! 8-frame rollback of the 500-box pile ≤ 4 ms.
 use std::hint::black_box;

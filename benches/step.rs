@@ -1,4 +1,4 @@
-//! Whole-step benchmarks on the standard scenes (BENCH_SCENES.md).
+//! Whole-step benchmarks on the standard scenes (scenes/README.md).
 //!
 //! * `broadphase`, `stacking`: each scene is built, warmed up for a number
 //!   of steps (so piles have formed and warm starting is in effect), and

@@ -1,4 +1,4 @@
-//! Resting contact and stacking (BENCH_SCENES.md sections B and C):
+//! Resting contact and stacking (scenes/README.md sections B and C):
 //! `pyramid_20` stands for 10 s, `stack_10` does not drift or collapse, a
 //! ball resting on the ground sits at its radius (less at most the slop),
 //! and a box left on the ground for 10^4 steps neither creeps nor gains

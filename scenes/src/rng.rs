@@ -7,7 +7,7 @@
 //! that is plenty for placing bodies. The standard seed is [`SEED`].
 use tamias2d::math::{Real, Vect};
 
-/// Seed of every built-in scene that needs randomness (BENCH_SCENES.md).
+/// Seed of every built-in scene that needs randomness (scenes/README.md).
 pub const SEED: u64 = 45073;
 
 /// The SplitMix64 generator.

@@ -1,4 +1,4 @@
-//! Section A of BENCH_SCENES.md: terrain scenes of the Chipmunk benchmark
+//! Section A of scenes/README.md: terrain scenes of the Chipmunk benchmark
 //! class, in pixel-like units.
 //!
 //! Settings: gravity (0, −100), 10 solver iterations, collision slop 0.5,
@@ -46,7 +46,7 @@ fn polar(radius: Real, num: i32, den: i32) -> Vect {
 /// The bowl: one static body holding a closed loop of 48 segments (radius
 /// 0); vertex `i` is at angle `2π·i/48` and radius `240 − 8·(i mod 3)`.
 ///
-/// Decisions where BENCH_SCENES.md is silent: the segments have **no
+/// Decisions where scenes/README.md is silent: the segments have **no
 /// neighbours** (Chipmunk's benchmark terrain has none; a closed jagged loop
 /// has concave and convex joints, and neighbour filtering is meant for smooth
 /// chains), and the terrain material is `(friction, elasticity)` as given.
@@ -123,7 +123,7 @@ pub fn bowl_hexagons(n: u32) -> SceneDesc {
     })
 }
 
-/// `bouncy_circles_{n}` (BENCH_SCENES lists `bouncy_circles_500`): no
+/// `bouncy_circles_{n}` (scenes/README.md lists `bouncy_circles_500`): no
 /// gravity; the bowl terrain and circles (radius 5, mass 1, disc moment) all
 /// with elasticity 1 and friction 0; each circle at a point uniform in the
 /// disk of radius 130, then a velocity uniform in the disk of radius 50 (drawn

@@ -20,7 +20,7 @@ use tamias2d::{Real, Vect};
 /// Chipmunk's default collision slop (m), used by every scene here unless
 /// scaled.
 pub const SLOP: Real = real!(0.1);
-/// Friction of the stacking scenes (BENCH_SCENES.md section B).
+/// Friction of the stacking scenes (scenes/README.md section B).
 pub const FRICTION: Real = real!(0.6);
 /// `CONTACT_TOLERANCE` of the narrowphase (2^-20 m), as an `f64`.
 pub const CONTACT_TOLERANCE: f64 = 1.0 / 1_048_576.0;

@@ -24,8 +24,8 @@
 //! these are sub-steps, each with one PGS and one stabilisation pass),
 //! `dt`, gravity and `length_unit` (10 for the pixel-unit scenes of section
 //! A, 1 otherwise) as given; sleeping off (we have none); the velocity cap
-//! (`normalized_max_linear_velocity`, 400 m/s) off, because the SRS
-//! projectile starts at 1200 m/s; everything else at Rapier's defaults
+//! (`normalized_max_linear_velocity`, 400 m/s) off, because
+//! `projectile_45` starts at 1200 m/s; everything else at Rapier's defaults
 //! (soft contacts, speculative contacts, contact recycling, CCD of fast
 //! bodies against fixed ones). Collision slop and bias have no Rapier
 //! counterpart and are not mapped; damping is mapped to Rapier's linear and
