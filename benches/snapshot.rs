@@ -17,10 +17,10 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use tamias2d_scenes as scenes;
 use tamias2d::snapshot;
 use tamias2d::space::Space;
 use tamias2d::Real;
+use tamias2d_scenes as scenes;
 
 /// A built-in scene stepped `warmup` times, with its time step.
 fn resting(name: &str, warmup: u32) -> (Space, Real) {

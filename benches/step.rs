@@ -38,8 +38,8 @@ use std::time::{Duration, Instant};
 
 use common::median;
 use criterion::Criterion;
-use tamias2d_scenes as scenes;
 use tamias2d::space::{Settings, WorldState};
+use tamias2d_scenes as scenes;
 
 fn warmed(name: &str, warmup: u32) -> scenes::ScriptedWorld {
     let desc = scenes::builtin(name).unwrap_or_else(|| panic!("scene {name} is listed"));

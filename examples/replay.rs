@@ -58,7 +58,8 @@ fn record() -> Result<Replay, String> {
             }
         }
         step(&mut space, &inputs).map_err(|e| e.to_string())?;
-        rec.record_frame(&space, &inputs).map_err(|e| e.to_string())?;
+        rec.record_frame(&space, &inputs)
+            .map_err(|e| e.to_string())?;
     }
     Ok(rec.finish())
 }

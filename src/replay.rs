@@ -503,7 +503,10 @@ impl fmt::Display for ReplayError {
                 "start differs: recorded checksum {expected:#018x}, restored {actual:#018x}"
             ),
             ReplayError::InputMismatch { frame } => {
-                write!(f, "frame {frame}: inputs differ from the recorded input log")
+                write!(
+                    f,
+                    "frame {frame}: inputs differ from the recorded input log"
+                )
             }
             ReplayError::InputLog { expected, actual } => write!(
                 f,
@@ -715,8 +718,8 @@ impl Replay {
         out.extend_from_slice(&MAGIC);
         out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
         out.extend_from_slice(&[0; 8]); // payload digest, filled in below
-        // Encoding plain serde data into a Vec cannot fail; were it to, the
-        // payload is left empty and `from_bytes` rejects it as undecodable.
+                                        // Encoding plain serde data into a Vec cannot fail; were it to, the
+                                        // payload is left empty and `from_bytes` rejects it as undecodable.
         if bincode::serde::encode_into_std_write(self, &mut out, CONFIG).is_err() {
             out.truncate(HEADER_LEN);
         }

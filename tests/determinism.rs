@@ -8,10 +8,10 @@
 //! Exact equality (`==` on the whole `WorldState`, and the checksum) is the
 //! only acceptable outcome here: a lockstep engine has no tolerance.
 use tamias2d::body::{Body, BodyHandle, BodyType};
-use tamias2d_scenes::{self as scenes, SceneInfo, ScriptedWorld, Section};
 use tamias2d::shape::Shape;
 use tamias2d::space::{Space, WorldState};
 use tamias2d::{Real, Vect};
+use tamias2d_scenes::{self as scenes, SceneInfo, ScriptedWorld, Section};
 
 fn build(name: &str) -> ScriptedWorld {
     scenes::builtin(name)
@@ -94,7 +94,11 @@ fn check_section(section: Section) {
         let steps = steps_for(info);
         lockstep(info.name, steps);
         checked += 1;
-        println!("{}: {steps} steps in lockstep, {:?}", info.name, t.elapsed());
+        println!(
+            "{}: {steps} steps in lockstep, {:?}",
+            info.name,
+            t.elapsed()
+        );
     }
     assert!(checked > 0, "no scene in section {section:?}");
 }
@@ -143,7 +147,10 @@ fn world_rebuilt_from_a_snapshot_continues_identically() {
         ("incline_slide", 30, 60),
     ] {
         let desc = scenes::builtin(name).unwrap_or_else(|| panic!("{name}"));
-        assert!(desc.spawns.is_empty(), "{name}: spawns need the ScriptedWorld");
+        assert!(
+            desc.spawns.is_empty(),
+            "{name}: spawns need the ScriptedWorld"
+        );
         let mut a = build(name);
         let dt = a.dt;
         a.step_n(k).unwrap_or_else(|e| panic!("{name}: {e}"));

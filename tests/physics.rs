@@ -18,9 +18,9 @@
 
 use tamias2d::body::Body;
 use tamias2d::real;
-use tamias2d_scenes::{self as scenes, ScriptedWorld};
 use tamias2d::shape::mass::moment_for_box;
 use tamias2d::{Real, Vect};
+use tamias2d_scenes::{self as scenes, ScriptedWorld};
 
 /// One ulp of `Real` (2^-32) as an `f64`.
 const ULP: f64 = 1.0 / 4_294_967_296.0;

@@ -248,10 +248,7 @@ fn start_problems_are_reported() {
         start: vec![1, 2, 3],
         ..replay.clone()
     };
-    assert!(matches!(
-        bad_snapshot.verify(),
-        Err(ReplayError::Start(_))
-    ));
+    assert!(matches!(bad_snapshot.verify(), Err(ReplayError::Start(_))));
     // Removing the last frame leaves every frame's digest valid; the whole
     // log's digest catches it.
     let mut short = replay;
@@ -282,7 +279,11 @@ fn scripted_scenes_replay_through_their_scripted_world() {
     // Scripted forces (constant_force), a scripted torque (spin) and
     // spawns by step (rain_1000: rows every 10 steps), with a player input
     // on top; the start (saved mid-run) holds the script.
-    for (name, before, frames) in [("constant_force", 30, 40), ("spin", 10, 30), ("rain_1000", 25, 30)] {
+    for (name, before, frames) in [
+        ("constant_force", 30, 40),
+        ("spin", 10, 30),
+        ("rain_1000", 25, 30),
+    ] {
         let mut world = scenes::builtin(name)
             .expect("registered")
             .build()
@@ -474,8 +475,8 @@ fn game_world() -> (Space, BodyHandle) {
     )
     .expect("segment");
     space.add_shape(floor).expect("shape");
-    let mut coin = Shape::circle_shape_new(ground, Real::HALF, Vect::from_ints(0, 7))
-        .expect("circle");
+    let mut coin =
+        Shape::circle_shape_new(ground, Real::HALF, Vect::from_ints(0, 7)).expect("circle");
     coin.collision_type = COIN;
     coin.sensor = true;
     space.add_shape(coin).expect("shape");
@@ -548,7 +549,11 @@ fn verify_in_second_process(file: &std::path::Path) -> String {
         .output()
         .expect("second process");
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     stdout
         .lines()
         .find_map(|l| l.find("replay: ").map(|i| l[i..].to_owned()))
@@ -590,10 +595,7 @@ fn game_with_handlers_replays_in_a_second_process() {
 
     // The handlers are part of the game: the default step (a plain space
     // without them) does not reproduce the run.
-    assert!(matches!(
-        replay.verify(),
-        Err(ReplayError::Diverged { .. })
-    ));
+    assert!(matches!(replay.verify(), Err(ReplayError::Diverged { .. })));
 
     // A tampered input that changes nothing (a zero force at frame 42) is
     // reported at its frame, by the other process too.

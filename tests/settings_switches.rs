@@ -15,12 +15,12 @@ use tamias2d::body::Body;
 use tamias2d::checksum::checksum_of;
 use tamias2d::math::{Real, Vect};
 use tamias2d::real;
-use tamias2d_scenes::{self as scenes, ScriptedWorld, SceneDesc};
 use tamias2d::shape::Shape;
 use tamias2d::snapshot;
 use tamias2d::space::{
     sub_step_dts, validate_state, Settings, Space, SpaceError, WorldState, MAX_SUBSTEPS,
 };
+use tamias2d_scenes::{self as scenes, SceneDesc, ScriptedWorld};
 
 fn builtin(name: &str) -> SceneDesc {
     scenes::builtin(name).unwrap_or_else(|| panic!("{name} is a built-in scene"))

@@ -12,8 +12,10 @@
 
 use tamias2d::body::{Body, BodyHandle};
 use tamias2d::real;
-use tamias2d_scenes::{self as scenes, BodyDesc, BodyKind, ScriptedWorld, SceneDesc, SettingsDesc, ShapeDesc};
 use tamias2d::{Real, Vect};
+use tamias2d_scenes::{
+    self as scenes, BodyDesc, BodyKind, SceneDesc, ScriptedWorld, SettingsDesc, ShapeDesc,
+};
 
 /// Chipmunk's default collision slop, which every stacking scene uses.
 const SLOP: f64 = 0.1;

@@ -75,7 +75,9 @@ pub fn load_world(bytes: &[u8], dt: Option<Real>) -> Result<ScriptedWorld, Strin
         Some(dt) => dt,
         None if space.current_time_step().is_positive() => space.current_time_step(),
         None => {
-            return Err("saved before the first step, so it holds no time step; pass --dt".to_owned())
+            return Err(
+                "saved before the first step, so it holds no time step; pass --dt".to_owned(),
+            )
         }
     };
     Ok(ScriptedWorld::unscripted(space, dt))

@@ -69,7 +69,9 @@ fn step_loop(
     }
     for step in 1..=steps {
         let t = Instant::now();
-        sim.step().map_err(|e| e.to_string()).map_err(|e| format!("step {step}: {e}"))?;
+        sim.step()
+            .map_err(|e| e.to_string())
+            .map_err(|e| format!("step {step}: {e}"))?;
         times.push(t.elapsed().as_secs_f64());
         if let Some(k) = every {
             if is_frame(step, steps, k) {
@@ -132,8 +134,7 @@ fn run_and_report(
     let settings = sim.space.settings();
     println!(
         "{label}: {bodies} bodies ({dynamic} dynamic), {steps} steps of dt = {}, {} iterations",
-        sim.dt,
-        settings.iterations
+        sim.dt, settings.iterations
     );
     // One view for every picture of the run, fitted to the first frame.
     let view = View::fit(&sim.space);

@@ -5,8 +5,8 @@ use std::path::Path;
 
 use fixed::types::I32F32;
 use tamias2d::real;
-use tamias2d_scenes::{self as scenes, BodyDesc, BodyKind, SceneDesc, ScriptedWorld, ShapeDesc};
 use tamias2d::{Real, Vect};
+use tamias2d_scenes::{self as scenes, BodyDesc, BodyKind, SceneDesc, ScriptedWorld, ShapeDesc};
 
 /// Name of the CLI's own scene, what `tamias` with no arguments runs.
 pub const SHOWCASE: &str = "showcase";

@@ -24,8 +24,8 @@
 pub mod measure;
 pub mod rapier_world;
 
-use tamias2d::math::Real;
 use crate::{self as scenes, SceneDesc, Section};
+use tamias2d::math::Real;
 
 #[allow(unused_imports)] // each user takes a different part
 pub use measure::{BodyState, Engine, Penetration, TamiasRun};

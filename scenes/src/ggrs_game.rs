@@ -21,13 +21,13 @@
 use std::net::SocketAddr;
 use std::time::{Duration, Instant};
 
+use crate::{self as scenes, rng::SplitMix64, BodyDesc, BodyKind, ShapeDesc};
 use ggrs::{
     DesyncDetection, GgrsError, GgrsEvent, GgrsRequest, InputStatus, PlayerType, PredictRepeatLast,
     SessionState, UdpNonBlockingSocket,
 };
 use tamias2d::body::BodyHandle;
 use tamias2d::replay::{self, Input};
-use crate::{self as scenes, rng::SplitMix64, BodyDesc, BodyKind, ShapeDesc};
 use tamias2d::space::{Space, WorldState};
 use tamias2d::{real, Real, Vect};
 
@@ -77,6 +77,12 @@ pub struct Game {
     /// count) nudges player 0: state outside the snapshot feeds the
     /// simulation, the classic desync, to show that the checks catch it.
     pub sabotage: bool,
+}
+
+impl Default for Game {
+    fn default() -> Game {
+        Game::new()
+    }
 }
 
 impl Game {

@@ -62,11 +62,9 @@ pub mod stacking;
 pub mod terrain;
 mod world;
 
-pub use world::{BodyPath, LoadError, SceneError, ScriptedWorld};
-pub use registry::{builtin, find, Golden, SceneInfo, Section, REGISTRY};
 pub use desc::{
     BodyDesc, BodyKind, CounterDesc, ForceDesc, GeometryDesc, MassDesc, Neighbors, SceneDesc,
     SettingsDesc, ShapeDesc, ShapeMassDesc, SpawnDesc,
 };
-
-
+pub use registry::{builtin, find, Golden, SceneInfo, Section, REGISTRY};
+pub use world::{BodyPath, LoadError, SceneError, ScriptedWorld};

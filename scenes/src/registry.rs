@@ -255,8 +255,16 @@ mod tests {
                 Some(small) => {
                     assert!(s.golden.is_none(), "{}: covered and golden", s.name);
                     let small = find(small).unwrap_or_else(|| panic!("{small} not registered"));
-                    assert!(small.covered_by.is_none(), "{}: covered by a covered scene", s.name);
-                    assert_eq!(small.section, s.section, "{}: covered across sections", s.name);
+                    assert!(
+                        small.covered_by.is_none(),
+                        "{}: covered by a covered scene",
+                        s.name
+                    );
+                    assert_eq!(
+                        small.section, s.section,
+                        "{}: covered across sections",
+                        s.name
+                    );
                 }
             }
             if s.miri_golden.is_some() {
@@ -270,7 +278,9 @@ mod tests {
     #[cfg_attr(miri, ignore = "builds every description, the large ones too")]
     fn sizes_and_steps_are_the_descriptions() {
         for s in REGISTRY {
-            let d = s.desc().unwrap_or_else(|| panic!("{} does not describe", s.name));
+            let d = s
+                .desc()
+                .unwrap_or_else(|| panic!("{} does not describe", s.name));
             assert_eq!(d.name, s.name);
             assert_eq!(d.total_bodies(), s.bodies as usize, "{}: bodies", s.name);
             assert_eq!(d.steps, s.steps, "{}: steps", s.name);

@@ -94,7 +94,11 @@ fn print_table(what: &str, table: &[(&str, Golden)]) {
     for &(name, g) in table {
         let t = std::time::Instant::now();
         let sum = checksum_after(name, g.steps);
-        println!("    {name}: golden({}, {sum:#018x}), // {:?}", g.steps, t.elapsed());
+        println!(
+            "    {name}: golden({}, {sum:#018x}), // {:?}",
+            g.steps,
+            t.elapsed()
+        );
     }
 }
 
@@ -102,7 +106,14 @@ fn print_table(what: &str, table: &[(&str, Golden)]) {
 fn golden_checksums_match_the_committed_values() {
     let table = goldens();
     if std::env::var_os("TAMIAS_PRINT_GOLDENS").is_some() {
-        print_table(if cfg!(miri) { "Miri goldens" } else { "goldens" }, &table);
+        print_table(
+            if cfg!(miri) {
+                "Miri goldens"
+            } else {
+                "goldens"
+            },
+            &table,
+        );
     }
     assert!(!table.is_empty(), "no golden to check");
     let mut wrong = Vec::new();

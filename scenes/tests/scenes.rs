@@ -4,14 +4,14 @@
 //! builds stay fast), and bad descriptions are errors, never panics.
 use serde::{Deserialize, Serialize};
 use tamias2d::real;
-use tamias2d_scenes::rng::{SplitMix64, SEED};
-use tamias2d_scenes::{
-    self as scenes, accuracy, stacking, terrain, BodyDesc, BodyKind, BodyPath, ForceDesc, GeometryDesc,
-    MassDesc, SceneDesc, SceneError, ShapeDesc,
-};
 use tamias2d::shape::ShapeError;
 use tamias2d::space::SpaceError;
 use tamias2d::{Real, Vect};
+use tamias2d_scenes::rng::{SplitMix64, SEED};
+use tamias2d_scenes::{
+    self as scenes, accuracy, stacking, terrain, BodyDesc, BodyKind, BodyPath, ForceDesc,
+    GeometryDesc, MassDesc, SceneDesc, SceneError, ShapeDesc,
+};
 
 /// `(initial bodies, bodies once every spawn is out)` as `scenes/README.md`
 /// implies for each registry name.

@@ -11,11 +11,12 @@
 
 use tamias2d::body::BodyHandle;
 use tamias2d::real;
-use tamias2d_scenes::{
-    self as scenes, BodyDesc, BodyKind, ScriptedWorld, SceneDesc, SceneError, SettingsDesc, ShapeDesc,
-};
 use tamias2d::space::Space;
 use tamias2d::{Real, Vect};
+use tamias2d_scenes::{
+    self as scenes, BodyDesc, BodyKind, SceneDesc, SceneError, ScriptedWorld, SettingsDesc,
+    ShapeDesc,
+};
 
 /// Chipmunk's default collision slop (m), used by every scene here unless
 /// scaled.

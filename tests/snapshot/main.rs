@@ -11,11 +11,11 @@ use std::sync::OnceLock;
 
 use proptest::prelude::*;
 use tamias2d::body::{Body, BodyHandle};
-use tamias2d_scenes::{self as scenes, ScriptedWorld};
 use tamias2d::shape::Shape;
 use tamias2d::snapshot::{self, SnapshotError, Subject, FORMAT_VERSION, HEADER_LEN, MAGIC};
 use tamias2d::space::{ShapeHandle, Space, WorldState};
 use tamias2d::{Real, Transform, Vect};
+use tamias2d_scenes::{self as scenes, ScriptedWorld};
 
 fn build(name: &str) -> ScriptedWorld {
     scenes::builtin(name)

@@ -14,9 +14,9 @@
 //!
 //! Both counts leave out pairs that do not overlap (Rapier's speculative
 //! contacts, our cached arbiters).
+use crate::{SceneDesc, ScriptedWorld};
 use tamias2d::arbiter::ArbiterState;
 use tamias2d::body::BodyType;
-use crate::{ScriptedWorld, SceneDesc};
 
 use crate::bench::Config;
 

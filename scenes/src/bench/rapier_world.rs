@@ -30,11 +30,11 @@
 //! bodies against fixed ones). Collision slop and bias have no Rapier
 //! counterpart and are not mapped; damping is mapped to Rapier's linear and
 //! angular damping (`−ln damping`), though every built-in scene has none.
-use rapier2d::prelude::*;
-use tamias2d::math::Vect;
 use crate::{
     BodyDesc, BodyKind, GeometryDesc, MassDesc, SceneDesc, ShapeDesc, ShapeMassDesc, SpawnDesc,
 };
+use rapier2d::prelude::*;
+use tamias2d::math::Vect;
 use tamias2d::shape::ShapeFilter;
 
 use crate::bench::measure::{BodyState, Engine, Penetration};

@@ -190,7 +190,11 @@ impl ScriptedWorld {
         out.extend_from_slice(&MAGIC);
         out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
         out.extend_from_slice(&[0; 8]);
-        out.extend_from_slice(&u64::try_from(snapshot.len()).unwrap_or(u64::MAX).to_le_bytes());
+        out.extend_from_slice(
+            &u64::try_from(snapshot.len())
+                .unwrap_or(u64::MAX)
+                .to_le_bytes(),
+        );
         out.extend_from_slice(&snapshot);
         out.extend_from_slice(&script);
         let digest = checksum_of(out.get(HEADER_LEN..).unwrap_or(&[]));
@@ -349,7 +353,9 @@ fn check_script(space: &Space, script: &ScriptWire) -> Result<(), LoadError> {
         .windows(2)
         .any(|w| matches!(w, [a, b] if a.at_step > b.at_step))
     {
-        return Err(LoadError::Invalid("spawns are not in step order".to_owned()));
+        return Err(LoadError::Invalid(
+            "spawns are not in step order".to_owned(),
+        ));
     }
     for (s, spawn) in script.spawns.iter().enumerate() {
         let mut scratch = Space::new();
