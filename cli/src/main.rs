@@ -47,9 +47,9 @@ enum Command {
     List,
     /// Runs a scene headless: prints timing and the final checksum.
     Run(RunArgs),
-    /// ScriptedWorld files.
+    /// Scene files.
     #[command(subcommand)]
-    ScriptedWorld(SceneCommand),
+    Scene(SceneCommand),
     /// Save a world after N steps; continue from the file.
     #[command(subcommand)]
     Snapshot(SnapshotCommand),
@@ -210,7 +210,7 @@ fn main() -> ExitCode {
             Ok(())
         }
         Some(Command::Run(args)) => run::run(&args),
-        Some(Command::ScriptedWorld(SceneCommand::Dump { scene, output })) => {
+        Some(Command::Scene(SceneCommand::Dump { scene, output })) => {
             files::scene_dump(&scene, output.as_deref())
         }
         Some(Command::Snapshot(SnapshotCommand::Save {

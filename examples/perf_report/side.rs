@@ -27,14 +27,14 @@ pub struct EngineResult {
     pub energy_drift: Option<f64>,
     /// Dynamic bodies outside the container at the end.
     pub escaped: usize,
-    /// ScriptedWorld-specific errors at the end ([`measures::errors`]).
+    /// Scene-specific errors at the end ([`measures::errors`]).
     pub errors: Vec<f64>,
 }
 
 /// One scene of the side-by-side table.
 #[derive(Clone, Debug)]
 pub struct SideRow {
-    /// ScriptedWorld name.
+    /// Scene name.
     pub name: String,
     /// Bodies at the end (static ones included).
     pub bodies: usize,
