@@ -1,6 +1,6 @@
-//! Tamias2D beside Rapier2D on the standard scenes (BENCH_SCENES.md A and B).
+//! Tamias2D beside Rapier2D on the standard scenes (scenes/README.md A and B).
 //!
-//! Both engines are built from the *same* [`SceneDesc`](tamias2d::scenes::SceneDesc)
+//! Both engines are built from the *same* [`SceneDesc`](tamias2d_scenes::SceneDesc)
 //! (the converter is `common::rapier_world`): same bodies, shapes,
 //! materials (product combine rule), gravity, `dt` and 10 solver iterations;
 //! scripted forces and spawns replayed the same way. Each scene is warmed up
@@ -20,7 +20,7 @@
 //! compare ratios, not absolute times across runs.
 #![allow(clippy::float_arithmetic)] // timing report only
 
-mod common;
+use tamias2d_scenes::bench as common;
 
 use std::cell::RefCell;
 use std::hint::black_box;
@@ -81,15 +81,14 @@ fn main() {
         .measurement_time(Duration::from_millis(if quick { 600 } else { 3000 }))
         .configure_from_args();
 
-    let mut names: Vec<&str> = common::CI_SCENES.to_vec();
+    let mut names: Vec<&str> = common::ci_scenes();
     if !quick && !test_mode {
-        names.extend_from_slice(common::FULL_SCENES);
+        names.extend(common::full_scenes());
     }
     if let Some(only) = &only {
-        let known: Vec<&str> = common::CI_SCENES
-            .iter()
-            .chain(common::FULL_SCENES)
-            .copied()
+        let known: Vec<&str> = common::ci_scenes()
+            .into_iter()
+            .chain(common::full_scenes())
             .collect();
         names = known
             .into_iter()

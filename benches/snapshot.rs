@@ -10,17 +10,17 @@
 //! largest body speed (a resting pile has small speeds), and the sizes of
 //! the circle and hexagon piles for comparison.
 //!
-//! Targets (DESIGN §5, not enforced): ≤ 300 bytes per body in a resting
+//! Targets (not enforced): ≤ 300 bytes per body in a resting
 //! pile; per 1,000 bodies save ≤ 0.1 ms, load ≤ 0.2 ms, checksum ≤ 0.02 ms;
 //! 8-frame rollback of the 500-box pile ≤ 4 ms.
 use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use tamias2d::scenes;
 use tamias2d::snapshot;
 use tamias2d::space::Space;
 use tamias2d::Real;
+use tamias2d_scenes as scenes;
 
 /// A built-in scene stepped `warmup` times, with its time step.
 fn resting(name: &str, warmup: u32) -> (Space, Real) {

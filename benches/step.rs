@@ -1,8 +1,8 @@
-//! Whole-step benchmarks on the standard scenes (BENCH_SCENES.md).
+//! Whole-step benchmarks on the standard scenes (scenes/README.md).
 //!
 //! * `broadphase`, `stacking`: each scene is built, warmed up for a number
 //!   of steps (so piles have formed and warm starting is in effect), and
-//!   then one `Scene::step` is measured: the real code path, scripted events
+//!   then one `ScriptedWorld::step` is measured: the real code path, scripted events
 //!   included. The broadphase group also prints the candidate-pair count per
 //!   body, which must stay about constant as the body count grows (no
 //!   quadratic broadphase).
@@ -29,7 +29,7 @@
 //! ```
 #![allow(clippy::float_arithmetic)] // timing report only
 
-mod common;
+use tamias2d_scenes::bench as common;
 
 use std::cell::RefCell;
 use std::hint::black_box;
@@ -38,10 +38,10 @@ use std::time::{Duration, Instant};
 
 use common::median;
 use criterion::Criterion;
-use tamias2d::scenes;
 use tamias2d::space::{Settings, WorldState};
+use tamias2d_scenes as scenes;
 
-fn warmed(name: &str, warmup: u32) -> scenes::Scene {
+fn warmed(name: &str, warmup: u32) -> scenes::ScriptedWorld {
     let desc = scenes::builtin(name).unwrap_or_else(|| panic!("scene {name} is listed"));
     let mut scene = desc
         .build()
@@ -111,7 +111,7 @@ type Row = (&'static str, &'static str, f64);
 /// A warmed scene and the state every measured step of it starts from.
 struct SwitchScene {
     name: &'static str,
-    scene: scenes::Scene,
+    scene: scenes::ScriptedWorld,
     warm: WorldState,
 }
 

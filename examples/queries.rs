@@ -9,9 +9,9 @@
 use tamias2d::body::BodyType;
 use tamias2d::math::{Real, Vect, BB};
 use tamias2d::real;
-use tamias2d::scenes;
 use tamias2d::shape::{Circle, Geometry, ShapeFilter};
 use tamias2d::space::{ShapeHandle, Space};
+use tamias2d_scenes as scenes;
 
 /// Where a shape's body is, for printing.
 fn describe(space: &Space, h: ShapeHandle) -> String {

@@ -14,7 +14,7 @@
 //! ```
 #![allow(clippy::float_arithmetic)] // timing report only
 
-mod ggrs_game;
+use tamias2d_scenes::ggrs_game;
 
 use std::process::ExitCode;
 use std::time::{Duration, Instant};

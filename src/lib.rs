@@ -35,7 +35,6 @@ pub mod collision;
 pub mod debug_draw;
 pub mod math;
 pub mod replay;
-pub mod scenes;
 pub mod shape;
 pub mod snapshot;
 #[doc(hidden)]

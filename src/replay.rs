@@ -1,5 +1,6 @@
-//! Replays: record a run (start, inputs, per-frame checksums) and verify it
-//! frame by frame.
+//! Replays: record a run a game drives (start, `dt`, inputs, per-frame
+//! checksums, a digest of the input log) and verify it frame by frame by
+//! re-running the game's own step.
 //!
 //! A lockstep or rollback game is a pure function of its start and its
 //! inputs. A [`Replay`] stores exactly that, plus the checksum of the world
@@ -8,42 +9,74 @@
 //! it. Optionally it also stores a digest of every body on every `K`-th
 //! frame, so a divergence names the first body that differs.
 //!
-//! ```
-//! use tamias2d::replay::{Input, Recorder, Replay, Start};
-//! use tamias2d::Vect;
+//! The game owns its world and drives it: it attaches its collision
+//! handlers, sensors and one-way platforms, applies its inputs and steps;
+//! the [`Recorder`] only looks at the world after each frame. To verify, the
+//! game builds its world again (handlers included) and hands it to
+//! [`Replay::verify_with`] together with its own step function; the replay
+//! rolls that world back to the recorded start (in place, so the handlers
+//! stay) and re-runs every frame through that function.
 //!
-//! let start = Start::builtin("elastic_pair").expect("listed scene");
-//! let mut rec = Recorder::new(start)?.with_body_digests(1);
-//! let ball = rec.body("b").expect("labelled body");
+//! ```
+//! use tamias2d::body::Body;
+//! use tamias2d::replay::{apply_inputs, Input, Recorder, Replay};
+//! use tamias2d::shape::Shape;
+//! use tamias2d::space::Space;
+//! use tamias2d::{Real, Vect};
+//!
+//! // The game's world and its step function.
+//! let mut space = Space::new();
+//! let ball = space.add_body(Body::new(Real::ONE, Real::ONE)?)?;
+//! space.add_shape(Shape::circle_shape_new(ball, Real::HALF, Vect::ZERO)?)?;
+//! let dt = Real::ratio(1, 60);
+//! let game_step = |space: &mut Space, inputs: &[Input]| {
+//!     apply_inputs(space, inputs)?;
+//!     space.step(dt)
+//! };
+//!
+//! let mut rec = Recorder::new(&space, dt).with_body_digests(1);
 //! for frame in 0..30 {
 //!     let push = Input::Force { body: ball, force: Vect::from_ints(0, 5) };
 //!     let inputs = if frame == 10 { vec![push] } else { vec![] };
-//!     rec.record_frame(&inputs)?;
+//!     game_step(&mut space, &inputs)?;
+//!     rec.record_frame(&space, &inputs)?;
 //! }
 //! let bytes = rec.finish().to_bytes();
-//! let report = Replay::from_bytes(&bytes)?.verify()?;
+//!
+//! // Elsewhere: the game builds its world again and re-runs its step.
+//! let mut again = Space::new();
+//! let report = Replay::from_bytes(&bytes)?.verify_with(&mut again, game_step)?;
 //! assert_eq!(report.frames, 30);
-//! # Ok::<(), tamias2d::replay::ReplayError>(())
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
 //! # Frames
-//! Frame `f` (0-based) takes the world after `f` steps, applies
-//! `frames[f].inputs` in order, steps once and records the checksum
-//! ([`Space::checksum`]) of the result. A scene start steps with
-//! [`Scene::step`] (its scripted forces and spawns run, as in a plain run of
-//! the scene); a snapshot start steps the space by the replay's `dt`.
+//! Frame `f` (0-based) takes the world after `f` frames, runs the game's
+//! step with `frames[f].inputs`, and records the checksum
+//! ([`Space::checksum`]) of the result. [`Replay::verify`] re-runs a plain
+//! space with the default step ([`apply_inputs`], then [`Space::step`] by the
+//! replay's `dt`); [`Replay::verify_with`] with the game's step function on
+//! the game's space; [`Replay::verify_on`] with any [`Simulation`] (a world
+//! type that keeps state beside its space, such as a scripted scene, whose
+//! start then holds that state too).
 //!
-//! # Inputs
+//! # Inputs and the input log
 //! [`Input`] is a small closed set of what a game does to bodies between
 //! steps (impulse, force, torque, velocity, angular velocity). A body is
 //! named by slot and generation only (a handle's origin tag is not
 //! recorded), so the handles of the recording world work in the verifying
 //! one. **An input naming a body that does not exist is an error**
-//! ([`ReplayError::MissingBody`]), both when recording (the frame is then
-//! not recorded and the world is unchanged: all inputs are checked before
-//! any is applied) and when verifying. Silently ignoring it would let a
-//! game bug (an input for a removed body) hide in a replay that still
-//! "verifies".
+//! ([`apply_inputs`] returns it before applying anything; the default step
+//! reports it as [`ReplayError::Step`]).
+//!
+//! Every frame also stores the digest of the input log up to and including
+//! it (a chain: the previous frame's digest and this frame's inputs), and
+//! the replay stores the digest of the whole log. Verification checks the
+//! chain before re-running anything, so an input changed after recording is
+//! reported at its frame ([`ReplayError::InputMismatch`]) even when it does
+//! not change the world (a force on a static body, a velocity set to the
+//! value it had). The digests detect damage and careless edits, not a
+//! forger who recomputes them.
 //!
 //! # File format (version [`FORMAT_VERSION`])
 //! ```text
@@ -53,20 +86,19 @@
 //!     12     8  digest of the payload bytes (checksum::checksum_of), u64 LE
 //!     20     …  payload: bincode 2 (serde), standard config with fixed-int
 //!               encoding, limit MAX_REPLAY_BYTES:
-//!               (start, initial checksum, frames)
+//!               (start, dt, initial checksum, input-log digest, frames)
 //! ```
-//! `start` is one of: a built-in scene name with its `dt`; a whole
-//! [`SceneDesc`] (in a bincode-friendly mirror, every `Real` as raw bits);
-//! or snapshot bytes ([`crate::snapshot`] format) with a `dt`. Each frame is
-//! its inputs, its checksum and optionally `(body handle, digest)` pairs in
-//! slot order. The payload must end exactly at the end of the bytes.
-//! Malformed bytes are an error, never a panic: short or foreign header,
-//! unknown version, a payload digest that does not match (corruption is
-//! reported as such, not as a divergence), bytes that do not decode,
-//! trailing bytes.
+//! `start` is the start world's snapshot as its [`Simulation::save`] wrote it
+//! ([`snapshot`] bytes for a plain [`Space`]). Each frame is its inputs, its
+//! input-log digest, its checksum and optionally `(body handle, digest)`
+//! pairs in slot order. The payload must end exactly at the end of the
+//! bytes. Malformed bytes are an error, never a panic: short or foreign
+//! header, unknown version, a payload digest that does not match
+//! (corruption is reported as such, not as a divergence), bytes that do not
+//! decode, trailing bytes.
 //!
 //! # What a divergence reports
-//! [`Replay::verify`] stops at the first frame whose checksum differs and
+//! The verification stops at the first frame whose checksum differs and
 //! returns [`ReplayError::Diverged`] with the frame, both checksums and,
 //! when that frame carries body digests, the first body (in slot order)
 //! whose digest differs or that exists on one side only. A frame without
@@ -83,21 +115,16 @@ use serde::{Deserialize, Serialize};
 use crate::body::BodyHandle;
 use crate::checksum::checksum_of;
 use crate::math::{Real, Vect};
-use crate::scenes::{self, Scene, SceneDesc, SceneError};
 use crate::snapshot::{self, SnapshotError};
 use crate::space::{Space, SpaceError};
-
-mod desc_wire;
-
-use desc_wire::WireScene;
 
 /// First bytes of every replay.
 pub const MAGIC: [u8; 8] = *b"TAMIASRP";
 
 /// Version of the replay byte layout (bumped whenever it changes).
-/// Version 2: the scene settings gained `substeps` and the solver switches,
-/// and embedded snapshots are snapshot format 2.
-pub const FORMAT_VERSION: u32 = 2;
+/// Version 3: the start is the world's snapshot (no scene start), with the
+/// replay's `dt`; the input log is digested, per frame and as a whole.
+pub const FORMAT_VERSION: u32 = 3;
 
 /// Bytes before the payload: magic, version, payload digest.
 pub const HEADER_LEN: usize = 20;
@@ -111,6 +138,9 @@ type Config = Configuration<LittleEndian, Fixint, Limit<MAX_REPLAY_BYTES>>;
 const CONFIG: Config = bincode::config::standard()
     .with_fixed_int_encoding()
     .with_limit::<MAX_REPLAY_BYTES>();
+
+/// An error of a game's step function or of a world's restore.
+pub type BoxError = Box<dyn std::error::Error + Send + Sync>;
 
 /// One thing a game does to a body before a step.
 ///
@@ -230,105 +260,79 @@ pub fn apply_inputs(space: &mut Space, inputs: &[Input]) -> Result<(), SpaceErro
     Ok(())
 }
 
-/// Where a replay starts.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Start {
-    /// A built-in scene ([`scenes::builtin`]) stepped by `dt` (recorded, so a
-    /// later change of the scene's default step does not break old replays).
-    Builtin {
-        /// Registry name.
-        name: String,
-        /// Time step.
-        dt: Real,
-    },
-    /// A scene description, stepped by its own `dt`.
-    Scene(Box<SceneDesc>),
-    /// A snapshot ([`snapshot::save`] bytes), stepped by `dt`.
-    Snapshot {
-        /// The snapshot.
-        bytes: Vec<u8>,
-        /// Time step.
-        dt: Real,
-    },
+/// A world a replay can record and re-run: the engine's [`Space`] plus
+/// whatever the game keeps beside it that affects future steps.
+///
+/// [`Space`] itself is one (its step is the default: [`apply_inputs`], then
+/// [`Space::step`]); a game with state beside its space (a script, a
+/// spawner, a score that changes forces) implements it for its own world
+/// type, so that the replay's start holds that state too.
+pub trait Simulation {
+    /// The world's space (its checksum is what each frame records).
+    fn space(&self) -> &Space;
+    /// The world's snapshot: the replay's start. For a plain space,
+    /// [`snapshot::save`] bytes.
+    fn save(&self) -> Vec<u8>;
+    /// Rolls the world back to `start` (bytes from [`Simulation::save`]),
+    /// keeping what the game attached (handlers, callbacks). On error the
+    /// world may be left as it was; nothing is stepped.
+    fn restore(&mut self, start: &[u8]) -> Result<(), BoxError>;
+    /// One frame: the inputs, then the step by `dt`.
+    fn advance(&mut self, dt: Real, inputs: &[Input]) -> Result<(), BoxError>;
 }
 
-impl Start {
-    /// The built-in scene `name` with its own time step, or `None` if there
-    /// is no such scene.
-    pub fn builtin(name: &str) -> Option<Start> {
-        let desc = scenes::builtin(name)?;
-        Some(Start::Builtin {
-            name: name.to_owned(),
-            dt: desc.dt,
-        })
-    }
-
-    /// The time step of every frame.
-    pub fn dt(&self) -> Real {
-        match self {
-            Start::Builtin { dt, .. } | Start::Snapshot { dt, .. } => *dt,
-            Start::Scene(desc) => desc.dt,
-        }
-    }
-
-    /// The world at frame 0.
-    fn build(&self) -> Result<Sim, ReplayError> {
-        let scene = |desc: &SceneDesc, dt: Real| -> Result<Sim, ReplayError> {
-            let mut scene = desc.build().map_err(ReplayError::Scene)?;
-            scene.dt = dt;
-            Ok(Sim::Scene(scene))
-        };
-        if !self.dt().is_positive() {
-            return Err(ReplayError::Scene(SceneError::TimeStep));
-        }
-        match self {
-            Start::Builtin { name, dt } => {
-                let desc =
-                    scenes::builtin(name).ok_or_else(|| ReplayError::UnknownScene(name.clone()))?;
-                scene(&desc, *dt)
-            }
-            Start::Scene(desc) => scene(desc, desc.dt),
-            Start::Snapshot { bytes, dt } => {
-                let space = snapshot::load(bytes).map_err(ReplayError::Snapshot)?;
-                Ok(Sim::Space { space, dt: *dt })
-            }
-        }
-    }
-}
-
-/// The running world of a recording or a verification.
-enum Sim {
-    Scene(Scene),
-    Space { space: Space, dt: Real },
-}
-
-impl Sim {
+impl Simulation for Space {
     fn space(&self) -> &Space {
-        match self {
-            Sim::Scene(scene) => &scene.space,
-            Sim::Space { space, .. } => space,
-        }
+        self
     }
 
-    /// One frame: inputs, then the step. `frame` only labels errors.
-    fn advance(&mut self, frame: u32, inputs: &[Input]) -> Result<(), ReplayError> {
-        let space = match self {
-            Sim::Scene(scene) => &mut scene.space,
-            Sim::Space { space, .. } => space,
-        };
-        apply_inputs(space, inputs).map_err(|e| match e {
-            SpaceError::StaleBody(body) => ReplayError::MissingBody { frame, body },
-            other => ReplayError::Step {
-                frame,
-                error: SceneError::Step(other),
-            },
-        })?;
-        let stepped = match self {
-            Sim::Scene(scene) => scene.step(),
-            Sim::Space { space, dt } => space.step(*dt).map_err(SceneError::Step),
-        };
-        stepped.map_err(|error| ReplayError::Step { frame, error })
+    fn save(&self) -> Vec<u8> {
+        snapshot::save(self)
     }
+
+    fn restore(&mut self, start: &[u8]) -> Result<(), BoxError> {
+        self.load_snapshot(start).map_err(BoxError::from)
+    }
+
+    fn advance(&mut self, dt: Real, inputs: &[Input]) -> Result<(), BoxError> {
+        apply_inputs(self, inputs)?;
+        self.step(dt).map_err(BoxError::from)
+    }
+}
+
+/// A space driven by the game's own step function (what
+/// [`Replay::verify_with`] re-runs).
+struct GameStep<'a, F> {
+    space: &'a mut Space,
+    step: F,
+}
+
+impl<F, E> Simulation for GameStep<'_, F>
+where
+    F: FnMut(&mut Space, &[Input]) -> Result<(), E>,
+    E: Into<BoxError>,
+{
+    fn space(&self) -> &Space {
+        self.space
+    }
+
+    fn save(&self) -> Vec<u8> {
+        snapshot::save(self.space)
+    }
+
+    fn restore(&mut self, start: &[u8]) -> Result<(), BoxError> {
+        self.space.load_snapshot(start).map_err(BoxError::from)
+    }
+
+    fn advance(&mut self, _dt: Real, inputs: &[Input]) -> Result<(), BoxError> {
+        (self.step)(self.space, inputs).map_err(Into::into)
+    }
+}
+
+/// The input-log digest after a frame with `inputs`, given the digest
+/// before it (`0` before the first frame).
+fn chain_digest(previous: u64, inputs: &[Input]) -> u64 {
+    checksum_of(&(previous, inputs))
 }
 
 /// Digest of every body, in slot order: the body entries of
@@ -374,6 +378,8 @@ fn first_body_mismatch(
 pub struct Frame {
     /// Inputs applied before the step, in order.
     pub inputs: Vec<Input>,
+    /// Digest of the input log up to and including this frame.
+    pub input_digest: u64,
     /// [`Space::checksum`] after the step.
     pub checksum: u64,
     /// `(body, digest)` of every body after the step, in slot order, on
@@ -383,12 +389,17 @@ pub struct Frame {
 
 /// A recorded run: plain data, editable (tests tamper with it), checked
 /// when verified.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Replay {
-    /// Where the run starts.
-    pub start: Start,
+    /// The start world's snapshot ([`Simulation::save`]).
+    pub start: Vec<u8>,
+    /// Time step of every frame.
+    pub dt: Real,
     /// [`Space::checksum`] of the start, before any frame.
     pub initial_checksum: u64,
+    /// Digest of the whole input log (the last frame's
+    /// [`Frame::input_digest`], `0` for no frame).
+    pub input_digest: u64,
     /// The frames, in order.
     pub frames: Vec<Frame>,
 }
@@ -423,32 +434,40 @@ pub enum ReplayError {
     },
     /// The payload does not decode (or has trailing bytes).
     Decode(String),
-    /// The start names a built-in scene that does not exist.
-    UnknownScene(String),
-    /// The start scene does not build, or its `dt` is not positive.
-    Scene(SceneError),
-    /// The start snapshot does not load.
-    Snapshot(SnapshotError),
-    /// The start does not build to the recorded world.
+    /// `dt` is not positive.
+    TimeStep,
+    /// The start does not restore (for a plain space: the snapshot does not
+    /// load).
+    Start(BoxError),
+    /// The start restores to another world than recorded.
     StartMismatch {
         /// Recorded checksum.
         expected: u64,
-        /// Checksum of the world built now.
+        /// Checksum of the world restored now.
         actual: u64,
     },
-    /// An input of `frame` names a body the world does not have.
-    MissingBody {
-        /// Frame of the input.
+    /// The inputs of `frame` are not the ones recorded: the input log's
+    /// digest differs from that frame on (the first such frame).
+    InputMismatch {
+        /// First frame whose input-log digest differs.
         frame: u32,
-        /// The body named.
-        body: BodyHandle,
     },
-    /// The step of `frame` failed.
+    /// The frames' inputs all match their digests but the whole log's
+    /// digest does not (frames removed or added at the end).
+    InputLog {
+        /// Recorded digest of the whole log.
+        expected: u64,
+        /// Digest of the frames present.
+        actual: u64,
+    },
+    /// The step of `frame` failed (for the default step: an input names a
+    /// missing body, [`SpaceError::StaleBody`], or the space rejected the
+    /// step).
     Step {
         /// The frame.
         frame: u32,
         /// Why.
-        error: SceneError,
+        error: BoxError,
     },
     /// Frame `frame` ends in a different world than recorded.
     Diverged {
@@ -462,7 +481,7 @@ pub enum ReplayError {
         /// Checksum computed now.
         actual: u64,
     },
-    /// More than `u32::MAX` frames.
+    /// More than `u32::MAX - 1` frames.
     TooManyFrames,
 }
 
@@ -483,16 +502,23 @@ impl fmt::Display for ReplayError {
                 "replay is corrupted: header digest {stored:#018x}, payload digest {computed:#018x}"
             ),
             ReplayError::Decode(e) => write!(f, "replay does not decode: {e}"),
-            ReplayError::UnknownScene(name) => write!(f, "unknown built-in scene {name:?}"),
-            ReplayError::Scene(e) => write!(f, "start scene: {e}"),
-            ReplayError::Snapshot(e) => write!(f, "start snapshot: {e}"),
+            ReplayError::TimeStep => f.write_str("replay time step must be > 0"),
+            ReplayError::Start(e) => write!(f, "start: {e}"),
             ReplayError::StartMismatch { expected, actual } => write!(
                 f,
-                "start differs: recorded checksum {expected:#018x}, built {actual:#018x}"
+                "start differs: recorded checksum {expected:#018x}, restored {actual:#018x}"
             ),
-            ReplayError::MissingBody { frame, body } => {
-                write!(f, "frame {frame}: input names missing body {body:?}")
+            ReplayError::InputMismatch { frame } => {
+                write!(
+                    f,
+                    "frame {frame}: inputs differ from the recorded input log"
+                )
             }
+            ReplayError::InputLog { expected, actual } => write!(
+                f,
+                "input log differs (frames removed or added): recorded digest {expected:#018x}, \
+                 got {actual:#018x}"
+            ),
             ReplayError::Step { frame, error } => write!(f, "frame {frame}: {error}"),
             ReplayError::Diverged {
                 frame,
@@ -518,45 +544,40 @@ impl std::error::Error for ReplayError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             ReplayError::Io(e) => Some(e),
-            ReplayError::Scene(e) | ReplayError::Step { error: e, .. } => Some(e),
-            ReplayError::Snapshot(e) => Some(e),
+            ReplayError::Start(e) | ReplayError::Step { error: e, .. } => Some(&**e),
             _ => None,
         }
     }
 }
 
-/// Records a run: owns the world, applies each frame's inputs, steps, and
-/// keeps inputs and checksums.
+impl From<SnapshotError> for ReplayError {
+    fn from(e: SnapshotError) -> ReplayError {
+        ReplayError::Start(Box::new(e))
+    }
+}
+
+/// Records a run the game drives: takes the start world's snapshot, then,
+/// after each frame the game stepped, its inputs and the world's checksum.
+#[derive(Debug)]
 pub struct Recorder {
-    sim: Sim,
     replay: Replay,
     digest_every: u32,
 }
 
-impl fmt::Debug for Recorder {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_struct("Recorder")
-            .field("frames", &self.replay.frames.len())
-            .field("digest_every", &self.digest_every)
-            .finish_non_exhaustive()
-    }
-}
-
 impl Recorder {
-    /// Builds the start world (errors as [`Replay::verify`] would report
-    /// them). Body digests are off; see [`Recorder::with_body_digests`].
-    pub fn new(start: Start) -> Result<Recorder, ReplayError> {
-        let sim = start.build()?;
-        let initial_checksum = sim.space().checksum();
-        Ok(Recorder {
-            sim,
+    /// Starts a recording of `world` as it is now, to be stepped by `dt`
+    /// every frame. Body digests are off; see [`Recorder::with_body_digests`].
+    pub fn new<W: Simulation + ?Sized>(world: &W, dt: Real) -> Recorder {
+        Recorder {
             replay: Replay {
-                start,
-                initial_checksum,
+                start: world.save(),
+                dt,
+                initial_checksum: world.space().checksum(),
+                input_digest: 0,
                 frames: Vec::new(),
             },
             digest_every: 0,
-        })
+        }
     }
 
     /// Records body digests on frames `0, every, 2·every, …` (`0`: never,
@@ -567,42 +588,33 @@ impl Recorder {
         self
     }
 
-    /// The world as it is now (after [`frames`](Recorder::frames) frames).
-    pub fn space(&self) -> &Space {
-        self.sim.space()
-    }
-
-    /// The handle of the start scene's body labelled `label` (`None` for a
-    /// snapshot start or an unknown label).
-    pub fn body(&self, label: &str) -> Option<BodyHandle> {
-        match &self.sim {
-            Sim::Scene(scene) => scene.body(label),
-            Sim::Space { .. } => None,
-        }
-    }
-
     /// Frames recorded so far.
     pub fn frames(&self) -> u32 {
         u32::try_from(self.replay.frames.len()).unwrap_or(u32::MAX)
     }
 
-    /// Applies `inputs`, steps, records the frame and returns its checksum.
-    /// On error nothing is recorded; a [`ReplayError::MissingBody`] also
-    /// leaves the world untouched.
-    pub fn record_frame(&mut self, inputs: &[Input]) -> Result<u64, ReplayError> {
+    /// Records one frame: `inputs` are what the game applied, `world` the
+    /// world after the game's step. Returns the frame's checksum.
+    pub fn record_frame<W: Simulation + ?Sized>(
+        &mut self,
+        world: &W,
+        inputs: &[Input],
+    ) -> Result<u64, ReplayError> {
         let frame =
             u32::try_from(self.replay.frames.len()).map_err(|_| ReplayError::TooManyFrames)?;
         if frame == u32::MAX {
             return Err(ReplayError::TooManyFrames);
         }
         let inputs: Vec<Input> = inputs.iter().map(|i| i.portable()).collect();
-        self.sim.advance(frame, &inputs)?;
-        let space = self.sim.space();
+        let input_digest = chain_digest(self.replay.input_digest, &inputs);
+        let space = world.space();
         let checksum = space.checksum();
         // `digest_every == 0` (no digests) has no remainder: `None`.
         let digests = frame.checked_rem(self.digest_every) == Some(0);
+        self.replay.input_digest = input_digest;
         self.replay.frames.push(Frame {
             inputs,
+            input_digest,
             checksum,
             bodies: digests.then(|| body_digests(space)),
         });
@@ -615,20 +627,61 @@ impl Recorder {
     }
 }
 
-/// The start as stored: scene descriptions in their bincode mirror.
-#[derive(Serialize, Deserialize)]
-enum WireStart {
-    Builtin { name: String, dt: Real },
-    Scene(WireScene),
-    Snapshot { bytes: Vec<u8>, dt: Real },
-}
-
 impl Replay {
-    /// Re-runs the replay from its start and checks the start and every
-    /// frame's checksum; the first difference is the error.
+    /// The first frame whose inputs do not match the recorded input log, or
+    /// a whole-log mismatch (see [`ReplayError::InputMismatch`] and
+    /// [`ReplayError::InputLog`]). Runs nothing.
+    pub fn check_inputs(&self) -> Result<(), ReplayError> {
+        let mut digest = 0;
+        for (frame, recorded) in self.frames.iter().enumerate() {
+            let frame = u32::try_from(frame).map_err(|_| ReplayError::TooManyFrames)?;
+            digest = chain_digest(digest, &recorded.inputs);
+            if digest != recorded.input_digest {
+                return Err(ReplayError::InputMismatch { frame });
+            }
+        }
+        if digest != self.input_digest {
+            return Err(ReplayError::InputLog {
+                expected: self.input_digest,
+                actual: digest,
+            });
+        }
+        Ok(())
+    }
+
+    /// Verifies on a new plain [`Space`] with the default step
+    /// ([`apply_inputs`], then [`Space::step`] by `dt`): for runs whose step
+    /// is exactly that (no handlers, no state beside the space).
     pub fn verify(&self) -> Result<VerifyReport, ReplayError> {
-        let mut sim = self.start.build()?;
-        let actual = sim.space().checksum();
+        self.verify_on(&mut Space::new())
+    }
+
+    /// Verifies by re-running the game's own step on the game's space:
+    /// `space` (with the game's handlers attached) is rolled back to the
+    /// start in place ([`Space::load_snapshot`]: handlers stay), then
+    /// `step(space, inputs)` runs every frame.
+    pub fn verify_with<F, E>(&self, space: &mut Space, step: F) -> Result<VerifyReport, ReplayError>
+    where
+        F: FnMut(&mut Space, &[Input]) -> Result<(), E>,
+        E: Into<BoxError>,
+    {
+        self.verify_on(&mut GameStep { space, step })
+    }
+
+    /// Verifies on any [`Simulation`]: checks the input log, restores
+    /// `world` to the start, checks its checksum, then advances it frame by
+    /// frame and checks every frame's checksum; the first difference is the
+    /// error.
+    pub fn verify_on<W: Simulation + ?Sized>(
+        &self,
+        world: &mut W,
+    ) -> Result<VerifyReport, ReplayError> {
+        if !self.dt.is_positive() {
+            return Err(ReplayError::TimeStep);
+        }
+        self.check_inputs()?;
+        world.restore(&self.start).map_err(ReplayError::Start)?;
+        let actual = world.space().checksum();
         if actual != self.initial_checksum {
             return Err(ReplayError::StartMismatch {
                 expected: self.initial_checksum,
@@ -639,13 +692,16 @@ impl Replay {
         let mut count = 0u32;
         for (frame, recorded) in self.frames.iter().enumerate() {
             let frame = u32::try_from(frame).map_err(|_| ReplayError::TooManyFrames)?;
-            sim.advance(frame, &recorded.inputs)?;
-            let actual = sim.space().checksum();
+            world
+                .advance(self.dt, &recorded.inputs)
+                .map_err(|error| ReplayError::Step { frame, error })?;
+            let space = world.space();
+            let actual = space.checksum();
             if actual != recorded.checksum {
                 let body = recorded
                     .bodies
                     .as_deref()
-                    .and_then(|expected| first_body_mismatch(expected, &body_digests(sim.space())));
+                    .and_then(|expected| first_body_mismatch(expected, &body_digests(space)));
                 return Err(ReplayError::Diverged {
                     frame,
                     body,
@@ -664,25 +720,13 @@ impl Replay {
 
     /// The replay as bytes (see the module docs for the format).
     pub fn to_bytes(&self) -> Vec<u8> {
-        let start = match &self.start {
-            Start::Builtin { name, dt } => WireStart::Builtin {
-                name: name.clone(),
-                dt: *dt,
-            },
-            Start::Scene(desc) => WireStart::Scene(WireScene::from(&**desc)),
-            Start::Snapshot { bytes, dt } => WireStart::Snapshot {
-                bytes: bytes.clone(),
-                dt: *dt,
-            },
-        };
         let mut out = Vec::new();
         out.extend_from_slice(&MAGIC);
         out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
         out.extend_from_slice(&[0; 8]); // payload digest, filled in below
-        let payload = (&start, self.initial_checksum, &self.frames);
-        // Encoding plain serde data into a Vec cannot fail; were it to, the
-        // payload is left empty and `from_bytes` rejects it as undecodable.
-        if bincode::serde::encode_into_std_write(payload, &mut out, CONFIG).is_err() {
+                                        // Encoding plain serde data into a Vec cannot fail; were it to, the
+                                        // payload is left empty and `from_bytes` rejects it as undecodable.
+        if bincode::serde::encode_into_std_write(self, &mut out, CONFIG).is_err() {
             out.truncate(HEADER_LEN);
         }
         let digest = checksum_of(out.get(HEADER_LEN..).unwrap_or(&[]));
@@ -693,7 +737,7 @@ impl Replay {
     }
 
     /// A replay from bytes. Checks the header, the payload digest and the
-    /// encoding; the content itself is checked by [`Replay::verify`].
+    /// encoding; the content itself is checked by the verification.
     pub fn from_bytes(bytes: &[u8]) -> Result<Replay, ReplayError> {
         let (Some(magic), Some(version), Some(stored), Some(payload)) = (
             bytes.get(0..8),
@@ -715,25 +759,15 @@ impl Replay {
         if stored != computed {
             return Err(ReplayError::Corrupt { stored, computed });
         }
-        let ((start, initial_checksum, frames), read): ((WireStart, u64, Vec<Frame>), usize) =
-            bincode::serde::decode_from_slice(payload, CONFIG)
-                .map_err(|e| ReplayError::Decode(e.to_string()))?;
+        let (replay, read): (Replay, usize) = bincode::serde::decode_from_slice(payload, CONFIG)
+            .map_err(|e| ReplayError::Decode(e.to_string()))?;
         let trailing = payload.len().saturating_sub(read);
         if trailing > 0 {
             return Err(ReplayError::Decode(format!(
                 "{trailing} bytes after the payload"
             )));
         }
-        let start = match start {
-            WireStart::Builtin { name, dt } => Start::Builtin { name, dt },
-            WireStart::Scene(w) => Start::Scene(Box::new(SceneDesc::from(w))),
-            WireStart::Snapshot { bytes, dt } => Start::Snapshot { bytes, dt },
-        };
-        Ok(Replay {
-            start,
-            initial_checksum,
-            frames,
-        })
+        Ok(replay)
     }
 
     /// Writes [`Replay::to_bytes`] to a file.

@@ -8,56 +8,32 @@
 //! Exact equality (`==` on the whole `WorldState`, and the checksum) is the
 //! only acceptable outcome here: a lockstep engine has no tolerance.
 use tamias2d::body::{Body, BodyHandle, BodyType};
-use tamias2d::scenes::{self, Scene};
 use tamias2d::shape::Shape;
 use tamias2d::space::{Space, WorldState};
 use tamias2d::{Real, Vect};
+use tamias2d_scenes::{self as scenes, SceneInfo, ScriptedWorld, Section};
 
-fn build(name: &str) -> Scene {
+fn build(name: &str) -> ScriptedWorld {
     scenes::builtin(name)
         .unwrap_or_else(|| panic!("{name} is a listed scene"))
         .build()
         .unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
-fn step(scene: &mut Scene, name: &str) {
+fn step(scene: &mut ScriptedWorld, name: &str) {
     scene.step().unwrap_or_else(|e| panic!("{name}: {e}"));
 }
 
-/// Larger sizes of a family, skipped in favour of the smallest size (listed
-/// beside each): they run the same code on more bodies, and stepping them
-/// in debug builds takes minutes.
-const LARGER_SIZES: &[(&str, &str)] = &[
-    ("bowl_circles_500", "bowl_circles_100"),
-    ("bowl_circles_1000", "bowl_circles_100"),
-    ("bowl_boxes_500", "bowl_boxes_100"),
-    ("bowl_boxes_1000", "bowl_boxes_100"),
-    ("bowl_hexagons_500", "bowl_hexagons_100"),
-    ("bowl_hexagons_1000", "bowl_hexagons_100"),
-    ("pyramid_100", "pyramid_20"),
-    ("many_pyramids_10x10", "many_pyramids_4x4"),
-    ("rain_4000", "rain_1000"),
-    ("tumbler_2000", "tumbler_500"),
-];
-
-/// Steps to run each checked scene: 600 (10 s) unless the scene is slow in
-/// debug builds; those still run long enough to collide, stack and (for
-/// rain) spawn several rows.
-fn steps_for(name: &str) -> u32 {
-    match name {
-        // 500 bodies that start overlapping: the first steps push them apart.
-        "bouncy_circles_500" => 120,
-        // 100 bodies that start overlapping and pile up within ~3 s.
-        "bowl_circles_100" | "bowl_boxes_100" | "bowl_hexagons_100" => 300,
-        // 210 boxes, all in contact from the first step.
-        "pyramid_20" => 90,
-        // 880 boxes.
-        "many_pyramids_4x4" => 20,
-        // Rows spawn every 10 steps and land after ~100: 20 rows, 1000 circles.
-        "rain_1000" => 200,
-        // Boxes fall onto the tumbler's floor within ~1 s.
-        "tumbler_500" => 90,
-        _ => 600,
+/// Steps to run a checked scene: its golden's step count (long enough to
+/// collide, stack and, for rain, spawn several rows), capped at 300 for the
+/// many-body sections A and B, which are slow in debug builds with a
+/// validation after every step.
+fn steps_for(info: &SceneInfo) -> u32 {
+    let steps = info.golden.map_or(300, |g| g.steps);
+    if info.section == Section::Accuracy {
+        steps
+    } else {
+        steps.min(300)
     }
 }
 
@@ -105,59 +81,45 @@ fn lockstep(name: &str, steps: u32) {
     );
 }
 
-/// Checks every listed scene of BENCH_SCENES.md section `section` ("A:",
-/// "B:" or "C:" in its description), skipping [`LARGER_SIZES`].
-fn check_section(section: &str) {
+/// Checks every registered scene of `section` that stands for itself (the
+/// larger sizes run the same code on more bodies: their smallest size,
+/// `covered_by`, is checked instead).
+fn check_section(section: Section) {
     let mut checked = 0;
-    for (name, about) in scenes::list() {
-        if !about.starts_with(section) || LARGER_SIZES.iter().any(|(big, _)| big == name) {
+    for info in scenes::REGISTRY {
+        if info.section != section || info.covered_by.is_some() {
             continue;
         }
         let t = std::time::Instant::now();
-        let steps = steps_for(name);
-        lockstep(name, steps);
+        let steps = steps_for(info);
+        lockstep(info.name, steps);
         checked += 1;
-        println!("{name}: {steps} steps in lockstep, {:?}", t.elapsed());
-    }
-    assert!(checked > 0, "no scene in section {section}");
-}
-
-#[test]
-fn every_listed_scene_is_checked_at_its_smallest_size() {
-    let names: Vec<&str> = scenes::list().iter().map(|(n, _)| *n).collect();
-    for (name, about) in scenes::list() {
-        assert!(
-            ["A:", "B:", "C:"].iter().any(|s| about.starts_with(s)),
-            "{name}: description {about:?} names no BENCH_SCENES.md section"
+        println!(
+            "{}: {steps} steps in lockstep, {:?}",
+            info.name,
+            t.elapsed()
         );
     }
-    for (big, small) in LARGER_SIZES {
-        assert!(names.contains(big), "{big} is no longer listed");
-        assert!(names.contains(small), "{small} is no longer listed");
-        assert!(
-            !LARGER_SIZES.iter().any(|(b, _)| b == small),
-            "{small} is skipped too"
-        );
-    }
+    assert!(checked > 0, "no scene in section {section:?}");
 }
 
 #[test]
 fn section_a_terrain_scenes_step_in_lockstep() {
-    check_section("A:");
+    check_section(Section::Terrain);
 }
 
 #[test]
 fn section_b_stacking_scenes_step_in_lockstep() {
-    check_section("B:");
+    check_section(Section::Stacking);
 }
 
 #[test]
 fn section_c_accuracy_scenes_step_in_lockstep() {
-    check_section("C:");
+    check_section(Section::Accuracy);
 }
 
 /// Steps both scenes `steps` times and requires equal states after each.
-fn continue_in_lockstep(a: &mut Scene, b: &mut Scene, steps: u32, what: &str) {
+fn continue_in_lockstep(a: &mut ScriptedWorld, b: &mut ScriptedWorld, steps: u32, what: &str) {
     for n in 1..=steps {
         step(a, what);
         step(b, what);
@@ -177,7 +139,7 @@ fn world_rebuilt_from_a_snapshot_continues_identically() {
     // worlds are driven at the Space level: the scripted forces are applied
     // to both before every step, through handles stripped of their origin
     // tag (a `Space::from_state` world has a new origin, so the handles
-    // `Scene` keeps from the original world are foreign to it).
+    // `ScriptedWorld` keeps from the original world are foreign to it).
     for (name, k, m) in [
         ("bowl_boxes_100", 60, 60),
         ("tumbler_500", 40, 40),
@@ -185,7 +147,10 @@ fn world_rebuilt_from_a_snapshot_continues_identically() {
         ("incline_slide", 30, 60),
     ] {
         let desc = scenes::builtin(name).unwrap_or_else(|| panic!("{name}"));
-        assert!(desc.spawns.is_empty(), "{name}: spawns need the Scene");
+        assert!(
+            desc.spawns.is_empty(),
+            "{name}: spawns need the ScriptedWorld"
+        );
         let mut a = build(name);
         let dt = a.dt;
         a.step_n(k).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -232,10 +197,10 @@ fn world_rebuilt_from_a_snapshot_continues_identically() {
 
 #[test]
 fn rain_rebuilt_from_a_snapshot_keeps_spawning_identically() {
-    // Spawns are scripted by the Scene: swap a rebuilt space into a second
+    // Spawns are scripted by the ScriptedWorld: swap a rebuilt space into a second
     // scene that has taken the same number of steps (so its spawn script is
     // at the same point), and let both scenes spawn the next rows. rain has
-    // no scripted forces, so no Scene-held handle is needed after the swap.
+    // no scripted forces, so no ScriptedWorld-held handle is needed after the swap.
     let name = "rain_1000";
     let desc = scenes::builtin(name).unwrap_or_else(|| panic!("{name}"));
     assert!(desc.forces.is_empty());

@@ -29,8 +29,8 @@ use extremes_common::{
 };
 use tamias2d::body::Body;
 use tamias2d::real;
-use tamias2d::scenes::{self, BodyDesc, SceneDesc, SceneError, ShapeDesc};
 use tamias2d::{Real, Vect};
+use tamias2d_scenes::{self as scenes, BodyDesc, SceneDesc, SceneError, ShapeDesc};
 
 /// One ulp of `Real` (2^-32) as an `f64`.
 const ULP: f64 = 1.0 / 4_294_967_296.0;

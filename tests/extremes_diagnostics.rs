@@ -19,12 +19,12 @@ use extremes_common::{build, int, lone_ball, trace_x, Watch, FRICTION};
 use tamias2d::body::Body;
 use tamias2d::math::{RealError, Transform};
 use tamias2d::real;
-use tamias2d::scenes::{
-    self, BodyDesc, BodyKind, BodyPath, SceneDesc, SceneError, SettingsDesc, ShapeDesc,
-};
 use tamias2d::shape::{Shape, ShapeError};
 use tamias2d::space::{Space, SpaceError};
 use tamias2d::{Real, Vect};
+use tamias2d_scenes::{
+    self as scenes, BodyDesc, BodyKind, BodyPath, SceneDesc, SceneError, SettingsDesc, ShapeDesc,
+};
 
 // ---------------------------------------------------------------------------
 // Diagnostics: StepStats::saturated_bodies.

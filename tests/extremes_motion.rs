@@ -15,8 +15,8 @@ use extremes_common::{
     build, coincident, positions, run_displacement, separate, stack_with_dt, tunnel_count,
     worst_displacement, Watch, SLOP,
 };
-use tamias2d::scenes;
 use tamias2d::Real;
+use tamias2d_scenes as scenes;
 
 // ---------------------------------------------------------------------------
 // Tunnelling. A ball of radius r = 0.5 m, dt = 1/60 s, travelling s radii

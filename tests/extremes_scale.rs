@@ -14,8 +14,8 @@ use extremes_common::{
     box_body, build, int, mass_ratio_pair, run_displacement, similarity_error, Watch, FRICTION,
 };
 use tamias2d::real;
-use tamias2d::scenes::{self, BodyPath, SceneError, ShapeDesc};
 use tamias2d::{Real, Vect};
+use tamias2d_scenes::{self as scenes, BodyPath, SceneError, ShapeDesc};
 
 /// Steps of the similarity runs (10 s at 1/60 s).
 const STEPS: u32 = 600;

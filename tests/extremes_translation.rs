@@ -17,8 +17,8 @@
 mod extremes_common;
 
 use extremes_common::{compare_shifted, int, x_vect};
-use tamias2d::scenes::{self, SceneDesc};
 use tamias2d::Vect;
+use tamias2d_scenes::{self as scenes, SceneDesc};
 
 /// Steps per comparison (debug builds are ~30x slower).
 const STEPS: u32 = if cfg!(debug_assertions) { 120 } else { 600 };

@@ -3,8 +3,7 @@
 //! error), and two `P2PSession` peers over loopback UDP must end with the
 //! same checksums. The game is `examples/ggrs_game` (bowl_boxes_100 with two
 //! player balls).
-#[path = "../examples/ggrs_game/mod.rs"]
-mod ggrs_game;
+use tamias2d_scenes::ggrs_game;
 
 use ggrs_game::{run_p2p, run_straight, run_synctest, Game, P2P_INPUT_DELAY};
 

@@ -1,4 +1,4 @@
-//! Accuracy against closed forms (SRS IM1–IM3; BENCH_SCENES.md section C):
+//! Accuracy against closed forms:
 //! free fall, constant force, projectiles, spin, elastic collisions, Newton's
 //! cradle and the incline, each on its built-in scene.
 //!
@@ -18,31 +18,31 @@
 
 use tamias2d::body::Body;
 use tamias2d::real;
-use tamias2d::scenes::{self, Scene};
 use tamias2d::shape::mass::moment_for_box;
 use tamias2d::{Real, Vect};
+use tamias2d_scenes::{self as scenes, ScriptedWorld};
 
 /// One ulp of `Real` (2^-32) as an `f64`.
 const ULP: f64 = 1.0 / 4_294_967_296.0;
-/// The time step of every accuracy scene (BENCH_SCENES.md), 1/60 s (the
+/// The time step of every accuracy scene (scenes/README.md), 1/60 s (the
 /// `f64` rounding, 10^-18 s, is negligible against the bounds below).
 const DT: f64 = 1.0 / 60.0;
 
-fn build(name: &str) -> Scene {
+fn build(name: &str) -> ScriptedWorld {
     scenes::builtin(name)
         .unwrap_or_else(|| panic!("{name} is a listed scene"))
         .build()
         .unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
-fn body<'a>(scene: &'a Scene, label: &str) -> &'a Body {
+fn body<'a>(scene: &'a ScriptedWorld, label: &str) -> &'a Body {
     scene
         .body(label)
         .and_then(|h| scene.space.body(h))
         .unwrap_or_else(|| panic!("no body labelled {label}"))
 }
 
-fn step(scene: &mut Scene) {
+fn step(scene: &mut ScriptedWorld) {
     scene.step().unwrap_or_else(|e| panic!("step: {e}"));
 }
 
@@ -54,7 +54,7 @@ fn f(v: Vect) -> (f64, f64) {
 // Constant acceleration: free_fall, constant_force, projectile_45/60.
 // ---------------------------------------------------------------------------
 
-/// A constant-acceleration scene: the SRS inputs as exact decimals (for the
+/// A constant-acceleration scene: the inputs of `scenes/README.md` as exact decimals (for the
 /// continuous form) and as the `Real`s the scene is built from (for the
 /// discrete form).
 struct Ballistic {
@@ -113,7 +113,7 @@ fn check_ballistic(case: &Ballistic) {
     let dt = scene.dt;
     assert_eq!(dt, Real::ratio(1, 60), "{}: dt", case.name);
     let start = body(&scene, "ball").clone();
-    // The scene is built from the SRS inputs stated in `case`.
+    // The scene is built from the inputs stated in `case`.
     assert_eq!(
         scene.space.gravity(),
         case.gravity,
@@ -252,7 +252,7 @@ fn free_fall_matches_discrete_and_continuous_closed_forms() {
 
 #[test]
 fn constant_force_matches_discrete_and_continuous_closed_forms() {
-    // SRS TC2: F = (100, 0) on m = 10 from rest at (20, 20), no gravity:
+    // F = (100, 0) on m = 10 from rest at (20, 20), no gravity:
     // a = (10, 0). x(4 s) = 20 + 80 − ½·10·dt·4 = 100 − 1/3 m; y stays 20.
     check_ballistic(&Ballistic {
         name: "constant_force",
@@ -278,7 +278,7 @@ fn constant_force_matches_discrete_and_continuous_closed_forms() {
 
 #[test]
 fn projectile_45_matches_closed_forms_in_2d() {
-    // SRS TC6: p0 = 0, v0 = (848.5, 848.5), g = (0, −100), 600 steps (10 s):
+    // p0 = 0, v0 = (848.5, 848.5), g = (0, −100), 600 steps (10 s):
     // x = 848.5·t exactly up to rounding (no acceleration along x), y lags
     // the parabola by ½·g·dt·t.
     check_ballistic(&Ballistic {
@@ -296,7 +296,7 @@ fn projectile_45_matches_closed_forms_in_2d() {
 
 #[test]
 fn projectile_60_matches_closed_forms_in_2d() {
-    // SRS TC7: p0 = (50, 50), v0 = (150, 260), g = (0, −40), 600 steps.
+    // p0 = (50, 50), v0 = (150, 260), g = (0, −40), 600 steps.
     check_ballistic(&Ballistic {
         name: "projectile_60",
         steps: 600,
@@ -339,7 +339,7 @@ fn projectile_horizontal_velocity_is_exactly_constant() {
 
 #[test]
 fn spin_matches_discrete_and_continuous_closed_forms() {
-    // SRS TC8/TC9: τ = 100 on a 100 × 100 box of mass 0.5, I = 2500/3, no
+    // τ = 100 on a 100 × 100 box of mass 0.5, I = 2500/3, no
     // gravity: α = τ/I = 0.12 rad/s² exactly. ω(t) = 0.12·t and
     // φ(t) = 0.06·t² − ½·α·dt·t (discrete lag). 600 steps (10 s):
     // ω = 1.2 rad/s, φ = 6 − 0.01 rad.
@@ -426,7 +426,7 @@ fn spin_matches_discrete_and_continuous_closed_forms() {
 // ---------------------------------------------------------------------------
 
 /// Sum of `½mv² + ½Iω²` over the labelled bodies, as `f64`.
-fn kinetic_energy(scene: &Scene, labels: &[&str]) -> f64 {
+fn kinetic_energy(scene: &ScriptedWorld, labels: &[&str]) -> f64 {
     labels
         .iter()
         .map(|l| body(scene, l).kinetic_energy().to_f64())
@@ -434,7 +434,7 @@ fn kinetic_energy(scene: &Scene, labels: &[&str]) -> f64 {
 }
 
 /// Sum of `m·v` over the labelled bodies, in `Real` (exact sums).
-fn momentum(scene: &Scene, labels: &[&str]) -> Vect {
+fn momentum(scene: &ScriptedWorld, labels: &[&str]) -> Vect {
     labels.iter().fold(Vect::ZERO, |acc, l| {
         let b = body(scene, l);
         acc + b.velocity() * b.mass()

@@ -1,28 +1,41 @@
-//! Replays: record then verify; tampering is caught at the right frame and
-//! body; malformed bytes are errors, never panics.
-use tamias2d::body::BodyHandle;
+//! Replays: a run the game drives is recorded, then verified by re-running
+//! the game's own step; tampering is caught at the right frame (inputs by
+//! the input-log digest even when they change nothing, checksums with the
+//! first differing body); a game with collision handlers verifies in a
+//! second process; scripted scenes replay through their scripted world;
+//! malformed bytes are errors, never panics.
+use std::process::Command;
+
+use tamias2d::body::{Body, BodyHandle};
 use tamias2d::checksum::checksum_of;
 use tamias2d::replay::{
-    Input, Recorder, Replay, ReplayError, Start, FORMAT_VERSION, HEADER_LEN, MAGIC,
+    apply_inputs, Input, Recorder, Replay, ReplayError, Simulation, FORMAT_VERSION, HEADER_LEN,
+    MAGIC,
 };
-use tamias2d::scenes::{self, BodyDesc, ShapeDesc};
+use tamias2d::shape::Shape;
+use tamias2d::space::{Space, SpaceError};
 use tamias2d::{real, snapshot, Real, Vect};
+use tamias2d_scenes::{self as scenes, ScriptedWorld};
 
 /// A few impulses and forces on the two balls of `elastic_pair`, which
-/// start apart: an input changes its own body only, until they meet.
+/// start apart: an input changes its own body only, until they meet. The
+/// world is the scene's plain space, stepped with the default step.
 fn record_elastic_pair(frames: u32, digest_every: u32) -> (Replay, [BodyHandle; 2]) {
-    let start = Start::builtin("elastic_pair").expect("listed scene");
-    let mut rec = Recorder::new(start)
-        .expect("builds")
-        .with_body_digests(digest_every);
-    let balls: Vec<BodyHandle> = rec.space().bodies().map(|(h, _)| h).collect();
+    let world = scenes::builtin("elastic_pair")
+        .expect("registered scene")
+        .build()
+        .expect("builds");
+    let dt = world.dt;
+    let mut space = world.space;
+    let mut rec = Recorder::new(&space, dt).with_body_digests(digest_every);
+    let balls: Vec<BodyHandle> = space.bodies().map(|(h, _)| h).collect();
     let [a, b] = balls[..] else {
         panic!("elastic_pair has two bodies, got {}", balls.len());
     };
     for f in 0..frames {
         let mut inputs = Vec::new();
         if f % 3 == 0 {
-            let p = rec.space().body(b).expect("live").position();
+            let p = space.body(b).expect("live").position();
             inputs.push(Input::Impulse {
                 body: b,
                 impulse: Vect::new(Real::ZERO, real!(0.25)),
@@ -45,7 +58,8 @@ fn record_elastic_pair(frames: u32, digest_every: u32) -> (Replay, [BodyHandle; 
                 w: real!(-1.5),
             });
         }
-        rec.record_frame(&inputs).expect("records");
+        space.advance(dt, &inputs).expect("steps");
+        rec.record_frame(&space, &inputs).expect("records");
     }
     assert_eq!(rec.frames(), frames);
     (rec.finish(), [a, b])
@@ -81,16 +95,20 @@ fn record_then_verify_passes_and_survives_bytes() {
 
 #[test]
 fn recorded_checksums_match_a_plain_run_of_the_scene() {
-    let (replay, _) = record_elastic_pair(0, 0);
-    let mut rec = Recorder::new(replay.start.clone()).expect("builds");
-    let mut plain = scenes::builtin("elastic_pair")
-        .expect("listed")
+    let mut world = scenes::builtin("constant_force")
+        .expect("registered")
         .build()
         .expect("builds");
+    let mut plain = scenes::builtin("constant_force")
+        .expect("registered")
+        .build()
+        .expect("builds");
+    let mut rec = Recorder::new(&world, world.dt);
     for _ in 0..20 {
+        world.step().expect("steps");
         plain.step().expect("steps");
         assert_eq!(
-            rec.record_frame(&[]).expect("records"),
+            rec.record_frame(&world, &[]).expect("records"),
             plain.space.checksum()
         );
     }
@@ -124,6 +142,14 @@ fn tampered_input_names_the_body_it_moves() {
     if let Some(Input::Impulse { impulse, .. }) = replay.frames[f].inputs.first_mut() {
         impulse.x += Real::DELTA;
     }
+    // The input log says which frame's inputs changed.
+    match replay.verify() {
+        Err(ReplayError::InputMismatch { frame }) => assert_eq!(frame as usize, f),
+        other => panic!("expected an input mismatch at frame {f}, got {other:?}"),
+    }
+    // With the digests recomputed (a forger, or a game that really sent
+    // other inputs), the checksums still catch it and name the body.
+    rechain(&mut replay);
     match replay.verify() {
         Err(ReplayError::Diverged { frame, body, .. }) => {
             assert_eq!(frame as usize, f);
@@ -142,18 +168,33 @@ fn divergence_between_digest_frames_names_no_body() {
         body: BodyHandle::from_raw_parts(0, 0),
         torque: Real::ONE,
     });
+    rechain(&mut replay);
     match replay.verify() {
         Err(ReplayError::Diverged { frame: 9, body, .. }) => assert_eq!(body, None),
         other => panic!("expected a divergence at frame 9, got {other:?}"),
     }
 }
 
+/// Recomputes the input-log digests after an edit of the inputs, as a
+/// recorder fed those inputs would have written them.
+fn rechain(replay: &mut Replay) {
+    let mut rec = Recorder::new(&Space::new(), replay.dt);
+    for f in &replay.frames {
+        rec.record_frame(&Space::new(), &f.inputs).expect("records");
+    }
+    let digests = rec.finish();
+    for (f, d) in replay.frames.iter_mut().zip(&digests.frames) {
+        f.input_digest = d.input_digest;
+    }
+    replay.input_digest = digests.input_digest;
+}
+
 #[test]
 fn input_for_a_missing_body_is_an_error_and_changes_nothing() {
-    let mut rec = Recorder::new(Start::builtin("elastic_pair").expect("listed")).expect("builds");
-    rec.record_frame(&[]).expect("records");
-    let before = rec.space().checksum();
-    let live = rec.space().bodies().map(|(h, _)| h).next().expect("a body");
+    let (replay, [live, _]) = record_elastic_pair(2, 0);
+    let live = BodyHandle::from_raw_parts(live.index(), live.generation());
+    let mut space = snapshot::load(&replay.start).expect("loads");
+    let before = space.checksum();
     let ghost = BodyHandle::from_raw_parts(99, 0);
     let inputs = [
         Input::Velocity {
@@ -165,22 +206,28 @@ fn input_for_a_missing_body_is_an_error_and_changes_nothing() {
             force: Vect::X,
         },
     ];
-    match rec.record_frame(&inputs) {
-        Err(ReplayError::MissingBody { frame: 1, body }) => assert_eq!(body, ghost),
-        other => panic!("expected MissingBody, got {other:?}"),
-    }
-    assert_eq!(rec.space().checksum(), before, "nothing applied, no step");
-    assert_eq!(rec.frames(), 1);
+    assert!(matches!(
+        apply_inputs(&mut space, &inputs),
+        Err(SpaceError::StaleBody(b)) if b == ghost
+    ));
+    assert_eq!(space.checksum(), before, "nothing applied");
 
-    let mut replay = rec.finish();
-    replay.frames[0].inputs.push(Input::Force {
+    let mut replay = replay;
+    replay.frames[1].inputs.push(Input::Force {
         body: ghost,
         force: Vect::X,
     });
-    assert!(matches!(
-        replay.verify(),
-        Err(ReplayError::MissingBody { frame: 0, .. })
-    ));
+    rechain(&mut replay);
+    match replay.verify() {
+        Err(ReplayError::Step { frame: 1, error }) => assert!(
+            matches!(
+                error.downcast_ref::<SpaceError>(),
+                Some(SpaceError::StaleBody(b)) if *b == ghost
+            ),
+            "{error}"
+        ),
+        other => panic!("expected a step error at frame 1, got {other:?}"),
+    }
 }
 
 #[test]
@@ -191,90 +238,89 @@ fn start_problems_are_reported() {
         replay.verify(),
         Err(ReplayError::StartMismatch { .. })
     ));
-    let unknown = Replay {
-        start: Start::Builtin {
-            name: "no_such_scene".into(),
-            dt: real!(0.01),
-        },
-        ..replay.clone()
-    };
-    assert!(matches!(
-        unknown.verify(),
-        Err(ReplayError::UnknownScene(_))
-    ));
+    replay.initial_checksum ^= 1;
     let zero_dt = Replay {
-        start: Start::Builtin {
-            name: "elastic_pair".into(),
-            dt: Real::ZERO,
-        },
+        dt: Real::ZERO,
         ..replay.clone()
     };
-    assert!(matches!(zero_dt.verify(), Err(ReplayError::Scene(_))));
+    assert!(matches!(zero_dt.verify(), Err(ReplayError::TimeStep)));
     let bad_snapshot = Replay {
-        start: Start::Snapshot {
-            bytes: vec![1, 2, 3],
-            dt: real!(0.01),
-        },
-        ..replay
+        start: vec![1, 2, 3],
+        ..replay.clone()
     };
-    assert!(matches!(
-        bad_snapshot.verify(),
-        Err(ReplayError::Snapshot(_))
-    ));
+    assert!(matches!(bad_snapshot.verify(), Err(ReplayError::Start(_))));
+    // Removing the last frame leaves every frame's digest valid; the whole
+    // log's digest catches it.
+    let mut short = replay;
+    short.frames.pop();
+    assert!(matches!(short.verify(), Err(ReplayError::InputLog { .. })));
 }
 
 #[test]
-fn scene_description_start_round_trips() {
-    let mut desc = scenes::builtin("bowl_circles_100").expect("listed");
-    desc.name = "custom".into();
-    desc.bodies.truncate(12);
-    let player = BodyDesc::dynamic(Vect::from_ints(0, 100), Real::from_int(4), real!(50))
-        .labeled("player")
-        .with_shape(ShapeDesc::circle(real!(6.5)).material(real!(0.7), real!(0.25)));
-    desc.bodies.push(player);
-    let mut rec = Recorder::new(Start::Scene(Box::new(desc))).expect("builds");
-    let player = rec.body("player").expect("labelled");
-    for f in 0..60 {
-        let inputs: &[Input] = if f % 10 == 0 {
-            &[Input::Velocity {
-                body: player,
-                velocity: Vect::from_ints(30, 40),
-            }]
-        } else {
-            &[]
+fn an_input_that_changes_nothing_is_still_reported_at_its_frame() {
+    let (mut replay, [a, _]) = record_elastic_pair(30, 1);
+    // A zero force: the world after the frame is the same bits. (Replays
+    // name bodies by slot and generation.)
+    replay.frames[12].inputs.push(Input::Force {
+        body: BodyHandle::from_raw_parts(a.index(), a.generation()),
+        force: Vect::ZERO,
+    });
+    match replay.verify() {
+        Err(ReplayError::InputMismatch { frame }) => assert_eq!(frame, 12),
+        other => panic!("expected an input mismatch at frame 12, got {other:?}"),
+    }
+    // And it really changes nothing: with the log re-digested, it verifies.
+    rechain(&mut replay);
+    assert_eq!(replay.verify().expect("same world").frames, 30);
+}
+
+#[test]
+fn scripted_scenes_replay_through_their_scripted_world() {
+    // Scripted forces (constant_force), a scripted torque (spin) and
+    // spawns by step (rain_1000: rows every 10 steps), with a player input
+    // on top; the start (saved mid-run) holds the script.
+    for (name, before, frames) in [
+        ("constant_force", 30, 40),
+        ("spin", 10, 30),
+        ("rain_1000", 25, 30),
+    ] {
+        let mut world = scenes::builtin(name)
+            .expect("registered")
+            .build()
+            .expect("builds");
+        world.step_n(before).expect("steps");
+        let first = *world.bodies().last().expect("a body");
+        let mut rec = Recorder::new(&world, world.dt).with_body_digests(5);
+        for f in 0..frames {
+            let inputs = if f % 4 == 0 {
+                vec![Input::Velocity {
+                    body: first,
+                    velocity: Vect::from_ints(0, 0),
+                }]
+            } else {
+                vec![]
+            };
+            world.advance(world.dt, &inputs).expect("steps");
+            rec.record_frame(&world, &inputs).expect("records");
+        }
+        let replay = Replay::from_bytes(&rec.finish().to_bytes()).expect("decodes");
+        let mut again = ScriptedWorld::load(&replay.start).expect("loads");
+        let report = replay.verify_on(&mut again).expect("verifies");
+        // Back to the start, for the plain-space check below.
+        again.load_in_place(&replay.start).expect("loads");
+        assert_eq!(report.frames, frames, "{name}");
+        assert_eq!(report.final_checksum, world.space.checksum(), "{name}");
+        // Without its script (a plain space, default step) it diverges:
+        // the script is part of the replay's world.
+        let plain = Replay {
+            start: snapshot::save(&again.space),
+            ..replay.clone()
         };
-        rec.record_frame(inputs).expect("records");
+        assert!(
+            matches!(plain.verify(), Err(ReplayError::Diverged { .. })),
+            "{name}: a plain space replays the scripted run"
+        );
     }
-    let replay = rec.finish();
-    let back = Replay::from_bytes(&replay.to_bytes()).expect("decodes");
-    assert_eq!(back, replay);
-    assert_eq!(back.verify().expect("verifies").frames, 60);
-}
-
-#[test]
-fn snapshot_start_round_trips() {
-    let mut scene = scenes::builtin("stack_10")
-        .expect("listed")
-        .build()
-        .expect("builds");
-    scene.step_n(25).expect("steps");
-    let start = Start::Snapshot {
-        bytes: snapshot::save(&scene.space),
-        dt: scene.dt,
-    };
-    let top = scene.bodies().last().copied().expect("a box");
-    let mut rec = Recorder::new(start).expect("loads").with_body_digests(1);
-    assert_eq!(rec.space().checksum(), scene.space.checksum());
-    for f in 0..40 {
-        let inputs = [Input::Force {
-            body: top,
-            force: Vect::new(Real::from_int(f % 7 - 3), Real::ZERO),
-        }];
-        rec.record_frame(&inputs).expect("records");
-    }
-    let replay = rec.finish();
-    let back = Replay::from_bytes(&replay.to_bytes()).expect("decodes");
-    assert_eq!(back.verify().expect("verifies").frames, 40);
 }
 
 #[test]
@@ -348,7 +394,7 @@ fn damaged_payload_with_a_valid_digest_never_panics() {
     let (replay, _) = record_elastic_pair(8, 2);
     let bytes = replay.to_bytes();
     let payload = &bytes[HEADER_LEN..];
-    let mut rng = tamias2d::scenes::rng::SplitMix64::new(7);
+    let mut rng = tamias2d_scenes::rng::SplitMix64::new(7);
     let mut decoded = 0;
     for round in 0..400 {
         let mut damaged = payload.to_vec();
@@ -389,4 +435,190 @@ fn damaged_payload_with_a_valid_digest_never_panics() {
         Replay::from_bytes(&with_payload(&bytes, &[])),
         Err(ReplayError::Decode(_))
     ));
+}
+
+// --- A game with collision handlers, verified in a second process --------
+
+const BALL: u32 = 1;
+const PLATFORM: u32 = 2;
+const COIN: u32 = 3;
+
+/// The game's time step.
+fn game_dt() -> Real {
+    Real::ratio(1, 60)
+}
+
+/// The game's world: a one-way platform at y = 4 (its `begin` handler
+/// ignores the ball coming from below), a sensor coin above it whose
+/// handler counts touches, and a ball below the platform. Returns the
+/// space and the ball.
+fn game_world() -> (Space, BodyHandle) {
+    let mut space = Space::new();
+    space.set_gravity(Vect::from_ints(0, -10));
+    let ground = space.add_body(Body::new_static()).expect("body");
+    let mut platform = Shape::segment_shape_new(
+        ground,
+        Vect::from_ints(-3, 4),
+        Vect::from_ints(3, 4),
+        real!(0.1),
+    )
+    .expect("segment")
+    .with_material(Real::ONE, Real::ZERO)
+    .expect("material");
+    platform.collision_type = PLATFORM;
+    space.add_shape(platform).expect("shape");
+    let floor = Shape::segment_shape_new(
+        ground,
+        Vect::from_ints(-20, 0),
+        Vect::from_ints(20, 0),
+        real!(0.1),
+    )
+    .expect("segment");
+    space.add_shape(floor).expect("shape");
+    let mut coin =
+        Shape::circle_shape_new(ground, Real::HALF, Vect::from_ints(0, 7)).expect("circle");
+    coin.collision_type = COIN;
+    coin.sensor = true;
+    space.add_shape(coin).expect("shape");
+    let mut body = Body::new(Real::ONE, real!(0.125)).expect("body");
+    body.set_position(Vect::from_ints(0, 1));
+    let ball = space.add_body(body).expect("body");
+    let mut shape = Shape::circle_shape_new(ball, Real::HALF, Vect::ZERO)
+        .expect("circle")
+        .with_material(Real::ONE, Real::ZERO)
+        .expect("material");
+    shape.collision_type = BALL;
+    space.add_shape(shape).expect("shape");
+    space.add_collision_handler(PLATFORM, BALL).begin =
+        Some(Box::new(|ctx| ctx.normal().y.is_positive()));
+    space.add_collision_handler(BALL, COIN).begin = Some(Box::new(|_| true));
+    (space, ball)
+}
+
+/// The game's own step.
+fn game_step(space: &mut Space, inputs: &[Input]) -> Result<(), SpaceError> {
+    apply_inputs(space, inputs)?;
+    space.step(game_dt())
+}
+
+/// The player's inputs: jumps up through the platform, then walks.
+fn game_inputs(ball: BodyHandle, frame: u32) -> Vec<Input> {
+    match frame {
+        5 | 130 => vec![Input::Impulse {
+            body: ball,
+            impulse: Vect::from_ints(0, 12),
+            point: Vect::ZERO,
+        }],
+        100..=110 => vec![Input::Force {
+            body: ball,
+            force: Vect::from_ints(3, 0),
+        }],
+        _ => vec![],
+    }
+}
+
+/// Records 180 frames of the game.
+fn record_game() -> Replay {
+    let (mut space, ball) = game_world();
+    let mut rec = Recorder::new(&space, game_dt()).with_body_digests(10);
+    for frame in 0..180 {
+        let inputs = game_inputs(ball, frame);
+        game_step(&mut space, &inputs).expect("steps");
+        rec.record_frame(&space, &inputs).expect("records");
+    }
+    let ball_y = space.body(ball).expect("ball").position().y;
+    assert!(
+        ball_y > Real::from_int(4),
+        "the ball jumped through the platform and rests on it: y = {ball_y}"
+    );
+    rec.finish()
+}
+
+/// Runs `child_verifies_the_replay_in_TAMIAS_REPLAY_FILE` of this test
+/// binary in a new process on `file`; returns its result line.
+fn verify_in_second_process(file: &std::path::Path) -> String {
+    let out = Command::new(std::env::current_exe().expect("test binary"))
+        .args([
+            "--exact",
+            "child_verifies_the_replay_in_tamias_replay_file",
+            "--ignored",
+            "--nocapture",
+            "--test-threads=1",
+        ])
+        .env("TAMIAS_REPLAY_FILE", file)
+        .output()
+        .expect("second process");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    stdout
+        .lines()
+        .find_map(|l| l.find("replay: ").map(|i| l[i..].to_owned()))
+        .unwrap_or_else(|| panic!("no result line in {stdout}"))
+}
+
+/// The second process: builds the game (handlers included) and verifies
+/// the replay file with the game's own step. Does nothing when not run by
+/// [`verify_in_second_process`].
+#[test]
+#[ignore = "run by game_with_handlers_replays_in_a_second_process"]
+fn child_verifies_the_replay_in_tamias_replay_file() {
+    let Some(file) = std::env::var_os("TAMIAS_REPLAY_FILE") else {
+        return;
+    };
+    let (mut space, _) = game_world();
+    let result = Replay::read_file(file).and_then(|r| r.verify_with(&mut space, game_step));
+    match result {
+        Ok(report) => println!(
+            "replay: ok {} frames {:#018x}",
+            report.frames, report.final_checksum
+        ),
+        Err(e) => println!("replay: error {e:?}"),
+    }
+}
+
+#[test]
+fn game_with_handlers_replays_in_a_second_process() {
+    let replay = record_game();
+    let dir = std::env::temp_dir().join(format!("tamias2d-game-replay-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let file = dir.join("game.replay");
+    replay.write_file(&file).expect("writes");
+    let last = replay.frames.last().expect("frames").checksum;
+    assert_eq!(
+        verify_in_second_process(&file),
+        format!("replay: ok 180 frames {last:#018x}")
+    );
+
+    // The handlers are part of the game: the default step (a plain space
+    // without them) does not reproduce the run.
+    assert!(matches!(replay.verify(), Err(ReplayError::Diverged { .. })));
+
+    // A tampered input that changes nothing (a zero force at frame 42) is
+    // reported at its frame, by the other process too.
+    let mut tampered = replay.clone();
+    tampered.frames[42].inputs.push(Input::Force {
+        body: BodyHandle::from_raw_parts(1, 0),
+        force: Vect::ZERO,
+    });
+    let file2 = dir.join("tampered.replay");
+    tampered.write_file(&file2).expect("writes");
+    assert_eq!(
+        verify_in_second_process(&file2),
+        "replay: error InputMismatch { frame: 42 }"
+    );
+    // A tampered jump too (it would change the world from frame 130 on).
+    let mut tampered = replay;
+    if let Some(Input::Impulse { impulse, .. }) = tampered.frames[130].inputs.first_mut() {
+        impulse.y = Real::from_int(11);
+    }
+    tampered.write_file(&file2).expect("writes");
+    assert_eq!(
+        verify_in_second_process(&file2),
+        "replay: error InputMismatch { frame: 130 }"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

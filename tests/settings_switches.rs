@@ -15,18 +15,18 @@ use tamias2d::body::Body;
 use tamias2d::checksum::checksum_of;
 use tamias2d::math::{Real, Vect};
 use tamias2d::real;
-use tamias2d::scenes::{self, Scene, SceneDesc};
 use tamias2d::shape::Shape;
 use tamias2d::snapshot;
 use tamias2d::space::{
     sub_step_dts, validate_state, Settings, Space, SpaceError, WorldState, MAX_SUBSTEPS,
 };
+use tamias2d_scenes::{self as scenes, SceneDesc, ScriptedWorld};
 
 fn builtin(name: &str) -> SceneDesc {
     scenes::builtin(name).unwrap_or_else(|| panic!("{name} is a built-in scene"))
 }
 
-fn build(desc: &SceneDesc) -> Scene {
+fn build(desc: &SceneDesc) -> ScriptedWorld {
     desc.build()
         .unwrap_or_else(|e| panic!("{}: {e}", desc.name))
 }
@@ -337,7 +337,7 @@ fn bodies_after(desc: &SceneDesc, steps: u32) -> WorldState {
     scene.space.state().clone()
 }
 
-fn for_each_shape(desc: &mut SceneDesc, f: impl Fn(&mut tamias2d::scenes::ShapeDesc)) {
+fn for_each_shape(desc: &mut SceneDesc, f: impl Fn(&mut tamias2d_scenes::ShapeDesc)) {
     for body in &mut desc.bodies {
         body.shapes.iter_mut().for_each(&f);
     }

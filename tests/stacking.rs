@@ -1,4 +1,4 @@
-//! Resting contact and stacking (BENCH_SCENES.md sections B and C):
+//! Resting contact and stacking (scenes/README.md sections B and C):
 //! `pyramid_20` stands for 10 s, `stack_10` does not drift or collapse, a
 //! ball resting on the ground sits at its radius (less at most the slop),
 //! and a box left on the ground for 10^4 steps neither creeps nor gains
@@ -12,34 +12,36 @@
 
 use tamias2d::body::{Body, BodyHandle};
 use tamias2d::real;
-use tamias2d::scenes::{self, BodyDesc, BodyKind, Scene, SceneDesc, SettingsDesc, ShapeDesc};
 use tamias2d::{Real, Vect};
+use tamias2d_scenes::{
+    self as scenes, BodyDesc, BodyKind, SceneDesc, ScriptedWorld, SettingsDesc, ShapeDesc,
+};
 
 /// Chipmunk's default collision slop, which every stacking scene uses.
 const SLOP: f64 = 0.1;
 
-fn build(desc: &SceneDesc) -> Scene {
+fn build(desc: &SceneDesc) -> ScriptedWorld {
     desc.build()
         .unwrap_or_else(|e| panic!("{}: {e}", desc.name))
 }
 
-fn builtin(name: &str) -> Scene {
+fn builtin(name: &str) -> ScriptedWorld {
     build(&scenes::builtin(name).unwrap_or_else(|| panic!("{name} is a listed scene")))
 }
 
-fn get(scene: &Scene, h: BodyHandle) -> &Body {
+fn get(scene: &ScriptedWorld, h: BodyHandle) -> &Body {
     scene
         .space
         .body(h)
         .unwrap_or_else(|| panic!("body {h:?} is gone"))
 }
 
-fn step(scene: &mut Scene) {
+fn step(scene: &mut ScriptedWorld) {
     scene.step().unwrap_or_else(|e| panic!("step: {e}"));
 }
 
 /// Handle, start position and start angle of every dynamic body.
-fn dynamic_starts(scene: &Scene) -> Vec<(BodyHandle, Vect, Real)> {
+fn dynamic_starts(scene: &ScriptedWorld) -> Vec<(BodyHandle, Vect, Real)> {
     scene
         .space
         .bodies()
@@ -53,7 +55,7 @@ fn dynamic_starts(scene: &Scene) -> Vec<(BodyHandle, Vect, Real)> {
 /// `m·g·y + ½mv² + ½Iω² + ½·m·g·v_y·dt`. With `y' = y + v·dt` and
 /// `v' = v − g·dt`: `g·(y' − y) = g·v·dt`, `½(v'² − v²) = −g·v·dt + ½g²dt²`,
 /// `½·g·dt·(v' − v) = −½g²dt²`, which sum to 0.
-fn integrator_energy(scene: &Scene) -> f64 {
+fn integrator_energy(scene: &ScriptedWorld) -> f64 {
     scene
         .space
         .bodies()
@@ -66,7 +68,7 @@ fn integrator_energy(scene: &Scene) -> f64 {
         .sum()
 }
 
-fn total_kinetic_energy(scene: &Scene) -> f64 {
+fn total_kinetic_energy(scene: &ScriptedWorld) -> f64 {
     scene
         .space
         .bodies()

@@ -1,5 +1,5 @@
-//! `tamias bench`: the benchmark scenes (sections A and B of
-//! BENCH_SCENES.md) as a table of milliseconds per step.
+//! `tamias bench`: the benchmark scenes (sections A and B of the registry,
+//! `scenes/README.md`) as a table of milliseconds per step.
 //!
 //! Each scene is built and warmed up (piles form, warm starting takes
 //! effect: the state the criterion benches in `benches/step.rs` measure),
@@ -9,22 +9,11 @@
 use std::time::Instant;
 
 use clap::Args;
-use tamias2d::scenes;
+use tamias2d_scenes::{self as scenes, Section};
 
 use crate::progress::Progress;
 use crate::run::median;
-use crate::source::Sim;
-
-/// Small scenes for `--quick` (well under 30 s in release).
-const QUICK: &[&str] = &[
-    "pyramid_20",
-    "bowl_circles_100",
-    "bowl_boxes_100",
-    "bowl_hexagons_100",
-    "many_pyramids_4x4",
-    "no_collide",
-    "tumbler_500",
-];
+use crate::source;
 
 /// Warm-up steps and samples × steps per sample of the two modes.
 const QUICK_PLAN: Plan = Plan {
@@ -88,14 +77,14 @@ pub fn bench(args: &BenchArgs) -> Result<(), String> {
     };
     let names: Vec<String> = if !args.scenes.is_empty() {
         args.scenes.clone()
-    } else if args.quick {
-        QUICK.iter().map(|s| (*s).to_owned()).collect()
     } else {
-        // Sections A and B: the performance scenes (C is accuracy).
-        scenes::list()
+        // Sections A and B: the performance scenes (C is accuracy); quick:
+        // the sizes that stand for their family.
+        scenes::REGISTRY
             .iter()
-            .filter(|(_, about)| about.starts_with("A:") || about.starts_with("B:"))
-            .map(|(name, _)| (*name).to_owned())
+            .filter(|s| s.section != Section::Accuracy)
+            .filter(|s| !args.quick || s.is_quick_bench())
+            .map(|s| s.name.to_owned())
             .collect()
     };
     let mut descs = Vec::with_capacity(names.len());
@@ -127,24 +116,24 @@ pub fn bench(args: &BenchArgs) -> Result<(), String> {
 
 /// Warms `desc` up and times its samples.
 fn measure(desc: &scenes::SceneDesc, plan: Plan, bar: &mut Progress) -> Result<Row, String> {
-    let mut sim = Sim::build(desc)?;
+    let mut sim = source::build(desc)?;
     let fail = |e: String| format!("scene {}: {e}", desc.name);
     for _ in 0..plan.warmup {
-        sim.step().map_err(fail)?;
+        sim.step().map_err(|e| e.to_string()).map_err(fail)?;
         bar.inc(1);
     }
     let mut per_step = Vec::with_capacity(plan.samples as usize);
     for _ in 0..plan.samples {
         let t = Instant::now();
         for _ in 0..plan.steps_per_sample {
-            sim.step().map_err(fail)?;
+            sim.step().map_err(|e| e.to_string()).map_err(fail)?;
         }
         per_step.push(t.elapsed().as_secs_f64() * 1e3 / f64::from(plan.steps_per_sample));
         bar.inc(u64::from(plan.steps_per_sample));
     }
     Ok(Row {
         name: desc.name.clone(),
-        bodies: sim.space().bodies().count(),
+        bodies: sim.space.bodies().count(),
         median: median(&per_step),
         min: per_step.iter().copied().fold(f64::INFINITY, f64::min),
         max: per_step.iter().copied().fold(0.0, f64::max),

@@ -2,15 +2,17 @@
 //! `replay record` and `replay verify`.
 use std::path::Path;
 
-use tamias2d::replay::{Recorder, Replay, ReplayError, Start};
+use tamias2d::replay::{Recorder, Replay, ReplayError};
 use tamias2d::snapshot;
+use tamias2d::Real;
+use tamias2d_scenes::ScriptedWorld;
 
 use crate::progress::Progress;
-use crate::source::{self, Overrides, Sim};
+use crate::source::{self, Overrides};
 
 /// `tamias scene dump`: the scene as pretty JSON, to `output` or stdout.
 pub fn scene_dump(scene: &str, output: Option<&Path>) -> Result<(), String> {
-    let desc = source::load(scene, Overrides::default())?.desc;
+    let desc = source::load(scene, Overrides::default())?;
     let json = serde_json::to_string_pretty(&desc).map_err(|e| e.to_string())? + "\n";
     match output {
         Some(path) => {
@@ -28,33 +30,24 @@ pub fn scene_dump(scene: &str, output: Option<&Path>) -> Result<(), String> {
 }
 
 /// `tamias snapshot save`: `steps` steps of the scene, then the world's
-/// bytes in `output`.
+/// bytes with its script (scripted forces, spawns and counters: a
+/// [`ScriptedWorld`] save) in `output`, so that `snapshot run` continues
+/// exactly as an uninterrupted run.
 pub fn snapshot_save(
     scene: &str,
     steps: u32,
     output: &Path,
     overrides: Overrides,
 ) -> Result<(), String> {
-    let desc = source::load(scene, overrides)?.desc;
-    if !desc.forces.is_empty() || !desc.spawns.is_empty() {
-        // A snapshot is the world (DESIGN §4.3); the scene's script lives in
-        // its description, so a loaded snapshot runs without it. (Begin
-        // counters only count and accept, so losing them changes nothing.)
-        eprintln!(
-            "warning: scene {:?} scripts forces or spawns; a snapshot holds only the world, so \
-             `snapshot run` continues without them and its checksum will not match an \
-             uninterrupted `run`",
-            desc.name
-        );
-    }
-    let mut sim = Sim::build(&desc)?;
+    let desc = source::load(scene, overrides)?;
+    let mut sim = source::build(&desc)?;
     let mut bar = Progress::new(&format!("scene {}", desc.name), u64::from(steps));
     for step in 1..=steps {
         sim.step().map_err(|e| format!("step {step}: {e}"))?;
         bar.inc(1);
     }
     bar.finish();
-    let bytes = snapshot::save(sim.space());
+    let bytes = sim.save();
     std::fs::write(output, &bytes).map_err(|e| format!("{}: {e}", output.display()))?;
     println!(
         "wrote {} ({} bytes): {} after {steps} steps",
@@ -62,11 +55,36 @@ pub fn snapshot_save(
         bytes.len(),
         desc.name
     );
-    println!("checksum: {:#018x}", sim.space().checksum());
+    println!("checksum: {:#018x}", sim.space.checksum());
     Ok(())
 }
 
-/// `tamias replay record`: `steps` frames without inputs, each frame's
+/// The world saved in `bytes`: a scripted world ([`ScriptedWorld::save`]),
+/// or a bare engine snapshot (`tamias2d::snapshot`), which loads with an
+/// empty script and steps by `dt` (its last step's, unless given).
+pub fn load_world(bytes: &[u8], dt: Option<Real>) -> Result<ScriptedWorld, String> {
+    if ScriptedWorld::is_saved(bytes) {
+        let mut world = ScriptedWorld::load(bytes).map_err(|e| e.to_string())?;
+        if let Some(dt) = dt {
+            world.dt = dt;
+        }
+        return Ok(world);
+    }
+    let space = snapshot::load(bytes).map_err(|e| e.to_string())?;
+    let dt = match dt {
+        Some(dt) => dt,
+        None if space.current_time_step().is_positive() => space.current_time_step(),
+        None => {
+            return Err(
+                "saved before the first step, so it holds no time step; pass --dt".to_owned(),
+            )
+        }
+    };
+    Ok(ScriptedWorld::unscripted(space, dt))
+}
+
+/// `tamias replay record`: `steps` frames without inputs of the scene's
+/// scripted world (its start and script saved in the replay), each frame's
 /// checksum, and body digests every `digests_every` frames.
 pub fn replay_record(
     scene: &str,
@@ -75,25 +93,17 @@ pub fn replay_record(
     digests_every: u32,
     overrides: Overrides,
 ) -> Result<(), String> {
-    let loaded = source::load(scene, overrides)?;
-    let name = loaded.desc.name.clone();
-    // A built-in scene is recorded by name (small files); anything else as
-    // its whole description.
-    let start = match loaded.builtin {
-        Some(builtin) => Start::Builtin {
-            name: builtin,
-            dt: loaded.desc.dt,
-        },
-        None => Start::Scene(Box::new(loaded.desc)),
-    };
-    let mut rec = Recorder::new(start).map_err(|e| e.to_string())?;
+    let desc = source::load(scene, overrides)?;
+    let mut world = source::build(&desc)?;
+    let mut rec = Recorder::new(&world, world.dt);
     if digests_every > 0 {
         rec = rec.with_body_digests(digests_every);
     }
-    let mut bar = Progress::new(&format!("recording {name}"), u64::from(steps));
-    let mut last = rec.space().checksum();
-    for _ in 0..steps {
-        last = rec.record_frame(&[]).map_err(|e| e.to_string())?;
+    let mut bar = Progress::new(&format!("recording {}", desc.name), u64::from(steps));
+    let mut last = world.space.checksum();
+    for step in 1..=steps {
+        world.step().map_err(|e| format!("step {step}: {e}"))?;
+        last = rec.record_frame(&world, &[]).map_err(|e| e.to_string())?;
         bar.inc(1);
     }
     bar.finish();
@@ -103,24 +113,33 @@ pub fn replay_record(
         .map_err(|e| format!("{}: {e}", output.display()))?;
     let size = std::fs::metadata(output).map(|m| m.len()).unwrap_or(0);
     println!(
-        "recorded {steps} frames of {name} to {} ({size} bytes)",
+        "recorded {steps} frames of {} to {} ({size} bytes)",
+        desc.name,
         output.display()
     );
     println!("checksum: {last:#018x}");
     Ok(())
 }
 
-/// `tamias replay verify`: re-runs the replay; `replay ok (N frames)`, or an
-/// error naming the first diverging frame and body.
+/// `tamias replay verify`: re-runs the replay (a scene's through its
+/// scripted world, a bare snapshot start with the default step); `replay ok
+/// (N frames)`, or an error naming the first frame whose inputs or
+/// checksum differ (and the first differing body).
 pub fn replay_verify(file: &Path) -> Result<(), String> {
+    let at = |e: ReplayError| format!("{}: {e}", file.display());
     let replay = Replay::read_file(file).map_err(|e| match e {
         // The library's I/O message already says "replay file: …".
         ReplayError::Io(io) => format!("{}: {io}", file.display()),
-        e => format!("{}: {e}", file.display()),
+        e => at(e),
     })?;
-    let report = replay
-        .verify()
-        .map_err(|e| format!("{}: {e}", file.display()))?;
+    let report = if ScriptedWorld::is_saved(&replay.start) {
+        let mut world = ScriptedWorld::load(&replay.start)
+            .map_err(|e| format!("{}: start: {e}", file.display()))?;
+        replay.verify_on(&mut world)
+    } else {
+        replay.verify()
+    }
+    .map_err(at)?;
     println!("replay ok ({} frames)", report.frames);
     println!("checksum: {:#018x}", report.final_checksum);
     Ok(())

@@ -247,8 +247,8 @@ fn main() -> ExitCode {
 
 /// `tamias list`.
 fn list() {
-    for (name, about) in tamias2d::scenes::list() {
-        println!("{name:<22} {about}");
+    for s in tamias2d_scenes::REGISTRY {
+        println!("{:<22} {}: {}", s.name, s.section.letter(), s.about);
     }
     println!("{:<22} {}", source::SHOWCASE, source::SHOWCASE_ABOUT);
 }

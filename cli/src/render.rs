@@ -516,7 +516,7 @@ impl Apng {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tamias2d::scenes;
+    use tamias2d_scenes as scenes;
 
     #[test]
     fn view_fits_pyramid_with_ground_inside() {

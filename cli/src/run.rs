@@ -5,12 +5,12 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use tamias2d::body::BodyType;
-use tamias2d::snapshot;
 use tamias2d::space::Space;
+use tamias2d_scenes::ScriptedWorld;
 
 use crate::progress::Progress;
 use crate::render::{Apng, Canvas, View};
-use crate::source::{self, Overrides, Sim};
+use crate::source::{self, Overrides};
 use crate::{DemoArgs, RenderOpts, RunArgs};
 
 /// Frames a run of `steps` draws at one every `every` steps: step 0, every
@@ -56,7 +56,7 @@ pub fn median(xs: &[f64]) -> f64 {
 /// space)` for step 0, every `every`-th step and the last one (if `every`
 /// is given).
 fn step_loop(
-    sim: &mut Sim,
+    sim: &mut ScriptedWorld,
     steps: u32,
     label: &str,
     every: Option<u32>,
@@ -65,15 +65,17 @@ fn step_loop(
     let mut times = Vec::with_capacity(steps as usize);
     let mut bar = Progress::new(label, u64::from(steps));
     if every.is_some() {
-        frame(0, sim.space())?;
+        frame(0, &sim.space)?;
     }
     for step in 1..=steps {
         let t = Instant::now();
-        sim.step().map_err(|e| format!("step {step}: {e}"))?;
+        sim.step()
+            .map_err(|e| e.to_string())
+            .map_err(|e| format!("step {step}: {e}"))?;
         times.push(t.elapsed().as_secs_f64());
         if let Some(k) = every {
             if is_frame(step, steps, k) {
-                frame(step, sim.space())?;
+                frame(step, &sim.space)?;
             }
         }
         bar.inc(1);
@@ -123,20 +125,19 @@ fn body_counts(space: &Space) -> (usize, usize) {
 /// Runs `sim` for `steps`, with frames as `render` asks, and prints the
 /// summary.
 fn run_and_report(
-    sim: &mut Sim,
+    sim: &mut ScriptedWorld,
     steps: u32,
     label: &str,
     render: &RenderOpts,
 ) -> Result<(), String> {
-    let (bodies, dynamic) = body_counts(sim.space());
-    let settings = sim.space().settings();
+    let (bodies, dynamic) = body_counts(&sim.space);
+    let settings = sim.space.settings();
     println!(
         "{label}: {bodies} bodies ({dynamic} dynamic), {steps} steps of dt = {}, {} iterations",
-        sim.dt(),
-        settings.iterations
+        sim.dt, settings.iterations
     );
     // One view for every picture of the run, fitted to the first frame.
-    let view = View::fit(sim.space());
+    let view = View::fit(&sim.space);
     let mut frames = match &render.render {
         Some(dir) => Some(FrameDir::create(dir, view, steps)?),
         None => None,
@@ -164,7 +165,7 @@ fn run_and_report(
     }
     if let Some(file) = &render.picture {
         let mut canvas = Canvas::new(view)?;
-        canvas.draw(sim.space());
+        canvas.draw(&sim.space);
         canvas.write_png(file)?;
         println!(
             "wrote {} (step {steps}, {}x{})",
@@ -173,16 +174,16 @@ fn run_and_report(
             view.height
         );
     }
-    println!("checksum: {:#018x}", sim.space().checksum());
+    println!("checksum: {:#018x}", sim.space.checksum());
     Ok(())
 }
 
 /// `tamias run`.
 pub fn run(args: &RunArgs) -> Result<(), String> {
     let loaded = source::load(&args.scene, args.opts.overrides())?;
-    let steps = args.steps.unwrap_or(loaded.desc.steps);
-    let mut sim = Sim::build(&loaded.desc)?;
-    let label = format!("scene {}", loaded.desc.name);
+    let steps = args.steps.unwrap_or(loaded.steps);
+    let mut sim = source::build(&loaded)?;
+    let label = format!("scene {}", loaded.name);
     run_and_report(&mut sim, steps, &label, &args.render)
 }
 
@@ -194,25 +195,12 @@ pub fn snapshot_run(
     render: &RenderOpts,
 ) -> Result<(), String> {
     let bytes = std::fs::read(file).map_err(|e| format!("{}: {e}", file.display()))?;
-    let mut space = snapshot::load(&bytes).map_err(|e| format!("{}: {e}", file.display()))?;
-    let dt = match overrides.dt {
-        Some(dt) => dt,
-        None if space.current_time_step().is_positive() => space.current_time_step(),
-        None => {
-            return Err(format!(
-                "{}: saved before the first step, so it holds no time step; pass --dt",
-                file.display()
-            ))
-        }
-    };
+    let mut sim = crate::files::load_world(&bytes, overrides.dt)
+        .map_err(|e| format!("{}: {e}", file.display()))?;
     if let Some(n) = overrides.iterations {
-        space.set_iterations(n);
+        sim.space.set_iterations(n);
     }
-    println!("loaded {} at step {}", file.display(), space.stamp());
-    let mut sim = Sim::Space {
-        space: Box::new(space),
-        dt,
-    };
+    println!("loaded {} at step {}", file.display(), sim.space.steps());
     run_and_report(&mut sim, steps, "snapshot", render)
 }
 
@@ -224,12 +212,12 @@ pub fn demo(args: &DemoArgs) -> Result<(), String> {
     let desc = source::showcase();
     let steps = args.steps.unwrap_or(desc.steps);
     let every = args.every.max(1);
-    let mut sim = Sim::build(&desc)?;
-    let (bodies, dynamic) = body_counts(sim.space());
+    let mut sim = source::build(&desc)?;
+    let (bodies, dynamic) = body_counts(&sim.space);
     println!("showcase: {}", source::SHOWCASE_ABOUT);
     println!("output folder: {}", out.display());
 
-    let view = View::fit(sim.space());
+    let view = View::fit(&sim.space);
     let mut canvas = Canvas::new(view)?;
     let frames = frame_count(steps, every);
     // Each frame stays up for `every` steps of 1/60 s: real time.
@@ -242,7 +230,7 @@ pub fn demo(args: &DemoArgs) -> Result<(), String> {
     })?;
     anim.finish()?;
     let final_path = out.join("final.png");
-    canvas.draw(sim.space());
+    canvas.draw(&sim.space);
     canvas.write_png(&final_path)?;
     let scene_path = out.join("showcase.json");
     let json = serde_json::to_string_pretty(&desc).map_err(|e| e.to_string())?;
@@ -250,13 +238,13 @@ pub fn demo(args: &DemoArgs) -> Result<(), String> {
         .map_err(|e| format!("{}: {e}", scene_path.display()))?;
 
     println!("bodies: {bodies} ({dynamic} dynamic)");
-    println!("steps: {steps} of dt = {}", sim.dt());
+    println!("steps: {steps} of dt = {}", sim.dt);
     println!(
         "time per step: median {:.3} ms (total {:.2} s)",
         timing.median_ms(),
         timing.total_s()
     );
-    println!("checksum: {:#018x}", sim.space().checksum());
+    println!("checksum: {:#018x}", sim.space.checksum());
     println!(
         "wrote {} (final frame, {}x{})",
         final_path.display(),

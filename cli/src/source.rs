@@ -1,14 +1,12 @@
 //! Where a scene comes from (a built-in name, the showcase, or a JSON scene
 //! file), the command-line overrides of its settings, and the running world
-//! the commands step (a built scene, or a bare space loaded from a
-//! snapshot).
+//! the commands step (a [`ScriptedWorld`]).
 use std::path::Path;
 
 use fixed::types::I32F32;
 use tamias2d::real;
-use tamias2d::scenes::{self, BodyDesc, BodyKind, Scene, SceneDesc, ShapeDesc};
-use tamias2d::space::Space;
 use tamias2d::{Real, Vect};
+use tamias2d_scenes::{self as scenes, BodyDesc, BodyKind, SceneDesc, ScriptedWorld, ShapeDesc};
 
 /// Name of the CLI's own scene, what `tamias` with no arguments runs.
 pub const SHOWCASE: &str = "showcase";
@@ -38,16 +36,6 @@ pub fn showcase() -> SceneDesc {
     desc
 }
 
-/// A scene description and whether it is exactly a built-in scene (a replay
-/// then records just the name).
-pub struct Loaded {
-    /// The description, with the command-line overrides applied.
-    pub desc: SceneDesc,
-    /// `Some(name)` for a built-in scene whose settings were not overridden
-    /// (a `--dt` is fine: a replay records it).
-    pub builtin: Option<String>,
-}
-
 /// Overrides from the command line.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Overrides {
@@ -59,13 +47,13 @@ pub struct Overrides {
 
 /// The scene `arg` names: a built-in scene, `showcase`, or a JSON file
 /// (anything else that exists as a file, or ends in `.json`).
-pub fn load(arg: &str, overrides: Overrides) -> Result<Loaded, String> {
-    let (mut desc, builtin) = if let Some(desc) = scenes::builtin(arg) {
-        (desc, Some(arg.to_owned()))
+pub fn load(arg: &str, overrides: Overrides) -> Result<SceneDesc, String> {
+    let mut desc = if let Some(desc) = scenes::builtin(arg) {
+        desc
     } else if arg == SHOWCASE {
-        (showcase(), None)
+        showcase()
     } else if Path::new(arg).is_file() || arg.ends_with(".json") {
-        (read_scene_file(Path::new(arg))?, None)
+        read_scene_file(Path::new(arg))?
     } else {
         return Err(format!(
             "unknown scene {arg:?}: not a built-in scene nor a file (`tamias list` shows the scenes)"
@@ -77,8 +65,7 @@ pub fn load(arg: &str, overrides: Overrides) -> Result<Loaded, String> {
     if let Some(n) = overrides.iterations {
         desc.settings.iterations = n;
     }
-    let builtin = builtin.filter(|_| overrides.iterations.is_none());
-    Ok(Loaded { desc, builtin })
+    Ok(desc)
 }
 
 /// A scene description from a JSON file. serde_json's errors carry the line
@@ -117,50 +104,12 @@ fn ratio_error(s: &str) -> String {
     format!("{s:?} is not a ratio of integers with a positive denominator, e.g. 1/60")
 }
 
-/// The world a command steps.
-pub enum Sim {
-    /// A built scene: its scripted forces and spawns run.
-    Scene(Box<Scene>),
-    /// A space loaded from a snapshot, stepped by `dt`.
-    Space {
-        /// The world.
-        space: Box<Space>,
-        /// Time step.
-        dt: Real,
-    },
-}
-
-impl Sim {
-    /// Builds `desc`.
-    pub fn build(desc: &SceneDesc) -> Result<Sim, String> {
-        desc.build()
-            .map(|s| Sim::Scene(Box::new(s)))
-            .map_err(|e| format!("scene {:?}: {e}", desc.name))
-    }
-
-    /// The world.
-    pub fn space(&self) -> &Space {
-        match self {
-            Sim::Scene(scene) => &scene.space,
-            Sim::Space { space, .. } => space,
-        }
-    }
-
-    /// The time step.
-    pub fn dt(&self) -> Real {
-        match self {
-            Sim::Scene(scene) => scene.dt,
-            Sim::Space { dt, .. } => *dt,
-        }
-    }
-
-    /// One step.
-    pub fn step(&mut self) -> Result<(), String> {
-        match self {
-            Sim::Scene(scene) => scene.step().map_err(|e| e.to_string()),
-            Sim::Space { space, dt } => space.step(*dt).map_err(|e| format!("step: {e}")),
-        }
-    }
+/// Builds `desc` into the world a command steps (a plain snapshot loads as
+/// a [`ScriptedWorld`] with an empty script, so every command steps one
+/// kind of world).
+pub fn build(desc: &SceneDesc) -> Result<ScriptedWorld, String> {
+    desc.build()
+        .map_err(|e| format!("scene {:?}: {e}", desc.name))
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use tamias2d::replay::{Recorder, Start};
+use tamias2d::replay::Recorder;
 
 /// A fresh, empty scratch folder for one test.
 fn scratch(name: &str) -> PathBuf {
@@ -102,7 +102,7 @@ fn apng_frames(file: &Path) -> u32 {
 #[test]
 fn list_names_every_builtin_scene_and_the_showcase() {
     let out = ok(&["list"]);
-    for (name, _) in tamias2d::scenes::list() {
+    for name in tamias2d_scenes::REGISTRY.iter().map(|s| s.name) {
         assert!(
             out.lines()
                 .any(|l| l.split_whitespace().next() == Some(name)),
@@ -110,14 +110,14 @@ fn list_names_every_builtin_scene_and_the_showcase() {
         );
     }
     assert!(out.lines().any(|l| l.starts_with("showcase ")));
-    assert_eq!(out.lines().count(), tamias2d::scenes::list().len() + 1);
+    assert_eq!(out.lines().count(), tamias2d_scenes::REGISTRY.len() + 1);
 }
 
 #[test]
 fn run_prints_timing_and_the_library_checksum() {
     let out = ok(&["run", "stack_10", "--steps", "20"]);
     assert!(out.contains("time per step: median"), "{out}");
-    let mut scene = tamias2d::scenes::builtin("stack_10")
+    let mut scene = tamias2d_scenes::builtin("stack_10")
         .unwrap()
         .build()
         .unwrap();
@@ -219,8 +219,8 @@ fn help_and_version_succeed() {
 #[test]
 fn scene_dump_is_json_that_run_loads_to_the_same_checksum() {
     let stdout = ok(&["scene", "dump", "stack_10"]);
-    let desc: tamias2d::scenes::SceneDesc = serde_json::from_str(&stdout).expect("valid JSON");
-    assert_eq!(desc, tamias2d::scenes::builtin("stack_10").unwrap());
+    let desc: tamias2d_scenes::SceneDesc = serde_json::from_str(&stdout).expect("valid JSON");
+    assert_eq!(desc, tamias2d_scenes::builtin("stack_10").unwrap());
 
     let dir = scratch("scene_dump");
     let file = dir.join("stack.json");
@@ -306,7 +306,7 @@ fn snapshot_bad_files_are_one_line_errors() {
     std::fs::write(&truncated, &bytes[..bytes.len() / 2]).unwrap();
     fails(
         &["snapshot", "run", path(&truncated), "--steps", "5"],
-        "snapshot does not decode",
+        "corrupted",
     );
     let short = dir.join("short.snap");
     std::fs::write(&short, &bytes[..10]).unwrap();
@@ -332,24 +332,44 @@ fn snapshot_bad_files_are_one_line_errors() {
 }
 
 #[test]
-fn snapshot_save_warns_about_scripted_scenes() {
+fn scripted_scenes_snapshot_with_their_script_and_continue_exactly() {
+    // The script is state: scripted forces (constant_force), a scripted
+    // torque (spin) and bodies spawned by step (rain_1000, whose rows keep
+    // spawning after the save) continue exactly, without a warning.
     let dir = scratch("snapshot_scripted");
-    let file = dir.join("force.snap");
-    let out = tamias(&[
-        "snapshot",
-        "save",
-        "constant_force",
-        "--steps",
-        "5",
-        "-o",
-        path(&file),
-    ]);
-    assert!(out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.starts_with("warning: ") && err.contains("forces"),
-        "{err}"
-    );
+    for scene in ["constant_force", "spin", "rain_1000"] {
+        let file = dir.join(format!("{scene}.snap"));
+        let args = [
+            "snapshot",
+            "save",
+            scene,
+            "--steps",
+            "100",
+            "-o",
+            path(&file),
+        ];
+        let out = tamias(&args);
+        check_ok(&args, &out);
+        assert!(
+            out.stderr.is_empty(),
+            "{scene}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let args = ["snapshot", "run", path(&file), "--steps", "100"];
+        let out = tamias(&args);
+        let continued = check_ok(&args, &out);
+        assert!(
+            out.stderr.is_empty(),
+            "{scene}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let straight = ok(&["run", scene, "--steps", "200"]);
+        assert_eq!(
+            checksum(&continued),
+            checksum(&straight),
+            "{scene}: save at 100 + run 100 differs from a straight run of 200"
+        );
+    }
 }
 
 #[test]
@@ -394,11 +414,14 @@ fn replay_records_and_verifies() {
 #[test]
 fn replay_verify_names_the_diverging_frame_and_body() {
     let dir = scratch("replay_diverged");
-    let mut rec = Recorder::new(Start::builtin("stack_10").unwrap())
+    let mut world = tamias2d_scenes::builtin("stack_10")
         .unwrap()
-        .with_body_digests(1);
+        .build()
+        .unwrap();
+    let mut rec = Recorder::new(&world, world.dt).with_body_digests(1);
     for _ in 0..12 {
-        rec.record_frame(&[]).unwrap();
+        world.step().unwrap();
+        rec.record_frame(&world, &[]).unwrap();
     }
     let mut replay = rec.finish();
     // As if another build had computed frame 7 differently for body #3.

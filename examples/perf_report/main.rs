@@ -18,8 +18,7 @@
 //! `sweep::plan`).
 #![allow(clippy::float_arithmetic)] // measurement and reports only
 
-#[path = "../../benches/common/mod.rs"]
-mod common;
+use tamias2d_scenes::bench as common;
 mod measures;
 mod plot;
 mod report;
@@ -92,9 +91,9 @@ fn main() -> ExitCode {
     let mut rep = report::Report::new(&opts.out, opts.quick);
 
     if opts.side {
-        let mut scenes: Vec<&str> = common::CI_SCENES.to_vec();
+        let mut scenes: Vec<&str> = common::ci_scenes();
         if !opts.quick {
-            scenes.extend_from_slice(common::FULL_SCENES);
+            scenes.extend(common::full_scenes());
         }
         for name in scenes.into_iter().filter(keep) {
             let row = side::run(name);
@@ -107,7 +106,7 @@ fn main() -> ExitCode {
             );
             rep.side.push(row);
         }
-        for name in common::ACCURACY_SCENES.iter().copied().filter(keep) {
+        for name in common::accuracy_scenes().into_iter().filter(keep) {
             let row = side::run(name);
             eprintln!(
                 "[{:>5.0} s] {name:<20} errors Tamias2D {:?}  Rapier {:?}",
@@ -125,7 +124,7 @@ fn main() -> ExitCode {
             "bowl_boxes_500"
         };
         let mut scenes = vec!["pyramid_20", heavy];
-        scenes.extend_from_slice(common::ACCURACY_SCENES);
+        scenes.extend(common::accuracy_scenes());
         for name in scenes.into_iter().filter(keep) {
             let t0 = started.elapsed().as_secs_f64();
             let mut log = |s: &str| eprintln!("{s}");

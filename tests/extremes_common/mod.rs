@@ -11,22 +11,23 @@
 
 use tamias2d::body::BodyHandle;
 use tamias2d::real;
-use tamias2d::scenes::{
-    self, BodyDesc, BodyKind, Scene, SceneDesc, SceneError, SettingsDesc, ShapeDesc,
-};
 use tamias2d::space::Space;
 use tamias2d::{Real, Vect};
+use tamias2d_scenes::{
+    self as scenes, BodyDesc, BodyKind, SceneDesc, SceneError, ScriptedWorld, SettingsDesc,
+    ShapeDesc,
+};
 
 /// Chipmunk's default collision slop (m), used by every scene here unless
 /// scaled.
 pub const SLOP: Real = real!(0.1);
-/// Friction of the stacking scenes (BENCH_SCENES.md section B).
+/// Friction of the stacking scenes (scenes/README.md section B).
 pub const FRICTION: Real = real!(0.6);
 /// `CONTACT_TOLERANCE` of the narrowphase (2^-20 m), as an `f64`.
 pub const CONTACT_TOLERANCE: f64 = 1.0 / 1_048_576.0;
 
 /// Builds a scene or fails the test with the scene's error.
-pub fn build(desc: &SceneDesc) -> Scene {
+pub fn build(desc: &SceneDesc) -> ScriptedWorld {
     desc.build()
         .unwrap_or_else(|e| panic!("{}: {e}", desc.name))
 }
@@ -115,14 +116,14 @@ impl Watch {
     }
 
     /// Steps the scene `n` times, observing each step.
-    pub fn run(scene: &mut Scene, n: u32) -> Watch {
+    pub fn run(scene: &mut ScriptedWorld, n: u32) -> Watch {
         let mut w = Watch::new(&scene.space);
         w.step(scene, n);
         w
     }
 
     /// Steps the scene `n` more times, observing each step.
-    pub fn step(&mut self, scene: &mut Scene, n: u32) {
+    pub fn step(&mut self, scene: &mut ScriptedWorld, n: u32) {
         for _ in 0..n {
             scene
                 .step()
@@ -147,7 +148,7 @@ pub fn worst_displacement(start: &[(BodyHandle, Vect)], space: &Space) -> f64 {
 
 /// Steps `n` times and returns the largest displacement of any body from
 /// its start seen after any step, with the watch of the run.
-pub fn run_displacement(scene: &mut Scene, n: u32) -> (f64, Watch) {
+pub fn run_displacement(scene: &mut ScriptedWorld, n: u32) -> (f64, Watch) {
     let start = positions(&scene.space);
     let mut w = Watch::new(&scene.space);
     let mut worst = 0.0f64;
@@ -407,7 +408,7 @@ pub fn coincident(n: u32, boxes: bool) -> SceneDesc {
 /// step after which no contact overlaps by more than the slop (plus the
 /// contact tolerance), the deepest contact at the end, and the largest |x|
 /// and |y| of any body at the end.
-pub fn separate(scene: &mut Scene, steps: u32) -> (Watch, Option<u32>, f64, f64, f64) {
+pub fn separate(scene: &mut ScriptedWorld, steps: u32) -> (Watch, Option<u32>, f64, f64, f64) {
     let mut w = Watch::new(&scene.space);
     let mut separated = None;
     let limit = -SLOP.to_f64() - CONTACT_TOLERANCE;
@@ -431,7 +432,7 @@ pub fn separate(scene: &mut Scene, steps: u32) -> (Watch, Option<u32>, f64, f64,
 // ---------------------------------------------------------------------------
 
 /// A ball of radius 0.5 at `p` moving at `v`, nothing else, no gravity.
-pub fn lone_ball(p: Vect, v: Vect) -> Scene {
+pub fn lone_ball(p: Vect, v: Vect) -> ScriptedWorld {
     let mut d = SceneDesc::new("lone ball", Real::ratio(1, 60), 0);
     d.settings = SettingsDesc::with_gravity(Vect::ZERO, 10);
     d.bodies.push(
@@ -443,7 +444,7 @@ pub fn lone_ball(p: Vect, v: Vect) -> Scene {
 }
 
 /// Steps `n` times; returns per step `(x, saturated_bodies)` of body 0.
-pub fn trace_x(scene: &mut Scene, n: u32) -> Vec<(Real, u32)> {
+pub fn trace_x(scene: &mut ScriptedWorld, n: u32) -> Vec<(Real, u32)> {
     let Some(&h) = scene.bodies().first() else {
         panic!("scene has a body");
     };

@@ -19,7 +19,7 @@ use fixed::types::I32F32;
 use serde::de::{self, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use crate::math::{Real, Vect};
+use tamias2d::math::{Real, Vect};
 
 /// A `Real` that (de)serializes as a decimal string.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,4 +1,4 @@
-//! Section A of BENCH_SCENES.md: terrain scenes of the Chipmunk benchmark
+//! Section A of scenes/README.md: terrain scenes of the Chipmunk benchmark
 //! class, in pixel-like units.
 //!
 //! Settings: gravity (0, −100), 10 solver iterations, collision slop 0.5,
@@ -8,10 +8,9 @@
 //! disk point per body, then its velocity where the scene has one).
 use super::desc::{BodyDesc, CounterDesc, SceneDesc, SettingsDesc, ShapeDesc};
 use super::rng::{SplitMix64, SEED};
-use crate::math::{Real, Vect};
-use crate::real;
-use crate::shape::geometry::next_index;
-use crate::shape::mass::{moment_for_box, moment_for_circle, moment_for_poly};
+use tamias2d::math::{Real, Vect};
+use tamias2d::real;
+use tamias2d::shape::mass::{moment_for_box, moment_for_circle, moment_for_poly};
 
 /// Vertices of the bowl loop.
 const BOWL_VERTS: i32 = 48;
@@ -47,7 +46,7 @@ fn polar(radius: Real, num: i32, den: i32) -> Vect {
 /// The bowl: one static body holding a closed loop of 48 segments (radius
 /// 0); vertex `i` is at angle `2π·i/48` and radius `240 − 8·(i mod 3)`.
 ///
-/// Decisions where BENCH_SCENES.md is silent: the segments have **no
+/// Decisions where scenes/README.md is silent: the segments have **no
 /// neighbours** (Chipmunk's benchmark terrain has none; a closed jagged loop
 /// has concave and convex joints, and neighbour filtering is meant for smooth
 /// chains), and the terrain material is `(friction, elasticity)` as given.
@@ -124,7 +123,7 @@ pub fn bowl_hexagons(n: u32) -> SceneDesc {
     })
 }
 
-/// `bouncy_circles_{n}` (BENCH_SCENES lists `bouncy_circles_500`): no
+/// `bouncy_circles_{n}` (scenes/README.md lists `bouncy_circles_500`): no
 /// gravity; the bowl terrain and circles (radius 5, mass 1, disc moment) all
 /// with elasticity 1 and friction 0; each circle at a point uniform in the
 /// disk of radius 130, then a velocity uniform in the disk of radius 50 (drawn
@@ -211,4 +210,13 @@ pub fn no_collide() -> SceneDesc {
         type_b: NO_COLLIDE_TYPE,
     });
     desc
+}
+
+/// The index after `i` around a closed polygon of `n` vertices: `i + 1`, or
+/// 0 after the last.
+fn next_index(i: usize, n: usize) -> usize {
+    match i.checked_add(1) {
+        Some(j) if j < n => j,
+        _ => 0,
+    }
 }

@@ -11,13 +11,13 @@ use std::sync::OnceLock;
 
 use proptest::prelude::*;
 use tamias2d::body::{Body, BodyHandle};
-use tamias2d::scenes::{self, Scene};
 use tamias2d::shape::Shape;
 use tamias2d::snapshot::{self, SnapshotError, Subject, FORMAT_VERSION, HEADER_LEN, MAGIC};
 use tamias2d::space::{ShapeHandle, Space, SpaceError, WorldState};
 use tamias2d::{Real, Transform, Vect};
+use tamias2d_scenes::{self as scenes, ScriptedWorld};
 
-fn build(name: &str) -> Scene {
+fn build(name: &str) -> ScriptedWorld {
     scenes::builtin(name)
         .unwrap_or_else(|| panic!("{name} is a listed scene"))
         .build()
@@ -82,7 +82,7 @@ fn diverge(space: &mut Space, dt: Real) {
 fn round_trip(name: &str, steps: u32, forks: &[u32]) {
     let mut reference = build(name);
     let dt = reference.dt;
-    let mut in_place: Vec<(u32, Scene)> = forks.iter().map(|&k| (k, build(name))).collect();
+    let mut in_place: Vec<(u32, ScriptedWorld)> = forks.iter().map(|&k| (k, build(name))).collect();
     let mut raw: Vec<(u32, Space, Space)> = Vec::new();
     for t in 0..=steps {
         if t > 0 {
@@ -166,11 +166,13 @@ const ROUND_TRIPS: &[(&str, u32, &[u32])] = &[
 
 #[test]
 fn round_trips_cover_every_scene_family() {
-    for (name, about) in scenes::list() {
-        let family = name.trim_end_matches(|c: char| c.is_ascii_digit() || c == 'x');
+    for s in scenes::REGISTRY {
+        let stands_for = s.covered_by.unwrap_or(s.name);
         assert!(
-            ROUND_TRIPS.iter().any(|(n, _, _)| n.starts_with(family)),
-            "{name} ({about}): no scene of its family is round-tripped"
+            ROUND_TRIPS.iter().any(|(n, _, _)| *n == stands_for),
+            "{} ({}): {stands_for} is not round-tripped",
+            s.name,
+            s.about
         );
     }
 }
@@ -557,9 +559,6 @@ fn live_world() -> Space {
     w
 }
 
-#[path = "snapshot/diagnosis.rs"]
 mod diagnosis;
-#[path = "snapshot/format.rs"]
 mod format;
-#[path = "snapshot/malformed.rs"]
 mod malformed;

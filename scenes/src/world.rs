@@ -1,14 +1,25 @@
-//! From a [`SceneDesc`] to a running [`Scene`].
+//! From a [`SceneDesc`] to a running [`ScriptedWorld`], and a scripted world
+//! to bytes and back.
 //!
 //! Building validates everything (settings, every body and shape, force
 //! targets, labels, and the bodies of future spawns) and returns a
 //! [`SceneError`] naming what is wrong; it never panics. Spawned bodies are
 //! validated at build time by building them into a scratch space, so that
-//! [`Scene::step`] cannot fail on bad data halfway through a run.
+//! [`ScriptedWorld::step`] cannot fail on bad data halfway through a run.
+//!
+//! A scripted world's script is state: [`ScriptedWorld::save`] writes the
+//! engine snapshot together with the script (forces, the spawns and which
+//! of them have happened, the `begin` counters), and
+//! [`ScriptedWorld::load`] brings back a world that continues exactly as the
+//! one saved, scripted forces and spawns included.
 //!
 //! Bodies are created in description order and each body's shapes right
 //! after it, so handles (and therefore the state bytes) depend only on the
 //! description.
+mod save;
+
+pub use save::LoadError;
+
 use core::fmt;
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -17,10 +28,10 @@ use std::sync::Arc;
 use super::desc::{
     BodyDesc, BodyKind, GeometryDesc, MassDesc, SceneDesc, ShapeDesc, ShapeMassDesc, SpawnDesc,
 };
-use crate::body::{Body, BodyHandle};
-use crate::math::{Real, Transform, Vect, BB};
-use crate::shape::{CollisionType, Shape, ShapeError};
-use crate::space::{Settings, Space, SpaceError};
+use tamias2d::body::{Body, BodyHandle};
+use tamias2d::math::{Real, Transform, Vect, BB};
+use tamias2d::shape::{CollisionType, Shape, ShapeError};
+use tamias2d::space::{Settings, Space, SpaceError};
 
 /// Which body of a description an error is about.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -115,7 +126,7 @@ struct BeginCounter {
 
 /// A built scene: the space plus what the description scripts around it.
 #[derive(Debug)]
-pub struct Scene {
+pub struct ScriptedWorld {
     /// The world.
     pub space: Space,
     /// Time step of every step.
@@ -139,7 +150,7 @@ impl SceneDesc {
     /// Builds the scene: a new [`Space`] with the settings, bodies and
     /// shapes, the scripted forces and spawns, and the `begin` counters.
     /// Spawns due at step 0 are added at once.
-    pub fn build(&self) -> Result<Scene, SceneError> {
+    pub fn build(&self) -> Result<ScriptedWorld, SceneError> {
         if !self.dt.is_positive() {
             return Err(SceneError::TimeStep);
         }
@@ -147,7 +158,7 @@ impl SceneDesc {
         space
             .set_settings(Settings::from(&self.settings))
             .map_err(SceneError::Settings)?;
-        let mut scene = Scene {
+        let mut scene = ScriptedWorld {
             space,
             dt: self.dt,
             steps: self.steps,
@@ -209,10 +220,15 @@ fn validate_spawns(desc: &SceneDesc) -> Result<(), SceneError> {
     }
 }
 
-impl Scene {
+impl ScriptedWorld {
     /// One step: apply the scripted forces, step the space by `dt`, then add
     /// the bodies whose spawn is due after this many steps.
     pub fn step(&mut self) -> Result<(), SceneError> {
+        self.step_by(self.dt)
+    }
+
+    /// [`ScriptedWorld::step`] by `dt` instead of the world's own step.
+    fn step_by(&mut self, dt: Real) -> Result<(), SceneError> {
         for (i, &(h, force, torque)) in self.forces.iter().enumerate() {
             // A scripted body that no longer resolves (removed, or the space
             // was replaced by one with other handles) is an error, not a
@@ -224,7 +240,7 @@ impl Scene {
             body.apply_force(force);
             body.apply_torque(torque);
         }
-        self.space.step(self.dt).map_err(SceneError::Step)?;
+        self.space.step(dt).map_err(SceneError::Step)?;
         // 2^64 steps never happen: never saturates.
         self.steps_taken = self.steps_taken.saturating_add(1);
         self.spawn_due()
@@ -233,9 +249,9 @@ impl Scene {
     /// Rolls the scene's space back (or forward) to `state` in place, keeping
     /// handlers and every handle the scene holds valid (the in-memory
     /// rollback path). `steps_taken` is set to the state's step count
-    /// ([`WorldState::steps`](crate::space::WorldState::steps), not the
+    /// ([`WorldState::steps`](tamias2d::space::WorldState::steps), not the
     /// sub-step `stamp`) so spawns stay on schedule.
-    pub fn restore_state(&mut self, state: &crate::space::WorldState) {
+    pub fn restore_state(&mut self, state: &tamias2d::space::WorldState) {
         self.space.restore_state(state);
         self.steps_taken = state.steps;
         // Spawns after the restored step have not happened yet.
@@ -257,12 +273,32 @@ impl Scene {
         self.labels.retain(|_, h| live.contains(h));
     }
 
+    /// A world with no script around `space` (a bare engine snapshot, say):
+    /// each step is the space's step by `dt`. Its bodies, in slot order,
+    /// are its creation-order bodies.
+    pub fn unscripted(space: Space, dt: Real) -> ScriptedWorld {
+        let bodies: Vec<BodyHandle> = space.bodies().map(|(h, _)| h).collect();
+        ScriptedWorld {
+            initial_bodies: bodies.len(),
+            bodies,
+            labels: BTreeMap::new(),
+            forces: Vec::new(),
+            spawns: Vec::new(),
+            next_spawn: 0,
+            counters: Vec::new(),
+            steps_taken: space.steps(),
+            steps: 0,
+            dt,
+            space,
+        }
+    }
+
     /// Takes `n` steps.
     pub fn step_n(&mut self, n: u32) -> Result<(), SceneError> {
         (0..n).try_for_each(|_| self.step())
     }
 
-    /// Takes the scene's default number of steps ([`Scene::steps`]).
+    /// Takes the scene's default number of steps ([`ScriptedWorld::steps`]).
     pub fn run(&mut self) -> Result<(), SceneError> {
         self.step_n(self.steps)
     }

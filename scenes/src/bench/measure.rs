@@ -14,11 +14,11 @@
 //!
 //! Both counts leave out pairs that do not overlap (Rapier's speculative
 //! contacts, our cached arbiters).
+use crate::{SceneDesc, ScriptedWorld};
 use tamias2d::arbiter::ArbiterState;
 use tamias2d::body::BodyType;
-use tamias2d::scenes::{Scene, SceneDesc};
 
-use super::Config;
+use crate::bench::Config;
 
 /// A body's state at one moment, engine-independent.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -101,11 +101,11 @@ pub trait Engine {
     }
 }
 
-/// A Tamias2D scene; one report step is one `Scene::step` (sub-steps are
+/// A Tamias2D scene; one report step is one `ScriptedWorld::step` (sub-steps are
 /// the library's, `Settings::substeps`).
 pub struct TamiasRun {
     /// The scene (its `dt` is the whole step).
-    pub scene: Scene,
+    pub scene: ScriptedWorld,
 }
 
 impl TamiasRun {

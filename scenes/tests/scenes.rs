@@ -1,19 +1,19 @@
-//! Built-in scenes: every listed scene builds with the body count
-//! BENCH_SCENES.md implies, round-trips through JSON exactly, builds to the
+//! Standard scenes: every registered scene builds with the body count its
+//! description in `scenes/README.md` implies, round-trips through JSON exactly, builds to the
 //! same state twice, steps without error (small sizes, few steps: debug
 //! builds stay fast), and bad descriptions are errors, never panics.
 use serde::{Deserialize, Serialize};
 use tamias2d::real;
-use tamias2d::scenes::rng::{SplitMix64, SEED};
-use tamias2d::scenes::{
-    self, accuracy, stacking, terrain, BodyDesc, BodyKind, BodyPath, ForceDesc, GeometryDesc,
-    MassDesc, SceneDesc, SceneError, ShapeDesc,
-};
 use tamias2d::shape::ShapeError;
 use tamias2d::space::SpaceError;
 use tamias2d::{Real, Vect};
+use tamias2d_scenes::rng::{SplitMix64, SEED};
+use tamias2d_scenes::{
+    self as scenes, accuracy, stacking, terrain, BodyDesc, BodyKind, BodyPath, ForceDesc,
+    GeometryDesc, MassDesc, SceneDesc, SceneError, ShapeDesc,
+};
 
-/// `(initial bodies, bodies once every spawn is out)` as BENCH_SCENES.md
+/// `(initial bodies, bodies once every spawn is out)` as `scenes/README.md`
 /// implies for each registry name.
 fn expected_bodies(name: &str) -> (usize, usize) {
     let num = |s: &str| s.parse::<usize>().unwrap_or(0);
@@ -42,10 +42,10 @@ fn expected_bodies(name: &str) -> (usize, usize) {
 
 #[test]
 fn builtin_every_listed_scene_builds_with_documented_body_count() {
-    let list = scenes::list();
-    assert_eq!(list.len(), 29);
-    for (name, about) in list {
-        assert!(!about.is_empty());
+    assert_eq!(scenes::REGISTRY.len(), 29);
+    for info in scenes::REGISTRY {
+        let name = &info.name;
+        assert!(!info.about.is_empty());
         let desc = scenes::builtin(name).unwrap_or_else(|| panic!("{name} is listed but unknown"));
         assert_eq!(desc.name, *name);
         let (initial, total) = expected_bodies(name);
@@ -67,10 +67,10 @@ fn builtin_every_listed_scene_builds_with_documented_body_count() {
 
 #[test]
 fn builtin_names_are_unique_and_unknown_is_none() {
-    let mut names: Vec<&str> = scenes::list().iter().map(|(n, _)| *n).collect();
+    let mut names: Vec<&str> = scenes::REGISTRY.iter().map(|s| s.name).collect();
     names.sort_unstable();
     names.dedup();
-    assert_eq!(names.len(), scenes::list().len());
+    assert_eq!(names.len(), scenes::REGISTRY.len());
     assert!(scenes::builtin("pyramid_21").is_none());
     assert!(scenes::builtin("").is_none());
 }
@@ -155,7 +155,7 @@ fn from_json(json: &str) -> Result<SceneDesc, serde_json::Error> {
 
 #[test]
 fn json_round_trip_is_exact_and_builds_identical_state() {
-    for (name, _) in scenes::list() {
+    for name in scenes::REGISTRY.iter().map(|s| s.name) {
         let desc = scenes::builtin(name).unwrap_or_else(|| panic!("listed"));
         let back = from_json(&to_json(&desc)).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(back, desc, "{name}: description changed through JSON");
@@ -183,7 +183,7 @@ fn json_reals_are_decimal_strings() {
 }
 
 #[derive(Debug, PartialEq, Serialize, Deserialize)]
-struct OneReal(#[serde(with = "tamias2d::scenes::dec::real")] Real);
+struct OneReal(#[serde(with = "tamias2d_scenes::dec::real")] Real);
 
 #[test]
 fn decimal_reals_round_trip_every_bit_pattern() {
@@ -450,7 +450,7 @@ fn rain_releases_a_row_every_ten_steps_until_the_count() {
     let mut scene = stacking::rain(120)
         .build()
         .unwrap_or_else(|e| panic!("{e}"));
-    let count = |s: &scenes::Scene| s.space.bodies().count();
+    let count = |s: &scenes::ScriptedWorld| s.space.bodies().count();
     assert_eq!(count(&scene), 51);
     scene.step_n(9).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(count(&scene), 51);

@@ -1,5 +1,5 @@
 //! The little two-player game shared by the GGRS and rollback examples and
-//! by `tests/ggrs.rs`: `bowl_boxes_100` (100 boxes dropped into a bowl) plus
+//! by `tests/ggrs.rs` (feature `ggrs`): `bowl_boxes_100` (100 boxes dropped into a bowl) plus
 //! two player balls, each driven by a `u8` button mask.
 //!
 //! Buttons decode deterministically into [`replay::Input`]s
@@ -8,18 +8,26 @@
 //! state for rollback is the [`WorldState`] alone (the in-memory fast path:
 //! `state().clone()` to save, `restore_state` to load); the frame number is
 //! the space's step stamp.
-#![allow(dead_code)] // each example uses a part
+#![allow(
+    dead_code, // each example uses a part
+    clippy::float_arithmetic,
+    clippy::arithmetic_side_effects,
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing
+)]
 
 use std::net::SocketAddr;
 use std::time::{Duration, Instant};
 
+use crate::{self as scenes, rng::SplitMix64, BodyDesc, BodyKind, ShapeDesc};
 use ggrs::{
     DesyncDetection, GgrsError, GgrsEvent, GgrsRequest, InputStatus, PlayerType, PredictRepeatLast,
     SessionState, UdpNonBlockingSocket,
 };
 use tamias2d::body::BodyHandle;
 use tamias2d::replay::{self, Input};
-use tamias2d::scenes::{self, rng::SplitMix64, BodyDesc, BodyKind, ShapeDesc};
 use tamias2d::space::{Space, WorldState};
 use tamias2d::{real, Real, Vect};
 
@@ -69,6 +77,12 @@ pub struct Game {
     /// count) nudges player 0: state outside the snapshot feeds the
     /// simulation, the classic desync, to show that the checks catch it.
     pub sabotage: bool,
+}
+
+impl Default for Game {
+    fn default() -> Game {
+        Game::new()
+    }
 }
 
 impl Game {

@@ -1,6 +1,6 @@
 //! A [`SceneDesc`] as a Rapier world: same bodies, shapes, materials,
 //! gravity, time step and iteration count, with the scripted forces and
-//! spawns replayed as [`Scene::step`](tamias2d::scenes::Scene::step) does.
+//! spawns replayed as [`ScriptedWorld::step`](crate::ScriptedWorld::step) does.
 //!
 //! The mapping, shape by shape (Chipmunk's rounding radius is Rapier's
 //! border radius: both grow the core shape outward):
@@ -24,21 +24,21 @@
 //! these are sub-steps, each with one PGS and one stabilisation pass),
 //! `dt`, gravity and `length_unit` (10 for the pixel-unit scenes of section
 //! A, 1 otherwise) as given; sleeping off (we have none); the velocity cap
-//! (`normalized_max_linear_velocity`, 400 m/s) off, because the SRS
-//! projectile starts at 1200 m/s; everything else at Rapier's defaults
+//! (`normalized_max_linear_velocity`, 400 m/s) off, because
+//! `projectile_45` starts at 1200 m/s; everything else at Rapier's defaults
 //! (soft contacts, speculative contacts, contact recycling, CCD of fast
 //! bodies against fixed ones). Collision slop and bias have no Rapier
 //! counterpart and are not mapped; damping is mapped to Rapier's linear and
 //! angular damping (`−ln damping`), though every built-in scene has none.
-use rapier2d::prelude::*;
-use tamias2d::math::Vect;
-use tamias2d::scenes::{
+use crate::{
     BodyDesc, BodyKind, GeometryDesc, MassDesc, SceneDesc, ShapeDesc, ShapeMassDesc, SpawnDesc,
 };
+use rapier2d::prelude::*;
+use tamias2d::math::Vect;
 use tamias2d::shape::ShapeFilter;
 
-use super::measure::{BodyState, Engine, Penetration};
-use super::Config;
+use crate::bench::measure::{BodyState, Engine, Penetration};
+use crate::bench::Config;
 
 /// A Rapier world built from a scene description.
 pub struct RapierRun {

@@ -1,67 +1,62 @@
 //! Shared code of the Tamias2D-versus-Rapier benches and of the performance
-//! report (`examples/perf_report.rs`, which includes this module by path).
+//! report (`benches/`, `examples/perf_report`), behind the feature `bench`
+//! (it pulls in Rapier). Not part of the fixtures proper: measurement
+//! helpers that the engine's benches and report share.
 //!
 //! * [`rapier_world`] turns a [`SceneDesc`] into a Rapier world with the same
 //!   bodies, shapes, materials, gravity, time step and iteration count, and
 //!   replays the description's scripted forces and spawns the same way
-//!   [`Scene::step`](tamias2d::scenes::Scene::step) does.
+//!   [`ScriptedWorld::step`](crate::ScriptedWorld::step) does.
 //! * [`measure`] reads what both engines deliver in one common form: body
 //!   states in creation order and penetration of touching pairs.
 //!
 //! Floats are fine here: this is measurement code, never simulation state.
-#![allow(dead_code)] // each bench or example uses a different part of it
+#![allow(
+    dead_code, // each bench or example uses a different part of it
+    clippy::float_arithmetic,
+    clippy::arithmetic_side_effects,
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing
+)]
 
 pub mod measure;
 pub mod rapier_world;
 
+use crate::{self as scenes, SceneDesc, Section};
 use tamias2d::math::Real;
-use tamias2d::scenes::{self, SceneDesc};
 
 #[allow(unused_imports)] // each user takes a different part
 pub use measure::{BodyState, Engine, Penetration, TamiasRun};
 #[allow(unused_imports)]
 pub use rapier_world::RapierRun;
 
-/// BENCH_SCENES sections A and B, CI-sized variants (the quick set).
-pub const CI_SCENES: &[&str] = &[
-    "bowl_circles_100",
-    "bowl_boxes_100",
-    "bowl_hexagons_100",
-    "bouncy_circles_500",
-    "no_collide",
-    "pyramid_20",
-    "many_pyramids_4x4",
-    "rain_1000",
-    "tumbler_500",
-];
+/// Sections A and B (terrain, stacking), the sizes that stand for their
+/// family: the quick set.
+pub fn ci_scenes() -> Vec<&'static str> {
+    scenes::REGISTRY
+        .iter()
+        .filter(|s| s.is_quick_bench())
+        .map(|s| s.name)
+        .collect()
+}
 
-/// BENCH_SCENES sections A and B, full-sized variants.
-pub const FULL_SCENES: &[&str] = &[
-    "bowl_circles_500",
-    "bowl_circles_1000",
-    "bowl_boxes_500",
-    "bowl_boxes_1000",
-    "bowl_hexagons_500",
-    "bowl_hexagons_1000",
-    "pyramid_100",
-    "many_pyramids_10x10",
-    "rain_4000",
-    "tumbler_2000",
-];
+/// Sections A and B, the larger sizes.
+pub fn full_scenes() -> Vec<&'static str> {
+    scenes::REGISTRY
+        .iter()
+        .filter(|s| s.section != Section::Accuracy && s.covered_by.is_some())
+        .map(|s| s.name)
+        .collect()
+}
 
-/// BENCH_SCENES section C (closed-form answers).
-pub const ACCURACY_SCENES: &[&str] = &[
-    "free_fall",
-    "constant_force",
-    "projectile_45",
-    "projectile_60",
-    "spin",
-    "elastic_pair",
-    "newtons_cradle",
-    "incline_slide",
-    "incline_stick",
-    "stack_10",
-];
+/// Section C (closed-form answers).
+pub fn accuracy_scenes() -> Vec<&'static str> {
+    scenes::registry::section(Section::Accuracy)
+        .map(|s| s.name)
+        .collect()
+}
 
 /// Solver settings of one run: what the trade-off sweep varies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -109,7 +104,7 @@ impl Config {
 
 /// The registry scene `name` with its step, iterations and sub-steps
 /// (`Settings::substeps`) replaced by `config`. Panics on unknown names: the
-/// lists above are fixed.
+/// lists above come from the registry.
 pub fn scene_with(name: &str, config: Config) -> SceneDesc {
     let mut desc = scenes::builtin(name).unwrap_or_else(|| panic!("scene {name} is listed"));
     let den = i32::try_from(config.rate).unwrap_or(i32::MAX);

@@ -1,5 +1,5 @@
-//! Section C of BENCH_SCENES.md: accuracy scenes with closed-form answers
-//! (SRS instance models IM1–IM3), in SI units, 1/60 s steps, Chipmunk's
+//! Section C of scenes/README.md: accuracy scenes with closed-form answers
+//!, in SI units, 1/60 s steps, Chipmunk's
 //! default iterations, slop and bias.
 //!
 //! # The discrete closed form
@@ -24,11 +24,11 @@
 //! mass and moment are explicit, so the shapes are massless.
 use super::desc::{BodyDesc, ForceDesc, SceneDesc, SettingsDesc, ShapeDesc};
 use super::stacking;
-use crate::math::{Real, Vect};
-use crate::real;
-use crate::shape::mass::{moment_for_box, moment_for_circle};
+use tamias2d::math::{Real, Vect};
+use tamias2d::real;
+use tamias2d::shape::mass::{moment_for_box, moment_for_circle};
 
-/// Standard gravity used by the SI accuracy scenes (SRS symbol table).
+/// Standard gravity used by the SI accuracy scenes.
 pub const G: Real = real!(9.81);
 
 fn scene(name: &str, gravity: Vect, steps: u32) -> SceneDesc {
@@ -67,7 +67,7 @@ pub fn free_fall() -> SceneDesc {
     desc
 }
 
-/// `constant_force` (SRS TC2 inputs): a ball (radius 1, mass 10, labelled
+/// `constant_force`: a ball (radius 1, mass 10, labelled
 /// `ball`) at rest at (20, 20), no gravity, force F = (100, 0) applied before
 /// every step; 240 steps (4 s, the span of TC2's table). Expect
 /// `p(t) = p0 + ½(F/m)t²` up to the discrete lag: x(4 s) = 100 − 1/3 m.
@@ -88,15 +88,13 @@ pub fn constant_force() -> SceneDesc {
     desc
 }
 
-/// `projectile_45` / `projectile_60` (SRS TC6 / TC7 inputs): a ball (radius
+/// `projectile_45` / `projectile_60`: a ball (radius
 /// 1, labelled `ball`) launched under gravity; 600 steps (10 s, past the apex
 /// of both). `None` for other angles.
 ///
-/// Inputs, exact decimals as the SRS gives them:
-/// * 45°: p0 = (0, 0), v0 = (848.5, 848.5), m = 10, g = (0, −100). TC6
-///   prints v0 = (848.50, 0), a typo: its own first sample has
-///   v_y ≈ 846.9 = 848.5 − 100/60, and 848.5 ≈ 1200·cos 45°. Equal
-///   components make the angle exactly 45°.
+/// Inputs, exact decimals (see `scenes/README.md`):
+/// * 45°: p0 = (0, 0), v0 = (848.5, 848.5) (≈ 1200·(cos 45°, sin 45°); equal
+///   components make the angle exactly 45°), m = 10, g = (0, −100).
 /// * 60°: p0 = (50, 50), v0 = (150, 260) (≈ 300 m/s at 60.02°), m = 1000,
 ///   g = (0, −40).
 ///
@@ -123,7 +121,7 @@ pub fn projectile(angle_deg: u32) -> Option<SceneDesc> {
     Some(desc)
 }
 
-/// `spin` (SRS TC8/TC9 inputs): a 100 × 100 box (labelled `box`) of mass 0.5
+/// `spin`: a 100 × 100 box (labelled `box`) of mass 0.5
 /// and moment `0.5·(100² + 100²)/12 = 833.33…`, at rest at the origin, no
 /// gravity, torque τ = 100 applied before every step; 600 steps (10 s).
 /// Expect `ω(t) = τt/I` and `φ(t) = ½τt²/I` up to the discrete lag
@@ -177,7 +175,7 @@ const CRADLE_GAP: Real = real!(0.01);
 /// at rest, with momentum and energy conserved.
 ///
 /// Decision: the balls are *nearly* touching, 1 cm apart, not touching as
-/// BENCH_SCENES.md says. Our circle test counts exactly touching circles as
+/// scenes/README.md says. Our circle test counts exactly touching circles as
 /// colliding (distance ≤ r₁ + r₂), so with touching balls all four contacts
 /// are solved together and a sequential-impulse solver hands the striker's
 /// momentum to the whole row at once (measured: the striker bounced back at

@@ -14,9 +14,9 @@
 use serde::{Deserialize, Serialize};
 
 use super::dec;
-use crate::math::{Real, Vect};
-use crate::shape::{CollisionType, ShapeFilter};
-use crate::space::Settings;
+use tamias2d::math::{Real, Vect};
+use tamias2d::shape::{CollisionType, ShapeFilter};
+use tamias2d::space::Settings;
 
 /// A whole scene: settings, time step, bodies and scripted events.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -172,7 +172,7 @@ impl SettingsDesc {
     }
 }
 
-/// How a body moves (mirrors [`BodyType`](crate::body::BodyType)).
+/// How a body moves (mirrors [`BodyType`](tamias2d::body::BodyType)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum BodyKind {
@@ -308,7 +308,7 @@ pub enum GeometryDesc {
     },
 }
 
-/// Mass of a shape (mirrors [`MassSpec`](crate::shape::MassSpec)).
+/// Mass of a shape (mirrors [`MassSpec`](tamias2d::shape::MassSpec)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ShapeMassDesc {

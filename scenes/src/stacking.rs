@@ -1,4 +1,4 @@
-//! Section B of BENCH_SCENES.md: stacking scenes of the Box2D benchmark
+//! Section B of scenes/README.md: stacking scenes of the Box2D benchmark
 //! class, in SI units.
 //!
 //! Settings: gravity (0, −10), 1/60 s, Chipmunk's default iterations (10),
@@ -11,8 +11,8 @@ use super::desc::{
     BodyDesc, BodyKind, GeometryDesc, Neighbors, SceneDesc, SettingsDesc, ShapeDesc, SpawnDesc,
 };
 use super::rng::{SplitMix64, SEED};
-use crate::math::{Real, Vect};
-use crate::real;
+use tamias2d::math::{Real, Vect};
+use tamias2d::real;
 
 /// Friction of every shape in section B.
 const FRICTION: Real = real!(0.6);
@@ -133,7 +133,7 @@ const RAIN_WALL_HEIGHT: i32 = 35;
 /// `rain_{n}`: circles of radius uniform in [0.25, 0.5) released in rows of
 /// 50 every 10 steps above a ground 100 m wide, until `n` circles exist.
 ///
-/// Decisions where BENCH_SCENES.md is silent:
+/// Decisions where scenes/README.md is silent:
 /// * ground: one static body with 10 segments of 10 m, chained with
 ///   neighbours (smooth: no catching on seams; the end segments use their
 ///   straight continuation), plus two walls, so the pile (≈ 22 m deep for
@@ -222,7 +222,7 @@ fn rain_container() -> BodyDesc {
 
 /// Angular velocity of the tumbler (rad/s).
 const TUMBLER_SPIN: Real = real!(0.25);
-/// Largest box side of [`tumbler`] (BENCH_SCENES.md).
+/// Largest box side of [`tumbler`] (scenes/README.md).
 const TUMBLER_BOX: Real = Real::HALF;
 /// Room the grid of boxes may use inside the tumbler: the 19 m interior less
 /// 0.5 m at each side.
@@ -250,14 +250,14 @@ pub fn tumbler_box_side(n: u32) -> (Real, u32) {
 /// `tumbler_{n}`: a kinematic hollow square spinning at 0.25 rad/s about
 /// (0, 10), filled with `n` boxes (density 1, friction 0.6).
 ///
-/// Decisions where BENCH_SCENES.md is silent or cannot be met:
+/// Decisions where scenes/README.md is silent or cannot be met:
 /// * walls as in Box2D's tumbler: four 1 m thick boxes on one kinematic body
 ///   (labelled `tumbler`) centred 10 m from its centre (20 m wide measured
 ///   at the wall centres, 19 m inside), friction 0.6;
 /// * fill: the boxes start at rest in a square grid of `k = ⌈√n⌉` columns,
 ///   pitch 1.25 × side, centred on the tumbler, filled row by row from the
 ///   bottom (the last row may be partial), and fall inside it;
-/// * box side: 0.5 m as BENCH_SCENES.md says **while the grid fits** (up to
+/// * box side: 0.5 m as scenes/README.md says **while the grid fits** (up to
 ///   n = 841). 2000 boxes of 0.5 m cover 500 m², more than the 361 m²
 ///   interior, so the side is halved until the grid fits: `tumbler_2000` uses
 ///   0.25 m boxes (Box2D's tumbler size). See [`tumbler_box_side`].

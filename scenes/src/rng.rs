@@ -5,10 +5,9 @@
 //! by bit manipulation only (no float is ever involved). SplitMix64 (Steele,
 //! Lea and Flood, 2014) is tiny, has a full 2^64 period and passes BigCrush;
 //! that is plenty for placing bodies. The standard seed is [`SEED`].
-use crate::math::wide::raw_sq;
-use crate::math::{Real, Vect};
+use tamias2d::math::{Real, Vect};
 
-/// Seed of every built-in scene that needs randomness (BENCH_SCENES.md).
+/// Seed of every built-in scene that needs randomness (scenes/README.md).
 pub const SEED: u64 = 45073;
 
 /// The SplitMix64 generator.
@@ -71,6 +70,13 @@ impl SplitMix64 {
     }
 }
 
+/// `|a|²` of raw bits (units of 2^-64), exact: at most 2^126.
+fn raw_sq(a: Real) -> u128 {
+    let m = u128::from(a.to_bits().unsigned_abs());
+    // m ≤ 2^63: m² ≤ 2^126, never saturates.
+    m.saturating_mul(m)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -94,8 +100,8 @@ mod tests {
             assert!(s >= -Real::ONE && s < Real::ONE);
             let p = r.in_unit_disk();
             assert!(p.x.abs() < Real::ONE && p.y.abs() < Real::ONE);
-            let q = r.range(crate::real!(0.25), Real::HALF);
-            assert!(q >= crate::real!(0.25) && q <= Real::HALF);
+            let q = r.range(tamias2d::real!(0.25), Real::HALF);
+            assert!(q >= tamias2d::real!(0.25) && q <= Real::HALF);
         }
     }
 }

@@ -1,0 +1,289 @@
+//! The one list of standard scenes: every name, section, description, size,
+//! default step count and golden checksum lives in [`REGISTRY`], and every
+//! other list (tests, benches, the `tamias` CLI, the performance report, the
+//! cross-platform check) is taken from it.
+//!
+//! # Goldens
+//! A scene's [`Golden`] is the [`Space::checksum`](tamias2d::space::Space::checksum)
+//! after that many steps of [`ScriptedWorld::step`](crate::ScriptedWorld::step)
+//! from the built scene. `tests/golden.rs` of this crate checks them on every
+//! platform (`scripts/cross-platform.sh`). The larger sizes of a family
+//! carry no golden: they run the same code on more bodies, and
+//! [`SceneInfo::covered_by`] names the smallest size that stands for them.
+//! **A golden moves only with a deliberate numeric change**, stated in the
+//! commit message (see `tests/golden.rs`).
+use tamias2d::real;
+
+use crate::desc::SceneDesc;
+use crate::{accuracy, stacking, terrain};
+
+/// The three groups of standard scenes (see `scenes/README.md`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Section {
+    /// A: bodies poured into static terrain (a segment bowl), and movers
+    /// that must never touch.
+    Terrain,
+    /// B: stacking, piling and sustained contact (pyramids, rain, a tumbler).
+    Stacking,
+    /// C: accuracy against closed-form answers (free fall, projectiles,
+    /// elastic collisions, inclines).
+    Accuracy,
+}
+
+impl Section {
+    /// The section's letter: `A`, `B` or `C`.
+    pub fn letter(self) -> char {
+        match self {
+            Section::Terrain => 'A',
+            Section::Stacking => 'B',
+            Section::Accuracy => 'C',
+        }
+    }
+
+    /// The section's name: `terrain`, `stacking` or `accuracy`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Section::Terrain => "terrain",
+            Section::Stacking => "stacking",
+            Section::Accuracy => "accuracy",
+        }
+    }
+}
+
+/// A committed checksum: [`Space::checksum`](tamias2d::space::Space::checksum)
+/// after `steps` steps of the built scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Golden {
+    /// Steps from the built scene.
+    pub steps: u32,
+    /// The checksum after them.
+    pub checksum: u64,
+}
+
+/// One standard scene.
+#[derive(Clone, Copy, Debug)]
+pub struct SceneInfo {
+    /// Registry name, e.g. `pyramid_20`.
+    pub name: &'static str,
+    /// Its section.
+    pub section: Section,
+    /// One line on what it is.
+    pub about: &'static str,
+    /// Bodies over the whole run (static terrain and spawned bodies included):
+    /// [`SceneDesc::total_bodies`], checked by a test.
+    pub bodies: u32,
+    /// Steps of a default run ([`SceneDesc::steps`], checked by a test).
+    pub steps: u32,
+    /// The smaller size of the same family that stands for this one where
+    /// debug-build time matters (goldens, lockstep tests); `None` for a
+    /// scene that stands for itself.
+    pub covered_by: Option<&'static str>,
+    /// Golden checked natively (debug and release, every platform);
+    /// `Some` exactly when `covered_by` is `None`.
+    pub golden: Option<Golden>,
+    /// Golden checked under Miri (a few steps of a few small scenes).
+    pub miri_golden: Option<Golden>,
+    /// Builds the description (`None` only if the scene's parameters are
+    /// out of its builder's range, which a test rules out).
+    build: fn() -> Option<SceneDesc>,
+}
+
+impl SceneInfo {
+    /// The scene's description, named by its registry name.
+    pub fn desc(&self) -> Option<SceneDesc> {
+        let mut desc = (self.build)()?;
+        self.name.clone_into(&mut desc.name);
+        Some(desc)
+    }
+
+    /// A full-size scene (no smaller size stands for it) of sections A or
+    /// B: the quick benchmark set.
+    pub fn is_quick_bench(&self) -> bool {
+        self.section != Section::Accuracy && self.covered_by.is_none()
+    }
+}
+
+const fn golden(steps: u32, checksum: u64) -> Option<Golden> {
+    Some(Golden { steps, checksum })
+}
+
+macro_rules! scene {
+    ($name:literal, $section:ident, $about:literal, bodies $bodies:literal, steps $steps:literal,
+     $covered:expr, $golden:expr, $miri:expr, $build:expr) => {
+        SceneInfo {
+            name: $name,
+            section: Section::$section,
+            about: $about,
+            bodies: $bodies,
+            steps: $steps,
+            covered_by: $covered,
+            golden: $golden,
+            miri_golden: $miri,
+            build: $build,
+        }
+    };
+}
+
+/// Every standard scene, in section order (A, B, C), each family smallest
+/// size first.
+pub const REGISTRY: &[SceneInfo] = &[
+    // A: terrain
+    scene!("bowl_circles_100", Terrain, "100 circles (r 5) dropped into a 48-segment bowl",
+        bodies 101, steps 1000, None, golden(600, 0x92a2c7c437b7fa51), None,
+        || Some(terrain::bowl_circles(100))),
+    scene!("bowl_circles_500", Terrain, "500 circles (r 5) dropped into a 48-segment bowl",
+        bodies 501, steps 1000, Some("bowl_circles_100"), None, None,
+        || Some(terrain::bowl_circles(500))),
+    scene!("bowl_circles_1000", Terrain, "1000 circles (r 5) dropped into a 48-segment bowl",
+        bodies 1001, steps 1000, Some("bowl_circles_100"), None, None,
+        || Some(terrain::bowl_circles(1000))),
+    scene!("bowl_boxes_100", Terrain, "100 rounded 10x10 boxes dropped into the bowl",
+        bodies 101, steps 1000, None, golden(600, 0x9c52ac251cd637c7), None,
+        || Some(terrain::bowl_boxes(100))),
+    scene!("bowl_boxes_500", Terrain, "500 rounded 10x10 boxes dropped into the bowl",
+        bodies 501, steps 1000, Some("bowl_boxes_100"), None, None,
+        || Some(terrain::bowl_boxes(500))),
+    scene!("bowl_boxes_1000", Terrain, "1000 rounded 10x10 boxes dropped into the bowl",
+        bodies 1001, steps 1000, Some("bowl_boxes_100"), None, None,
+        || Some(terrain::bowl_boxes(1000))),
+    scene!("bowl_hexagons_100", Terrain, "100 rounded hexagons dropped into the bowl",
+        bodies 101, steps 1000, None, golden(600, 0x4db21d74abd4b987), None,
+        || Some(terrain::bowl_hexagons(100))),
+    scene!("bowl_hexagons_500", Terrain, "500 rounded hexagons dropped into the bowl",
+        bodies 501, steps 1000, Some("bowl_hexagons_100"), None, None,
+        || Some(terrain::bowl_hexagons(500))),
+    scene!("bowl_hexagons_1000", Terrain, "1000 rounded hexagons dropped into the bowl",
+        bodies 1001, steps 1000, Some("bowl_hexagons_100"), None, None,
+        || Some(terrain::bowl_hexagons(1000))),
+    scene!("bouncy_circles_500", Terrain, "500 elastic circles bouncing in the bowl, no gravity",
+        bodies 501, steps 1000, None, golden(60, 0x144bbca450533572), None,
+        || Some(terrain::bouncy_circles(500))),
+    scene!("no_collide", Terrain, "28 movers threading 825 static circles; must never touch each other",
+        bodies 29, steps 1000, None, golden(600, 0x6334df0c71ece427), None,
+        || Some(terrain::no_collide())),
+    // B: stacking
+    scene!("pyramid_20", Stacking, "pyramid of 210 unit boxes",
+        bodies 211, steps 1000, None, golden(120, 0x401628d12a8c45a3), None,
+        || Some(stacking::pyramid(20))),
+    scene!("pyramid_100", Stacking, "pyramid of 5050 unit boxes (Box2D large_pyramid)",
+        bodies 5051, steps 1000, Some("pyramid_20"), None, None,
+        || Some(stacking::pyramid(100))),
+    scene!("many_pyramids_4x4", Stacking, "4x4 grid of 55-box pyramids",
+        bodies 881, steps 1000, None, golden(20, 0x60f65afb437762b0), None,
+        || Some(stacking::many_pyramids(4, 4))),
+    scene!("many_pyramids_10x10", Stacking, "10x10 grid of 55-box pyramids",
+        bodies 5501, steps 1000, Some("many_pyramids_4x4"), None, None,
+        || Some(stacking::many_pyramids(10, 10))),
+    scene!("rain_1000", Stacking, "1000 circles raining in rows of 50 onto a 100 m ground",
+        bodies 1001, steps 1000, None, golden(200, 0x9920f32492d3fee1), None,
+        || Some(stacking::rain(1000))),
+    scene!("rain_4000", Stacking, "4000 circles raining in rows of 50 onto a 100 m ground",
+        bodies 4001, steps 1000, Some("rain_1000"), None, None,
+        || Some(stacking::rain(4000))),
+    scene!("tumbler_500", Stacking, "500 boxes in a spinning kinematic tumbler",
+        bodies 501, steps 1000, None, golden(120, 0x4b33dd5cb1f44d1e), None,
+        || Some(stacking::tumbler(500))),
+    scene!("tumbler_2000", Stacking, "2000 boxes in a spinning kinematic tumbler",
+        bodies 2001, steps 1000, Some("tumbler_500"), None, None,
+        || Some(stacking::tumbler(2000))),
+    // C: accuracy
+    scene!("free_fall", Accuracy, "a ball falling from rest under gravity",
+        bodies 1, steps 240, None, golden(240, 0x0f7f77bf5f30df03), None,
+        || Some(accuracy::free_fall())),
+    scene!("constant_force", Accuracy, "constant force (100, 0) on a 10 kg ball",
+        bodies 1, steps 240, None, golden(240, 0x80423f32342cd5d8), None,
+        || Some(accuracy::constant_force())),
+    scene!("projectile_45", Accuracy, "projectile launched at 45 degrees",
+        bodies 1, steps 600, None, golden(600, 0x6dc4e95f88c17f95), None,
+        || accuracy::projectile(45)),
+    scene!("projectile_60", Accuracy, "projectile launched at 60 degrees",
+        bodies 1, steps 600, None, golden(600, 0x7cbbd6b7d1d1cc67), None,
+        || accuracy::projectile(60)),
+    scene!("spin", Accuracy, "torque 100 on a 100x100 box of mass 0.5",
+        bodies 1, steps 600, None, golden(600, 0xd1288aaadb4ec988), None,
+        || Some(accuracy::spin())),
+    scene!("elastic_pair", Accuracy, "equal balls head-on with e = 1 exchange velocities",
+        bodies 2, steps 240, None, golden(240, 0x60356187a9a44429),
+        golden(10, 0xe9b6e229c6778f8d),
+        || Some(accuracy::elastic_pair())),
+    scene!("newtons_cradle", Accuracy, "5 nearly touching elastic balls; the last leaves with the first's speed",
+        bodies 5, steps 120, None, golden(120, 0xf5c2043a08b199c5), None,
+        || Some(accuracy::newtons_cradle())),
+    scene!("incline_slide", Accuracy, "box on a 30 degree slope, mu 0.2 < tan 30: slides",
+        bodies 2, steps 180, None, golden(180, 0x9ad314272f5e9fa3),
+        golden(10, 0x43bc327eb23d4dc9),
+        || Some(accuracy::incline(30, real!(0.2)))),
+    scene!("incline_stick", Accuracy, "box on a 30 degree slope, mu 0.8 > tan 30: stays",
+        bodies 2, steps 180, None, golden(180, 0x709665bab3a026bc), None,
+        || Some(accuracy::incline(30, real!(0.8)))),
+    scene!("stack_10", Accuracy, "10 stacked unit boxes; the top box must not drift",
+        bodies 11, steps 600, None, golden(600, 0x9bb17f88289a2141),
+        golden(10, 0xd97f53985299c256),
+        || Some(accuracy::stack(10))),
+];
+
+/// The registry entry called `name`.
+pub fn find(name: &str) -> Option<&'static SceneInfo> {
+    REGISTRY.iter().find(|s| s.name == name)
+}
+
+/// The standard scene called `name` (see [`REGISTRY`]), or `None`. The
+/// description's `name` is the registry name.
+pub fn builtin(name: &str) -> Option<SceneDesc> {
+    find(name)?.desc()
+}
+
+/// The registry's scenes of `section`, in order.
+pub fn section(section: Section) -> impl Iterator<Item = &'static SceneInfo> {
+    REGISTRY.iter().filter(move |s| s.section == section)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique_and_sizes_cover_themselves() {
+        for (i, s) in REGISTRY.iter().enumerate() {
+            assert!(
+                REGISTRY.iter().skip(i + 1).all(|t| t.name != s.name),
+                "{} is registered twice",
+                s.name
+            );
+            match s.covered_by {
+                None => assert!(s.golden.is_some(), "{}: no golden", s.name),
+                Some(small) => {
+                    assert!(s.golden.is_none(), "{}: covered and golden", s.name);
+                    let small = find(small).unwrap_or_else(|| panic!("{small} not registered"));
+                    assert!(
+                        small.covered_by.is_none(),
+                        "{}: covered by a covered scene",
+                        s.name
+                    );
+                    assert_eq!(
+                        small.section, s.section,
+                        "{}: covered across sections",
+                        s.name
+                    );
+                }
+            }
+            if s.miri_golden.is_some() {
+                assert!(s.golden.is_some(), "{}: Miri golden without golden", s.name);
+            }
+        }
+        assert!(REGISTRY.windows(2).all(|w| w[0].section <= w[1].section));
+    }
+
+    #[test]
+    #[cfg_attr(miri, ignore = "builds every description, the large ones too")]
+    fn sizes_and_steps_are_the_descriptions() {
+        for s in REGISTRY {
+            let d = s
+                .desc()
+                .unwrap_or_else(|| panic!("{} does not describe", s.name));
+            assert_eq!(d.name, s.name);
+            assert_eq!(d.total_bodies(), s.bodies as usize, "{}: bodies", s.name);
+            assert_eq!(d.steps, s.steps, "{}: steps", s.name);
+        }
+    }
+}

@@ -1,0 +1,176 @@
+//! Golden checksums: every standard scene with a golden in the registry
+//! ([`REGISTRY`]), stepped that many steps, must reach that committed
+//! [`Space::checksum`](tamias2d::space::Space::checksum) value.
+//!
+//! This is the cross-platform determinism check. The same test runs on
+//! x86_64 (debug and release), native i686, aarch64 under qemu-user,
+//! wasm32-wasip1 under node's WASI, and s390x (big-endian) and i686 under
+//! Miri (`scripts/cross-platform.sh` runs them all). A platform passes only
+//! if it reproduces these exact 64-bit values, so passing everywhere proves
+//! the engine steps bit-identically everywhere.
+//!
+//! This file uses nothing but `tamias2d_scenes` (and through it `tamias2d`)
+//! and `std`: the script builds it alone, and this crate has no
+//! dev-dependencies, so keep it that way.
+//!
+//! # Changing a golden
+//! A golden moves only when the numerics change (solver, collision,
+//! integration, rounding, scene construction, or what the checksum hashes).
+//! **Such a change is deliberate, and the commit message must say so** and
+//! why ("numeric change: … ; goldens regenerated"). Never regenerate the
+//! goldens to make a failure go away without knowing which change moved
+//! them: an unexplained move is a determinism bug.
+//!
+//! Regenerate (then paste the printed values into the `golden(…)` and Miri
+//! `golden(…)` fields of `scenes/src/registry.rs`):
+//! ```text
+//! cargo test -p tamias2d-scenes --release --test golden -- --ignored --nocapture print_goldens
+//! ```
+//! or set `TAMIAS_PRINT_GOLDENS=1` on a normal run, which prints the values
+//! before checking them. The Miri values are computed natively too: they
+//! are the same scenes at fewer steps, so the values are
+//! platform-independent by the same promise.
+//!
+//! # Finding the first differing step
+//! If a platform disagrees, `TAMIAS_GOLDEN_TRACE=<scene>` (or `all`) prints
+//! that scene's checksum after every step (`trace <scene> <step>
+//! <checksum>`, step 0 = as built); diff the traces of two platforms to find
+//! the first step that differs:
+//! ```text
+//! TAMIAS_GOLDEN_TRACE=pyramid_20 cargo test -p tamias2d-scenes --test golden -- --nocapture \
+//!     golden_checksums | grep '^trace' > x86_64.txt
+//! ```
+//! (add `--target …` and the platform's runner as `scripts/cross-platform.sh`
+//! does; under Miri forward the variable with
+//! `MIRIFLAGS=-Zmiri-env-forward=TAMIAS_GOLDEN_TRACE`).
+//!
+//! # Scenes and sizes
+//! The smallest size of each scene family, at step counts that keep the
+//! debug run short (under ~30 s on the CI machine) while still colliding,
+//! stacking, spawning and spinning. Larger sizes run the same code on more
+//! bodies and carry no golden (`SceneInfo::covered_by` names the size that
+//! does); a scene registered without either fails
+//! [`every_registered_scene_has_a_golden`]. Under Miri (~1000× slower) only
+//! the Miri goldens run: small contact scenes for a few steps.
+use tamias2d_scenes::{Golden, REGISTRY};
+
+/// `(scene, golden)` this build checks: the Miri table under Miri, the
+/// native one otherwise.
+fn goldens() -> Vec<(&'static str, Golden)> {
+    REGISTRY
+        .iter()
+        .filter_map(|s| {
+            let g = if cfg!(miri) { s.miri_golden } else { s.golden };
+            g.map(|g| (s.name, g))
+        })
+        .collect()
+}
+
+/// Builds `name` and steps it `steps` times; returns the checksum. Prints
+/// every step's checksum when `TAMIAS_GOLDEN_TRACE` names the scene.
+fn checksum_after(name: &str, steps: u32) -> u64 {
+    let trace = std::env::var("TAMIAS_GOLDEN_TRACE").is_ok_and(|t| t == name || t == "all");
+    let mut world = tamias2d_scenes::builtin(name)
+        .unwrap_or_else(|| panic!("{name} is not a registered scene"))
+        .build()
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    if trace {
+        println!("trace {name} 0 {:#018x}", world.space.checksum());
+    }
+    for n in 1..=steps {
+        world
+            .step()
+            .unwrap_or_else(|e| panic!("{name}, step {n}: {e}"));
+        if trace {
+            println!("trace {name} {n} {:#018x}", world.space.checksum());
+        }
+    }
+    world.space.checksum()
+}
+
+/// Prints the current checksums of `table`'s scenes and steps.
+fn print_table(what: &str, table: &[(&str, Golden)]) {
+    println!("{what}:");
+    for &(name, g) in table {
+        let t = std::time::Instant::now();
+        let sum = checksum_after(name, g.steps);
+        println!(
+            "    {name}: golden({}, {sum:#018x}), // {:?}",
+            g.steps,
+            t.elapsed()
+        );
+    }
+}
+
+#[test]
+fn golden_checksums_match_the_committed_values() {
+    let table = goldens();
+    if std::env::var_os("TAMIAS_PRINT_GOLDENS").is_some() {
+        print_table(
+            if cfg!(miri) {
+                "Miri goldens"
+            } else {
+                "goldens"
+            },
+            &table,
+        );
+    }
+    assert!(!table.is_empty(), "no golden to check");
+    let mut wrong = Vec::new();
+    for &(name, g) in &table {
+        let got = checksum_after(name, g.steps);
+        if got != g.checksum {
+            wrong.push(format!(
+                "{name} after {} steps: got {got:#018x}, golden {:#018x}",
+                g.steps, g.checksum
+            ));
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "{} of {} goldens differ on this platform/build:\n  {}\n\
+         If the numerics changed on purpose, regenerate (see scenes/tests/golden.rs) and say so \
+         in the commit message; if not, this is a determinism bug.",
+        wrong.len(),
+        table.len(),
+        wrong.join("\n  ")
+    );
+}
+
+#[test]
+fn every_registered_scene_has_a_golden() {
+    for s in REGISTRY {
+        match s.covered_by {
+            None => assert!(s.golden.is_some(), "{}: give it a golden", s.name),
+            Some(small) => assert!(
+                REGISTRY
+                    .iter()
+                    .any(|t| t.name == small && t.golden.is_some()),
+                "{}: covered by {small}, which has no golden",
+                s.name
+            ),
+        }
+    }
+    assert!(
+        REGISTRY.iter().any(|s| s.miri_golden.is_some()),
+        "no Miri golden"
+    );
+}
+
+/// Prints both tables with the current values, for a deliberate
+/// regeneration:
+/// `cargo test -p tamias2d-scenes --release --test golden -- --ignored --nocapture print_goldens`.
+#[test]
+#[ignore = "prints the goldens for a deliberate regeneration"]
+fn print_goldens() {
+    let native: Vec<_> = REGISTRY
+        .iter()
+        .filter_map(|s| s.golden.map(|g| (s.name, g)))
+        .collect();
+    let miri: Vec<_> = REGISTRY
+        .iter()
+        .filter_map(|s| s.miri_golden.map(|g| (s.name, g)))
+        .collect();
+    print_table("goldens", &native);
+    print_table("Miri goldens", &miri);
+}
