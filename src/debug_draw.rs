@@ -19,7 +19,10 @@
 //!
 //! ```
 //! use tamias2d::debug_draw::{Color, DebugDraw, DebugDrawOptions, Point, ShapeStyle};
-//! use tamias2d_scenes as scenes;
+//! use tamias2d::body::Body;
+//! use tamias2d::shape::Shape;
+//! use tamias2d::space::Space;
+//! use tamias2d::{Real, Vect};
 //!
 //! /// Counts what would be drawn.
 //! #[derive(Default)]
@@ -31,10 +34,20 @@
 //!     fn dot(&mut self, _: Point, _: f64, _: Color) { self.dots += 1 }
 //! }
 //!
-//! let scene = scenes::builtin("pyramid_20").unwrap().build().unwrap();
+//! let mut space = Space::new();
+//! let ground = space.add_body(Body::new_static())?;
+//! let (a, b) = (Vect::from_ints(-5, 0), Vect::from_ints(5, 0));
+//! space.add_shape(Shape::segment_shape_new(ground, a, b, Real::ZERO)?)?;
+//! for i in 0..3 {
+//!     let mut body = Body::new(Real::ONE, Real::ONE)?;
+//!     body.set_position(Vect::from_ints(2 * i - 2, 1));
+//!     let h = space.add_body(body)?;
+//!     space.add_shape(Shape::box_shape_new(h, Real::ONE, Real::ONE, Real::ZERO)?)?;
+//! }
 //! let mut count = Count::default();
-//! scene.space.debug_draw(&mut count, &DebugDrawOptions::default());
-//! assert_eq!((count.segments, count.polygons), (1, 210)); // the ground, the boxes
+//! space.debug_draw(&mut count, &DebugDrawOptions::default());
+//! assert_eq!((count.segments, count.polygons), (1, 3)); // the ground, the boxes
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 use crate::arbiter::ArbiterState;
 use crate::body::{Body, BodyType};
