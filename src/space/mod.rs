@@ -20,7 +20,10 @@ use core::fmt;
 use serde::{Deserialize, Serialize};
 
 pub use handlers::{ArbiterContext, CollisionHandler, PostStepFn};
-pub use settings::{Settings, DEFAULT_COLLISION_BIAS, MAX_ITERATIONS, MAX_SUBSTEPS};
+pub use settings::{
+    Settings, CHIPMUNK_COLLISION_SLOP, DEFAULT_COLLISION_BIAS, DEFAULT_COLLISION_SLOP,
+    MAX_ITERATIONS, MAX_SUBSTEPS,
+};
 pub use step::sub_step_dts;
 
 use crate::arbiter::{Arbiter, ArbiterState};
