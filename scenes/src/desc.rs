@@ -157,7 +157,10 @@ impl From<&SettingsDesc> for Settings {
 
 impl Default for SettingsDesc {
     fn default() -> SettingsDesc {
-        SettingsDesc::from(&Settings::default())
+        SettingsDesc {
+            collision_slop: crate::space::CHIPMUNK_COLLISION_SLOP,
+            ..SettingsDesc::from(&Settings::default())
+        }
     }
 }
 

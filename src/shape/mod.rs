@@ -9,6 +9,7 @@
 //! `segment_shape_new`, `poly_shape_new`, `poly_shape_new_raw`,
 //! `box_shape_new`, `box_shape_new2`) and validate their input: bad input is a
 //! [`ShapeError`], never a panic.
+pub mod chain;
 pub mod geometry;
 pub mod hull;
 pub mod mass;
@@ -19,6 +20,7 @@ use core::fmt;
 
 use serde::{Deserialize, Serialize};
 
+pub use chain::{Chain, ChainError, ChainKind};
 pub use geometry::{Circle, Geometry, Poly, Segment, ShapeKind, MAX_POLY_VERTICES};
 
 use crate::arena::Handle;
@@ -175,6 +177,8 @@ pub enum ShapeError {
     NotConvex,
     /// A value saturated: the input is outside the representable range.
     OutOfRange(&'static str),
+    /// The points do not make a chain (see [`Chain::new`]).
+    Chain(ChainError),
 }
 
 impl fmt::Display for ShapeError {
@@ -200,6 +204,7 @@ impl fmt::Display for ShapeError {
             ),
             ShapeError::NotConvex => f.write_str("vertices are not convex and counter-clockwise"),
             ShapeError::OutOfRange(what) => write!(f, "{what} is outside the representable range"),
+            ShapeError::Chain(e) => write!(f, "{e}"),
         }
     }
 }

@@ -21,7 +21,10 @@ use core::fmt;
 use serde::{Deserialize, Serialize};
 
 pub use handlers::{ArbiterContext, CollisionHandler, PostStepFn};
-pub use settings::{Settings, DEFAULT_COLLISION_BIAS, MAX_ITERATIONS, MAX_SUBSTEPS};
+pub use settings::{
+    Settings, CHIPMUNK_COLLISION_SLOP, DEFAULT_COLLISION_BIAS, DEFAULT_COLLISION_SLOP,
+    MAX_ITERATIONS, MAX_SUBSTEPS,
+};
 pub use step::sub_step_dts;
 
 use crate::arbiter::{Arbiter, ArbiterBuffers};
@@ -429,6 +432,36 @@ impl Space {
         }
         self.update_mass_from_shapes(bh);
         Ok(h.with_origin(self.origin))
+    }
+
+    /// Adds the segments of `chain` to `body` (smooth terrain: each segment
+    /// has its neighbours set, see [`Chain`](crate::shape::Chain)); returns
+    /// their handles in chain order. All or nothing: on an error no segment
+    /// stays in the space.
+    pub fn add_chain(
+        &mut self,
+        body: BodyHandle,
+        chain: &crate::shape::Chain,
+    ) -> Result<Vec<ShapeHandle>, SpaceError> {
+        self.check_unlocked()?;
+        self.check_origin(body)?;
+        if !self.state.bodies.contains(body) {
+            return Err(SpaceError::StaleBody(body));
+        }
+        let mut added = Vec::new();
+        for shape in chain.shapes(body) {
+            match self.add_shape(shape) {
+                Ok(h) => added.push(h),
+                Err(e) => {
+                    for h in added.into_iter().rev() {
+                        // Just added, unlocked, of this space: cannot fail.
+                        let _ = self.remove_shape(h);
+                    }
+                    return Err(e);
+                }
+            }
+        }
+        Ok(added)
     }
 
     /// Removes a shape and its arbiters (separate handlers run for pairs that

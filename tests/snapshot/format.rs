@@ -19,7 +19,7 @@ fn format_layout_is_pinned() {
         "0000000000000000", // gravity.x
         "0000000000000000", // gravity.y
         "0000000001000000", // damping: 1.0 = 2^32
-        "9a99991900000000", // collision_slop: 0.1
+        "14ae470100000000", // collision_slop: 0.005 (the default, a value, not layout)
         "d3c4750000000000", // collision_bias: 0.9^60
         "03000000",         // collision_persistence: 3
         "01000000",         // substeps: 1
