@@ -155,10 +155,15 @@ impl From<&SettingsDesc> for Settings {
     }
 }
 
+/// The engine's default settings, except the collision slop: the standard
+/// scenes keep Chipmunk's 0.1 (the engine's default became the metre-scale
+/// 0.005), because they mirror Chipmunk's benchmark scenes number for number
+/// and their goldens were recorded with it. A scene file that sets
+/// `collision_slop` uses its own value.
 impl Default for SettingsDesc {
     fn default() -> SettingsDesc {
         SettingsDesc {
-            collision_slop: crate::space::CHIPMUNK_COLLISION_SLOP,
+            collision_slop: tamias2d::space::CHIPMUNK_COLLISION_SLOP,
             ..SettingsDesc::from(&Settings::default())
         }
     }

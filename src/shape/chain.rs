@@ -24,7 +24,7 @@ use core::fmt;
 
 use super::{check_radius, CollisionType, Material, Segment, Shape, ShapeError, ShapeFilter};
 use crate::body::BodyHandle;
-use crate::math::exact::raw_mul;
+use crate::math::wide;
 use crate::math::{Real, Vect};
 
 /// Whether a chain's last point joins its first.
@@ -249,10 +249,7 @@ fn check_points(points: &[Vect], kind: ChainKind) -> Result<(), ChainError> {
         let p = at(j.saturating_add(n).saturating_sub(1));
         let (q, r) = (at(j), at(j.saturating_add(1)));
         let (d1, d2) = (q - p, r - q);
-        let cross = raw_mul(d1.x.to_bits(), d2.y.to_bits())
-            .saturating_sub(raw_mul(d1.y.to_bits(), d2.x.to_bits()));
-        let dot = raw_mul(d1.x.to_bits(), d2.x.to_bits())
-            .saturating_add(raw_mul(d1.y.to_bits(), d2.y.to_bits()));
+        let (cross, dot) = (wide::cross(d1, d2), wide::dot(d1, d2));
         if cross == 0 && dot < 0 {
             return Err(ChainError::FoldsBack { index: j });
         }
