@@ -113,9 +113,11 @@ impl Game {
         }
     }
 
-    /// Frames advanced since the start (the step stamp).
+    /// Frames advanced since the start: `Space::steps` (one per `step`
+    /// call), not the sub-step `stamp`, which runs ahead of the frame count
+    /// once the settings use sub-steps.
     pub fn frame(&self) -> u64 {
-        self.space.stamp()
+        self.space.steps()
     }
 
     /// One frame: every player's buttons, then one step.
