@@ -512,18 +512,18 @@ impl Space {
         let dt_coef = if prev.is_zero() {
             Real::ZERO
         } else {
-            self.state.current_dt / prev
+            (self.state.current_dt / prev).min(Real::ONE)
         };
         let SolverScratch {
             bodies: solver_bodies,
             constraints: contact_constraints,
         } = &mut self.caches.solver;
         if features.friction {
-            for c in contact_constraints.iter() {
+            for c in contact_constraints.iter_mut() {
                 c.warm_start(solver_bodies, dt_coef);
             }
         } else {
-            for c in contact_constraints.iter() {
+            for c in contact_constraints.iter_mut() {
                 c.warm_start_normal(solver_bodies, dt_coef);
             }
         }
