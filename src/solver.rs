@@ -419,8 +419,9 @@ impl ContactConstraint {
     /// iterations start from the unscaled `jn_acc`: when `dt` grows 8×, a
     /// contact is pushed apart by 8× its cached impulse and the clamp can
     /// take back only 1×, which is how a pyramid stepped at alternating
-    /// 1/240 and 1/30 s exploded.) With a constant `dt`, `dt_coef` is
-    /// exactly 1 and the scaling changes no bit.
+    /// 1/240 and 1/30 s exploded.) The space passes
+    /// `dt_coef = min(dt/prev_dt, 1)` (see its stage 9). With a constant
+    /// `dt`, `dt_coef` is exactly 1 and the scaling changes no bit.
     pub fn warm_start(&mut self, bodies: &mut [SolverBody], dt_coef: Real) {
         self.scale_cached_impulses::<true>(dt_coef);
         self.warm_start_with::<true>(bodies);
@@ -436,9 +437,9 @@ impl ContactConstraint {
     /// `jn_acc ← jn_acc·dt_coef` (and `jt_acc` with friction), saturating.
     #[inline(always)]
     fn scale_cached_impulses<const FRICTION: bool>(&mut self, dt_coef: Real) {
-        self.jn_acc = self.jn_acc * dt_coef;
+        self.jn_acc *= dt_coef;
         if FRICTION {
-            self.jt_acc = self.jt_acc * dt_coef;
+            self.jt_acc *= dt_coef;
         }
     }
 

@@ -240,13 +240,19 @@ fn constant_1_30_keeps_energy_bounded() {
 #[test]
 fn alternating_1_240_and_1_30_keeps_energy_bounded() {
     // 4 s of simulated time.
-    run("1/240 <-> 1/30", &alternating(240, 30, 2 * 4 * 30 * 240 / 270));
+    run(
+        "1/240 <-> 1/30",
+        &alternating(240, 30, 2 * 4 * 30 * 240 / 270),
+    );
 }
 
 #[test]
 fn alternating_1_1000_and_1_30_keeps_energy_bounded() {
     // 4 s of simulated time.
-    run("1/1000 <-> 1/30", &alternating(1000, 30, 2 * 4 * 30 * 1000 / 1030));
+    run(
+        "1/1000 <-> 1/30",
+        &alternating(1000, 30, 2 * 4 * 30 * 1000 / 1030),
+    );
 }
 
 #[test]
@@ -273,4 +279,3 @@ fn random_steps_across_the_documented_range_keep_energy_bounded() {
         check(name, peak, bound);
     }
 }
-
