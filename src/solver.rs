@@ -408,29 +408,54 @@ impl ContactConstraint {
         move_bodies(a, b, p, dwa, dwb, self.m_inv_a, self.m_inv_b, ar, which);
     }
 
-    /// Applies the cached (warm-start) impulse, scaled by `dt_coef = dt/prev_dt`.
-    pub fn warm_start(&self, bodies: &mut [SolverBody], dt_coef: Real) {
-        self.warm_start_with::<true>(bodies, dt_coef);
+    /// Scales the cached impulses by `dt_coef = dt/prev_dt` and applies
+    /// them (the warm start).
+    ///
+    /// The scaled impulses *become* the accumulated impulses the iterations
+    /// start from, so the accumulators always hold exactly the impulse
+    /// applied to the bodies: the clamps `jn_acc ≥ 0` and
+    /// `|jt_acc| ≤ μ·jn_acc` can then take back all of it. (Chipmunk's
+    /// `cpArbiterApplyCachedImpulse` applies `dt_coef·jn_acc` but lets the
+    /// iterations start from the unscaled `jn_acc`: when `dt` grows 8×, a
+    /// contact is pushed apart by 8× its cached impulse and the clamp can
+    /// take back only 1×, which is how a pyramid stepped at alternating
+    /// 1/240 and 1/30 s exploded.) The space passes
+    /// `dt_coef = min(dt/prev_dt, 1)` (see its stage 9). With a constant
+    /// `dt`, `dt_coef` is exactly 1 and the scaling changes no bit.
+    pub fn warm_start(&mut self, bodies: &mut [SolverBody], dt_coef: Real) {
+        self.scale_cached_impulses::<true>(dt_coef);
+        self.warm_start_with::<true>(bodies);
     }
 
     /// [`warm_start`](Self::warm_start) of the normal impulse alone (friction
     /// off: `jt_acc` is 0).
-    pub fn warm_start_normal(&self, bodies: &mut [SolverBody], dt_coef: Real) {
-        self.warm_start_with::<false>(bodies, dt_coef);
+    pub fn warm_start_normal(&mut self, bodies: &mut [SolverBody], dt_coef: Real) {
+        self.scale_cached_impulses::<false>(dt_coef);
+        self.warm_start_with::<false>(bodies);
     }
 
-    /// The warm start, fast path first as in [`solve_with`](Self::solve_with).
+    /// `jn_acc ← jn_acc·dt_coef` (and `jt_acc` with friction), saturating.
+    #[inline(always)]
+    fn scale_cached_impulses<const FRICTION: bool>(&mut self, dt_coef: Real) {
+        self.jn_acc *= dt_coef;
+        if FRICTION {
+            self.jt_acc *= dt_coef;
+        }
+    }
+
+    /// Applies the accumulated impulses, fast path first as in
+    /// [`solve_with`](Self::solve_with).
     #[inline]
-    fn warm_start_with<const FRICTION: bool>(&self, bodies: &mut [SolverBody], dt_coef: Real) {
+    fn warm_start_with<const FRICTION: bool>(&self, bodies: &mut [SolverBody]) {
         let Some((a0, b0)) = load_pair(bodies, self.a, self.b) else {
             return;
         };
         let (mut a, mut b) = (a0, b0);
         let mut fast = Unsaturated::new();
-        self.warm_start_bodies::<_, FRICTION>(&mut a, &mut b, dt_coef, &mut fast);
+        self.warm_start_bodies::<_, FRICTION>(&mut a, &mut b, &mut fast);
         if fast.overflowed() {
             (a, b) = (a0, b0);
-            self.warm_start_saturating::<FRICTION>(&mut a, &mut b, dt_coef);
+            self.warm_start_saturating::<FRICTION>(&mut a, &mut b);
         }
         store_pair(bodies, self.a, a, self.b, b);
     }
@@ -438,30 +463,22 @@ impl ContactConstraint {
     /// The reference path of [`warm_start_with`](Self::warm_start_with).
     #[cold]
     #[inline(never)]
-    fn warm_start_saturating<const FRICTION: bool>(
-        &self,
-        a: &mut SolverBody,
-        b: &mut SolverBody,
-        dt_coef: Real,
-    ) {
-        self.warm_start_bodies::<_, FRICTION>(a, b, dt_coef, &mut Saturating);
+    fn warm_start_saturating<const FRICTION: bool>(&self, a: &mut SolverBody, b: &mut SolverBody) {
+        self.warm_start_bodies::<_, FRICTION>(a, b, &mut Saturating);
     }
 
-    /// Applies the cached impulses scaled by `dt_coef` to body copies.
+    /// Applies the accumulated impulses to body copies.
     #[inline(always)]
     fn warm_start_bodies<A: FixedArith, const FRICTION: bool>(
         &self,
         a: &mut SolverBody,
         b: &mut SolverBody,
-        dt_coef: Real,
         ar: &mut A,
     ) {
-        let jn = ar.mul(self.jn_acc, dt_coef);
         if FRICTION {
-            let jt = ar.mul(self.jt_acc, dt_coef);
-            self.apply(a, b, jn, jt, ar);
+            self.apply(a, b, self.jn_acc, self.jt_acc, ar);
         } else {
-            self.apply_normal(a, b, jn, ar, Velocity::Real);
+            self.apply_normal(a, b, self.jn_acc, ar, Velocity::Real);
         }
     }
 
@@ -817,10 +834,12 @@ mod tests {
         b: SolverBody,
         dt_coef: Real,
     ) -> Result<(), proptest::test_runner::TestCaseError> {
+        let mut c = c;
+        c.scale_cached_impulses::<F>(dt_coef);
         let mut bodies = [a, b];
-        c.warm_start_with::<F>(&mut bodies, dt_coef);
+        c.warm_start_with::<F>(&mut bodies);
         let (mut ra, mut rb) = (a, b);
-        c.warm_start_saturating::<F>(&mut ra, &mut rb, dt_coef);
+        c.warm_start_saturating::<F>(&mut ra, &mut rb);
         proptest::prop_assert_eq!(bodies, [ra, rb]);
         Ok(())
     }

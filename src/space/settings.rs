@@ -59,14 +59,15 @@ pub struct Settings {
     /// the whole frame, as in Box2D). Collision handlers run in every sub-step,
     /// post-step callbacks after every sub-step, [`Space::stamp`](super::Space::stamp) and
     /// [`collision_persistence`](Self::collision_persistence) count
-    /// sub-steps, warm starting scales by `sub-dt / previous sub-dt`, and
+    /// sub-steps, warm starting scales by `min(sub-dt / previous sub-dt, 1)`, and
     /// [`Space::current_time_step`](super::Space::current_time_step) and [`Space::last_step_stats`](super::Space::last_step_stats) describe
     /// the last sub-step. What it buys: smaller steps (better stacking and
     /// trajectories) behind one call and one checksum per game frame.
     pub substeps: u32,
     /// Warm starting (default on): each step starts the solver from the
     /// impulses its contacts accumulated in the previous step (scaled by
-    /// `dt / prev_dt`). Off: the solver starts from zero and the warm-start
+    /// `min(dt / prev_dt, 1)`: a step longer than the last starts from the
+    /// last step's impulses unscaled). Off: the solver starts from zero and the warm-start
     /// stage is skipped. Stacks then need many more iterations; worth
     /// switching off only for scenes without resting contact.
     pub warm_starting: bool,
