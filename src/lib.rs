@@ -33,6 +33,7 @@ pub mod checksum;
 pub mod collision;
 #[cfg(feature = "debug-draw")]
 pub mod debug_draw;
+pub mod framing;
 pub mod math;
 pub mod replay;
 pub mod shape;

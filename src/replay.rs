@@ -114,6 +114,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::body::BodyHandle;
 use crate::checksum::checksum_of;
+use crate::framing::{self, FrameError};
 use crate::math::{Real, Vect};
 use crate::snapshot::{self, SnapshotError};
 use crate::space::{Space, SpaceError};
@@ -127,7 +128,7 @@ pub const MAGIC: [u8; 8] = *b"TAMIASRP";
 pub const FORMAT_VERSION: u32 = 3;
 
 /// Bytes before the payload: magic, version, payload digest.
-pub const HEADER_LEN: usize = 20;
+pub const HEADER_LEN: usize = framing::HEADER_LEN;
 
 /// Largest payload decoded (1 GiB): a forged length prefix fails instead of
 /// making the decoder allocate.
@@ -721,40 +722,25 @@ impl Replay {
     /// The replay as bytes (see the module docs for the format).
     pub fn to_bytes(&self) -> Vec<u8> {
         let mut out = Vec::new();
-        out.extend_from_slice(&MAGIC);
-        out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
-        out.extend_from_slice(&[0; 8]); // payload digest, filled in below
-                                        // Encoding plain serde data into a Vec cannot fail; were it to, the
-                                        // payload is left empty and `from_bytes` rejects it as undecodable.
+        framing::begin(&mut out, &MAGIC, FORMAT_VERSION);
+        // Encoding plain serde data into a Vec cannot fail; were it to, the
+        // payload is left empty and `from_bytes` rejects it as undecodable.
         if bincode::serde::encode_into_std_write(self, &mut out, CONFIG).is_err() {
             out.truncate(HEADER_LEN);
         }
-        let digest = checksum_of(out.get(HEADER_LEN..).unwrap_or(&[]));
-        if let Some(slot) = out.get_mut(12..HEADER_LEN) {
-            slot.copy_from_slice(&digest.to_le_bytes());
-        }
+        framing::seal(&mut out, 0, checksum_of);
         out
     }
 
     /// A replay from bytes. Checks the header, the payload digest and the
     /// encoding; the content itself is checked by the verification.
     pub fn from_bytes(bytes: &[u8]) -> Result<Replay, ReplayError> {
-        let (Some(magic), Some(version), Some(stored), Some(payload)) = (
-            bytes.get(0..8),
-            bytes.get(8..12),
-            bytes.get(12..HEADER_LEN),
-            bytes.get(HEADER_LEN..),
-        ) else {
-            return Err(ReplayError::TooShort);
-        };
-        if magic != MAGIC {
-            return Err(ReplayError::BadMagic);
-        }
-        let version = u32::from_le_bytes(version.try_into().unwrap_or([0; 4]));
-        if version != FORMAT_VERSION {
-            return Err(ReplayError::UnsupportedVersion(version));
-        }
-        let stored = u64::from_le_bytes(stored.try_into().unwrap_or([0; 8]));
+        let frame = framing::open(bytes, &MAGIC, FORMAT_VERSION).map_err(|e| match e {
+            FrameError::TooShort => ReplayError::TooShort,
+            FrameError::BadMagic => ReplayError::BadMagic,
+            FrameError::UnsupportedVersion(v) => ReplayError::UnsupportedVersion(v),
+        })?;
+        let (stored, payload) = (frame.digest, frame.payload);
         let computed = checksum_of(payload);
         if stored != computed {
             return Err(ReplayError::Corrupt { stored, computed });

@@ -152,6 +152,7 @@ use bincode::config::{Configuration, Fixint, Limit, LittleEndian};
 
 pub use diff::{checksum_parts, first_difference, ChecksumParts, Difference, Subject};
 
+use crate::framing::{self, FrameError};
 use crate::space::{validate_state, Space, WorldState};
 
 /// First bytes of every snapshot.
@@ -163,8 +164,9 @@ pub const MAGIC: [u8; 8] = *b"TAMIAS2D";
 /// `friction`, `restitution`, `bias_impulses` (one byte each).
 pub const FORMAT_VERSION: u32 = 2;
 
-/// Bytes before the bincode payload: magic, version, checksum.
-pub const HEADER_LEN: usize = 20;
+/// Bytes before the bincode payload: magic, version, checksum (the frame
+/// every Tamias file shares, see [`crate::framing`]).
+pub const HEADER_LEN: usize = framing::HEADER_LEN;
 
 /// Largest payload `load` decodes (1 GiB, about a million bodies): the
 /// decoder's byte limit. Memory is bounded by the data actually present: a
@@ -266,17 +268,12 @@ pub fn save_into(space: &Space, out: &mut Vec<u8>) -> usize {
 
 fn save_state_into(state: &WorldState, out: &mut Vec<u8>) -> usize {
     out.clear();
-    out.extend_from_slice(&MAGIC);
-    out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
-    out.extend_from_slice(&[0; 8]);
+    framing::begin(out, &MAGIC, FORMAT_VERSION);
     if bincode::serde::encode_into_std_write(state, out, CONFIG).is_err() {
         out.clear();
         return 0;
     }
-    let sum = payload_checksum(out.get(HEADER_LEN..).unwrap_or(&[]));
-    if let Some(slot) = out.get_mut(12..HEADER_LEN) {
-        slot.copy_from_slice(&sum.to_le_bytes());
-    }
+    framing::seal(out, 0, payload_checksum);
     out.len()
 }
 
@@ -335,20 +332,15 @@ fn size_hint(state: &WorldState) -> usize {
 
 /// The header of `bytes`: checks length, magic and version only.
 pub fn header(bytes: &[u8]) -> Result<Header, SnapshotError> {
-    let (Some(magic), Some(version), Some(checksum)) =
-        (bytes.get(0..8), bytes.get(8..12), bytes.get(12..HEADER_LEN))
-    else {
-        return Err(SnapshotError::TooShort);
-    };
-    if magic != MAGIC {
-        return Err(SnapshotError::BadMagic);
-    }
-    let version = u32::from_le_bytes(version.try_into().unwrap_or([0; 4]));
-    if version != FORMAT_VERSION {
-        return Err(SnapshotError::UnsupportedVersion(version));
-    }
-    let checksum = u64::from_le_bytes(checksum.try_into().unwrap_or([0; 8]));
-    Ok(Header { version, checksum })
+    let frame = framing::open(bytes, &MAGIC, FORMAT_VERSION).map_err(|e| match e {
+        FrameError::TooShort => SnapshotError::TooShort,
+        FrameError::BadMagic => SnapshotError::BadMagic,
+        FrameError::UnsupportedVersion(v) => SnapshotError::UnsupportedVersion(v),
+    })?;
+    Ok(Header {
+        version: FORMAT_VERSION,
+        checksum: frame.digest,
+    })
 }
 
 /// The state in `bytes`, after every check of [`load`].

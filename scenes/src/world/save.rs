@@ -25,6 +25,7 @@ use std::sync::atomic::Ordering;
 use serde::{Deserialize, Serialize};
 use tamias2d::body::BodyHandle;
 use tamias2d::checksum::checksum_of;
+use tamias2d::framing::{self, FrameError};
 use tamias2d::math::{Real, Vect};
 use tamias2d::replay::{apply_inputs, BoxError, Input, Simulation};
 use tamias2d::shape::CollisionType;
@@ -41,8 +42,9 @@ pub const MAGIC: [u8; 8] = *b"TAMIASSW";
 /// Version of the layout (bumped whenever it changes).
 pub const FORMAT_VERSION: u32 = 1;
 
-/// Bytes before the payload: magic, version, payload digest.
-pub const HEADER_LEN: usize = 20;
+/// Bytes before the payload: magic, version, payload digest (the engine's
+/// shared file frame, [`tamias2d::framing`]).
+pub const HEADER_LEN: usize = framing::HEADER_LEN;
 
 /// Why saved bytes do not load as a scripted world.
 #[derive(Debug)]
@@ -187,9 +189,7 @@ impl ScriptedWorld {
                 .saturating_add(snapshot.len())
                 .saturating_add(script.len()),
         );
-        out.extend_from_slice(&MAGIC);
-        out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
-        out.extend_from_slice(&[0; 8]);
+        framing::begin(&mut out, &MAGIC, FORMAT_VERSION);
         out.extend_from_slice(
             &u64::try_from(snapshot.len())
                 .unwrap_or(u64::MAX)
@@ -197,10 +197,7 @@ impl ScriptedWorld {
         );
         out.extend_from_slice(&snapshot);
         out.extend_from_slice(&script);
-        let digest = checksum_of(out.get(HEADER_LEN..).unwrap_or(&[]));
-        if let Some(slot) = out.get_mut(12..HEADER_LEN) {
-            slot.copy_from_slice(&digest.to_le_bytes());
-        }
+        framing::seal(&mut out, 0, checksum_of);
         out
     }
 
@@ -217,22 +214,12 @@ impl ScriptedWorld {
     /// [`Space::load_snapshot`]); the `begin` counters take the saved
     /// counts. On error nothing changes.
     pub fn load_in_place(&mut self, bytes: &[u8]) -> Result<(), LoadError> {
-        let (Some(magic), Some(version), Some(stored), Some(payload)) = (
-            bytes.get(0..8),
-            bytes.get(8..12),
-            bytes.get(12..HEADER_LEN),
-            bytes.get(HEADER_LEN..),
-        ) else {
-            return Err(LoadError::TooShort);
-        };
-        if magic != MAGIC {
-            return Err(LoadError::BadMagic);
-        }
-        let version = u32::from_le_bytes(version.try_into().unwrap_or([0; 4]));
-        if version != FORMAT_VERSION {
-            return Err(LoadError::UnsupportedVersion(version));
-        }
-        let stored = u64::from_le_bytes(stored.try_into().unwrap_or([0; 8]));
+        let frame = framing::open(bytes, &MAGIC, FORMAT_VERSION).map_err(|e| match e {
+            FrameError::TooShort => LoadError::TooShort,
+            FrameError::BadMagic => LoadError::BadMagic,
+            FrameError::UnsupportedVersion(v) => LoadError::UnsupportedVersion(v),
+        })?;
+        let (stored, payload) = (frame.digest, frame.payload);
         let computed = checksum_of(payload);
         if stored != computed {
             return Err(LoadError::Corrupt { stored, computed });
