@@ -10,6 +10,7 @@
 //!   broadphase buffers), collision handlers and post-step callbacks
 //!   (closures cannot be serialized; a game re-attaches them by collision
 //!   type after loading a snapshot).
+mod body_shapes;
 pub mod handlers;
 mod ledger;
 pub mod query;
@@ -183,6 +184,8 @@ pub(crate) struct Caches {
     /// The step driver's own (`space/step.rs`): `dt` constants, sub-step
     /// forces, counters.
     pub(crate) step: step::StepCache,
+    /// Each body's shapes (not a stage: kept by the building operations).
+    pub(crate) body_shapes: body_shapes::BodyShapes,
 }
 
 /// The world: bodies, shapes, arbiters, settings and handlers.
@@ -296,6 +299,7 @@ impl Space {
         self.state.clone_from(state);
         adopt_handles(&mut self.state, self.origin);
         self.caches.broadphase.statics_dirty = true;
+        self.caches.body_shapes.invalidate();
         self.caches.step.dt_constants = [None, None];
     }
 
@@ -386,10 +390,13 @@ impl Space {
         if !self.state.bodies.contains(h) {
             return Err(SpaceError::StaleBody(h));
         }
+        // The body's shapes in slot order, found without a scan.
         let owned: Vec<ShapeHandle> = self
-            .state
-            .shapes
-            .iter()
+            .caches
+            .body_shapes
+            .of(&self.state.shapes, h)
+            .into_iter()
+            .filter_map(|i| self.state.shapes.get_by_index(i))
             .filter(|(_, s)| s.body == h)
             .map(|(sh, _)| sh)
             .collect();
@@ -430,6 +437,9 @@ impl Space {
         if body_type != BodyType::Dynamic {
             self.caches.broadphase.statics_dirty = true;
         }
+        self.caches
+            .body_shapes
+            .insert(&self.state.shapes, bh, h.index());
         self.update_mass_from_shapes(bh);
         Ok(h.with_origin(self.origin))
     }
@@ -496,6 +506,9 @@ impl Space {
             .remove(h)
             .ok_or(SpaceError::StaleShape(h))?;
         self.caches.broadphase.statics_dirty = true;
+        self.caches
+            .body_shapes
+            .remove(&self.state.shapes, shape.body, h.index());
         self.update_mass_from_shapes(shape.body);
         Ok(shape)
     }
@@ -544,6 +557,10 @@ impl Space {
         let body = copy.body;
         if !self.state.bodies.contains(body) {
             return Err(SpaceError::StaleBody(body));
+        }
+        if copy.body != shape.body {
+            // Only the crate can move a shape to another body.
+            self.caches.body_shapes.invalidate();
         }
         *shape = copy;
         self.caches.broadphase.statics_dirty = true;
@@ -688,20 +705,24 @@ impl Space {
         let mut mass = Real::ZERO;
         let mut cog = Vect::ZERO;
         let mut moment = Real::ZERO;
-        for (_, s) in self.state.shapes.iter().filter(|(_, s)| s.body == bh) {
-            let info = s.mass_info();
-            if !info.mass.is_positive() {
-                continue;
-            }
-            let total = mass + info.mass;
-            // Shift the running centre to the combined one (parallel axis).
-            let new_cog = cog.lerp(info.cog, info.mass / total);
-            moment = moment
-                + mass * (cog - new_cog).length_sq()
-                + info.mass * (info.moment_per_mass + (info.cog - new_cog).length_sq());
-            cog = new_cog;
-            mass = total;
-        }
+        // The body's shapes in slot order (as a scan of every shape would
+        // visit them): the summation order, hence the bits, of the result.
+        self.caches
+            .body_shapes
+            .for_each(&self.state.shapes, bh, |s| {
+                let info = s.mass_info();
+                if !info.mass.is_positive() {
+                    return;
+                }
+                let total = mass + info.mass;
+                // Shift the running centre to the combined one (parallel axis).
+                let new_cog = cog.lerp(info.cog, info.mass / total);
+                moment = moment
+                    + mass * (cog - new_cog).length_sq()
+                    + info.mass * (info.moment_per_mass + (info.cog - new_cog).length_sq());
+                cog = new_cog;
+                mass = total;
+            });
         if let Some(body) = self.state.bodies.get_mut(bh) {
             body.set_mass_properties(mass, moment, cog);
         }
