@@ -387,9 +387,10 @@ impl Space {
     pub fn remove_body(&mut self, h: BodyHandle) -> Result<Body, SpaceError> {
         self.check_unlocked()?;
         self.check_origin(h)?;
-        if !self.state.bodies.contains(h) {
-            return Err(SpaceError::StaleBody(h));
-        }
+        let is_static = match self.state.bodies.get(h) {
+            Some(b) => b.body_type() == BodyType::Static,
+            None => return Err(SpaceError::StaleBody(h)),
+        };
         // The body's shapes in slot order, found without a scan.
         let owned: Vec<ShapeHandle> = self
             .caches
@@ -403,7 +404,9 @@ impl Space {
         for sh in owned {
             self.remove_shape(sh)?;
         }
-        self.caches.broadphase.statics_dirty = true;
+        if is_static {
+            self.caches.broadphase.statics_dirty = true;
+        }
         // The body's custom integrators stay, keyed by its handle: a
         // rollback to a state where it exists brings them back with it
         // (`prune_integrators` frees them).
@@ -434,7 +437,8 @@ impl Space {
             .shapes
             .insert(shape)
             .map_err(|_| SpaceError::Full)?;
-        if body_type != BodyType::Dynamic {
+        // Only static bodies' shapes are in the static tree.
+        if body_type == BodyType::Static {
             self.caches.broadphase.statics_dirty = true;
         }
         self.caches
@@ -505,7 +509,7 @@ impl Space {
             .shapes
             .remove(h)
             .ok_or(SpaceError::StaleShape(h))?;
-        self.caches.broadphase.statics_dirty = true;
+        self.mark_statics_if_static(shape.body);
         self.caches
             .body_shapes
             .remove(&self.state.shapes, shape.body, h.index());
@@ -520,11 +524,12 @@ impl Space {
     }
 
     /// A body, mutably. Moving a static body this way is noticed: the static
-    /// index is rebuilt on the next step.
+    /// index is rebuilt on the next step (if its shapes' boxes changed).
     pub fn body_mut(&mut self, h: BodyHandle) -> Option<&mut Body> {
         self.check_origin(h).ok()?;
         let body = self.state.bodies.get_mut(h)?;
-        if body.body_type() != BodyType::Dynamic {
+        // Kinematic bodies' shapes are swept each step, not in the tree.
+        if body.body_type() == BodyType::Static {
             self.caches.broadphase.statics_dirty = true;
         }
         Some(body)
@@ -563,7 +568,7 @@ impl Space {
             self.caches.body_shapes.invalidate();
         }
         *shape = copy;
-        self.caches.broadphase.statics_dirty = true;
+        self.mark_statics_if_static(body);
         self.update_mass_from_shapes(body);
         Ok(out)
     }
@@ -682,6 +687,28 @@ impl Space {
         } else {
             Err(SpaceError::ForeignHandle)
         }
+    }
+
+    /// Flags the static tree for a rebuild check if `body` is static (the
+    /// tree holds only static bodies' shapes; the next step compares their
+    /// boxes with those the tree was built from).
+    fn mark_statics_if_static(&mut self, body: BodyHandle) {
+        if self
+            .state
+            .bodies
+            .get(body)
+            .is_some_and(|b| b.body_type() == BodyType::Static)
+        {
+            self.caches.broadphase.statics_dirty = true;
+        }
+    }
+
+    /// How many times this space built its static tree (not state; for
+    /// tests and diagnostics: a step rebuilds it only when the static
+    /// shapes' boxes changed).
+    #[doc(hidden)]
+    pub fn static_tree_builds(&self) -> u64 {
+        self.caches.broadphase.static_builds
     }
 
     fn check_unlocked(&self) -> Result<(), SpaceError> {
