@@ -69,6 +69,14 @@ impl BodyShapes {
             .unwrap_or_default()
     }
 
+    /// The slot indices of the shapes of the body in slot `body`,
+    /// ascending, if the lists are built (`None` otherwise: read-only
+    /// callers fall back to a scan).
+    pub(crate) fn built(&self, body: u32) -> Option<&[u32]> {
+        let lists = self.lists.as_ref()?;
+        Some(lists.get(body as usize).map_or(&[][..], Vec::as_slice))
+    }
+
     /// Calls `f` on each shape of `body` in slot order.
     pub(crate) fn for_each<'a>(
         &mut self,
