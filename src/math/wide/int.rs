@@ -282,7 +282,7 @@ mod tests {
         let mut checked = 0;
         for _ in 0..20_000 {
             // Random magnitudes from 1 to ~250 bits, random signs.
-            let mut value = |next: &mut dyn FnMut() -> u64| {
+            let value = |next: &mut dyn FnMut() -> u64| {
                 let a = i128::from(next() as i64) << (next() % 64);
                 let b = i128::from(next() as i64);
                 let v = I256::mul_i128(a, b).add(I256::from_i128(i128::from(next() as i64)));
