@@ -208,6 +208,12 @@ pub(crate) struct BroadphaseCache {
     pub(crate) statics_dirty: bool,
     /// The sweep and its output pairs.
     pub(crate) sweep: Broadphase,
+    /// The static boxes `static_tree` was built from (slot order): a step
+    /// that finds the same ones (a restore of the same level, a static body
+    /// set to where it was) keeps the tree.
+    pub(crate) static_inputs: Vec<Proxy>,
+    /// How many times the static tree was built (diagnostics, tests).
+    pub(crate) static_builds: u64,
 }
 
 impl BroadphaseCache {
@@ -217,6 +223,19 @@ impl BroadphaseCache {
             statics_dirty: true,
             ..BroadphaseCache::default()
         }
+    }
+
+    /// Takes the static shapes' boxes in slot order and rebuilds the static
+    /// tree only if they differ from those it was built from (the tree is
+    /// a function of them: keeping it changes nothing).
+    pub(crate) fn set_statics(&mut self, statics: Vec<Proxy>) {
+        self.statics_dirty = false;
+        if statics == self.static_inputs {
+            return;
+        }
+        self.static_tree = StaticTree::build(statics.clone());
+        self.static_inputs = statics;
+        self.static_builds = self.static_builds.saturating_add(1);
     }
 }
 

@@ -10,6 +10,7 @@
 //!   broadphase buffers), collision handlers and post-step callbacks
 //!   (closures cannot be serialized; a game re-attaches them by collision
 //!   type after loading a snapshot).
+mod body_shapes;
 pub mod handlers;
 mod ledger;
 pub mod query;
@@ -183,6 +184,8 @@ pub(crate) struct Caches {
     /// The step driver's own (`space/step.rs`): `dt` constants, sub-step
     /// forces, counters.
     pub(crate) step: step::StepCache,
+    /// Each body's shapes (not a stage: kept by the building operations).
+    pub(crate) body_shapes: body_shapes::BodyShapes,
 }
 
 /// The world: bodies, shapes, arbiters, settings and handlers.
@@ -296,6 +299,7 @@ impl Space {
         self.state.clone_from(state);
         adopt_handles(&mut self.state, self.origin);
         self.caches.broadphase.statics_dirty = true;
+        self.caches.body_shapes.invalidate();
         self.caches.step.dt_constants = [None, None];
     }
 
@@ -383,20 +387,26 @@ impl Space {
     pub fn remove_body(&mut self, h: BodyHandle) -> Result<Body, SpaceError> {
         self.check_unlocked()?;
         self.check_origin(h)?;
-        if !self.state.bodies.contains(h) {
-            return Err(SpaceError::StaleBody(h));
-        }
+        let is_static = match self.state.bodies.get(h) {
+            Some(b) => b.body_type() == BodyType::Static,
+            None => return Err(SpaceError::StaleBody(h)),
+        };
+        // The body's shapes in slot order, found without a scan.
         let owned: Vec<ShapeHandle> = self
-            .state
-            .shapes
-            .iter()
+            .caches
+            .body_shapes
+            .of(&self.state.shapes, h)
+            .into_iter()
+            .filter_map(|i| self.state.shapes.get_by_index(i))
             .filter(|(_, s)| s.body == h)
             .map(|(sh, _)| sh)
             .collect();
         for sh in owned {
             self.remove_shape(sh)?;
         }
-        self.caches.broadphase.statics_dirty = true;
+        if is_static {
+            self.caches.broadphase.statics_dirty = true;
+        }
         // The body's custom integrators stay, keyed by its handle: a
         // rollback to a state where it exists brings them back with it
         // (`prune_integrators` frees them).
@@ -427,9 +437,13 @@ impl Space {
             .shapes
             .insert(shape)
             .map_err(|_| SpaceError::Full)?;
-        if body_type != BodyType::Dynamic {
+        // Only static bodies' shapes are in the static tree.
+        if body_type == BodyType::Static {
             self.caches.broadphase.statics_dirty = true;
         }
+        self.caches
+            .body_shapes
+            .insert(&self.state.shapes, bh, h.index());
         self.update_mass_from_shapes(bh);
         Ok(h.with_origin(self.origin))
     }
@@ -495,7 +509,10 @@ impl Space {
             .shapes
             .remove(h)
             .ok_or(SpaceError::StaleShape(h))?;
-        self.caches.broadphase.statics_dirty = true;
+        self.mark_statics_if_static(shape.body);
+        self.caches
+            .body_shapes
+            .remove(&self.state.shapes, shape.body, h.index());
         self.update_mass_from_shapes(shape.body);
         Ok(shape)
     }
@@ -507,11 +524,12 @@ impl Space {
     }
 
     /// A body, mutably. Moving a static body this way is noticed: the static
-    /// index is rebuilt on the next step.
+    /// index is rebuilt on the next step (if its shapes' boxes changed).
     pub fn body_mut(&mut self, h: BodyHandle) -> Option<&mut Body> {
         self.check_origin(h).ok()?;
         let body = self.state.bodies.get_mut(h)?;
-        if body.body_type() != BodyType::Dynamic {
+        // Kinematic bodies' shapes are swept each step, not in the tree.
+        if body.body_type() == BodyType::Static {
             self.caches.broadphase.statics_dirty = true;
         }
         Some(body)
@@ -545,8 +563,12 @@ impl Space {
         if !self.state.bodies.contains(body) {
             return Err(SpaceError::StaleBody(body));
         }
+        if copy.body != shape.body {
+            // Only the crate can move a shape to another body.
+            self.caches.body_shapes.invalidate();
+        }
         *shape = copy;
-        self.caches.broadphase.statics_dirty = true;
+        self.mark_statics_if_static(body);
         self.update_mass_from_shapes(body);
         Ok(out)
     }
@@ -667,6 +689,28 @@ impl Space {
         }
     }
 
+    /// Flags the static tree for a rebuild check if `body` is static (the
+    /// tree holds only static bodies' shapes; the next step compares their
+    /// boxes with those the tree was built from).
+    fn mark_statics_if_static(&mut self, body: BodyHandle) {
+        if self
+            .state
+            .bodies
+            .get(body)
+            .is_some_and(|b| b.body_type() == BodyType::Static)
+        {
+            self.caches.broadphase.statics_dirty = true;
+        }
+    }
+
+    /// How many times this space built its static tree (not state; for
+    /// tests and diagnostics: a step rebuilds it only when the static
+    /// shapes' boxes changed).
+    #[doc(hidden)]
+    pub fn static_tree_builds(&self) -> u64 {
+        self.caches.broadphase.static_builds
+    }
+
     fn check_unlocked(&self) -> Result<(), SpaceError> {
         if self.locked {
             Err(SpaceError::Locked)
@@ -688,20 +732,24 @@ impl Space {
         let mut mass = Real::ZERO;
         let mut cog = Vect::ZERO;
         let mut moment = Real::ZERO;
-        for (_, s) in self.state.shapes.iter().filter(|(_, s)| s.body == bh) {
-            let info = s.mass_info();
-            if !info.mass.is_positive() {
-                continue;
-            }
-            let total = mass + info.mass;
-            // Shift the running centre to the combined one (parallel axis).
-            let new_cog = cog.lerp(info.cog, info.mass / total);
-            moment = moment
-                + mass * (cog - new_cog).length_sq()
-                + info.mass * (info.moment_per_mass + (info.cog - new_cog).length_sq());
-            cog = new_cog;
-            mass = total;
-        }
+        // The body's shapes in slot order (as a scan of every shape would
+        // visit them): the summation order, hence the bits, of the result.
+        self.caches
+            .body_shapes
+            .for_each(&self.state.shapes, bh, |s| {
+                let info = s.mass_info();
+                if !info.mass.is_positive() {
+                    return;
+                }
+                let total = mass + info.mass;
+                // Shift the running centre to the combined one (parallel axis).
+                let new_cog = cog.lerp(info.cog, info.mass / total);
+                moment = moment
+                    + mass * (cog - new_cog).length_sq()
+                    + info.mass * (info.moment_per_mass + (info.cog - new_cog).length_sq());
+                cog = new_cog;
+                mass = total;
+            });
         if let Some(body) = self.state.bodies.get_mut(bh) {
             body.set_mass_properties(mass, moment, cog);
         }

@@ -4,14 +4,19 @@
 //! ray, in a box or touching a shape.
 //!
 //! # How
-//! A linear scan over the shapes in slot order: each shape's world geometry
-//! is computed from its body's *current* position and rotation (so queries
-//! work before the first step and after a body is moved by hand, when the
-//! step's cache is stale), its bounding box is tested against the query's
-//! box, and only then the exact geometry query ([`crate::shape::query`]) or
-//! the narrowphase ([`shapes_collide`]) runs. Queries are not part of the
-//! step, so a linear scan is acceptable; the cost is one rigid transform per
-//! shape accepted by the filter.
+//! Candidates in slot order: when the static tree is current (no static
+//! shape or body changed since the last step), the static shapes it finds
+//! for the query's box plus every shape of the non-static bodies (from the
+//! per-body shape lists); otherwise (before the first step, after a
+//! restore or a change of the level, until the next step) every shape.
+//! Each candidate's world geometry is computed from its body's *current*
+//! position and rotation (so queries work after a body is moved by hand,
+//! when the step's cache is stale), its bounding box is tested against the
+//! query's box, and only then the exact geometry query
+//! ([`crate::shape::query`]) or the narrowphase ([`shapes_collide`]) runs.
+//! The candidates are a superset of the shapes passing the box test, so
+//! both paths give the same results; the cost is set by the static shapes
+//! near the query and the number of moving shapes.
 //!
 //! # Semantics (Chipmunk 7)
 //! * **Filter:** a shape is skipped when its filter and the query's reject
@@ -27,6 +32,8 @@
 //!   that segment hits are sorted by `alpha` with ties in slot order; "best"
 //!   queries keep the lowest slot on a tie. Nothing depends on a hash.
 use super::{ShapeHandle, Space};
+use crate::arena::Arena;
+use crate::body::{Body, BodyType};
 use crate::collision::{shapes_collide, ContactPointSet};
 use crate::math::{Real, Vect, BB};
 use crate::shape::query::{point_query, segment_query, PointQueryInfo, SegmentQueryInfo};
@@ -42,14 +49,68 @@ impl Space {
         filter: ShapeFilter,
     ) -> impl Iterator<Item = (ShapeHandle, &Shape, Geometry)> + '_ {
         let bodies = &self.state.bodies;
-        self.state.shapes.iter().filter_map(move |(h, shape)| {
-            if shape.filter.rejects(&filter) {
+        fn accept<'a>(
+            bodies: &Arena<Body>,
+            filter: &ShapeFilter,
+            bb: &BB,
+            (h, shape): (ShapeHandle, &'a Shape),
+        ) -> Option<(ShapeHandle, &'a Shape, Geometry)> {
+            if shape.filter.rejects(filter) {
                 return None;
             }
             let body = bodies.get(shape.body)?;
             let world = shape.geometry().to_world(body.position(), body.rotation());
-            world.bb().intersects(&bb).then_some((h, shape, world))
-        })
+            world.bb().intersects(bb).then_some((h, shape, world))
+        }
+        // Through the broadphase when it is current, else every shape; the
+        // same test either way on a superset of the hits, in slot order,
+        // so the same results.
+        let (slots, all) = match self.broadphase_candidates(&bb) {
+            Some(slots) => (slots, false),
+            None => (Vec::new(), true),
+        };
+        let some = slots
+            .into_iter()
+            .filter_map(|i| self.state.shapes.get_by_index(i))
+            .filter_map(move |c| accept(bodies, &filter, &bb, c));
+        let every = self
+            .state
+            .shapes
+            .iter()
+            .take_while(move |_| all)
+            .filter_map(move |c| accept(bodies, &filter, &bb, c));
+        some.chain(every)
+    }
+
+    /// True if queries go through the broadphase right now (else they scan
+    /// every shape); for tests.
+    #[doc(hidden)]
+    pub fn queries_use_broadphase(&self) -> bool {
+        self.broadphase_candidates(&BB::for_point(Vect::ZERO))
+            .is_some()
+    }
+
+    /// The slots of the shapes whose box may touch `bb`, ascending: the
+    /// static shapes the static tree finds plus every shape of the other
+    /// bodies (from the per-body lists). `None` when the static tree is
+    /// stale or not built (a static shape or body changed since the last
+    /// step, a restored or new space) or the lists are not built: then the
+    /// caller scans every shape.
+    fn broadphase_candidates(&self, bb: &BB) -> Option<Vec<u32>> {
+        let bp = &self.caches.broadphase;
+        if bp.statics_dirty || bp.static_builds == 0 {
+            return None;
+        }
+        let lists = &self.caches.body_shapes;
+        let mut slots = Vec::new();
+        for (bh, body) in self.state.bodies.iter() {
+            if body.body_type() != BodyType::Static {
+                slots.extend_from_slice(lists.built(bh.index())?);
+            }
+        }
+        bp.static_tree.query(bb, |i| slots.push(i));
+        slots.sort_unstable();
+        Some(slots)
     }
 
     /// Chipmunk `cpSpacePointQuery`: every shape whose surface is closer to `p` than

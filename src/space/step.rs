@@ -38,7 +38,7 @@ use core::mem;
 
 use crate::arbiter::Arbiter;
 use crate::body::{BodyHandle, BodyType};
-use crate::broadphase::{Proxy, StaticTree};
+use crate::broadphase::Proxy;
 use crate::collision::collide;
 use crate::math::{Real, Vect};
 use crate::solver::{
@@ -280,8 +280,7 @@ impl Space {
                     })
                 })
                 .collect();
-            self.caches.broadphase.static_tree = StaticTree::build(statics);
-            self.caches.broadphase.statics_dirty = false;
+            self.caches.broadphase.set_statics(statics);
         }
         let proxies = &mut self.caches.broadphase.proxies;
         proxies.clear();

@@ -172,13 +172,29 @@ impl I256 {
         }
         let negative = self.is_negative() != den.is_negative();
         let (n, d) = (self.magnitude(), den.magnitude());
-        // Restoring long division, one quotient bit at a time (256 steps,
-        // high limb first; mass properties are computed when shapes change,
-        // not per step).
+        // Restoring long division, one quotient bit at a time (up to 256
+        // steps, high limb first; mass properties are computed when shapes
+        // change, not per step).
         let (mut q, mut r) = (I256::ZERO, I256::ZERO);
-        for limb in [n.hi, n.lo] {
+        // Both within 128 bits: the native division gives the same floor
+        // quotient and remainder as the long division below.
+        let native = (n.hi == 0 && d.hi == 0)
+            .then(|| n.lo.checked_div(d.lo).zip(n.lo.checked_rem(d.lo)))
+            .flatten();
+        let limbs: &[u128] = match native {
+            Some((ql, rl)) => {
+                (q, r) = (I256 { hi: 0, lo: ql }, I256 { hi: 0, lo: rl });
+                &[]
+            }
+            None => &[n.hi, n.lo],
+        };
+        for &limb in limbs {
             for j in (0..128u32).rev() {
                 let bit = (limb >> j) & 1;
+                // Leading zero bits leave `q` and `r` at zero: skipped.
+                if bit == 0 && r.is_zero() && q.is_zero() {
+                    continue;
+                }
                 // A remainder that overflows the shift is certainly ≥ d.
                 let carry = r.hi >> 127;
                 r = r.shl(1);
@@ -219,6 +235,82 @@ impl I256 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `ratio_round` as it was: the full 256-step long division (oracle).
+    fn ratio_round_long(n0: I256, den: I256) -> i128 {
+        if den.is_zero() {
+            return match (n0.is_zero(), n0.is_negative()) {
+                (true, _) => 0,
+                (false, false) => i128::MAX,
+                (false, true) => i128::MIN,
+            };
+        }
+        let negative = n0.is_negative() != den.is_negative();
+        let (n, d) = (n0.magnitude(), den.magnitude());
+        let (mut q, mut r) = (I256::ZERO, I256::ZERO);
+        for limb in [n.hi, n.lo] {
+            for j in (0..128u32).rev() {
+                let bit = (limb >> j) & 1;
+                let carry = r.hi >> 127;
+                r = r.shl(1);
+                r.lo |= bit;
+                q = q.shl(1);
+                if carry == 1 || r.ge_unsigned(d) {
+                    r = r.sub(d);
+                    q.lo |= 1;
+                }
+            }
+        }
+        if r.ge_unsigned(d.sub(r)) {
+            q = q.add(I256::ONE);
+        }
+        I256::signed_saturated(negative, q)
+    }
+
+    /// The native and leading-zero shortcuts give the long division's bits
+    /// on numerators and denominators of every size and sign.
+    #[test]
+    fn ratio_round_equals_the_full_long_division() {
+        let mut x = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        let one = I256::from_i128(1);
+        let mut checked = 0;
+        for _ in 0..20_000 {
+            // Random magnitudes from 1 to ~250 bits, random signs.
+            let value = |next: &mut dyn FnMut() -> u64| {
+                let a = i128::from(next() as i64) << (next() % 64);
+                let b = i128::from(next() as i64);
+                let v = I256::mul_i128(a, b).add(I256::from_i128(i128::from(next() as i64)));
+                match next() % 4 {
+                    0 => v.shl((next() % 64) as u32),
+                    1 => I256::from_i128(i128::from((next() % 1000) as i64) - 500),
+                    2 => one.shl((next() % 255) as u32),
+                    _ => v,
+                }
+            };
+            let (n, d) = (value(&mut next), value(&mut next));
+            assert_eq!(n.ratio_round(d), ratio_round_long(n, d), "{n:?} / {d:?}");
+            checked += 1;
+        }
+        assert_eq!(checked, 20_000);
+        for (n, d) in [
+            (7, 2),
+            (-7, 2),
+            (5, -3),
+            (0, 9),
+            (1, 3),
+            (i128::MAX, 1),
+            (i128::MIN, 1),
+        ] {
+            let (n, d) = (I256::from_i128(n), I256::from_i128(d));
+            assert_eq!(n.ratio_round(d), ratio_round_long(n, d));
+        }
+    }
 
     #[test]
     fn i256_saturates_to_i128_keeping_the_sign() {
