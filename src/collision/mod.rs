@@ -245,6 +245,15 @@ pub fn shapes_collide(a: &Geometry, b: &Geometry) -> ContactPointSet {
 /// caller's order (`normal` from `a` toward `b`). `warm_start_id` is the warm-start id
 /// the previous call on this pair returned, or 0.
 pub fn collide(a: &Geometry, b: &Geometry, warm_start_id: WarmStartId) -> CollisionInfo {
+    if let (Geometry::Circle(x), Geometry::Circle(y)) = (a, b) {
+        return collide_circles(x, y, warm_start_id);
+    }
+    collide_general(a, b, warm_start_id)
+}
+
+/// [`collide`] for any pair: canonical order, translation next to the
+/// origin, the pair function, and back.
+fn collide_general(a: &Geometry, b: &Geometry, warm_start_id: WarmStartId) -> CollisionInfo {
     let swap = comes_after(a, b);
     let (first, second) = if swap { (b, a) } else { (a, b) };
     let id = if swap {
@@ -258,6 +267,42 @@ pub fn collide(a: &Geometry, b: &Geometry, warm_start_id: WarmStartId) -> Collis
     if !is_empty(&first) && !is_empty(&second) {
         dispatch(&first, &second, &mut info);
     }
+    info.translate(anchor);
+    if info.count == 0 {
+        info.normal = Vect::ZERO;
+    }
+    if swap {
+        info.mirrored()
+    } else {
+        info
+    }
+}
+
+/// [`collide`] for two circles: the same operations on the two circles
+/// alone, without copying whole geometries or dispatching. The canonical
+/// order is decided once: translating both circles by the first one's
+/// centre keeps the sign of every coordinate difference (a saturated
+/// difference keeps its sign), so `circle_to_circle` would find them in
+/// order again and its own comparison is skipped.
+fn collide_circles(a: &Circle, b: &Circle, warm_start_id: WarmStartId) -> CollisionInfo {
+    let swap = compare_circles(a, b) == Ordering::Greater;
+    let (first, second) = if swap { (b, a) } else { (a, b) };
+    let id = if swap {
+        swap_id_shapes(warm_start_id)
+    } else {
+        warm_start_id
+    };
+    let anchor = first.offset;
+    let first = Circle {
+        offset: first.offset - anchor,
+        ..*first
+    };
+    let second = Circle {
+        offset: second.offset - anchor,
+        ..*second
+    };
+    let mut info = CollisionInfo::new(id);
+    pairs::circle_to_circle_ordered(&first, &second, &mut info);
     info.translate(anchor);
     if info.count == 0 {
         info.normal = Vect::ZERO;
@@ -404,6 +449,39 @@ mod tests {
                 Poly::from_ccw_unchecked(&[Vect::ZERO, Vect::X, Vect::Y], Real::ZERO)
             });
         Geometry::Poly(moved_poly(&p, -at))
+    }
+
+    #[test]
+    fn circle_fast_path_is_the_general_path() {
+        let big = Real::MAX - Real::ONE;
+        let at = |x: Real, y: Real| Vect::new(x, y);
+        let centres = [
+            at(Real::ZERO, Real::ZERO),
+            at(real!(0.3), real!(1.7)),
+            at(real!(0.3), real!(-0.2)),
+            at(real!(1.1), real!(1.7)),
+            at(big, big),
+            at(-big, big),
+            at(Real::MIN, Real::MAX),
+            at(Real::from_bits(1), Real::ZERO),
+        ];
+        let radii = [Real::ZERO, Real::HALF, Real::ONE, real!(1.25)];
+        for &ca in &centres {
+            for &cb in &centres {
+                for &ra in &radii {
+                    for &rb in &radii {
+                        let a = Circle::new(ra, ca);
+                        let b = Circle::new(rb, cb);
+                        for id in [0, 7] {
+                            let (ga, gb) = (Geometry::Circle(a), Geometry::Circle(b));
+                            let fast = collide_circles(&a, &b, id);
+                            let general = collide_general(&ga, &gb, id);
+                            assert_eq!(fast, general, "{a:?} {b:?} {id}");
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]

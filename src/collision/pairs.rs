@@ -104,7 +104,8 @@ pub fn circle_to_circle(a: &Circle, b: &Circle, info: &mut CollisionInfo) {
     });
 }
 
-fn circle_to_circle_ordered(a: &Circle, b: &Circle, info: &mut CollisionInfo) {
+/// [`circle_to_circle`] for circles already in canonical order.
+pub(crate) fn circle_to_circle_ordered(a: &Circle, b: &Circle, info: &mut CollisionInfo) {
     let min_dist = a.radius + b.radius;
     let delta = b.offset - a.offset;
     if wide::len_sq(delta) > sq(min_dist + CONTACT_TOLERANCE) {

@@ -134,11 +134,14 @@ pub struct WorldState {
     pub prev_dt: Real,
 }
 
-/// Per-shape world-space cache, rebuilt each step.
+/// Per-shape world-space cache: rewritten each step for shapes of
+/// non-static bodies, only when statics changed for static ones.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ShapeCache {
     pub(crate) geometry: Geometry,
     pub(crate) bb: BB,
+    /// Written for a shape of a static body.
+    pub(crate) is_static: bool,
 }
 
 /// Counters of the last step, for diagnostics and benchmarks (not state).

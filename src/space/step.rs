@@ -230,43 +230,78 @@ impl Space {
     /// Stage 1: `p += (v + v_bias)·dt` and the same for the angle.
     fn integrate_positions(&mut self, dt: Real) {
         let custom = &mut self.integrators.position;
+        let mut moved_static = false;
         for (h, body) in self.state.bodies.iter_mut() {
             match custom.get_mut(&h) {
-                Some(f) => f(body, dt),
+                Some(f) => {
+                    // A custom integrator may move even a static body: its
+                    // shapes' cache entries and the static tree are redone.
+                    moved_static |= body.body_type() == BodyType::Static;
+                    f(body, dt)
+                }
                 None => body.update_position(dt),
             }
         }
-    }
-
-    /// Stage 2: world-space geometry and bounding box of every shape.
-    fn update_shape_caches(&mut self) {
-        let caches = &mut self.caches.shapes;
-        caches.clear();
-        let bodies = &self.state.bodies;
-        for i in 0..self.state.shapes.capacity_slots() {
-            let entry = self.state.shapes.get_by_index(i as u32).and_then(|(_, s)| {
-                let body = bodies.get(s.body)?;
-                let geometry = s.geometry.to_world(body.position(), body.rotation());
-                Some(ShapeCache {
-                    geometry,
-                    bb: geometry.bb(),
-                })
-            });
-            caches.push(entry);
+        if moved_static {
+            self.caches.broadphase.statics_dirty = true;
         }
     }
 
-    /// Stage 3: moving shapes are swept, static shapes come from the static
-    /// tree (rebuilt only when statics changed).
-    fn find_pairs(&mut self) {
-        let shapes = &self.state.shapes;
+    /// Stage 2: world-space geometry and bounding box of every shape of a
+    /// non-static body; static shapes' entries are rewritten only when
+    /// `statics_dirty` says statics changed (the API calls that can add,
+    /// remove, move or reshape a static shape, `restore_state` and a new
+    /// space set it), otherwise kept from the step that wrote them. A live
+    /// slot whose body is static but whose entry was not written for a
+    /// static body (a body replaced in place through `body_mut`) is written
+    /// now and marks the statics dirty. Also lists the moving shapes' boxes,
+    /// in slot order, for the sweep of stage 3.
+    fn update_shape_caches(&mut self) {
+        let caches = &mut self.caches.shapes;
+        let bp = &mut self.caches.broadphase;
+        let rewrite_statics = bp.statics_dirty;
+        let mut statics_changed = false;
         let bodies = &self.state.bodies;
-        let is_static = |i: usize| {
-            shapes
+        let shapes = &self.state.shapes;
+        let slots = shapes.capacity_slots();
+        caches.resize(slots, None);
+        bp.proxies.clear();
+        for (i, entry) in caches.iter_mut().enumerate() {
+            let Some((s, body)) = shapes
                 .get_by_index(i as u32)
-                .and_then(|(_, s)| bodies.get(s.body))
-                .is_some_and(|b| b.body_type() == BodyType::Static)
-        };
+                .and_then(|(_, s)| Some((s, bodies.get(s.body)?)))
+            else {
+                *entry = None;
+                continue;
+            };
+            let is_static = body.body_type() == BodyType::Static;
+            if is_static && !rewrite_statics && entry.as_ref().is_some_and(|c| c.is_static) {
+                continue;
+            }
+            statics_changed |= is_static;
+            let geometry = s.geometry.to_world(body.position(), body.rotation());
+            let bb = geometry.bb();
+            *entry = Some(ShapeCache {
+                geometry,
+                bb,
+                is_static,
+            });
+            if !is_static {
+                bp.proxies.push(Proxy {
+                    index: i as u32,
+                    bb,
+                });
+            }
+        }
+        if statics_changed {
+            bp.statics_dirty = true;
+        }
+    }
+
+    /// Stage 3: moving shapes are swept (their boxes listed by stage 2),
+    /// static shapes come from the static tree (rebuilt only when statics
+    /// changed).
+    fn find_pairs(&mut self) {
         if self.caches.broadphase.statics_dirty {
             let statics: Vec<Proxy> = self
                 .caches
@@ -274,23 +309,13 @@ impl Space {
                 .iter()
                 .enumerate()
                 .filter_map(|(i, c)| {
-                    c.as_ref().filter(|_| is_static(i)).map(|c| Proxy {
+                    c.as_ref().filter(|c| c.is_static).map(|c| Proxy {
                         index: i as u32,
                         bb: c.bb,
                     })
                 })
                 .collect();
             self.caches.broadphase.set_statics(statics);
-        }
-        let proxies = &mut self.caches.broadphase.proxies;
-        proxies.clear();
-        for (i, c) in self.caches.shapes.iter().enumerate() {
-            if let Some(c) = c.as_ref().filter(|_| !is_static(i)) {
-                proxies.push(Proxy {
-                    index: i as u32,
-                    bb: c.bb,
-                });
-            }
         }
         let bp = &mut self.caches.broadphase;
         bp.sweep.find_pairs(&bp.proxies, &bp.static_tree);
