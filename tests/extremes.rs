@@ -375,7 +375,7 @@ fn report_similarity() {
             let (m, i) = mass.map_or((String::new(), String::new()), |(m, i)| {
                 (format!("{:.3e}", m.to_f64()), format!("{:.3e}", i.to_f64()))
             });
-            match similarity_error(5, k, density, 600) {
+            match similarity_error(5, k, density, 600, true) {
                 Ok((err, at)) => println!(
                     "| {label} | {:.4e} | {m} | {i} | {err:.2e} | {at} |",
                     density.to_f64()

@@ -23,11 +23,27 @@ const STEPS: u32 = 600;
 #[test]
 fn tiny_stack_matches_the_unit_stack_scaled_down() {
     // k = 0.01: 1 cm boxes, density 10^4 so each box still weighs 1 kg
-    // (mass and moment far from the ulp). Measured: 9.0e-7 box sizes, i.e.
-    // 9e-9 m, a few ulp of the scene's own coordinates.
-    let (err, at) = similarity_error(5, real!(0.01), Real::from_int(10_000), STEPS)
+    // (mass and moment far from the ulp). Sequential contacts: measured
+    // 9.0e-7 box sizes, i.e. 9e-9 m, a few ulp of the scene's own
+    // coordinates. Block solver (the default): measured 4.2e-3 box sizes,
+    // from one event at step 3 that is not rounding: in the unit stack the
+    // top box lifts off the box below by more than the absolute contact
+    // tolerance (2^-20 m) for one step while the solver is not yet
+    // converged, and in the scaled stack the same relative gap is 100×
+    // smaller and stays a contact, the effect the 100 m stack below already
+    // shows. The block bound is that test's, 0.02.
+    let (err, at) = similarity_error(5, real!(0.01), Real::from_int(10_000), STEPS, false)
         .unwrap_or_else(|e| panic!("{e}"));
-    assert!(err < 1e-5, "0.01 m stack: {err} box sizes off at step {at}");
+    assert!(
+        err < 1e-5,
+        "0.01 m stack, sequential: {err} box sizes off at step {at}"
+    );
+    let (err, at) = similarity_error(5, real!(0.01), Real::from_int(10_000), STEPS, true)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        err < 0.02,
+        "0.01 m stack, block: {err} box sizes off at step {at}"
+    );
 }
 
 #[test]
@@ -37,14 +53,14 @@ fn tiny_boxes_of_low_density_lose_their_moment_of_inertia() {
     // scaled stack drifts from the similar unit stack (measured: 4.0e-3
     // box sizes, against 9e-7 at density 10^4). The run stays calm.
     let (err, at) =
-        similarity_error(5, real!(0.01), Real::ONE, STEPS).unwrap_or_else(|e| panic!("{e}"));
+        similarity_error(5, real!(0.01), Real::ONE, STEPS, true).unwrap_or_else(|e| panic!("{e}"));
     assert!(
         err < 0.05,
         "0.01 m stack at density 1: {err} box sizes at step {at}"
     );
     // A 1 mm box at density 1 has a moment below half an ulp: it rounds to
     // zero and the scene is rejected (an error, not a panic).
-    let err = similarity_error(5, Real::from_bits(4_294_967), Real::ONE, 1).err();
+    let err = similarity_error(5, Real::from_bits(4_294_967), Real::ONE, 1, true).err();
     assert_eq!(err, Some(SceneError::Massless(BodyPath::Initial(1))));
 }
 
@@ -58,7 +74,7 @@ fn huge_stack_matches_the_unit_stack_scaled_up() {
     // apart. Scaling down keeps such contacts, which is why k < 1 matches
     // to 1e-6 above.
     for density in [real!(0.0001), Real::ONE] {
-        let (err, at) = similarity_error(5, Real::from_int(100), density, STEPS)
+        let (err, at) = similarity_error(5, Real::from_int(100), density, STEPS, true)
             .unwrap_or_else(|e| panic!("{e}"));
         assert!(
             err < 0.02,

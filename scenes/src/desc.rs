@@ -80,6 +80,9 @@ pub struct SettingsDesc {
     /// Bias impulses (see [`Settings::bias_impulses`]); omitted when on.
     #[serde(skip_serializing_if = "is_true")]
     pub bias_impulses: bool,
+    /// Block solver (see [`Settings::block_solver`]); omitted when on.
+    #[serde(skip_serializing_if = "is_true")]
+    pub block_solver: bool,
 }
 
 // The settings added after the first scene files are written only when they
@@ -107,6 +110,7 @@ impl From<&Settings> for SettingsDesc {
             friction,
             restitution,
             bias_impulses,
+            block_solver,
         } = *s;
         SettingsDesc {
             gravity,
@@ -120,6 +124,7 @@ impl From<&Settings> for SettingsDesc {
             friction,
             restitution,
             bias_impulses,
+            block_solver,
         }
     }
 }
@@ -138,6 +143,7 @@ impl From<&SettingsDesc> for Settings {
             friction,
             restitution,
             bias_impulses,
+            block_solver,
         } = *s;
         Settings {
             iterations,
@@ -151,6 +157,7 @@ impl From<&SettingsDesc> for Settings {
             friction,
             restitution,
             bias_impulses,
+            block_solver,
         }
     }
 }

@@ -226,7 +226,7 @@ pub fn first_difference(a: &Space, b: &Space) -> Option<Difference> {
     };
     let found = first_field!(Settings; settings, &sb.settings;
         iterations, gravity, damping, collision_slop, collision_bias, collision_persistence,
-        substeps, warm_starting, friction, restitution, bias_impulses)
+        substeps, warm_starting, friction, restitution, bias_impulses, block_solver)
     .map(|f| diff(Subject::Settings, f));
     found
         .or_else(|| first_slot_difference(bodies, &sb.bodies, Subject::Body, body_fields))

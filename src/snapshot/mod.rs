@@ -161,8 +161,9 @@ pub const MAGIC: [u8; 8] = *b"TAMIAS2D";
 /// Version of the byte layout; bumped whenever the serde layout of
 /// [`WorldState`] (or anything in it) changes. Version 2: the settings end
 /// with `substeps` (u32) and the solver switches `warm_starting`,
-/// `friction`, `restitution`, `bias_impulses` (one byte each).
-pub const FORMAT_VERSION: u32 = 2;
+/// `friction`, `restitution`, `bias_impulses` (one byte each). Version 3:
+/// `block_solver` (one byte) after `bias_impulses`.
+pub const FORMAT_VERSION: u32 = 3;
 
 /// Bytes before the bincode payload: magic, version, checksum (the frame
 /// every Tamias file shares, see [`crate::framing`]).

@@ -45,6 +45,7 @@ const _SETTINGS: fn(&Settings) = |s| {
         friction: _,              // any value
         restitution: _,           // any value
         bias_impulses: _,         // any value
+        block_solver: _,          // any value
     } = s;
 };
 

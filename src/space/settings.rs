@@ -87,6 +87,14 @@ pub struct Settings {
     /// so switch it off only for scenes whose contacts never sink in
     /// (bouncing, sliding on flat ground) or that correct overlap themselves.
     pub bias_impulses: bool,
+    /// Block solver (default on): the two contacts of a face (a
+    /// two-point manifold) are solved together, normal and bias impulses
+    /// as one 2×2 complementarity problem and friction as one row for the
+    /// face, instead of one contact after the other. It keeps symmetric
+    /// stacks symmetric (a scene and its mirror image evolve as exact
+    /// mirrors) and converges faster per iteration. Off: Chipmunk's
+    /// sequential contacts. See the `solver::block` module.
+    pub block_solver: bool,
 }
 
 /// The default collision slop, 0.005 m (see [`Settings`]): deep enough that
@@ -164,6 +172,7 @@ impl Default for Settings {
             friction: true,
             restitution: true,
             bias_impulses: true,
+            block_solver: true,
         }
     }
 }

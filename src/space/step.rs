@@ -41,8 +41,9 @@ use crate::body::{BodyHandle, BodyType};
 use crate::broadphase::Proxy;
 use crate::collision::collide;
 use crate::math::{Real, Vect};
+use crate::solver::block::ManifoldBlock;
 use crate::solver::{
-    ContactConstraint, ContactFeatures, ContactParams, PairParams, SolverBody, SolverScratch,
+    self, ContactConstraint, ContactFeatures, ContactParams, PairParams, SolverBody, SolverScratch,
 };
 
 use crate::math::exp;
@@ -494,8 +495,11 @@ impl Space {
         let SolverScratch {
             bodies: solver_bodies,
             constraints: contact_constraints,
+            blocks,
         } = &mut self.caches.solver;
         contact_constraints.clear();
+        blocks.clear();
+        let use_blocks = s.block_solver;
         for &i in active {
             let Some(arb) = self.state.arbiters.get(i as usize) else {
                 continue;
@@ -513,6 +517,14 @@ impl Space {
                 sc.arbiter = i;
                 sc.slot = slot as u32;
                 contact_constraints.push(sc);
+            }
+            if use_blocks && arb.contacts().len() == 2 {
+                add_block(
+                    contact_constraints,
+                    blocks,
+                    solver_bodies,
+                    features.friction,
+                );
             }
         }
         self.caches.step.stats.solver_contacts = contact_constraints.len() as u32;
@@ -561,6 +573,7 @@ impl Space {
         let SolverScratch {
             bodies: solver_bodies,
             constraints: contact_constraints,
+            ..
         } = &mut self.caches.solver;
         if features.friction {
             for c in contact_constraints.iter_mut() {
@@ -590,10 +603,22 @@ impl Space {
         let SolverScratch {
             bodies: solver_bodies,
             constraints: contact_constraints,
+            blocks,
         } = &mut self.caches.solver;
         for _ in 0..n {
-            for c in contact_constraints.iter_mut() {
-                c.solve_with::<FRICTION, BIAS>(solver_bodies);
+            let mut i = 0usize;
+            while let Some((c, tail)) = contact_constraints
+                .get_mut(i..)
+                .and_then(<[ContactConstraint]>::split_first_mut)
+            {
+                let block = c.block.checked_sub(1).and_then(|k| blocks.get(k as usize));
+                if let (Some(block), Some(c2)) = (block, tail.first_mut()) {
+                    solver::block::solve_with::<FRICTION, BIAS>(c, c2, block, solver_bodies);
+                    i = i.saturating_add(2);
+                } else {
+                    c.solve_with::<FRICTION, BIAS>(solver_bodies);
+                    i = i.saturating_add(1);
+                }
             }
         }
     }
@@ -684,5 +709,24 @@ fn take_if(
         old.next()
     } else {
         None
+    }
+}
+
+/// Marks the last two rows of `rows` (one two-contact manifold) as a block
+/// for the block solver when its normal matrix is well conditioned
+/// ([`ManifoldBlock::new`]); otherwise they stay sequential rows.
+fn add_block(
+    rows: &mut [ContactConstraint],
+    blocks: &mut Vec<ManifoldBlock>,
+    bodies: &[SolverBody],
+    friction: bool,
+) {
+    let Some([c1, c2]) = rows.last_chunk_mut::<2>() else {
+        return;
+    };
+    if let Some(block) = ManifoldBlock::new(c1, c2, bodies, friction) {
+        blocks.push(block);
+        // At most one block per two rows, and rows are counted in u32.
+        c1.block = u32::try_from(blocks.len()).unwrap_or(0);
     }
 }

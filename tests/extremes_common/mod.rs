@@ -268,16 +268,21 @@ pub fn scaled_stack(n: u32, k: Real, density: Real) -> SceneDesc {
 
 /// Runs the unit stack and the stack scaled by `k` side by side for `steps`
 /// steps; returns the largest `|p_k / k − p_1|` over bodies and steps, in
-/// box sizes, and the step where it occurred. Errors if the scaled scene
+/// box sizes, and the step where it occurred, with the block solver on or off. Errors if the scaled scene
 /// cannot be built (e.g. a box too small to have a moment).
 pub fn similarity_error(
     n: u32,
     k: Real,
     density: Real,
     steps: u32,
+    block_solver: bool,
 ) -> Result<(f64, u32), SceneError> {
-    let mut unit = build(&scaled_stack(n, Real::ONE, Real::ONE));
-    let mut scaled = scaled_stack(n, k, density).build()?;
+    let with_solver = |mut d: SceneDesc| {
+        d.settings.block_solver = block_solver;
+        d
+    };
+    let mut unit = build(&with_solver(scaled_stack(n, Real::ONE, Real::ONE)));
+    let mut scaled = with_solver(scaled_stack(n, k, density)).build()?;
     let kf = k.to_f64();
     let (mut worst, mut at) = (0.0f64, 0);
     for i in 1..=steps {

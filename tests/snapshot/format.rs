@@ -11,7 +11,7 @@ fn format_layout_is_pinned() {
     assert_eq!(&empty[8..12], &FORMAT_VERSION.to_le_bytes());
     let sum = snapshot::payload_checksum(&empty[HEADER_LEN..]);
     assert_eq!(&empty[12..20], &sum.to_le_bytes());
-    assert_eq!(FORMAT_VERSION, 2);
+    assert_eq!(FORMAT_VERSION, 3);
     // The empty world, field by field (little-endian, fixed-width ints,
     // every Real as its raw i64, lengths as u64, enum tags as u32).
     let expected = [
@@ -27,6 +27,7 @@ fn format_layout_is_pinned() {
         "01",               // friction: true
         "01",               // restitution: true
         "01",               // bias_impulses: true
+        "01",               // block_solver: true
         "0000000000000000", // bodies.slots: length 0
         "0000000000000000", // bodies.free: length 0
         "00000000",         // bodies.len: 0

@@ -65,8 +65,11 @@
 //! kinematic bodies have zero inverse mass, so impulses leave them unchanged.
 use core::fmt;
 
+pub mod block;
+
 use crate::arbiter::ManifoldPoint;
 use crate::math::{FixedArith, Real, Saturating, Unsaturated, Vect};
+use block::ManifoldBlock;
 
 /// The per-body data the iterations touch, stored contiguously.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -94,6 +97,9 @@ pub(crate) struct SolverScratch {
     pub(crate) bodies: Vec<SolverBody>,
     /// One row per contact of the solved arbiters.
     pub(crate) constraints: Vec<ContactConstraint>,
+    /// The blocks of two-contact manifolds (see [`block`]), referred to by
+    /// their first row's [`ContactConstraint::block`].
+    pub(crate) blocks: Vec<ManifoldBlock>,
 }
 
 /// MIS UnsolvableCollision: both bodies have infinite mass along the
@@ -269,6 +275,10 @@ pub struct ContactConstraint {
     pub arbiter: u32,
     /// Contact slot in the arbiter.
     pub slot: u32,
+    /// On the first row of a two-contact manifold solved as a block: the
+    /// block's index + 1 in the scratch's `blocks` (the next row is the
+    /// second contact); 0 for a row solved on its own.
+    pub block: u32,
     /// Unit normal from a to b.
     pub n: Vect,
     /// `r1 × n`, `r2 × n`, `r1 × t`, `r2 × t`.

@@ -1,0 +1,376 @@
+//! The block solver: the two contacts of a two-point manifold (a box face on
+//! a face) solved together instead of one after the other.
+//!
+//! Why: the sequential-impulse iteration solves contact 1, then contact 2
+//! with the velocities contact 1 left. The first contact of a face always
+//! gets more than its share, so a symmetric stack leans, drifts sideways
+//! (`stack_10`'s top box moved 2.25 cm in 10 s) and a scene and its mirror
+//! image evolve differently. Solving both contacts at once removes the order:
+//!
+//! * **normal and bias rows**: the exact 2×2 linear complementarity problem
+//!   (Box2D v2's block solver, Catto): find accumulated impulses `x ≥ 0`
+//!   with post-impulse errors `e = w + K (x − x_old) ≥ 0` and `xᵢ eᵢ = 0`,
+//!   by trying the four cases (both push, only 1, only 2, neither) in a fixed
+//!   order. `K` is the 2×2 effective inverse mass of the two contacts along
+//!   the normal, inverted once per step in the pre-step, so an iteration has
+//!   no division.
+//! * **friction**: both contacts of a face lie on one line parallel to the
+//!   tangent, so their tangent rows are (almost) the same row — the 2×2
+//!   tangent matrix is singular and a block solve is meaningless. The face
+//!   gets one friction row at the pair of contacts, half of its impulse on
+//!   each, clamped to `μ·(jn₁ + jn₂)`. Both rows keep half of the total.
+//!
+//! Every formula is symmetric in the two contacts (sums are exact in fixed
+//! point, `a·b + c·d` is rounded once), and every operation is symmetric
+//! under negation, so a reflected scene evolves as the exact reflection.
+//!
+//! When `K` is ill-conditioned (the two contacts almost at the same lever
+//! arm: a corner on a corner), the block is not used and the two rows are
+//! solved sequentially as before; the condition guard is Box2D's
+//! `k_max² < 1000·det K`, evaluated exactly in 128-bit integers.
+use super::{load_pair, move_bodies, store_pair, ContactConstraint, SolverBody, Velocity};
+use crate::math::wide::exact::saturate_to_real;
+use crate::math::wide::int::{wide_mul, I256};
+use crate::math::{FixedArith, Real, Saturating, Unsaturated, Vect};
+
+/// Largest accepted condition estimate `k_max² / det K` (Box2D v2's value):
+/// beyond it the 2×2 inverse amplifies rounding more than the block gains.
+const MAX_CONDITION: i128 = 1000;
+
+/// The 2×2 effective inverse mass `K` of two contacts along the normal,
+/// and its inverse.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct NormalBlock {
+    /// `K = [[k11, k12], [k12, k22]]`; `k11`, `k22` are the rows' own `k`
+    /// (their `n_mass` is `1/k`).
+    pub k11: Real,
+    pub k12: Real,
+    pub k22: Real,
+    /// `K⁻¹ = [[inv11, inv12], [inv12, inv22]]`.
+    pub inv11: Real,
+    pub inv12: Real,
+    pub inv22: Real,
+}
+
+/// What the block solver needs beyond the two rows, built once per step in
+/// the pre-step ([`ManifoldBlock::new`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ManifoldBlock {
+    /// Normal (and bias) coupling.
+    pub normal: NormalBlock,
+    /// Face friction: `2·perp(n)`, the linear part of the summed tangent
+    /// velocity `vt₁ + vt₂`.
+    pub t2: Vect,
+    /// `r1 × t` and `r2 × t` summed over the two contacts, per body.
+    pub st_a: Real,
+    pub st_b: Real,
+    /// Angular velocity change per unit face-friction impulse
+    /// (`I⁻¹·(rt₁ + rt₂)/2`: half the impulse at each contact).
+    pub kt_a: Real,
+    pub kt_b: Real,
+    /// `1 / (d(vt₁ + vt₂)/dJ)` for a face impulse `J`.
+    pub t_mass: Real,
+}
+
+impl ManifoldBlock {
+    /// The block of rows `c1`, `c2` (one manifold: same bodies, same
+    /// normal), or `None` when `K` is singular or ill-conditioned.
+    pub fn new(
+        c1: &ContactConstraint,
+        c2: &ContactConstraint,
+        bodies: &[SolverBody],
+        friction: bool,
+    ) -> Option<ManifoldBlock> {
+        let zero = SolverBody::default();
+        let a = bodies.get(c1.a as usize).unwrap_or(&zero);
+        let b = bodies.get(c1.b as usize).unwrap_or(&zero);
+        let m = c1.m_inv_a + c1.m_inv_b;
+        // The same expression (and roundings) as `k_scalar`, whose
+        // reciprocal is each row's `n_mass`.
+        let k_row =
+            |c: &ContactConstraint| (c.m_inv_a + c.kn_a * c.rn_a) + (c.m_inv_b + c.kn_b * c.rn_b);
+        let (k11, k22) = (k_row(c1), k_row(c2));
+        // Products of lever arms first: symmetric in the two contacts.
+        let k12 = m + Real::mul_add2(a.i_inv, c1.rn_a * c2.rn_a, b.i_inv, c1.rn_b * c2.rn_b);
+        if !k11.is_positive() || !k22.is_positive() {
+            return None;
+        }
+        // det K in units of 2^-64: both products are ≥ 0 and ≤ 2^126, so
+        // the difference cannot overflow.
+        let det = wide_mul(k11.to_bits(), k22.to_bits())
+            .checked_sub(wide_mul(k12.to_bits(), k12.to_bits()))?;
+        let kmax = k11.max(k22).to_bits();
+        if det <= 0 || wide_mul(kmax, kmax) >= det.saturating_mul(MAX_CONDITION) {
+            return None;
+        }
+        let inv = |num: Real| {
+            let scaled = I256::from_i128(i128::from(num.to_bits())).shl(64);
+            saturate_to_real(scaled.ratio_round(I256::from_i128(det)))
+        };
+        let normal = NormalBlock {
+            k11,
+            k12,
+            k22,
+            inv11: inv(k22),
+            inv12: inv(-k12),
+            inv22: inv(k11),
+        };
+        let mut block = ManifoldBlock {
+            normal,
+            ..ManifoldBlock::default()
+        };
+        if friction {
+            let t = c1.n.perp();
+            let (st_a, st_b) = (c1.rt_a + c2.rt_a, c1.rt_b + c2.rt_b);
+            let half_of = |i_inv: Real, s: Real| {
+                saturate_to_real(
+                    I256::from_i128(wide_mul(i_inv.to_bits(), s.to_bits())).round_shr(33),
+                )
+            };
+            let kc = m.mul_pow2(1)
+                + Real::mul_add2(a.i_inv, st_a.square(), b.i_inv, st_b.square()) * Real::HALF;
+            block.t2 = Vect::new(t.x.mul_pow2(1), t.y.mul_pow2(1));
+            block.st_a = st_a;
+            block.st_b = st_b;
+            block.kt_a = half_of(a.i_inv, st_a);
+            block.kt_b = half_of(b.i_inv, st_b);
+            block.t_mass = if kc.is_positive() {
+                kc.recip()
+            } else {
+                Real::ZERO
+            };
+        }
+        Some(block)
+    }
+}
+
+/// One block iteration of rows `c1`, `c2` (the two-contact
+/// [`ContactConstraint::solve_with`]): fast path first, the saturating
+/// reference only if the overflow flag is raised, so the result is always
+/// the saturating one.
+#[inline]
+pub fn solve_with<const FRICTION: bool, const BIAS: bool>(
+    c1: &mut ContactConstraint,
+    c2: &mut ContactConstraint,
+    block: &ManifoldBlock,
+    bodies: &mut [SolverBody],
+) {
+    let Some((a0, b0)) = load_pair(bodies, c1.a, c1.b) else {
+        return;
+    };
+    let acc0 = [
+        [c1.jb_acc, c1.jn_acc, c1.jt_acc],
+        [c2.jb_acc, c2.jn_acc, c2.jt_acc],
+    ];
+    let (mut a, mut b, mut acc) = (a0, b0, acc0);
+    let mut fast = Unsaturated::new();
+    iterate::<_, FRICTION, BIAS>(c1, c2, block, &mut a, &mut b, &mut acc, &mut fast);
+    if fast.overflowed() {
+        (a, b, acc) = (a0, b0, acc0);
+        iterate_saturating::<FRICTION, BIAS>(c1, c2, block, &mut a, &mut b, &mut acc);
+    }
+    [c1.jb_acc, c1.jn_acc, c1.jt_acc] = acc[0];
+    [c2.jb_acc, c2.jn_acc, c2.jt_acc] = acc[1];
+    store_pair(bodies, c1.a, a, c1.b, b);
+}
+
+/// The reference path of [`solve_with`], out of line.
+#[cold]
+#[inline(never)]
+fn iterate_saturating<const FRICTION: bool, const BIAS: bool>(
+    c1: &ContactConstraint,
+    c2: &ContactConstraint,
+    block: &ManifoldBlock,
+    a: &mut SolverBody,
+    b: &mut SolverBody,
+    acc: &mut [[Real; 3]; 2],
+) {
+    iterate::<_, FRICTION, BIAS>(c1, c2, block, a, b, acc, &mut Saturating);
+}
+
+/// The velocity error of a row along the normal: `n·dv + ω_b (r2 × n) −
+/// ω_a (r1 × n)`, one rounding.
+#[inline(always)]
+fn normal_velocity<A: FixedArith>(
+    c: &ContactConstraint,
+    dv: Vect,
+    wa: Real,
+    wb: Real,
+    ar: &mut A,
+) -> Real {
+    ar.dot4([dv.x, dv.y, wb, wa], [c.n.x, c.n.y, c.rn_b, -c.rn_a])
+}
+
+/// One iteration on body copies and accumulators `acc[i] = [jb, jn, jt]` of
+/// row `i`, in the arithmetic `ar`: bias block, normal block, face friction,
+/// each from the velocities before this iteration's impulses (as the
+/// sequential rows do), then one combined impulse per velocity.
+#[inline(always)]
+fn iterate<A: FixedArith, const FRICTION: bool, const BIAS: bool>(
+    c1: &ContactConstraint,
+    c2: &ContactConstraint,
+    block: &ManifoldBlock,
+    a: &mut SolverBody,
+    b: &mut SolverBody,
+    acc: &mut [[Real; 3]; 2],
+    ar: &mut A,
+) {
+    let k = &block.normal;
+    let masses = [c1.n_mass, c2.n_mass];
+    if BIAS {
+        let dvb = Vect::new(
+            ar.sub(b.v_bias.x, a.v_bias.x),
+            ar.sub(b.v_bias.y, a.v_bias.y),
+        );
+        let v1 = normal_velocity(c1, dvb, a.w_bias, b.w_bias, ar);
+        let v2 = normal_velocity(c2, dvb, a.w_bias, b.w_bias, ar);
+        let w = [ar.sub(v1, c1.bias_target), ar.sub(v2, c2.bias_target)];
+        let old = [acc[0][0], acc[1][0]];
+        let x = complementarity(k, masses, w, old, ar);
+        [acc[0][0], acc[1][0]] = x;
+        let d = [ar.sub(x[0], old[0]), ar.sub(x[1], old[1])];
+        apply_normals(c1, c2, a, b, d, ar, Velocity::Bias);
+    }
+
+    let dv = Vect::new(ar.sub(b.v.x, a.v.x), ar.sub(b.v.y, a.v.y));
+    let v1 = normal_velocity(c1, dv, a.w, b.w, ar);
+    let v2 = normal_velocity(c2, dv, a.w, b.w, ar);
+    let w = [ar.add(c1.bounce, v1), ar.add(c2.bounce, v2)];
+    let old = [acc[0][1], acc[1][1]];
+    let x = complementarity(k, masses, w, old, ar);
+    [acc[0][1], acc[1][1]] = x;
+    let d = [ar.sub(x[0], old[0]), ar.sub(x[1], old[1])];
+
+    if FRICTION {
+        // vt₁ + vt₂ (+ the surface velocity of both), one rounding.
+        let vt = ar.dot4(
+            [dv.x, dv.y, b.w, a.w],
+            [block.t2.x, block.t2.y, block.st_b, -block.st_a],
+        );
+        let surface = ar.add(c1.surface_t, c2.surface_t);
+        let vt = ar.add(vt, surface);
+        let total = ar.add(acc[0][2], acc[1][2]);
+        let jn = ar.add(x[0], x[1]);
+        let jt_max = ar.mul(c1.friction, jn);
+        let djt = ar.mul(vt, block.t_mass);
+        let new_total = ar.sub(total, djt);
+        let new_total = new_total.clamp(-jt_max, jt_max);
+        let jt = ar.sub(new_total, total);
+        let half = ar.mul(new_total, Real::HALF);
+        acc[0][2] = half;
+        acc[1][2] = half;
+        let n = c1.n;
+        let dn = ar.add(d[0], d[1]);
+        // P = n·(d₁ + d₂) + perp(n)·J, perp(n) = (−n.y, n.x).
+        let p = Vect::new(ar.mul_sub2(n.x, dn, n.y, jt), ar.mul_add2(n.y, dn, n.x, jt));
+        let dwa = ar.dot4(
+            [c1.kn_a, c2.kn_a, block.kt_a, Real::ZERO],
+            [d[0], d[1], jt, Real::ZERO],
+        );
+        let dwb = ar.dot4(
+            [c1.kn_b, c2.kn_b, block.kt_b, Real::ZERO],
+            [d[0], d[1], jt, Real::ZERO],
+        );
+        move_bodies(
+            a,
+            b,
+            p,
+            dwa,
+            dwb,
+            c1.m_inv_a,
+            c1.m_inv_b,
+            ar,
+            Velocity::Real,
+        );
+    } else {
+        apply_normals(c1, c2, a, b, d, ar, Velocity::Real);
+    }
+}
+
+/// Applies normal impulses `d[i]` at both rows as one impulse (exact sum of
+/// the linear parts, one rounding per angular part).
+#[inline(always)]
+fn apply_normals<A: FixedArith>(
+    c1: &ContactConstraint,
+    c2: &ContactConstraint,
+    a: &mut SolverBody,
+    b: &mut SolverBody,
+    d: [Real; 2],
+    ar: &mut A,
+    which: Velocity,
+) {
+    let n = c1.n;
+    let dn = ar.add(d[0], d[1]);
+    let p = Vect::new(ar.mul(n.x, dn), ar.mul(n.y, dn));
+    let dwa = ar.mul_add2(c1.kn_a, d[0], c2.kn_a, d[1]);
+    let dwb = ar.mul_add2(c1.kn_b, d[0], c2.kn_b, d[1]);
+    move_bodies(a, b, p, dwa, dwb, c1.m_inv_a, c1.m_inv_b, ar, which);
+}
+
+/// The 2×2 complementarity problem of two rows: new accumulated impulses
+/// `x ≥ 0` such that the errors after the impulse, `e = w + K (x − old)`,
+/// are `≥ 0`, and `eᵢ = 0` wherever `xᵢ > 0`. `masses` are `1/k11`, `1/k22`.
+/// Cases in a fixed order: both contacts push, only the first, only the
+/// second, neither. In exact arithmetic exactly one case holds (`K` is
+/// positive definite); if rounding rejects all four, one sequential pass
+/// over the two rows decides.
+#[inline(always)]
+fn complementarity<A: FixedArith>(
+    k: &NormalBlock,
+    masses: [Real; 2],
+    w: [Real; 2],
+    old: [Real; 2],
+    ar: &mut A,
+) -> [Real; 2] {
+    // Both push: e = 0, x = old − K⁻¹ w.
+    let d1 = ar.mul_add2(k.inv11, w[0], k.inv12, w[1]);
+    let d2 = ar.mul_add2(k.inv12, w[0], k.inv22, w[1]);
+    let (x1, x2) = (ar.sub(old[0], d1), ar.sub(old[1], d2));
+    if !x1.is_negative() && !x2.is_negative() {
+        return [x1, x2];
+    }
+    // Only the first: x2 = 0, e1 = 0, e2 ≥ 0.
+    let coupled = ar.mul(k.k12, old[1]);
+    let e1 = ar.sub(w[0], coupled);
+    let d1 = ar.mul(e1, masses[0]);
+    let x1 = ar.sub(old[0], d1);
+    if !x1.is_negative() {
+        let dx1 = ar.sub(x1, old[0]);
+        let de2 = ar.mul_sub2(k.k12, dx1, k.k22, old[1]);
+        let e2 = ar.add(w[1], de2);
+        if !e2.is_negative() {
+            return [x1, Real::ZERO];
+        }
+    }
+    // Only the second: x1 = 0, e2 = 0, e1 ≥ 0.
+    let coupled = ar.mul(k.k12, old[0]);
+    let e2 = ar.sub(w[1], coupled);
+    let d2 = ar.mul(e2, masses[1]);
+    let x2 = ar.sub(old[1], d2);
+    if !x2.is_negative() {
+        let dx2 = ar.sub(x2, old[1]);
+        let de1 = ar.mul_sub2(k.k12, dx2, k.k11, old[0]);
+        let e1 = ar.add(w[0], de1);
+        if !e1.is_negative() {
+            return [Real::ZERO, x2];
+        }
+    }
+    // Neither: x = 0, e = w − K·old ≥ 0.
+    let de1 = ar.mul_add2(k.k11, old[0], k.k12, old[1]);
+    let de2 = ar.mul_add2(k.k12, old[0], k.k22, old[1]);
+    let (e1, e2) = (ar.sub(w[0], de1), ar.sub(w[1], de2));
+    if !e1.is_negative() && !e2.is_negative() {
+        return [Real::ZERO, Real::ZERO];
+    }
+    // Rounding rejected all four (a contact at the edge between two cases):
+    // one sequential pass, as the rows would do on their own. Keeping the
+    // old impulses instead (Box2D's choice) let a warm-started impulse that
+    // should vanish survive a step and pop a stack.
+    let d1 = ar.mul(w[0], masses[0]);
+    let x1 = ar.sub(old[0], d1).max(Real::ZERO);
+    let dx1 = ar.sub(x1, old[0]);
+    let coupled = ar.mul(k.k12, dx1);
+    let e2 = ar.add(w[1], coupled);
+    let d2 = ar.mul(e2, masses[1]);
+    [x1, ar.sub(old[1], d2).max(Real::ZERO)]
+}
