@@ -10,7 +10,8 @@
 //!   what you use"). A stacking scene is warmed up with the default settings
 //!   and its state kept; every measured step starts from that same state
 //!   (restored untimed) with one switch off (`no_warm_starting`,
-//!   `no_friction`, `no_restitution`, `no_bias`), all off (`all_off`) or
+//!   `no_friction`, `no_restitution`, `no_bias`, `no_block_solver`), all
+//!   off (`all_off`) or
 //!   none (`all_on`), so every variant solves the very same contacts. The
 //!   timed step includes the static-tree rebuild and `dt` constants that a
 //!   restored state recomputes, the same for every variant. After
@@ -94,11 +95,13 @@ const SWITCHES: &[Variant] = &[
     ("no_friction", |s| s.friction = false),
     ("no_restitution", |s| s.restitution = false),
     ("no_bias", |s| s.bias_impulses = false),
+    ("no_block_solver", |s| s.block_solver = false),
     ("all_off", |s| {
         s.warm_starting = false;
         s.friction = false;
         s.restitution = false;
         s.bias_impulses = false;
+        s.block_solver = false;
     }),
 ];
 
