@@ -59,7 +59,7 @@ pub use support::{
     SupportContext, SupportPoint, SupportShape,
 };
 
-use crate::math::{Real, Vect};
+use crate::math::{wide, Real, Vect};
 use crate::shape::{Circle, Geometry, Poly, Segment};
 
 /// Contacts one pair can produce (Chipmunk `CP_MAX_CONTACTS_PER_ARBITER`).
@@ -278,40 +278,51 @@ fn collide_general(a: &Geometry, b: &Geometry, warm_start_id: WarmStartId) -> Co
     }
 }
 
-/// [`collide`] for two circles: the same operations on the two circles
-/// alone, without copying whole geometries or dispatching. The canonical
-/// order is decided once: translating both circles by the first one's
-/// centre keeps the sign of every coordinate difference (a saturated
-/// difference keeps its sign), so `circle_to_circle` would find them in
-/// order again and its own comparison is skipped.
+/// [`collide`] for two circles: the computation of the general path
+/// (canonical order, translation by the first circle's centre, the closed
+/// form of `circle_to_circle`, translation back, mirroring), written out for
+/// two circles so nothing is copied, zeroed twice or mirrored in place. The
+/// steps it saves, and why the bits are those of the general path (unit test
+/// `circle_fast_path_is_the_general_path`, proptest
+/// `circle_kernel_is_the_general_path`):
+/// * the canonical order is decided once: translating both circles by the
+///   first one's centre keeps the sign of every coordinate difference (a
+///   saturated difference keeps its sign), so `circle_to_circle` would find
+///   them in order again;
+/// * the first centre translated is exactly zero, so the offset between the
+///   centres is the second one translated, and `0 + n·r` is `n·r`;
+/// * mirroring negates the normal and swaps the points; the feature id 0 and
+///   the warm-start id (converted twice, an involution) are unchanged.
 fn collide_circles(a: &Circle, b: &Circle, warm_start_id: WarmStartId) -> CollisionInfo {
     let swap = compare_circles(a, b) == Ordering::Greater;
     let (first, second) = if swap { (b, a) } else { (a, b) };
-    let id = if swap {
-        swap_id_shapes(warm_start_id)
-    } else {
-        warm_start_id
-    };
+    let mut info = CollisionInfo::new(warm_start_id);
     let anchor = first.offset;
-    let first = Circle {
-        offset: first.offset - anchor,
-        ..*first
-    };
-    let second = Circle {
-        offset: second.offset - anchor,
-        ..*second
-    };
-    let mut info = CollisionInfo::new(id);
-    pairs::circle_to_circle_ordered(&first, &second, &mut info);
-    info.translate(anchor);
-    if info.count == 0 {
-        info.normal = Vect::ZERO;
+    let delta = second.offset - anchor;
+    let min_dist = first.radius + second.radius;
+    if wide::len_sq(delta) > pairs::sq(min_dist + CONTACT_TOLERANCE) {
+        return info;
     }
-    if swap {
-        info.mirrored()
+    let (n, dist) = wide::normalize(delta).unwrap_or((Vect::X, Real::ZERO));
+    let on_first = n.mult(first.radius) + anchor;
+    let on_second = (delta - n.mult(second.radius)) + anchor;
+    let (normal, point_a, point_b) = if swap {
+        (-n, on_second, on_first)
     } else {
-        info
-    }
+        (n, on_first, on_second)
+    };
+    info.normal = normal;
+    info.count = 1;
+    info.contacts = [
+        Contact {
+            point_a,
+            point_b,
+            distance: dist - min_dist,
+            feature_id: 0,
+        },
+        Contact::default(),
+    ];
+    info
 }
 
 /// Runs the pair function for `(a, b)`; pairs out of kind order (which
@@ -481,6 +492,44 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// A raw coordinate: anywhere, near a few values (so ties and touching
+    /// pairs are common), or at the range's ends.
+    fn raw_coord() -> impl proptest::strategy::Strategy<Value = i64> {
+        use proptest::prelude::*;
+        prop_oneof![
+            any::<i64>(),
+            (-3i64..=3, -(1i64 << 34)..(1i64 << 34)).prop_map(|(k, d)| (k << 32) + d),
+            (-3i64..=3).prop_map(|k| k << 31),
+            Just(i64::MAX),
+            Just(i64::MIN),
+            Just(i64::MIN + 1),
+        ]
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(20_000))]
+        #[test]
+        fn circle_kernel_is_the_general_path(
+            (ax, ay, bx, by) in (raw_coord(), raw_coord(), raw_coord(), raw_coord()),
+            (ra, rb) in (0i64..(3 << 32), 0i64..(3 << 32)),
+            same in 0u8..4,
+            id: u32,
+        ) {
+            let a = Circle::new(Real::from_bits(ra), Vect::new(Real::from_bits(ax), Real::from_bits(ay)));
+            // Ties: the same centre, the same x, or the same circle.
+            let b_centre = match same {
+                0 => a.offset,
+                1 => Vect::new(a.offset.x, Real::from_bits(by)),
+                _ => Vect::new(Real::from_bits(bx), Real::from_bits(by)),
+            };
+            let rb = if same == 0 && rb % 2 == 0 { ra } else { rb };
+            let b = Circle::new(Real::from_bits(rb), b_centre);
+            let (ga, gb) = (Geometry::Circle(a), Geometry::Circle(b));
+            proptest::prop_assert_eq!(collide_circles(&a, &b, id), collide_general(&ga, &gb, id));
+            proptest::prop_assert_eq!(collide_circles(&b, &a, id), collide_general(&gb, &ga, id));
         }
     }
 

@@ -43,7 +43,7 @@ use core::cmp::Ordering;
 
 /// `(r as unsigned raw)²`, exact, in units of 2^-64 (negative radii count as 0).
 #[inline]
-fn sq(r: Real) -> u128 {
+pub(super) fn sq(r: Real) -> u128 {
     // Non-negative: the exact square of the raw bits (≤ 2^126).
     raw_sq(r.max(Real::ZERO))
 }
