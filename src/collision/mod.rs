@@ -180,13 +180,18 @@ impl CollisionInfo {
     /// The same collision seen from the other shape: normal negated, points
     /// and feature-id halves swapped, warm-start id converted.
     fn mirrored(mut self) -> CollisionInfo {
+        self.mirror();
+        self
+    }
+
+    /// [`mirrored`](Self::mirrored) in place.
+    fn mirror(&mut self) {
         self.normal = -self.normal;
         for c in self.contacts.iter_mut().take(self.count) {
             core::mem::swap(&mut c.point_a, &mut c.point_b);
             c.feature_id = c.feature_id.rotate_left(16);
         }
         self.warm_start_id = swap_id_shapes(self.warm_start_id);
-        self
     }
 }
 
@@ -245,10 +250,11 @@ pub fn shapes_collide(a: &Geometry, b: &Geometry) -> ContactPointSet {
 /// caller's order (`normal` from `a` toward `b`). `warm_start_id` is the warm-start id
 /// the previous call on this pair returned, or 0.
 pub fn collide(a: &Geometry, b: &Geometry, warm_start_id: WarmStartId) -> CollisionInfo {
-    if let (Geometry::Circle(x), Geometry::Circle(y)) = (a, b) {
-        return collide_circles(x, y, warm_start_id);
+    match (a, b) {
+        (Geometry::Circle(x), Geometry::Circle(y)) => collide_circles(x, y, warm_start_id),
+        (Geometry::Poly(x), Geometry::Poly(y)) => collide_polys(x, y, warm_start_id),
+        _ => collide_general(a, b, warm_start_id),
     }
-    collide_general(a, b, warm_start_id)
 }
 
 /// [`collide`] for any pair: canonical order, translation next to the
@@ -272,10 +278,55 @@ fn collide_general(a: &Geometry, b: &Geometry, warm_start_id: WarmStartId) -> Co
         info.normal = Vect::ZERO;
     }
     if swap {
-        info.mirrored()
-    } else {
-        info
+        info.mirror();
     }
+    info
+}
+
+/// [`collide`] for two polygons: the general path's steps on the two
+/// polygons alone, translated into fresh copies rather than through whole
+/// `Geometry` copies. When both have the same vertex count and no
+/// translated coordinate is `Real::MIN` or `MAX` (so none saturated), the
+/// translation subtracted the same exact value from the coordinates that
+/// `compare_polys` sets side by side (vertices against vertices, component
+/// by component; normals and radii are not moved), so the translated pair
+/// compares as the original one: in order, and `poly_to_poly`'s own
+/// comparison is skipped. Otherwise `poly_to_poly` decides again, as in the
+/// general path. Same bits as the general path (unit test
+/// `poly_fast_path_is_the_general_path`, proptest
+/// `poly_kernel_is_the_general_path`).
+fn collide_polys(a: &Poly, b: &Poly, warm_start_id: WarmStartId) -> CollisionInfo {
+    let swap = compare_polys(a, b) == Ordering::Greater;
+    let (first, second) = if swap { (b, a) } else { (a, b) };
+    let id = if swap {
+        swap_id_shapes(warm_start_id)
+    } else {
+        warm_start_id
+    };
+    let mut info = CollisionInfo::new(id);
+    if first.count() == 0 || second.count() == 0 {
+        return CollisionInfo::new(warm_start_id);
+    }
+    let anchor = first.vert(0);
+    let (first, second) = (moved_poly(first, anchor), moved_poly(second, anchor));
+    let unsaturated = |p: &Poly| {
+        p.verts()
+            .iter()
+            .all(|v| !v.x.is_saturated() && !v.y.is_saturated())
+    };
+    if first.count() == second.count() && unsaturated(&first) && unsaturated(&second) {
+        pairs::poly_to_poly_ordered(&first, &second, &mut info);
+    } else {
+        poly_to_poly(&first, &second, &mut info);
+    }
+    info.translate(anchor);
+    if info.count == 0 {
+        info.normal = Vect::ZERO;
+    }
+    if swap {
+        info.mirror();
+    }
+    info
 }
 
 /// [`collide`] for two circles: the computation of the general path
@@ -379,9 +430,7 @@ fn flat(vs: &[Vect]) -> impl Iterator<Item = Real> + '_ {
 /// Lexicographic order on (centre, radius). Comparing coordinates is
 /// unchanged by translating both shapes, so the order is too.
 pub(crate) fn compare_circles(x: &Circle, y: &Circle) -> Ordering {
-    flat(&[x.offset])
-        .chain([x.radius])
-        .cmp(flat(&[y.offset]).chain([y.radius]))
+    (x.offset.x, x.offset.y, x.radius).cmp(&(y.offset.x, y.offset.y, y.radius))
 }
 
 /// Lexicographic order on every field (endpoints first).
@@ -400,11 +449,38 @@ pub(crate) fn compare_segments(x: &Segment, y: &Segment) -> Ordering {
 }
 
 /// Lexicographic order on (vertices, normals, radius).
+/// Written as a walk over the two key sequences (the former iterator chain
+/// copied its arrays; unit test `compare_polys_is_the_chained_order`).
 pub(crate) fn compare_polys(x: &Poly, y: &Poly) -> Ordering {
-    flat(x.verts())
-        .chain(flat(x.normals()))
-        .chain([x.radius()])
-        .cmp(flat(y.verts()).chain(flat(y.normals())).chain([y.radius()]))
+    let mut k = 0usize;
+    loop {
+        match (poly_key(x, k), poly_key(y, k)) {
+            (Some(a), Some(b)) => match a.cmp(&b) {
+                Ordering::Equal => k = k.saturating_add(1),
+                unequal => return unequal,
+            },
+            (None, None) => return Ordering::Equal,
+            (None, Some(_)) => return Ordering::Less,
+            (Some(_), None) => return Ordering::Greater,
+        }
+    }
+}
+
+/// Element `k` of a polygon's key sequence `x₀, y₀, x₁, …` (vertices),
+/// then the normals the same way, then the radius; `None` past the end.
+#[inline]
+fn poly_key(p: &Poly, k: usize) -> Option<Real> {
+    let coord = |v: Vect, k: usize| if k % 2 == 0 { v.x } else { v.y };
+    let n = p.count().saturating_mul(2);
+    if k < n {
+        Some(coord(p.vert(k / 2), k))
+    } else if k < n.saturating_mul(2) {
+        Some(coord(p.normal((k.saturating_sub(n)) / 2), k))
+    } else if k == n.saturating_mul(2) {
+        Some(p.radius())
+    } else {
+        None
+    }
 }
 
 /// The point the computation is made relative to.
@@ -530,6 +606,115 @@ mod tests {
             let (ga, gb) = (Geometry::Circle(a), Geometry::Circle(b));
             proptest::prop_assert_eq!(collide_circles(&a, &b, id), collide_general(&ga, &gb, id));
             proptest::prop_assert_eq!(collide_circles(&b, &a, id), collide_general(&gb, &ga, id));
+        }
+    }
+
+    /// The order `compare_polys` had as an iterator chain.
+    fn compare_polys_chained(x: &Poly, y: &Poly) -> Ordering {
+        flat(x.verts())
+            .chain(flat(x.normals()))
+            .chain([x.radius()])
+            .cmp(flat(y.verts()).chain(flat(y.normals())).chain([y.radius()]))
+    }
+
+    /// A convex polygon of 3, 4 or 8 vertices (sizes from `size`), moved by
+    /// `at` with saturating adds.
+    fn poly_at(kind: u8, size: i64, at: Vect, radius: Real) -> Poly {
+        let s = Real::from_bits(size);
+        let h = Real::from_bits(size / 2 + 1);
+        let local: Vec<Vect> = match kind % 3 {
+            0 => vec![
+                Vect::ZERO,
+                Vect::new(s, Real::ZERO),
+                Vect::new(Real::ZERO, s),
+            ],
+            1 => vec![
+                Vect::new(s, -h),
+                Vect::new(s, h),
+                Vect::new(-s, h),
+                Vect::new(-s, -h),
+            ],
+            _ => (0..8)
+                .map(|k| Vect::for_angle(Real::PI * real!(0.25) * Real::from_int(k)).mult(s))
+                .collect(),
+        };
+        let p = Poly::from_ccw_unchecked(&local, radius);
+        moved_poly(&p, -at)
+    }
+
+    #[test]
+    fn compare_polys_is_the_chained_order() {
+        let at = |x: i64, y: i64| Vect::new(Real::from_bits(x), Real::from_bits(y));
+        let mut polys = Vec::new();
+        for kind in 0..3 {
+            for size in [1i64 << 32, 3 << 31] {
+                for pos in [at(0, 0), at(0, 1), at(1, 0), at(i64::MAX, i64::MIN)] {
+                    for radius in [Real::ZERO, Real::HALF] {
+                        polys.push(poly_at(kind, size, pos, radius));
+                    }
+                }
+            }
+        }
+        for x in &polys {
+            for y in &polys {
+                assert_eq!(
+                    compare_polys(x, y),
+                    compare_polys_chained(x, y),
+                    "{x:?} {y:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn poly_fast_path_is_the_general_path() {
+        let at = |x: i64, y: i64| Vect::new(Real::from_bits(x), Real::from_bits(y));
+        let positions = [
+            at(0, 0),
+            at(3 << 31, 1 << 30),
+            at(1 << 32, 0),
+            at(0, 5 << 30),
+            at(i64::MAX - (1 << 33), 0),
+            at(i64::MIN, i64::MAX),
+        ];
+        for ka in 0..3 {
+            for kb in 0..3 {
+                for &pa in &positions {
+                    for &pb in &positions {
+                        let a = poly_at(ka, 1 << 32, pa, Real::ZERO);
+                        let b = poly_at(kb, 3 << 31, pb, real!(0.125));
+                        for id in [0, 0x0102_0300] {
+                            let (ga, gb) = (Geometry::Poly(a), Geometry::Poly(b));
+                            assert_eq!(collide_polys(&a, &b, id), collide_general(&ga, &gb, id));
+                            assert_eq!(collide_polys(&b, &a, id), collide_general(&gb, &ga, id));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(5_000))]
+        #[test]
+        fn poly_kernel_is_the_general_path(
+            (ka, kb) in (0u8..3, 0u8..3),
+            (sa, sb) in ((1i64 << 28)..(5i64 << 32), (1i64 << 28)..(5i64 << 32)),
+            (ax, ay, bx, by) in (raw_coord(), raw_coord(), raw_coord(), raw_coord()),
+            (ra, rb) in (0i64..(1 << 31), 0i64..(1 << 31)),
+            same in 0u8..4,
+            id: u32,
+        ) {
+            let a = poly_at(ka, sa, Vect::new(Real::from_bits(ax), Real::from_bits(ay)), Real::from_bits(ra));
+            // Ties: the same polygon, or the same first vertex.
+            let b = match same {
+                0 => a,
+                1 => poly_at(kb, sb, Vect::new(Real::from_bits(ax), Real::from_bits(ay)), Real::from_bits(rb)),
+                _ => poly_at(kb, sb, Vect::new(Real::from_bits(bx), Real::from_bits(by)), Real::from_bits(rb)),
+            };
+            let (ga, gb) = (Geometry::Poly(a), Geometry::Poly(b));
+            proptest::prop_assert_eq!(collide_polys(&a, &b, id), collide_general(&ga, &gb, id));
+            proptest::prop_assert_eq!(collide_polys(&b, &a, id), collide_general(&gb, &ga, id));
         }
     }
 
