@@ -452,7 +452,20 @@ pub(crate) fn compare_segments(x: &Segment, y: &Segment) -> Ordering {
 /// Written as a walk over the two key sequences (the former iterator chain
 /// copied its arrays; unit test `compare_polys_is_the_chained_order`).
 pub(crate) fn compare_polys(x: &Poly, y: &Poly) -> Ordering {
-    let mut k = 0usize;
+    // The first vertex (keys 0 and 1) almost always decides.
+    if x.count() == 0 || y.count() == 0 {
+        return compare_poly_keys(x, y, 0);
+    }
+    let (a, b) = (x.vert(0), y.vert(0));
+    match (a.x, a.y).cmp(&(b.x, b.y)) {
+        Ordering::Equal => compare_poly_keys(x, y, 2),
+        unequal => unequal,
+    }
+}
+
+/// The lexicographic order of the two key sequences from key `k` on (the
+/// keys before it being equal).
+fn compare_poly_keys(x: &Poly, y: &Poly, mut k: usize) -> Ordering {
     loop {
         match (poly_key(x, k), poly_key(y, k)) {
             (Some(a), Some(b)) => match a.cmp(&b) {
@@ -517,12 +530,21 @@ fn moved(g: &Geometry, anchor: Vect) -> Geometry {
 }
 
 fn moved_poly(p: &Poly, anchor: Vect) -> Poly {
-    let mut out = *p;
     let n = p.count();
-    for v in out.verts.iter_mut().take(n) {
-        *v -= anchor;
+    // Built in place (a copy, then a loop over it, cost two extra copies).
+    Poly {
+        count: p.count,
+        verts: core::array::from_fn(|i| {
+            let v = p.verts.get(i).copied().unwrap_or(Vect::ZERO);
+            if i < n {
+                v - anchor
+            } else {
+                v
+            }
+        }),
+        normals: p.normals,
+        radius: p.radius,
     }
-    out
 }
 
 #[cfg(test)]
