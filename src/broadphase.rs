@@ -3,13 +3,17 @@
 //! * Moving shapes (dynamic and kinematic bodies) are found by
 //!   **sort-and-sweep** on x: sort their boxes by left edge, then each box is
 //!   tested against the boxes that start before it ends. Sorting keys are
-//!   `(left, shape index)`, unique, so the order depends only on state.
+//!   `(left, shape index)`, unique, so the order depends only on state. The
+//!   sort starts from last step's order (an insertion sort, nearly linear
+//!   when bodies move a little; see [`Broadphase`]): unique keys have one
+//!   sorted order, so this changes the work, never the result.
 //! * Static shapes go into a **static tree** (a bounding-volume hierarchy
 //!   built by median splits), rebuilt only when the set of static shapes or
 //!   their boxes change. Moving boxes query it, so a scene pays nothing per
 //!   step for static shapes no moving shape is near.
 //! * The output is a list of `(lower index, higher index)` pairs sorted
-//!   ascending: the **canonical pair order**. The solver is Gauss–Seidel, so
+//!   ascending (a counting sort on the lower index): the **canonical pair
+//!   order**. The solver is Gauss–Seidel, so
 //!   its order changes results; this order depends only on the shapes' slot
 //!   indices and positions, never on a hash or on the sweep's internals.
 use crate::math::wide::{raw_diff, raw_sum};
