@@ -232,14 +232,17 @@ impl Broadphase {
             .max()
             .map_or(0, |m| m.saturating_add(1));
         self.slot_pos.clear();
-        self.slot_pos.resize(slots, NONE);
-        let mut unique = true;
+        let mut unique = slots <= dense_limit(moving.len());
+        if unique {
+            self.slot_pos.resize(slots, NONE);
+        }
         for (k, p) in moving.iter().enumerate() {
             if let Some(pos) = self.slot_pos.get_mut(p.index as usize) {
                 unique &= *pos == NONE;
                 *pos = k as u32;
             }
         }
+        // Repeated indices, or indices too sparse for a table: a plain sort.
         if !unique {
             self.sorted.clear();
             self.sorted.extend_from_slice(moving);
@@ -284,6 +287,12 @@ impl Broadphase {
             .max()
             .map_or(0, |m| m.saturating_add(2));
         self.bucket.clear();
+        if slots > dense_limit(self.found.len()) {
+            self.pairs.extend_from_slice(&self.found);
+            self.pairs.sort_unstable();
+            self.pairs.dedup();
+            return;
+        }
         self.bucket.resize(slots, 0);
         // Counts at lo + 1, then running sums: bucket[lo] is the start of
         // lo's pairs. Sums never exceed `found.len()`: no saturation.
@@ -314,6 +323,15 @@ impl Broadphase {
         }
         self.pairs.dedup();
     }
+}
+
+/// The largest table indexed by shape slot that the sweep builds for `len`
+/// entries: a space's slots are dense (at most its shape count), but a
+/// caller of [`Broadphase::find_pairs`] may pass any index, and a table
+/// for index 2^32 − 1 would take 16 GiB. Above it, plain sorts.
+#[inline]
+fn dense_limit(len: usize) -> usize {
+    len.saturating_mul(4).saturating_add(4096)
 }
 
 /// Insertion sort by [`sweep_key`]; gives up (returning `false`, the slice
@@ -497,6 +515,25 @@ mod tests {
                 proptest::prop_assert_eq!(&bp.pairs, &find_pairs_full_sort(&moving, &tree));
             }
         }
+    }
+
+    #[test]
+    fn sparse_indices_take_the_plain_sorts() {
+        // Slot tables for these indices would take gigabytes: the sweep and
+        // the pair order fall back to plain sorts, with the same answer.
+        let tree = StaticTree::build(vec![proxy(u32::MAX - 2, 0, 1)]);
+        let moving = vec![
+            proxy(u32::MAX - 1, 0, 0),
+            proxy(7, 1, 0),
+            proxy(u32::MAX, 1, 1),
+        ];
+        let mut bp = Broadphase::default();
+        for _ in 0..2 {
+            bp.find_pairs(&moving, &tree);
+            assert_eq!(bp.pairs, find_pairs_full_sort(&moving, &tree));
+            assert_eq!(bp.pairs.len(), 6);
+        }
+        assert!(bp.slot_pos.capacity() < 1 << 20 && bp.bucket.capacity() < 1 << 20);
     }
 
     #[test]
