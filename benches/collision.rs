@@ -196,6 +196,27 @@ fn pairs(c: &mut Criterion) {
         })
     });
 
+    // The whole entry point on the pairs a pile is made of (what the step
+    // calls per candidate pair): two touching circles, two circles whose
+    // boxes overlap but which do not touch, and a box resting on a box.
+    let gc1 = Geometry::Circle(Circle::new(Real::ONE, Vect::new(real!(10.25), real!(3.5))));
+    let gc2 = Geometry::Circle(Circle::new(Real::ONE, Vect::new(real!(11.75), real!(4.0))));
+    let gc3 = Geometry::Circle(Circle::new(Real::ONE, Vect::new(real!(11.75), real!(5.25))));
+    assert_eq!(collide(&gc1, &gc2, 0).count, 1);
+    assert_eq!(collide(&gc1, &gc3, 0).count, 0);
+    c.bench_function("collide/circles_touching", |bch| {
+        bch.iter(|| collide(black_box(&gc1), black_box(&gc2), 0))
+    });
+    c.bench_function("collide/circles_apart", |bch| {
+        bch.iter(|| collide(black_box(&gc1), black_box(&gc3), 0))
+    });
+    let gfloor = Geometry::Poly(floor);
+    let gtop = Geometry::Poly(top);
+    assert_eq!(collide(&gfloor, &gtop, 0).count, 2);
+    c.bench_function("collide/box_on_box", |bch| {
+        bch.iter(|| collide(black_box(&gfloor), black_box(&gtop), 0))
+    });
+
     // The whole entry point, far from the origin.
     let far = Vect::from_ints(100_000, -50_000);
     let ga = Geometry::Poly(octagon(far, Real::ONE, Real::ZERO));

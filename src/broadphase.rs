@@ -3,13 +3,17 @@
 //! * Moving shapes (dynamic and kinematic bodies) are found by
 //!   **sort-and-sweep** on x: sort their boxes by left edge, then each box is
 //!   tested against the boxes that start before it ends. Sorting keys are
-//!   `(left, shape index)`, unique, so the order depends only on state.
+//!   `(left, shape index)`, unique, so the order depends only on state. The
+//!   sort starts from last step's order (an insertion sort, nearly linear
+//!   when bodies move a little; see [`Broadphase`]): unique keys have one
+//!   sorted order, so this changes the work, never the result.
 //! * Static shapes go into a **static tree** (a bounding-volume hierarchy
 //!   built by median splits), rebuilt only when the set of static shapes or
 //!   their boxes change. Moving boxes query it, so a scene pays nothing per
 //!   step for static shapes no moving shape is near.
 //! * The output is a list of `(lower index, higher index)` pairs sorted
-//!   ascending: the **canonical pair order**. The solver is Gauss–Seidel, so
+//!   ascending (a counting sort on the lower index): the **canonical pair
+//!   order**. The solver is Gauss–Seidel, so
 //!   its order changes results; this order depends only on the shapes' slot
 //!   indices and positions, never on a hash or on the sweep's internals.
 use crate::math::wide::{raw_diff, raw_sum};
@@ -155,12 +159,38 @@ impl StaticTree {
     }
 }
 
-/// Reusable broadphase buffers (not simulation state: rebuilt every step).
+/// Reusable broadphase buffers (not simulation state: any content gives the
+/// same pairs).
+///
+/// The sweep keeps last call's sorted order and re-sorts it by insertion:
+/// boxes move a little between steps, so the order is nearly right and the
+/// sort costs about one comparison per box instead of a full sort's
+/// `log n`. The sort keys `(left, shape index)` are unique, so every sorting
+/// method gives the same sequence: the order kept from last step changes
+/// the work, never the pairs or their order. A call whose boxes are far
+/// from last call's order (the first one, a restore, a teleport of many
+/// bodies) notices the many shifts and finishes with a full sort.
 #[derive(Clone, Debug, Default)]
 pub struct Broadphase {
+    /// The moving boxes sorted by `(left, index)`, kept between calls.
     sorted: Vec<Proxy>,
+    /// Per shape slot: its position in this call's `moving` (scratch).
+    slot_pos: Vec<u32>,
+    /// Pairs as found, before they are put in canonical order (scratch).
+    found: Vec<(u32, u32)>,
+    /// Per lower shape slot: the start of its pairs in `pairs` (scratch).
+    bucket: Vec<u32>,
     /// Candidate pairs of the last [`Broadphase::find_pairs`] call.
     pub pairs: Vec<(u32, u32)>,
+}
+
+/// No position (a slot without a box in this call).
+const NONE: u32 = u32::MAX;
+
+/// The sort key of the sweep; unique per proxy (shape indices are unique).
+#[inline]
+fn sweep_key(p: &Proxy) -> (crate::math::Real, u32) {
+    (p.bb.l, p.index)
 }
 
 impl Broadphase {
@@ -168,10 +198,8 @@ impl Broadphase {
     /// `moving` and `statics`, and leaves them in [`Broadphase::pairs`] in
     /// canonical order (sorted, lower index first, no duplicates).
     pub fn find_pairs(&mut self, moving: &[Proxy], statics: &StaticTree) {
-        self.pairs.clear();
-        self.sorted.clear();
-        self.sorted.extend_from_slice(moving);
-        self.sorted.sort_unstable_by_key(|p| (p.bb.l, p.index));
+        self.sort_moving(moving);
+        self.found.clear();
         let mut rest = self.sorted.as_slice();
         while let Some((a, later)) = rest.split_first() {
             rest = later;
@@ -180,19 +208,171 @@ impl Broadphase {
                     break;
                 }
                 if a.bb.b <= b.bb.t && b.bb.b <= a.bb.t {
-                    self.pairs.push(ordered(a.index, b.index));
+                    self.found.push(ordered(a.index, b.index));
                 }
             }
-            let pairs = &mut self.pairs;
+            let found = &mut self.found;
             statics.query(&a.bb, |s| {
                 if s != a.index {
-                    pairs.push(ordered(a.index, s));
+                    found.push(ordered(a.index, s));
                 }
             });
         }
-        self.pairs.sort_unstable();
+        self.canonical_pairs();
+    }
+
+    /// Leaves `moving` in `sorted`, sorted by [`sweep_key`]: last call's
+    /// order with this call's boxes (shapes gone dropped, new ones
+    /// appended), then insertion sort; a full sort if `moving` repeats a
+    /// shape index or the insertion sort shifts too much.
+    fn sort_moving(&mut self, moving: &[Proxy]) {
+        let slots = moving
+            .iter()
+            .map(|p| p.index as usize)
+            .max()
+            .map_or(0, |m| m.saturating_add(1));
+        self.slot_pos.clear();
+        let mut unique = slots <= dense_limit(moving.len());
+        if unique {
+            self.slot_pos.resize(slots, NONE);
+        }
+        for (k, p) in moving.iter().enumerate() {
+            if let Some(pos) = self.slot_pos.get_mut(p.index as usize) {
+                unique &= *pos == NONE;
+                *pos = k as u32;
+            }
+        }
+        // Repeated indices, or indices too sparse for a table: a plain sort.
+        if !unique {
+            self.sorted.clear();
+            self.sorted.extend_from_slice(moving);
+            self.sorted.sort_unstable_by_key(sweep_key);
+            return;
+        }
+        // Last call's order, each box replaced by this call's (or dropped);
+        // a slot taken here is marked so the new ones can be found.
+        let slot_pos = &mut self.slot_pos;
+        self.sorted.retain_mut(|p| {
+            let Some(pos) = slot_pos.get_mut(p.index as usize) else {
+                return false;
+            };
+            match moving.get(*pos as usize) {
+                Some(now) => {
+                    *p = *now;
+                    *pos = NONE;
+                    true
+                }
+                None => false,
+            }
+        });
+        for p in moving {
+            if self.slot_pos.get(p.index as usize) != Some(&NONE) {
+                self.sorted.push(*p);
+            }
+        }
+        if !insertion_sort(&mut self.sorted) {
+            self.sorted.sort_unstable_by_key(sweep_key);
+        }
+    }
+
+    /// Puts `found` into `pairs` in canonical order without duplicates: a
+    /// counting sort on the lower index, then an insertion sort of each
+    /// lower index's few partners.
+    fn canonical_pairs(&mut self) {
+        self.pairs.clear();
+        let slots = self
+            .found
+            .iter()
+            .map(|&(lo, _)| lo as usize)
+            .max()
+            .map_or(0, |m| m.saturating_add(2));
+        self.bucket.clear();
+        if slots > dense_limit(self.found.len()) {
+            self.pairs.extend_from_slice(&self.found);
+            self.pairs.sort_unstable();
+            self.pairs.dedup();
+            return;
+        }
+        self.bucket.resize(slots, 0);
+        // Counts at lo + 1, then running sums: bucket[lo] is the start of
+        // lo's pairs. Sums never exceed `found.len()`: no saturation.
+        for &(lo, _) in &self.found {
+            if let Some(c) = self.bucket.get_mut((lo as usize).saturating_add(1)) {
+                *c = c.saturating_add(1);
+            }
+        }
+        let mut sum = 0u32;
+        for c in &mut self.bucket {
+            sum = sum.saturating_add(*c);
+            *c = sum;
+        }
+        self.pairs.resize(self.found.len(), (0, 0));
+        for &pair in &self.found {
+            if let Some(at) = self.bucket.get_mut(pair.0 as usize) {
+                if let Some(slot) = self.pairs.get_mut(*at as usize) {
+                    *slot = pair;
+                }
+                *at = at.saturating_add(1);
+            }
+        }
+        // Each lower index's run is now contiguous and the runs ascend; the
+        // runs are short (a shape's neighbours), so insertion sort them all
+        // at once: it only ever moves an entry within its run.
+        if !insertion_sort_pairs(&mut self.pairs) {
+            self.pairs.sort_unstable();
+        }
         self.pairs.dedup();
     }
+}
+
+/// The largest table indexed by shape slot that the sweep builds for `len`
+/// entries: a space's slots are dense (at most its shape count), but a
+/// caller of [`Broadphase::find_pairs`] may pass any index, and a table
+/// for index 2^32 − 1 would take 16 GiB. Above it, plain sorts.
+#[inline]
+fn dense_limit(len: usize) -> usize {
+    len.saturating_mul(4).saturating_add(4096)
+}
+
+/// Insertion sort by [`sweep_key`]; gives up (returning `false`, the slice
+/// then holds a permutation of its entries) once it has shifted more than
+/// a few entries per element, which only a far-from-sorted input does.
+fn insertion_sort(v: &mut [Proxy]) -> bool {
+    let budget = v.len().saturating_mul(4).saturating_add(64);
+    insertion_sort_by(v, budget, |a, b| sweep_key(a) > sweep_key(b))
+}
+
+/// [`insertion_sort`] for pairs in lexicographic order.
+fn insertion_sort_pairs(v: &mut [(u32, u32)]) -> bool {
+    let budget = v.len().saturating_mul(8).saturating_add(64);
+    insertion_sort_by(v, budget, |a, b| a > b)
+}
+
+/// Insertion sort with `after(x, y)` meaning "x goes after y", stopping
+/// (returning `false`) once more than `budget` entries have been shifted.
+fn insertion_sort_by<T: Copy>(v: &mut [T], budget: usize, after: impl Fn(&T, &T) -> bool) -> bool {
+    let mut shifted = 0usize;
+    for i in 1..v.len() {
+        let Some(&x) = v.get(i) else { break };
+        let mut j = i;
+        while let Some(prev) = j.checked_sub(1).and_then(|k| v.get(k)).copied() {
+            if !after(&prev, &x) {
+                break;
+            }
+            if let Some(slot) = v.get_mut(j) {
+                *slot = prev;
+            }
+            j = j.saturating_sub(1);
+            shifted = shifted.saturating_add(1);
+        }
+        if let Some(slot) = v.get_mut(j) {
+            *slot = x;
+        }
+        if shifted > budget {
+            return false;
+        }
+    }
+    true
 }
 
 /// The broadphase stage's buffers in the space (stage 3; not simulation
@@ -271,6 +451,104 @@ mod tests {
         let mut bp = Broadphase::default();
         bp.find_pairs(&moving, &statics);
         assert_eq!(bp.pairs, vec![(1, 9), (2, 5), (2, 7), (5, 7)]);
+    }
+
+    /// The sweep before it kept its order between calls: a full sort of the
+    /// boxes and of the pairs on every call.
+    fn find_pairs_full_sort(moving: &[Proxy], statics: &StaticTree) -> Vec<(u32, u32)> {
+        let mut sorted = moving.to_vec();
+        sorted.sort_unstable_by_key(|p| (p.bb.l, p.index));
+        let mut pairs = Vec::new();
+        for (i, a) in sorted.iter().enumerate() {
+            for b in &sorted[i + 1..] {
+                if b.bb.l > a.bb.r {
+                    break;
+                }
+                if a.bb.b <= b.bb.t && b.bb.b <= a.bb.t {
+                    pairs.push(ordered(a.index, b.index));
+                }
+            }
+            statics.query(&a.bb, |s| {
+                if s != a.index {
+                    pairs.push(ordered(a.index, s));
+                }
+            });
+        }
+        pairs.sort_unstable();
+        pairs.dedup();
+        pairs
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
+        /// Calls on one `Broadphase` whose boxes move a little, jump, appear,
+        /// vanish, tie on their left edges or repeat an index give exactly the
+        /// pairs of a fresh full sort, in the same order.
+        #[test]
+        fn persistent_sweep_gives_the_full_sort_pairs(
+            start in proptest::collection::vec((0u32..60, -20i32..20, -20i32..20), 0..60),
+            moves in proptest::collection::vec(
+                proptest::collection::vec((0u32..60, -3i32..=3, -3i32..=3, 0u8..10), 0..40),
+                1..6,
+            ),
+            statics in proptest::collection::vec((60u32..80, -20i32..20, -20i32..20), 0..10),
+        ) {
+            let tree = StaticTree::build(statics.iter().map(|&(i, x, y)| proxy(i, x, y)).collect());
+            let mut world: Vec<(u32, i32, i32)> = start;
+            let mut bp = Broadphase::default();
+            for step in moves {
+                for (i, dx, dy, what) in step {
+                    match what {
+                        0 => world.retain(|b| b.0 != i),
+                        1 => world.push((i, dx * 7, dy * 7)),
+                        _ => {
+                            for b in world.iter_mut().filter(|b| b.0 == i) {
+                                b.1 += dx;
+                                b.2 += dy;
+                            }
+                        }
+                    }
+                }
+                world.sort_by_key(|b| b.0);
+                let moving: Vec<Proxy> = world.iter().map(|&(i, x, y)| proxy(i, x, y)).collect();
+                bp.find_pairs(&moving, &tree);
+                proptest::prop_assert_eq!(&bp.pairs, &find_pairs_full_sort(&moving, &tree));
+            }
+        }
+    }
+
+    #[test]
+    fn sparse_indices_take_the_plain_sorts() {
+        // Slot tables for these indices would take gigabytes: the sweep and
+        // the pair order fall back to plain sorts, with the same answer.
+        let tree = StaticTree::build(vec![proxy(u32::MAX - 2, 0, 1)]);
+        let moving = vec![
+            proxy(u32::MAX - 1, 0, 0),
+            proxy(7, 1, 0),
+            proxy(u32::MAX, 1, 1),
+        ];
+        let mut bp = Broadphase::default();
+        for _ in 0..2 {
+            bp.find_pairs(&moving, &tree);
+            assert_eq!(bp.pairs, find_pairs_full_sort(&moving, &tree));
+            assert_eq!(bp.pairs.len(), 6);
+        }
+        assert!(bp.slot_pos.capacity() < 1 << 20 && bp.bucket.capacity() < 1 << 20);
+    }
+
+    #[test]
+    fn persistent_sweep_survives_a_reversal() {
+        // Every box jumps past every other: the insertion sort gives up and
+        // the full sort finishes; the pairs are those of a fresh sweep.
+        let tree = StaticTree::default();
+        let forward: Vec<Proxy> = (0..200).map(|i| proxy(i, i as i32, 0)).collect();
+        let backward: Vec<Proxy> = (0..200).map(|i| proxy(i, -(i as i32), 0)).collect();
+        let mut bp = Broadphase::default();
+        for moving in [&forward, &backward, &forward] {
+            bp.find_pairs(moving, &tree);
+            assert_eq!(bp.pairs, find_pairs_full_sort(moving, &tree));
+            assert_eq!(bp.pairs.len(), 199 + 198);
+        }
     }
 
     #[test]

@@ -59,7 +59,7 @@ pub use support::{
     SupportContext, SupportPoint, SupportShape,
 };
 
-use crate::math::{Real, Vect};
+use crate::math::{wide, Real, Vect};
 use crate::shape::{Circle, Geometry, Poly, Segment};
 
 /// Contacts one pair can produce (Chipmunk `CP_MAX_CONTACTS_PER_ARBITER`).
@@ -180,13 +180,18 @@ impl CollisionInfo {
     /// The same collision seen from the other shape: normal negated, points
     /// and feature-id halves swapped, warm-start id converted.
     fn mirrored(mut self) -> CollisionInfo {
+        self.mirror();
+        self
+    }
+
+    /// [`mirrored`](Self::mirrored) in place.
+    fn mirror(&mut self) {
         self.normal = -self.normal;
         for c in self.contacts.iter_mut().take(self.count) {
             core::mem::swap(&mut c.point_a, &mut c.point_b);
             c.feature_id = c.feature_id.rotate_left(16);
         }
         self.warm_start_id = swap_id_shapes(self.warm_start_id);
-        self
     }
 }
 
@@ -245,10 +250,11 @@ pub fn shapes_collide(a: &Geometry, b: &Geometry) -> ContactPointSet {
 /// caller's order (`normal` from `a` toward `b`). `warm_start_id` is the warm-start id
 /// the previous call on this pair returned, or 0.
 pub fn collide(a: &Geometry, b: &Geometry, warm_start_id: WarmStartId) -> CollisionInfo {
-    if let (Geometry::Circle(x), Geometry::Circle(y)) = (a, b) {
-        return collide_circles(x, y, warm_start_id);
+    match (a, b) {
+        (Geometry::Circle(x), Geometry::Circle(y)) => collide_circles(x, y, warm_start_id),
+        (Geometry::Poly(x), Geometry::Poly(y)) => collide_polys(x, y, warm_start_id),
+        _ => collide_general(a, b, warm_start_id),
     }
-    collide_general(a, b, warm_start_id)
 }
 
 /// [`collide`] for any pair: canonical order, translation next to the
@@ -272,46 +278,102 @@ fn collide_general(a: &Geometry, b: &Geometry, warm_start_id: WarmStartId) -> Co
         info.normal = Vect::ZERO;
     }
     if swap {
-        info.mirrored()
-    } else {
-        info
+        info.mirror();
     }
+    info
 }
 
-/// [`collide`] for two circles: the same operations on the two circles
-/// alone, without copying whole geometries or dispatching. The canonical
-/// order is decided once: translating both circles by the first one's
-/// centre keeps the sign of every coordinate difference (a saturated
-/// difference keeps its sign), so `circle_to_circle` would find them in
-/// order again and its own comparison is skipped.
-fn collide_circles(a: &Circle, b: &Circle, warm_start_id: WarmStartId) -> CollisionInfo {
-    let swap = compare_circles(a, b) == Ordering::Greater;
+/// [`collide`] for two polygons: the general path's steps on the two
+/// polygons alone, translated into fresh copies rather than through whole
+/// `Geometry` copies. When both have the same vertex count and no
+/// translated coordinate is `Real::MIN` or `MAX` (so none saturated), the
+/// translation subtracted the same exact value from the coordinates that
+/// `compare_polys` sets side by side (vertices against vertices, component
+/// by component; normals and radii are not moved), so the translated pair
+/// compares as the original one: in order, and `poly_to_poly`'s own
+/// comparison is skipped. Otherwise `poly_to_poly` decides again, as in the
+/// general path. Same bits as the general path (unit test
+/// `poly_fast_path_is_the_general_path`, proptest
+/// `poly_kernel_is_the_general_path`).
+fn collide_polys(a: &Poly, b: &Poly, warm_start_id: WarmStartId) -> CollisionInfo {
+    let swap = compare_polys(a, b) == Ordering::Greater;
     let (first, second) = if swap { (b, a) } else { (a, b) };
     let id = if swap {
         swap_id_shapes(warm_start_id)
     } else {
         warm_start_id
     };
-    let anchor = first.offset;
-    let first = Circle {
-        offset: first.offset - anchor,
-        ..*first
-    };
-    let second = Circle {
-        offset: second.offset - anchor,
-        ..*second
-    };
     let mut info = CollisionInfo::new(id);
-    pairs::circle_to_circle_ordered(&first, &second, &mut info);
+    if first.count() == 0 || second.count() == 0 {
+        return CollisionInfo::new(warm_start_id);
+    }
+    let anchor = first.vert(0);
+    let (first, second) = (moved_poly(first, anchor), moved_poly(second, anchor));
+    let unsaturated = |p: &Poly| {
+        p.verts()
+            .iter()
+            .all(|v| !v.x.is_saturated() && !v.y.is_saturated())
+    };
+    if first.count() == second.count() && unsaturated(&first) && unsaturated(&second) {
+        pairs::poly_to_poly_ordered(&first, &second, &mut info);
+    } else {
+        poly_to_poly(&first, &second, &mut info);
+    }
     info.translate(anchor);
     if info.count == 0 {
         info.normal = Vect::ZERO;
     }
     if swap {
-        info.mirrored()
-    } else {
-        info
+        info.mirror();
     }
+    info
+}
+
+/// [`collide`] for two circles: the computation of the general path
+/// (canonical order, translation by the first circle's centre, the closed
+/// form of `circle_to_circle`, translation back, mirroring), written out for
+/// two circles: nothing is copied, zeroed twice or mirrored after the fact.
+/// The steps it saves, and why the bits are those of the general path (unit test
+/// `circle_fast_path_is_the_general_path`, proptest
+/// `circle_kernel_is_the_general_path`):
+/// * the canonical order is decided once: translating both circles by the
+///   first one's centre keeps the sign of every coordinate difference (a
+///   saturated difference keeps its sign), so `circle_to_circle` would find
+///   them in order again;
+/// * the first centre translated is exactly zero, so the offset between the
+///   centres is the second one translated, and `0 + n·r` is `n·r`;
+/// * mirroring negates the normal and swaps the points; the feature id 0 and
+///   the warm-start id (converted twice, an involution) are unchanged.
+fn collide_circles(a: &Circle, b: &Circle, warm_start_id: WarmStartId) -> CollisionInfo {
+    let swap = compare_circles(a, b) == Ordering::Greater;
+    let (first, second) = if swap { (b, a) } else { (a, b) };
+    let mut info = CollisionInfo::new(warm_start_id);
+    let anchor = first.offset;
+    let delta = second.offset - anchor;
+    let min_dist = first.radius + second.radius;
+    if wide::len_sq(delta) > pairs::sq(min_dist + CONTACT_TOLERANCE) {
+        return info;
+    }
+    let (n, dist) = wide::normalize(delta).unwrap_or((Vect::X, Real::ZERO));
+    let on_first = n.mult(first.radius) + anchor;
+    let on_second = (delta - n.mult(second.radius)) + anchor;
+    let (normal, point_a, point_b) = if swap {
+        (-n, on_second, on_first)
+    } else {
+        (n, on_first, on_second)
+    };
+    info.normal = normal;
+    info.count = 1;
+    info.contacts = [
+        Contact {
+            point_a,
+            point_b,
+            distance: dist - min_dist,
+            feature_id: 0,
+        },
+        Contact::default(),
+    ];
+    info
 }
 
 /// Runs the pair function for `(a, b)`; pairs out of kind order (which
@@ -368,9 +430,7 @@ fn flat(vs: &[Vect]) -> impl Iterator<Item = Real> + '_ {
 /// Lexicographic order on (centre, radius). Comparing coordinates is
 /// unchanged by translating both shapes, so the order is too.
 pub(crate) fn compare_circles(x: &Circle, y: &Circle) -> Ordering {
-    flat(&[x.offset])
-        .chain([x.radius])
-        .cmp(flat(&[y.offset]).chain([y.radius]))
+    (x.offset.x, x.offset.y, x.radius).cmp(&(y.offset.x, y.offset.y, y.radius))
 }
 
 /// Lexicographic order on every field (endpoints first).
@@ -389,11 +449,51 @@ pub(crate) fn compare_segments(x: &Segment, y: &Segment) -> Ordering {
 }
 
 /// Lexicographic order on (vertices, normals, radius).
+/// Written as a walk over the two key sequences (the former iterator chain
+/// copied its arrays; unit test `compare_polys_is_the_chained_order`).
 pub(crate) fn compare_polys(x: &Poly, y: &Poly) -> Ordering {
-    flat(x.verts())
-        .chain(flat(x.normals()))
-        .chain([x.radius()])
-        .cmp(flat(y.verts()).chain(flat(y.normals())).chain([y.radius()]))
+    // The first vertex (keys 0 and 1) almost always decides.
+    if x.count() == 0 || y.count() == 0 {
+        return compare_poly_keys(x, y, 0);
+    }
+    let (a, b) = (x.vert(0), y.vert(0));
+    match (a.x, a.y).cmp(&(b.x, b.y)) {
+        Ordering::Equal => compare_poly_keys(x, y, 2),
+        unequal => unequal,
+    }
+}
+
+/// The lexicographic order of the two key sequences from key `k` on (the
+/// keys before it being equal).
+fn compare_poly_keys(x: &Poly, y: &Poly, mut k: usize) -> Ordering {
+    loop {
+        match (poly_key(x, k), poly_key(y, k)) {
+            (Some(a), Some(b)) => match a.cmp(&b) {
+                Ordering::Equal => k = k.saturating_add(1),
+                unequal => return unequal,
+            },
+            (None, None) => return Ordering::Equal,
+            (None, Some(_)) => return Ordering::Less,
+            (Some(_), None) => return Ordering::Greater,
+        }
+    }
+}
+
+/// Element `k` of a polygon's key sequence `x₀, y₀, x₁, …` (vertices),
+/// then the normals the same way, then the radius; `None` past the end.
+#[inline]
+fn poly_key(p: &Poly, k: usize) -> Option<Real> {
+    let coord = |v: Vect, k: usize| if k % 2 == 0 { v.x } else { v.y };
+    let n = p.count().saturating_mul(2);
+    if k < n {
+        Some(coord(p.vert(k / 2), k))
+    } else if k < n.saturating_mul(2) {
+        Some(coord(p.normal((k.saturating_sub(n)) / 2), k))
+    } else if k == n.saturating_mul(2) {
+        Some(p.radius())
+    } else {
+        None
+    }
 }
 
 /// The point the computation is made relative to.
@@ -430,152 +530,22 @@ fn moved(g: &Geometry, anchor: Vect) -> Geometry {
 }
 
 fn moved_poly(p: &Poly, anchor: Vect) -> Poly {
-    let mut out = *p;
     let n = p.count();
-    for v in out.verts.iter_mut().take(n) {
-        *v -= anchor;
+    // Built in place (a copy, then a loop over it, cost two extra copies).
+    Poly {
+        count: p.count,
+        verts: core::array::from_fn(|i| {
+            let v = p.verts.get(i).copied().unwrap_or(Vect::ZERO);
+            if i < n {
+                v - anchor
+            } else {
+                v
+            }
+        }),
+        normals: p.normals,
+        radius: p.radius,
     }
-    out
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::real;
-
-    fn boxed(w: i32, h: i32, at: Vect) -> Geometry {
-        let p =
-            Poly::new_box(Real::from_int(w), Real::from_int(h), Real::ZERO).unwrap_or_else(|_| {
-                Poly::from_ccw_unchecked(&[Vect::ZERO, Vect::X, Vect::Y], Real::ZERO)
-            });
-        Geometry::Poly(moved_poly(&p, -at))
-    }
-
-    #[test]
-    fn circle_fast_path_is_the_general_path() {
-        let big = Real::MAX - Real::ONE;
-        let at = |x: Real, y: Real| Vect::new(x, y);
-        let centres = [
-            at(Real::ZERO, Real::ZERO),
-            at(real!(0.3), real!(1.7)),
-            at(real!(0.3), real!(-0.2)),
-            at(real!(1.1), real!(1.7)),
-            at(big, big),
-            at(-big, big),
-            at(Real::MIN, Real::MAX),
-            at(Real::from_bits(1), Real::ZERO),
-        ];
-        let radii = [Real::ZERO, Real::HALF, Real::ONE, real!(1.25)];
-        for &ca in &centres {
-            for &cb in &centres {
-                for &ra in &radii {
-                    for &rb in &radii {
-                        let a = Circle::new(ra, ca);
-                        let b = Circle::new(rb, cb);
-                        for id in [0, 7] {
-                            let (ga, gb) = (Geometry::Circle(a), Geometry::Circle(b));
-                            let fast = collide_circles(&a, &b, id);
-                            let general = collide_general(&ga, &gb, id);
-                            assert_eq!(fast, general, "{a:?} {b:?} {id}");
-                        }
-                    }
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn swapped_kinds_mirror_exactly() {
-        let ball = Geometry::Circle(Circle::new(Real::ONE, Vect::new(real!(0.3), real!(1.7))));
-        let crate_box = boxed(2, 2, Vect::ZERO);
-        let ab = collide(&ball, &crate_box, 0);
-        let ba = collide(&crate_box, &ball, 0);
-        assert_eq!(ab.count, 1);
-        assert_eq!(ab.normal, -ba.normal);
-        assert_eq!(ab.contacts()[0].point_a, ba.contacts()[0].point_b);
-        assert_eq!(ab.contacts()[0].distance, ba.contacts()[0].distance);
-    }
-
-    #[test]
-    fn same_kind_swap_mirrors_exactly_with_ids() {
-        let a = boxed(2, 2, Vect::ZERO);
-        let b = boxed(2, 2, Vect::new(real!(0.5), real!(1.8)));
-        let ab = collide(&a, &b, 0);
-        let ba = collide(&b, &a, 0);
-        assert_eq!(ab.count, 2);
-        assert_eq!(ab.normal, -ba.normal);
-        for (x, y) in ab.contacts().iter().zip(ba.contacts()) {
-            assert_eq!(
-                (x.point_a, x.point_b, x.distance),
-                (y.point_b, y.point_a, y.distance)
-            );
-            assert_eq!(x.feature_id, y.feature_id.rotate_left(16));
-        }
-        assert_eq!(ab.warm_start_id, swap_id_shapes(ba.warm_start_id));
-        // Warm-started calls agree with cold ones, in both orders.
-        assert_eq!(collide(&a, &b, ab.warm_start_id), ab);
-        assert_eq!(collide(&b, &a, ba.warm_start_id), ba);
-    }
-
-    #[test]
-    fn translation_moves_points_exactly() {
-        let a = boxed(2, 2, Vect::ZERO);
-        let b = Geometry::Segment(Segment::new(
-            Vect::new(real!(-0.5), real!(0.9)),
-            Vect::new(real!(2.5), real!(1.3)),
-            real!(0.1),
-        ));
-        let shift = Vect::new(Real::from_int(1 << 29), Real::from_int(-(1 << 29)));
-        let far_a = collide(&a, &b, 0);
-        let ta = boxed(2, 2, shift);
-        let tb = Geometry::Segment(Segment::new(
-            Vect::new(real!(-0.5), real!(0.9)) + shift,
-            Vect::new(real!(2.5), real!(1.3)) + shift,
-            real!(0.1),
-        ));
-        let far_b = collide(&ta, &tb, 0);
-        assert!(far_a.count > 0);
-        assert_eq!(far_a.normal, far_b.normal);
-        for (x, y) in far_a.contacts().iter().zip(far_b.contacts()) {
-            assert_eq!(x.point_a + shift, y.point_a);
-            assert_eq!(x.point_b + shift, y.point_b);
-            assert_eq!((x.distance, x.feature_id), (y.distance, y.feature_id));
-        }
-    }
-
-    #[test]
-    fn degenerate_inputs_do_not_panic() {
-        let dot = Geometry::Circle(Circle::new(Real::ZERO, Vect::ZERO));
-        let info = collide(&dot, &dot, 0);
-        assert_eq!((info.count, info.normal), (1, Vect::X));
-        let point_seg = Geometry::Segment(Segment::new(Vect::ZERO, Vect::ZERO, Real::ZERO));
-        let _ = collide(&point_seg, &point_seg, 0);
-        let _ = collide(&point_seg, &dot, 0);
-        let _ = collide(&point_seg, &boxed(1, 1, Vect::ZERO), 0);
-        let max = Vect::new(Real::MAX, Real::MAX);
-        let min = Vect::new(Real::MIN, Real::MIN);
-        let far = Geometry::Segment(Segment::new(min, max, Real::MAX));
-        let _ = collide(&far, &boxed(1, 1, max), 0);
-        let _ = collide(&boxed(1, 1, min), &boxed(1, 1, max), 0xFFFF_FFFF);
-        let info = collide(
-            &Geometry::Circle(Circle::new(Real::ONE, min)),
-            &Geometry::Circle(Circle::new(Real::ONE, max)),
-            0,
-        );
-        assert_eq!(info.count, 0);
-        let empty = Geometry::Poly(Poly::from_ccw_unchecked(&[], Real::ZERO));
-        assert_eq!(collide(&empty, &boxed(1, 1, Vect::ZERO), 0).count, 0);
-        assert_eq!(shapes_collide(&empty, &dot).count, 0);
-    }
-
-    #[test]
-    fn shapes_collide_matches_collide() {
-        let a = boxed(2, 2, Vect::ZERO);
-        let b = Geometry::Circle(Circle::new(Real::ONE, Vect::new(real!(1.5), Real::ZERO)));
-        let set = shapes_collide(&a, &b);
-        let info = collide(&a, &b, 0);
-        assert_eq!((set.count, set.normal), (info.count, info.normal));
-        assert_eq!(set.points[0].distance, info.contacts[0].distance);
-        assert_eq!(set.normal, Vect::X);
-    }
-}
+mod tests;

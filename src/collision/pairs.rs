@@ -43,7 +43,7 @@ use core::cmp::Ordering;
 
 /// `(r as unsigned raw)²`, exact, in units of 2^-64 (negative radii count as 0).
 #[inline]
-fn sq(r: Real) -> u128 {
+pub(super) fn sq(r: Real) -> u128 {
     // Non-negative: the exact square of the raw bits (≤ 2^126).
     raw_sq(r.max(Real::ZERO))
 }
@@ -222,10 +222,15 @@ pub fn segment_to_poly(a: &Segment, b: &Poly, info: &mut CollisionInfo) {
 pub fn poly_to_poly(a: &Poly, b: &Poly, info: &mut CollisionInfo) {
     in_canonical_order(info, compare_polys(a, b), |swap, info| {
         let (a, b) = if swap { (b, a) } else { (a, b) };
-        if !poly_to_poly_sat(a, b, info) {
-            poly_to_poly_gjk_ordered(a, b, info);
-        }
+        poly_to_poly_ordered(a, b, info);
     });
+}
+
+/// [`poly_to_poly`] for polygons already in canonical order.
+pub(crate) fn poly_to_poly_ordered(a: &Poly, b: &Poly, info: &mut CollisionInfo) {
+    if !poly_to_poly_sat(a, b, info) {
+        poly_to_poly_gjk_ordered(a, b, info);
+    }
 }
 
 /// The GJK + EPA form of [`poly_to_poly`] (the path before separating axes),

@@ -1,7 +1,7 @@
 //! The `Real`/`Vect` layer of [`math::wide`](super): exact sums and
 //! squares of raw `Real` bits, the exact vector predicates and the precise
 //! normalisation of the collision code.
-use super::int::{sum_sq, wide_mul};
+use super::int::{sum_sq, wide_mul, wide_mul_u64};
 use crate::math::real::Real;
 use crate::math::vect::Vect;
 
@@ -142,20 +142,32 @@ const RSQRT_SEED: [u64; 32] = {
 ///
 /// Newton's iteration for the reciprocal square root, `y ← y(3 − x·y²)/2`,
 /// uses only multiplications: from the table's ≤ 3% start, four steps reach
-/// the Q60 resolution (error 3% → 1e-3 → 2e-6 → 5e-12 → below 2^-58). All
-/// products fit a u128 (none saturates): the iterates stay at most about 2^61
-/// (the seeds are below 2^61, and a step never exceeds `1/√x ≤ 2`, the
-/// maximum of `y(3 − x·y²)/2`, by more than its truncations).
+/// the Q60 resolution (error 3% → 1e-3 → 2e-6 → 5e-12 → below 2^-58). The
+/// iterates stay at most about 2^61 (the seeds are below 2^61, and a step
+/// never exceeds `1/√x ≤ 2`, the maximum of `y(3 − x·y²)/2`, by more than its
+/// truncations), so every product is of two values below 2^64 and is formed
+/// by one widening multiply ([`wide_mul_u64`], exact). `y²/2^60` is checked
+/// to fit 64 bits before it is used as a factor; if it did not (it cannot
+/// for the iterates above), the exact `u128` product is formed instead, so
+/// the result is the exact truncated iteration in every case (the same bits
+/// as the former all-`u128` form; unit test
+/// `normalize_is_the_all_u128_kernel_bit_for_bit`).
 #[inline]
 fn rsqrt_q60(m: u64) -> u64 {
     let bucket = usize::try_from(m >> 59).unwrap_or(31);
     let mut y = RSQRT_SEED.get(bucket).copied().unwrap_or(1 << 60);
     for _ in 0..4 {
-        let y2 = u128::from(y).saturating_mul(u128::from(y)) >> 60; // ≤ 2^62
-        let xy2 = u128::from(m).saturating_mul(y2) >> 64; // x·y², ≈ 2^60; m·y2 < 2^127
-        let t = (3u128 << 60).saturating_sub(xy2);
-        // y < 2^64, t < 2^62: y·t < 2^126.
-        y = u64::try_from(u128::from(y).saturating_mul(t) >> 61).unwrap_or(1 << 61);
+        let y2 = wide_mul_u64(y, y) >> 60; // < 2^68 (≤ 2^62 in practice)
+        let xy2 = match u64::try_from(y2) {
+            Ok(y2) => wide_mul_u64(m, y2) >> 64,
+            // m·y2 < 2^132 could saturate here; the saturated value is what
+            // the all-u128 form computes too.
+            Err(_) => u128::from(m).saturating_mul(y2) >> 64,
+        };
+        // xy2 < 2^64 and t ≤ 3·2^60: both fit 64 bits.
+        let t = u64::try_from((3u128 << 60).saturating_sub(xy2)).unwrap_or(3 << 60);
+        // y < 2^64, t < 2^62: y·t < 2^126, exact.
+        y = u64::try_from(wide_mul_u64(y, t) >> 61).unwrap_or(1 << 61);
     }
     y
 }
@@ -170,41 +182,47 @@ fn rsqrt_q60(m: u64) -> u64 {
 /// ulp) of the true value even for tiny vectors (a separation of a few ulp
 /// still gives a unit normal), so `||n| − 1| < 1 ulp`; the length is within
 /// 0.5 ulp + 2^-56 relative (exact to the ulp below 2^24 units).
+///
+/// Every factor is below 2^64 (the scaled components, `m`, `1/|v|` in Q60),
+/// so every product is one exact 64 × 64 → 128-bit multiply: the same
+/// values the former form computed with `u128` multiplies (which also
+/// multiplied and tested the zero high halves), bit for bit.
 pub(crate) fn normalize(v: Vect) -> Option<(Vect, Real)> {
-    let (x, y) = (w(v.x), w(v.y));
+    let (x, y) = (v.x.to_bits(), v.y.to_bits());
     let big = x.unsigned_abs().max(y.unsigned_abs());
     if big == 0 {
         return None;
     }
-    // big ≤ 2^63; put its top bit at position 61 (or leave it if higher).
-    let shift = big.leading_zeros().saturating_sub(66);
-    let (xs, ys) = (x << shift, y << shift);
-    let (xa, ya) = (xs.unsigned_abs(), ys.unsigned_abs());
+    // big ≤ 2^63; put its top bit at position 61 (or leave it if higher):
+    // both scaled magnitudes then stay below 2^62 (or ≤ 2^63 unscaled), so
+    // they fit a u64 and the shifts lose no bit.
+    let shift = big.leading_zeros().saturating_sub(2);
+    let (xa, ya) = (x.unsigned_abs() << shift, y.unsigned_abs() << shift);
     // Each square ≤ 2^126, the sum < 2^127 + 1: exact in a u128 (never
     // saturates).
-    let sq = xa.saturating_mul(xa).saturating_add(ya.saturating_mul(ya));
+    let sq = wide_mul_u64(xa, xa).saturating_add(wide_mul_u64(ya, ya));
     // Even k with m = sq >> k in [2^62, 2^64): sq has 123..=127 bits.
     // (leading_zeros ≤ 128: the first subtraction never saturates.)
     let k = 128u32.saturating_sub(sq.leading_zeros()).saturating_sub(63) & !1;
     let m = u64::try_from(sq >> k).unwrap_or(u64::MAX);
-    let r = u128::from(rsqrt_q60(m));
+    let r = rsqrt_q60(m);
     // 1/|v_s| = r · 2^-(60 + 32 + k/2); the Real unit component is
     // c_s · 2^32 / |v_s| = c_s · r >> (60 + k/2). |c_s| ≤ 2^63, r ≤ 2^61.
     // k ≤ 64, so 60 ≤ down ≤ 92; p < 2^124 and the rounding bias ≤ 2^91: none
     // of these operations saturates.
     let down = 60u32.saturating_add(k / 2);
-    let unit = |c: i128| -> Real {
-        let p = c.unsigned_abs().saturating_mul(r);
-        let half = 1u128 << down.saturating_sub(1);
+    let half = 1u128 << down.saturating_sub(1);
+    let unit = |mag: u64, negative: bool| -> Real {
+        let p = wide_mul_u64(mag, r);
         let q = i64::try_from(p.saturating_add(half) >> down).unwrap_or(i64::MAX);
         // q ≥ 0: the negation never saturates.
-        Real::from_bits(if c < 0 { q.saturating_neg() } else { q })
+        Real::from_bits(if negative { q.saturating_neg() } else { q })
     };
     // |v_s| = √x · 2^(32 + k/2) with √x = x · r = m·r >> 60 in Q64 (≤ 2^65);
     // in raw units of v: √x_q64 · 2^(32 + k/2 − 64 − shift), a right shift
     // since k/2 ≤ 32.
-    // m < 2^64, r ≤ 2^61: the product never saturates.
-    let root_q64 = u128::from(m).saturating_mul(r) >> 60;
+    // m < 2^64, r ≤ 2^61: the product is exact.
+    let root_q64 = wide_mul_u64(m, r) >> 60;
     // shift ≤ 61 and k/2 ≤ 32: 0 ≤ e ≤ 93, never saturates.
     let e = 32u32.saturating_add(shift).saturating_sub(k / 2);
     let length = if e > 0 {
@@ -214,7 +232,10 @@ pub(crate) fn normalize(v: Vect) -> Option<(Vect, Real)> {
         root_q64
     };
     let length = i64::try_from(length).unwrap_or(i64::MAX);
-    Some((Vect::new(unit(xs), unit(ys)), Real::from_bits(length)))
+    Some((
+        Vect::new(unit(xa, x < 0), unit(ya, y < 0)),
+        Real::from_bits(length),
+    ))
 }
 
 /// `normalize(v)` with a fallback for the zero vector.
@@ -342,6 +363,147 @@ mod tests {
         }
         assert_eq!(normalize(Vect::X), Some((Vect::X, Real::ONE)));
         assert_eq!(normalize(-Vect::Y), Some((-Vect::Y, Real::ONE)));
+    }
+
+    // The all-`u128` kernel `normalize` had before its multiplies became
+    // 64 × 64 → 128 (kept to prove the two give the same bits).
+    /// `1/√x` in Q60 for `x = m / 2^64`, `m ∈ [2^62, 2^64)` (so `1/√x ∈ (1, 2]`).
+    ///
+    /// Newton's iteration for the reciprocal square root, `y ← y(3 − x·y²)/2`,
+    /// uses only multiplications: from the table's ≤ 3% start, four steps reach
+    /// the Q60 resolution (error 3% → 1e-3 → 2e-6 → 5e-12 → below 2^-58). All
+    /// products fit a u128 (none saturates): the iterates stay at most about 2^61
+    /// (the seeds are below 2^61, and a step never exceeds `1/√x ≤ 2`, the
+    /// maximum of `y(3 − x·y²)/2`, by more than its truncations).
+    fn rsqrt_q60_u128(m: u64) -> u64 {
+        let bucket = usize::try_from(m >> 59).unwrap_or(31);
+        let mut y = RSQRT_SEED.get(bucket).copied().unwrap_or(1 << 60);
+        for _ in 0..4 {
+            let y2 = u128::from(y).saturating_mul(u128::from(y)) >> 60; // ≤ 2^62
+            let xy2 = u128::from(m).saturating_mul(y2) >> 64; // x·y², ≈ 2^60; m·y2 < 2^127
+            let t = (3u128 << 60).saturating_sub(xy2);
+            // y < 2^64, t < 2^62: y·t < 2^126.
+            y = u64::try_from(u128::from(y).saturating_mul(t) >> 61).unwrap_or(1 << 61);
+        }
+        y
+    }
+
+    /// `(v / |v|, |v|)`, or `None` for the zero vector.
+    ///
+    /// The vector is first scaled by a power of two (exact) so its larger
+    /// component has 62 significant bits; `|v|²` is then formed exactly on 128
+    /// bits and `1/|v|` comes from [`rsqrt_q60`] (multiplications only: no square
+    /// root, no division, ~4× cheaper than an integer `isqrt` plus two 128-bit
+    /// divisions). Each component of the unit vector is within 0.5 ulp (+2^-25
+    /// ulp) of the true value even for tiny vectors (a separation of a few ulp
+    /// still gives a unit normal), so `||n| − 1| < 1 ulp`; the length is within
+    /// 0.5 ulp + 2^-56 relative (exact to the ulp below 2^24 units).
+    fn normalize_u128(v: Vect) -> Option<(Vect, Real)> {
+        let (x, y) = (w(v.x), w(v.y));
+        let big = x.unsigned_abs().max(y.unsigned_abs());
+        if big == 0 {
+            return None;
+        }
+        // big ≤ 2^63; put its top bit at position 61 (or leave it if higher).
+        let shift = big.leading_zeros().saturating_sub(66);
+        let (xs, ys) = (x << shift, y << shift);
+        let (xa, ya) = (xs.unsigned_abs(), ys.unsigned_abs());
+        // Each square ≤ 2^126, the sum < 2^127 + 1: exact in a u128 (never
+        // saturates).
+        let sq = xa.saturating_mul(xa).saturating_add(ya.saturating_mul(ya));
+        // Even k with m = sq >> k in [2^62, 2^64): sq has 123..=127 bits.
+        // (leading_zeros ≤ 128: the first subtraction never saturates.)
+        let k = 128u32.saturating_sub(sq.leading_zeros()).saturating_sub(63) & !1;
+        let m = u64::try_from(sq >> k).unwrap_or(u64::MAX);
+        let r = u128::from(rsqrt_q60_u128(m));
+        // 1/|v_s| = r · 2^-(60 + 32 + k/2); the Real unit component is
+        // c_s · 2^32 / |v_s| = c_s · r >> (60 + k/2). |c_s| ≤ 2^63, r ≤ 2^61.
+        // k ≤ 64, so 60 ≤ down ≤ 92; p < 2^124 and the rounding bias ≤ 2^91: none
+        // of these operations saturates.
+        let down = 60u32.saturating_add(k / 2);
+        let unit = |c: i128| -> Real {
+            let p = c.unsigned_abs().saturating_mul(r);
+            let half = 1u128 << down.saturating_sub(1);
+            let q = i64::try_from(p.saturating_add(half) >> down).unwrap_or(i64::MAX);
+            // q ≥ 0: the negation never saturates.
+            Real::from_bits(if c < 0 { q.saturating_neg() } else { q })
+        };
+        // |v_s| = √x · 2^(32 + k/2) with √x = x · r = m·r >> 60 in Q64 (≤ 2^65);
+        // in raw units of v: √x_q64 · 2^(32 + k/2 − 64 − shift), a right shift
+        // since k/2 ≤ 32.
+        // m < 2^64, r ≤ 2^61: the product never saturates.
+        let root_q64 = u128::from(m).saturating_mul(r) >> 60;
+        // shift ≤ 61 and k/2 ≤ 32: 0 ≤ e ≤ 93, never saturates.
+        let e = 32u32.saturating_add(shift).saturating_sub(k / 2);
+        let length = if e > 0 {
+            // root_q64 < 2^65 and e − 1 < 93: never saturates.
+            root_q64.saturating_add(1u128 << e.saturating_sub(1)) >> e
+        } else {
+            root_q64
+        };
+        let length = i64::try_from(length).unwrap_or(i64::MAX);
+        Some((Vect::new(unit(xs), unit(ys)), Real::from_bits(length)))
+    }
+
+    fn same_bits_as_u128_kernel(v: Vect) {
+        assert_eq!(normalize(v), normalize_u128(v), "{v:?}");
+    }
+
+    #[test]
+    fn normalize_is_the_all_u128_kernel_bit_for_bit() {
+        let edges = [
+            0,
+            1,
+            -1,
+            2,
+            3,
+            i64::MAX,
+            i64::MIN,
+            i64::MIN + 1,
+            i64::MAX - 1,
+            1 << 61,
+            (1 << 61) - 1,
+            1 << 62,
+            (1 << 62) - 1,
+            -(1 << 62),
+            1 << 32,
+            -(1 << 32),
+            (1 << 32) + 1,
+            0x5555_5555_5555_5555,
+            -0x5555_5555_5555_5555,
+        ];
+        for &x in &edges {
+            for &y in &edges {
+                same_bits_as_u128_kernel(Vect::new(Real::from_bits(x), Real::from_bits(y)));
+            }
+        }
+        // Every seed bucket's ends, at several scales.
+        for b in 8u64..32 {
+            for m in [b << 59, (b << 59) | ((1 << 59) - 1)] {
+                assert_eq!(rsqrt_q60(m), rsqrt_q60_u128(m), "{m}");
+            }
+        }
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for i in 0..200_000u32 {
+            let x = (next() as i64) >> (i % 64);
+            let y = (next() as i64) >> (next() % 64) as u32;
+            same_bits_as_u128_kernel(Vect::new(Real::from_bits(x), Real::from_bits(y)));
+            let m = next() | (1 << 62);
+            assert_eq!(rsqrt_q60(m), rsqrt_q60_u128(m), "{m}");
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn normalize_u64_products_are_the_u128_ones(x: i64, y: i64, sx in 0u32..64, sy in 0u32..64) {
+            same_bits_as_u128_kernel(Vect::new(Real::from_bits(x >> sx), Real::from_bits(y >> sy)));
+        }
     }
 
     #[test]

@@ -11,14 +11,23 @@ pub(crate) const fn wide_mul(a: i64, b: i64) -> i128 {
     a as i128 * b as i128
 }
 
+/// The exact 128-bit product of two unsigned 64-bit values: below 2^128, so
+/// it never overflows `u128`. One widening multiply, where a `u128`
+/// `saturating_mul` also multiplies (and tests) the high halves.
+#[inline(always)]
+#[allow(clippy::arithmetic_side_effects)]
+pub(crate) const fn wide_mul_u64(a: u64, b: u64) -> u128 {
+    a as u128 * b as u128
+}
+
 /// `x² + y²` of two raw values, exact (units of 2^-64 for `Real` bits):
 /// each square is at most 2^126, the sum at most 2^127, so it never
 /// overflows `u128`.
 #[inline(always)]
 pub(crate) fn sum_sq(x: i64, y: i64) -> u128 {
-    let (x, y) = (u128::from(x.unsigned_abs()), u128::from(y.unsigned_abs()));
-    // x, y ≤ 2^63: never saturates.
-    x.saturating_mul(x).saturating_add(y.saturating_mul(y))
+    let (x, y) = (x.unsigned_abs(), y.unsigned_abs());
+    // x, y ≤ 2^63: each square ≤ 2^126, the sum never saturates.
+    wide_mul_u64(x, x).saturating_add(wide_mul_u64(y, y))
 }
 
 /// A 256-bit two's-complement integer, just enough for exact sums of
