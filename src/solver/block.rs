@@ -177,7 +177,7 @@ pub fn solve_with<const FRICTION: bool, const BIAS: bool>(
 /// The reference path of [`solve_with`], out of line.
 #[cold]
 #[inline(never)]
-fn iterate_saturating<const FRICTION: bool, const BIAS: bool>(
+pub(super) fn iterate_saturating<const FRICTION: bool, const BIAS: bool>(
     c1: &ContactConstraint,
     c2: &ContactConstraint,
     block: &ManifoldBlock,

@@ -854,6 +854,220 @@ mod tests {
         Ok(())
     }
 
+    /// A block of two rows from raw values (the matrix entries are free:
+    /// the fast path must match the reference on any input).
+    fn manifold_block(v: &[Real]) -> block::ManifoldBlock {
+        let r = |i: usize| v.get(i).copied().unwrap_or(Real::ZERO);
+        block::ManifoldBlock {
+            normal: block::NormalBlock {
+                k11: r(0),
+                k12: r(1),
+                k22: r(2),
+                inv11: r(3),
+                inv12: r(4),
+                inv22: r(5),
+            },
+            t2: Vect::new(r(6), r(7)),
+            st_a: r(8),
+            st_b: r(9),
+            kt_a: r(10),
+            kt_b: r(11),
+            t_mass: r(12),
+        }
+    }
+
+    /// `block::solve_with` against the saturating reference alone.
+    fn check_fast_block<const F: bool, const B: bool>(
+        c1: ContactConstraint,
+        c2: ContactConstraint,
+        blk: &block::ManifoldBlock,
+        a: SolverBody,
+        b: SolverBody,
+    ) -> Result<(), proptest::test_runner::TestCaseError> {
+        let (mut f1, mut f2) = (c1, c2);
+        let mut bodies = [a, b];
+        block::solve_with::<F, B>(&mut f1, &mut f2, blk, &mut bodies);
+        let (mut ra, mut rb) = (a, b);
+        let mut acc = [
+            [c1.jb_acc, c1.jn_acc, c1.jt_acc],
+            [c2.jb_acc, c2.jn_acc, c2.jt_acc],
+        ];
+        block::iterate_saturating::<F, B>(&c1, &c2, blk, &mut ra, &mut rb, &mut acc);
+        proptest::prop_assert_eq!(bodies, [ra, rb]);
+        proptest::prop_assert_eq!([f1.jb_acc, f1.jn_acc, f1.jt_acc], acc[0]);
+        proptest::prop_assert_eq!([f2.jb_acc, f2.jn_acc, f2.jt_acc], acc[1]);
+        Ok(())
+    }
+
+    /// A realistic two-contact face: box of half-size `h` on another body,
+    /// contacts at `±x` along the face, normal `n`, both rows built by the
+    /// pre-step from the same bodies.
+    fn face_rows(
+        bodies: &[SolverBody; 2],
+        n: Vect,
+        x: Real,
+        h: Real,
+        dist: [Real; 2],
+    ) -> (ContactConstraint, ContactConstraint) {
+        let t = n.perp();
+        let params = ContactParams {
+            dt_inv: Real::from_int(60),
+            slop: Real::ZERO,
+            bias_coef: Real::ratio(1, 10),
+            max_bias: Real::MAX,
+            features: ContactFeatures::ALL,
+        };
+        let pair = PairParams {
+            a: 0,
+            b: 1,
+            n,
+            e: Real::ZERO,
+            friction: Real::HALF,
+            surface_vr: Vect::ZERO,
+        };
+        let row = |side: Real, d: Real| {
+            let r1 = t * (side * x) + n * h;
+            let r2 = t * (side * x) - n * h;
+            let p = ManifoldPoint {
+                r1,
+                r2,
+                dist: d,
+                ..ManifoldPoint::default()
+            };
+            ContactConstraint::new(&p, bodies, &pair, &params)
+        };
+        (row(Real::ONE, dist[0]), row(-Real::ONE, dist[1]))
+    }
+
+    #[test]
+    fn block_is_symmetric_in_its_two_contacts() {
+        // Swapping the rows of a block swaps the impulses and leaves the
+        // bodies' velocities exactly the same: the order of the contacts
+        // in the manifold does not matter (what makes mirrors exact).
+        let body = |vx: i32, vy: i32, w: i32| SolverBody {
+            v: Vect::new(Real::ratio(vx, 7), Real::ratio(vy, 3)),
+            w: Real::ratio(w, 11),
+            v_bias: Vect::ZERO,
+            w_bias: Real::ZERO,
+            m_inv: Real::ONE,
+            i_inv: Real::from_int(6),
+        };
+        for (vx, vy, w) in [(1, -5, 3), (-2, -1, -7), (0, -9, 0), (3, 2, 5)] {
+            let bodies = [body(0, 0, 0), body(vx, vy, w)];
+            let n = Vect::new(Real::ratio(3, 5), Real::ratio(4, 5));
+            let (c1, c2) = face_rows(
+                &bodies,
+                n,
+                Real::HALF,
+                Real::HALF,
+                [real!(-0.02), real!(-0.01)],
+            );
+            let blk = block::ManifoldBlock::new(&c1, &c2, &bodies, true)
+                .unwrap_or_else(|| panic!("well conditioned"));
+            let blk_swapped = block::ManifoldBlock::new(&c2, &c1, &bodies, true)
+                .unwrap_or_else(|| panic!("well conditioned"));
+            let (mut x1, mut x2, mut bx) = (c1, c2, bodies);
+            let (mut y1, mut y2, mut by) = (c1, c2, bodies);
+            for _ in 0..10 {
+                block::solve_with::<true, true>(&mut x1, &mut x2, &blk, &mut bx);
+                block::solve_with::<true, true>(&mut y2, &mut y1, &blk_swapped, &mut by);
+            }
+            assert_eq!(bx, by);
+            assert_eq!((x1.jn_acc, x2.jn_acc), (y1.jn_acc, y2.jn_acc));
+            assert_eq!((x1.jb_acc, x2.jb_acc), (y1.jb_acc, y2.jb_acc));
+            assert_eq!((x1.jt_acc, x2.jt_acc), (y1.jt_acc, y2.jt_acc));
+            // And the answer is a complementarity solution: both pushing
+            // contacts end at zero normal velocity error (to rounding).
+            let vn = |c: &ContactConstraint| {
+                let dv = bx[1].v - bx[0].v;
+                dv.dot(c.n) + bx[1].w * c.rn_b - bx[0].w * c.rn_a
+            };
+            for c in [&x1, &x2] {
+                assert!(!c.jn_acc.is_negative());
+                if c.jn_acc.is_positive() {
+                    assert!(vn(c).abs() <= Real::from_bits(64), "{:?}", vn(c));
+                } else {
+                    assert!(!(vn(c) + Real::from_bits(64)).is_negative());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn nearly_coincident_contacts_are_not_a_block() {
+        // Two contacts at the same lever arm make K singular: the condition
+        // guard refuses the block and the rows are solved sequentially.
+        let b = SolverBody {
+            m_inv: Real::ONE,
+            i_inv: Real::from_int(6),
+            ..SolverBody::default()
+        };
+        let bodies = [SolverBody::default(), b];
+        let (c1, c2) = face_rows(
+            &bodies,
+            Vect::Y,
+            Real::from_bits(3),
+            Real::HALF,
+            [Real::ZERO; 2],
+        );
+        assert!(block::ManifoldBlock::new(&c1, &c2, &bodies, true).is_none());
+        let (c1, c2) = face_rows(&bodies, Vect::Y, Real::HALF, Real::HALF, [Real::ZERO; 2]);
+        assert!(block::ManifoldBlock::new(&c1, &c2, &bodies, true).is_some());
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2000))]
+        /// The block kernel's fast path is bit-identical to its saturating
+        /// reference on any input, extremes and ties included.
+        #[test]
+        fn fast_block_iteration_equals_the_saturating_one(
+            c1v in proptest::collection::vec(any_real(), 21),
+            c2v in proptest::collection::vec(any_real(), 21),
+            kv in proptest::collection::vec(any_real(), 13),
+            av in proptest::array::uniform8(any_real()),
+            bv in proptest::array::uniform8(any_real()),
+        ) {
+            let (c1, mut c2) = (contact(&c1v), contact(&c2v));
+            c2.n = c1.n;
+            let blk = manifold_block(&kv);
+            let (a, b) = (solver_body(av), solver_body(bv));
+            check_fast_block::<true, true>(c1, c2, &blk, a, b)?;
+            check_fast_block::<true, false>(c1, c2, &blk, a, b)?;
+            check_fast_block::<false, true>(c1, c2, &blk, a, b)?;
+            check_fast_block::<false, false>(c1, c2, &blk, a, b)?;
+        }
+
+        /// The same on blocks the pre-step builds from bounded, realistic
+        /// inputs (where the fast path is taken, not only the fallback).
+        #[test]
+        fn fast_block_equals_the_saturating_one_on_built_blocks(
+            vx in -1000i32..1000, vy in -1000i32..1000, w in -1000i32..1000,
+            nx in -100i32..100, x in 1i32..100, h in 1i32..100,
+            d1 in -100i32..10, d2 in -100i32..10, jn in 0i32..1000,
+        ) {
+            let len = Vect::new(Real::from_int(nx), Real::from_int(100)).length();
+            let n = Vect::new(Real::from_int(nx) / len, Real::from_int(100) / len);
+            let body = SolverBody {
+                v: Vect::new(Real::ratio(vx, 100), Real::ratio(vy, 100)),
+                w: Real::ratio(w, 100),
+                m_inv: Real::ONE,
+                i_inv: Real::from_int(6),
+                ..SolverBody::default()
+            };
+            let bodies = [SolverBody { m_inv: Real::HALF, i_inv: Real::from_int(3), ..SolverBody::default() }, body];
+            let (mut c1, mut c2) = face_rows(
+                &bodies, n, Real::ratio(x, 100), Real::ratio(h, 100),
+                [Real::ratio(d1, 1000), Real::ratio(d2, 1000)],
+            );
+            c1.jn_acc = Real::ratio(jn, 1000);
+            c2.jn_acc = Real::ratio(jn, 700);
+            if let Some(blk) = block::ManifoldBlock::new(&c1, &c2, &bodies, true) {
+                check_fast_block::<true, true>(c1, c2, &blk, bodies[0], bodies[1])?;
+                check_fast_block::<false, false>(c1, c2, &blk, bodies[0], bodies[1])?;
+            }
+        }
+    }
+
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2000))]
         /// The unsaturated fast path is bit-identical to the saturating
