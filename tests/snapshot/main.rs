@@ -11,6 +11,7 @@ use std::sync::OnceLock;
 
 use proptest::prelude::*;
 use tamias2d::body::{Body, BodyHandle};
+use tamias2d::constraint::{Constraint, PinJoint};
 use tamias2d::shape::Shape;
 use tamias2d::snapshot::{self, SnapshotError, Subject, FORMAT_VERSION, HEADER_LEN, MAGIC};
 use tamias2d::space::{ShapeHandle, Space, SpaceError, WorldState};
