@@ -1,0 +1,712 @@
+//! Constraints (joints): closed-form accuracy, stability, parameter errors,
+//! space integration and rollback.
+//!
+//! Every bound is derived in the comment above its assertion; the
+//! measurements use `f64` (tests only: the simulation never sees a float).
+use tamias2d::body::{Body, BodyHandle};
+use tamias2d::constraint::{
+    Constraint, ConstraintError, DampedSpring, GearJoint, JointKind, PinJoint, PivotJoint,
+    SimpleMotor,
+};
+use tamias2d::shape::Shape;
+use tamias2d::snapshot::{self, SnapshotError, Subject};
+use tamias2d::space::{Space, SpaceError, WorldState};
+use tamias2d::{Real, Vect};
+
+fn ok<T, E: std::fmt::Display>(r: Result<T, E>) -> T {
+    r.unwrap_or_else(|e| panic!("{e}"))
+}
+
+const DT: Real = Real::ratio(1, 60);
+
+fn f(r: Real) -> f64 {
+    r.to_f64()
+}
+
+/// A dynamic body of mass `m` and moment `i` at `p` (no shape).
+fn body(space: &mut Space, m: i32, i: i32, p: Vect) -> BodyHandle {
+    let mut b = ok(Body::new(Real::from_int(m), Real::from_int(i)));
+    b.set_position(p);
+    ok(space.add_body(b))
+}
+
+fn add(space: &mut Space, a: BodyHandle, b: BodyHandle, kind: impl Into<JointKind>) {
+    ok(space.add_constraint(ok(Constraint::new(a, b, kind))));
+}
+
+/// Times (s) at which `x(t)` crosses 0 upwards, linearly interpolated
+/// between steps.
+fn upward_crossings(samples: &[f64], dt: f64) -> Vec<f64> {
+    samples
+        .windows(2)
+        .enumerate()
+        .filter(|(_, w)| w[0] < 0.0 && w[1] >= 0.0)
+        .map(|(i, w)| (i as f64 + w[0] / (w[0] - w[1])) * dt)
+        .collect()
+}
+
+/// Mean period from upward crossings: (last − first) / (count − 1).
+fn mean_period(crossings: &[f64]) -> f64 {
+    let n = crossings.len();
+    assert!(n >= 2, "too few crossings: {crossings:?}");
+    (crossings[n - 1] - crossings[0]) / (n - 1) as f64
+}
+
+#[test]
+fn pendulum_small_amplitude_period_is_2pi_sqrt_l_over_g_over_20_periods() {
+    // A point mass on a massless rod (pin joint to a static body): L = 1 m,
+    // g = 10 m/s², released at θ0 = 0.05 rad.
+    let mut w = Space::new();
+    w.set_gravity(Vect::from_ints(0, -10));
+    let pivot = ok(w.add_body(Body::new_static()));
+    let theta0 = 0.05f64;
+    let start = ok(Vect::from_f64(theta0.sin(), -theta0.cos()));
+    let bob = body(&mut w, 1, 1, start);
+    let pin = ok(w.pin_joint(pivot, bob, Vect::ZERO, Vect::ZERO));
+    ok(w.add_constraint(pin));
+    let t0 = 2.0 * std::f64::consts::PI * (1.0f64 / 10.0).sqrt();
+    let steps = (21.0 * t0 * 60.0) as usize;
+    let mut xs = Vec::with_capacity(steps);
+    for _ in 0..steps {
+        ok(w.step(DT));
+        xs.push(f(w.body(bob).map_or(Real::ZERO, |b| b.position().x)));
+    }
+    let crossings = upward_crossings(&xs, 1.0 / 60.0);
+    assert!(
+        crossings.len() >= 21,
+        "20 full periods: {}",
+        crossings.len()
+    );
+    let period = mean_period(&crossings[..21]);
+    let rel = period / t0 - 1.0;
+    println!("pendulum period {period}, T0 {t0}, rel {rel:e}");
+    // Finite amplitude lengthens the period by θ0²/16 = 1.56·10⁻⁴ (the
+    // first term of the elliptic-integral series). The time discretisation
+    // is semi-implicit (symplectic) Euler on the velocity level: its phase
+    // per step is φ with cos φ = 1 − h²/2, h = ω·dt = √10/60, so the period
+    // is shorter by h²/24 = 1.16·10⁻⁴. Predicted: +4.0·10⁻⁵. What remains is
+    // the rod's error correction (10 % of the length error per step, of
+    // order 10⁻⁹ m here) and the linear interpolation of the crossings
+    // (O(h²) of one step, averaged over 20 periods: < 10⁻⁵); 5·10⁻⁵ around
+    // the prediction catches a wrong length, g, rod mass or integration
+    // order (each moves it by more than 10⁻⁴).
+    let predicted = theta0 * theta0 / 16.0 - (10.0f64.sqrt() / 60.0).powi(2) / 24.0;
+    assert!(
+        (rel - predicted).abs() < 5e-5,
+        "relative period error {rel:e}, predicted {predicted:e}"
+    );
+}
+
+/// Body `h`'s x position.
+fn x_of(w: &Space, h: BodyHandle) -> f64 {
+    f(w.body(h).map_or(Real::ZERO, |b| b.position().x))
+}
+
+#[test]
+fn undamped_spring_oscillates_at_sqrt_k_over_m_with_backward_euler_phase() {
+    // m = 1 kg on a spring k = 10 N/m, rest length 2 m, to a static body;
+    // no gravity; released 0.5 m stretched. ω = √10 rad/s, T = 1.987 s.
+    let mut w = Space::new();
+    let anchor = ok(w.add_body(Body::new_static()));
+    let mass = body(&mut w, 1, 1, Vect::new(Real::lit("2.5"), Real::ZERO));
+    let spring = ok(DampedSpring::new(
+        Vect::ZERO,
+        Vect::ZERO,
+        Real::TWO,
+        Real::from_int(10),
+        Real::ZERO,
+    ));
+    add(&mut w, anchor, mass, spring);
+    let periods = 8.0;
+    let omega = 10.0f64.sqrt();
+    let t = 2.0 * std::f64::consts::PI / omega;
+    let steps = ((periods + 0.5) * t * 60.0) as usize;
+    let mut xs = Vec::with_capacity(steps);
+    for _ in 0..steps {
+        ok(w.step(DT));
+        xs.push(x_of(&w, mass) - 2.0);
+    }
+    let period = mean_period(&upward_crossings(&xs, 1.0 / 60.0));
+    // The spring is integrated by backward Euler (see
+    // `constraint::damped_spring`): the step's eigenvalues are
+    // (1 ± i·h)/(1 + h²), h = ω·dt, so the phase per step is atan(h) and
+    // the period 2π·dt/atan(h), 0.09 % longer than 2π/ω here. The measured
+    // period matches that to the interpolation error (< 10⁻⁴).
+    let h = omega / 60.0;
+    let discrete = 2.0 * std::f64::consts::PI / 60.0 / h.atan();
+    println!("spring period {period}, ideal {t}, backward Euler {discrete}");
+    assert!(
+        (period / discrete - 1.0).abs() < 1e-4,
+        "period {period}, backward-Euler period {discrete}"
+    );
+    assert!(
+        (period / t - 1.0).abs() < 1.5e-3,
+        "period {period} vs 2π/ω {t}"
+    );
+    // The amplitude shrinks by r = 1/√(1 + h²) per step (the price of
+    // unconditional stability): x_n = |c|·rⁿ·cos(n·atan(h) + φ0), so two
+    // peaks of |x| that are Δn steps apart have the ratio r^Δn, up to
+    // sampling a peak between steps (at most 1 − cos(atan(h)/2) ≈ 3.5·10⁻⁴
+    // each). Compared within 10⁻³.
+    let peaks: Vec<usize> = (1..xs.len() - 1)
+        .filter(|&i| xs[i].abs() >= xs[i - 1].abs() && xs[i].abs() > xs[i + 1].abs())
+        .collect();
+    let (first, last) = (peaks[0], peaks[peaks.len() - 1]);
+    let measured = xs[last].abs() / xs[first].abs();
+    let expected = (1.0 + h * h).powf(-((last - first) as f64) / 2.0);
+    println!(
+        "decay {measured}, expected {expected} over {} steps",
+        last - first
+    );
+    assert!(
+        (measured / expected - 1.0).abs() < 1e-3,
+        "amplitude ratio {measured}, backward Euler predicts {expected}"
+    );
+}
+
+#[test]
+fn stiff_spring_is_stable_at_60_hz() {
+    // k = 10⁶ N/m on 1 kg: ω·dt ≈ 16.7. An explicit spring force (as
+    // Chipmunk applies it) grows by a factor ≈ h² = 278 per step here; the
+    // implicit spring's amplitude shrinks by 1/√(1 + h²) ≈ 1/16.7 per step.
+    // Hanging under gravity from a static body, released 0.1 m stretched
+    // beyond its rest length of 1 m.
+    let mut w = Space::new();
+    w.set_gravity(Vect::from_ints(0, -10));
+    let anchor = ok(w.add_body(Body::new_static()));
+    let mass = body(&mut w, 1, 1, Vect::new(Real::ZERO, Real::lit("-1.1")));
+    let spring = ok(DampedSpring::new(
+        Vect::ZERO,
+        Vect::ZERO,
+        Real::ONE,
+        Real::from_int(1_000_000),
+        Real::ZERO,
+    ));
+    add(&mut w, anchor, mass, spring);
+    let mut max_speed = 0.0f64;
+    for _ in 0..600 {
+        ok(w.step(DT));
+        let b = w.body(mass).map(|b| (b.position(), b.velocity()));
+        let (_, v) = b.unwrap_or((Vect::ZERO, Vect::ZERO));
+        max_speed = max_speed.max(f(v.length()));
+        assert_eq!(w.last_step_stats().saturated_bodies, 0);
+    }
+    let y = f(w.body(mass).map_or(Real::ZERO, |b| b.position().y));
+    // Equilibrium: stretch m·g/k = 10⁻⁵ m below the rest length. Backward
+    // Euler converges to the exact equilibrium of its discrete system,
+    // y = −1 − m·g/k (the gravity impulse and the spring's implicit impulse
+    // balance); 10⁻⁸ m is 40 ulp of slack for rounding.
+    assert!((y + 1.0 + 1e-5).abs() < 1e-8, "rest position {y}");
+    // The first step removes all but 1/16.7 of the 0.1 m stretch: the
+    // largest speed is below 0.1 m · 60 /s = 6 m/s.
+    assert!(max_speed < 6.0, "largest speed {max_speed} m/s");
+}
+
+#[test]
+fn gear_joint_keeps_the_exact_ratio() {
+    // Two free wheels (no gravity), ratio 3, phase 0, wheel a driven by a
+    // torque of 5 N·m for 600 steps.
+    let mut w = Space::new();
+    let a = body(&mut w, 1, 2, Vect::ZERO);
+    let b = body(&mut w, 1, 1, Vect::from_ints(3, 0));
+    let ratio = Real::from_int(3);
+    add(&mut w, a, b, ok(GearJoint::new(Real::ZERO, ratio)));
+    let mut worst_angle = 0.0f64;
+    let mut worst_rate = 0.0f64;
+    for _ in 0..600 {
+        if let Some(body) = w.body_mut(a) {
+            body.set_torque(Real::from_int(5));
+        }
+        ok(w.step(DT));
+        let (Some(ba), Some(bb)) = (w.body(a), w.body(b)) else {
+            panic!("bodies");
+        };
+        // Chipmunk's gear: ratio·θ_b − θ_a = phase, so ω_a = ratio·ω_b.
+        let angle_error = f(ratio * bb.angle() - ba.angle());
+        let rate_error = f(ba.angular_velocity() - ratio * bb.angular_velocity());
+        worst_angle = worst_angle.max(angle_error.abs());
+        worst_rate = worst_rate.max(rate_error.abs());
+    }
+    println!("gear: angle {worst_angle:e}, rate {worst_rate:e}");
+    // One gear row between two free wheels is a 1×1 system: the first
+    // iteration solves it exactly up to rounding, so the only velocity error
+    // left is the bias velocity −bias_coef·C/dt = −6·C that corrects the
+    // angle error C. C is fed only by rounding: each step rounds θ_a and
+    // θ_b (½ ulp each, ×3 through ratio·θ_b: at most 2 ulp = 4.7·10⁻¹⁰ rad
+    // per step) and the bias removes 10 % of it per step, so |C| ≤ 20 ulp
+    // = 4.7·10⁻⁹ rad and the rate error ≤ 6·|C| + a few ulp ≤ 3·10⁻⁸ rad/s.
+    assert!(worst_angle < 4.7e-9, "angle error {worst_angle:e}");
+    assert!(worst_rate < 3e-8, "rate error {worst_rate:e}");
+    // The torque spins the pair. Wheel b turns at ω_a/ratio, so about wheel
+    // a's angle the pair has I_eff = I_a + I_b/ratio² = 2 + 1/9 = 19/9, and
+    // ω_a = 5·t·9/19 after t = 10 s (to the rounding above and of dt, well
+    // within 10⁻⁶ rad/s).
+    let wa = f(w.body(a).map_or(Real::ZERO, Body::angular_velocity));
+    assert!((wa - 450.0 / 19.0).abs() < 1e-6, "ω_a = {wa}");
+}
+
+#[test]
+fn gear_joint_phase_error_is_corrected_at_the_error_bias_rate() {
+    // Same wheels at rest, phase 0.25 rad: the joint starts 0.25 rad off.
+    // The bias removes 1 − 0.9^(60·dt) = 10 % of the error per step, so
+    // after n steps it is 0.25·0.9ⁿ (plus rounding).
+    let mut w = Space::new();
+    let a = body(&mut w, 1, 2, Vect::ZERO);
+    let b = body(&mut w, 1, 1, Vect::from_ints(3, 0));
+    let (ratio, phase) = (Real::from_int(3), Real::lit("0.25"));
+    add(&mut w, a, b, ok(GearJoint::new(phase, ratio)));
+    for n in 1..=60 {
+        ok(w.step(DT));
+        let (Some(ba), Some(bb)) = (w.body(a), w.body(b)) else {
+            panic!("bodies");
+        };
+        let error = f(ratio * bb.angle() - ba.angle() - phase);
+        // The step moves the angles with the velocities the previous solve
+        // produced, so the error after step n is 0.25·0.9^(n−1).
+        let expected = -0.25 * 0.9f64.powi(n - 1);
+        assert!(
+            (error - expected).abs() < 1e-6,
+            "step {n}: error {error}, expected {expected}"
+        );
+    }
+}
+
+#[test]
+fn simple_motor_reaches_its_rate_unloaded() {
+    // A wheel (I = 2 kg·m²) on a static body, motor rate 3 rad/s, torque
+    // limited to max_force = 6 N·m: angular acceleration 3 rad/s², so the
+    // rate is reached after 1 s = 60 steps. Chipmunk's convention: the
+    // motor drives ω_b − ω_a to −rate.
+    let mut w = Space::new();
+    let ground = ok(w.add_body(Body::new_static()));
+    let wheel = body(&mut w, 1, 2, Vect::ZERO);
+    let mut motor = ok(Constraint::new(
+        ground,
+        wheel,
+        ok(SimpleMotor::new(Real::from_int(3))),
+    ));
+    ok(motor.set_max_force(Real::from_int(6)));
+    let h = ok(w.add_constraint(motor));
+    let omega = |w: &Space| f(w.body(wheel).map_or(Real::ZERO, Body::angular_velocity));
+    for n in 1..=59 {
+        ok(w.step(DT));
+        // Torque-limited: each step adds max_force·dt/I = 3·dt = 1/20 rad/s,
+        // to rounding: dt = 1/60 is rounded to ½ ulp (1.2·10⁻¹⁰ s), which
+        // the step triples, plus ½ ulp for each of the row's three products
+        // and sums: below 6·10⁻¹⁰ rad/s per step.
+        let expected = -(n as f64) / 20.0;
+        assert!(
+            (omega(&w) - expected).abs() < 6e-10 * n as f64,
+            "step {n}: ω {}",
+            omega(&w)
+        );
+        // The impulse is the full max_force·dt = 0.1 N·m·s.
+        let j = f(w.constraint(h).map_or(Real::ZERO, Constraint::impulse));
+        assert!((j - 0.1).abs() < 1e-9, "impulse {j}");
+    }
+    for _ in 0..120 {
+        ok(w.step(DT));
+    }
+    // Unloaded, the motor holds the rate: the row is a 1×1 system solved
+    // by its first iteration, so ω_b = −rate to the rounding of one
+    // product (a few ulp), and its impulse is 0 up to rounding.
+    assert!((omega(&w) + 3.0).abs() < 1e-9, "ω {}", omega(&w));
+    let j = f(w.constraint(h).map_or(Real::ZERO, Constraint::impulse));
+    assert!(j < 1e-9, "impulse once at the rate: {j}");
+}
+
+/// A chain of `n` links of 1 m hanging straight down from a static body
+/// at the origin, joined by pivot joints at the link ends (link i spans
+/// y ∈ [−i−1, −i]).
+fn hanging_chain(n: i32, offset: Vect) -> (Space, Vec<(BodyHandle, BodyHandle, Vect, Vect)>) {
+    let mut w = Space::new();
+    w.set_gravity(Vect::from_ints(0, -10));
+    let mut top = Body::new_static();
+    top.set_position(offset);
+    let mut prev = ok(w.add_body(top));
+    let mut prev_anchor = Vect::ZERO;
+    let mut joints = Vec::new();
+    for i in 0..n {
+        let link = body(
+            &mut w,
+            1,
+            1,
+            offset + Vect::new(Real::ZERO, -Real::HALF - Real::from_int(i)),
+        );
+        let (a, b) = (prev_anchor, Vect::new(Real::ZERO, Real::HALF));
+        add(&mut w, prev, link, ok(PivotJoint::new(a, b)));
+        joints.push((prev, link, a, b));
+        prev = link;
+        prev_anchor = Vect::new(Real::ZERO, -Real::HALF);
+    }
+    (w, joints)
+}
+
+/// Largest distance between the two world anchors of the joints.
+fn largest_gap(w: &Space, joints: &[(BodyHandle, BodyHandle, Vect, Vect)]) -> f64 {
+    joints
+        .iter()
+        .map(|&(a, b, pa, pb)| match (w.body(a), w.body(b)) {
+            (Some(ba), Some(bb)) => f(ba.local_to_world(pa).dist(bb.local_to_world(pb))),
+            _ => f64::INFINITY,
+        })
+        .fold(0.0, f64::max)
+}
+
+/// A chain of `n` point masses 1 m apart hanging from a static body at the
+/// origin, joined by pin joints of 1 m; returns the largest
+/// `|distance − 1|` over the joints.
+fn pin_chain(n: i32) -> (Space, Vec<BodyHandle>) {
+    let mut w = Space::new();
+    w.set_gravity(Vect::from_ints(0, -10));
+    let mut chain = vec![ok(w.add_body(Body::new_static()))];
+    for i in 1..=n {
+        let bead = body(&mut w, 1, 1, Vect::from_ints(0, -i));
+        let prev = chain[chain.len() - 1];
+        ok(w.add_constraint(ok(w.pin_joint(prev, bead, Vect::ZERO, Vect::ZERO))));
+        chain.push(bead);
+    }
+    (w, chain)
+}
+
+fn largest_pin_error(w: &Space, chain: &[BodyHandle]) -> f64 {
+    chain
+        .windows(2)
+        .map(|p| match (w.body(p[0]), w.body(p[1])) {
+            (Some(a), Some(b)) => (f(a.position().dist(b.position())) - 1.0).abs(),
+            _ => f64::INFINITY,
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn pivot_and_pin_chains_at_rest_do_not_drift_over_100k_steps() {
+    let (mut pivots, joints) = hanging_chain(10, Vect::ZERO);
+    let (mut pins, chain) = pin_chain(10);
+    // Settling: the first steps start cold (no accumulated impulses to warm
+    // start from), so ten iterations cannot hold a 10-link chain: the lower
+    // links fall up to g·dt² = 2.8 mm per step until the warm-started
+    // tensions build up, and the bias closes 10 % of the gap per step.
+    // Measured: 2.5 mm (pivots), at step 5, decaying to 3·10⁻⁷ m after 2 s
+    // and to rounding within 10 s. Bound: 5 mm, under two steps of free
+    // fall.
+    let mut transient = 0.0f64;
+    for _ in 0..600 {
+        ok(pivots.step(DT));
+        ok(pins.step(DT));
+        transient = transient
+            .max(largest_gap(&pivots, &joints))
+            .max(largest_pin_error(&pins, &chain));
+    }
+    assert!(transient < 5e-3, "settling gap {transient:e} m");
+    // At rest, warm starting re-applies exactly last step's tensions, so
+    // the iterations change nothing and no error accumulates: what is left
+    // is rounding, a few ulp of 2.3·10⁻¹⁰ m: the world anchors (½ ulp per
+    // product of the rotation and per coordinate), and for the pins the
+    // floor square root of the length (1 ulp) and the rounded positions
+    // (measured: 1 ulp for the pivots, 4 for the pins). Bound 8 ulp =
+    // 1.9·10⁻⁹ m over 10⁵ steps (28 minutes of game time): any drift (a
+    // bias that does not close the gap, a warm start that is not exact)
+    // would exceed it.
+    let mut worst = 0.0f64;
+    for _ in 0..100_000 {
+        ok(pivots.step(DT));
+        ok(pins.step(DT));
+
+        worst = worst
+            .max(largest_gap(&pivots, &joints))
+            .max(largest_pin_error(&pins, &chain));
+    }
+    assert!(worst < 1.9e-9, "drift at rest {worst:e} m");
+}
+
+/// A world with one constraint of each kind (and shapes, so contacts
+/// interleave with the joints in the solver).
+fn all_kinds(offset: Vect) -> Space {
+    let (mut w, _) = hanging_chain(4, offset);
+    let mut ground = Body::new_static();
+    ground.set_position(offset);
+    let ground = ok(w.add_body(ground));
+    ok(w.add_shape(ok(Shape::segment_shape_new(
+        ground,
+        Vect::from_ints(-20, -8),
+        Vect::from_ints(20, -8),
+        Real::ZERO,
+    ))));
+    let bob = body(&mut w, 1, 1, offset + Vect::from_ints(3, -2));
+    ok(w.add_shape(ok(Shape::circle_shape_new(bob, Real::HALF, Vect::ZERO))));
+    let pin = ok(w.pin_joint(ground, bob, Vect::ZERO, Vect::ZERO));
+    ok(w.add_constraint(pin));
+    let crate_ = body(&mut w, 2, 1, offset + Vect::from_ints(6, -7));
+    ok(w.add_shape(ok(Shape::box_shape_new(
+        crate_,
+        Real::ONE,
+        Real::ONE,
+        Real::ZERO,
+    ))));
+    let spring = ok(DampedSpring::new(
+        Vect::from_ints(6, 0),
+        Vect::ZERO,
+        Real::from_int(5),
+        Real::from_int(100),
+        Real::ONE,
+    ));
+    add(&mut w, ground, crate_, spring);
+    let wheel = body(&mut w, 1, 1, offset + Vect::from_ints(-6, -7));
+    ok(w.add_shape(ok(Shape::circle_shape_new(wheel, Real::HALF, Vect::ZERO))));
+    let mut motor = ok(Constraint::new(
+        ground,
+        wheel,
+        ok(SimpleMotor::new(Real::TWO)),
+    ));
+    ok(motor.set_max_force(Real::from_int(3)));
+    ok(w.add_constraint(motor));
+    let wheel2 = body(&mut w, 1, 1, offset + Vect::from_ints(-8, -7));
+    ok(w.add_shape(ok(Shape::circle_shape_new(wheel2, Real::HALF, Vect::ZERO))));
+    add(
+        &mut w,
+        wheel,
+        wheel2,
+        ok(GearJoint::new(Real::ZERO, -Real::TWO)),
+    );
+    w
+}
+
+#[test]
+fn snapshot_save_load_continue_equals_the_straight_run() {
+    let mut straight = all_kinds(Vect::ZERO);
+    for _ in 0..30 {
+        ok(straight.step(DT));
+    }
+    assert!(straight
+        .constraints()
+        .any(|(_, c)| c.impulse().is_positive()));
+    let bytes = snapshot::save(&straight);
+    let mut loaded = ok(snapshot::load(&bytes));
+    assert_eq!(loaded.checksum(), straight.checksum());
+    let saved_state = straight.state().clone();
+    let mut restored = all_kinds(Vect::ZERO);
+    restored.restore_state(&saved_state);
+    for _ in 0..90 {
+        ok(straight.step(DT));
+        ok(loaded.step(DT));
+        ok(restored.step(DT));
+    }
+    assert_eq!(snapshot::first_difference(&straight, &loaded), None);
+    assert_eq!(snapshot::save(&straight), snapshot::save(&loaded));
+    assert_eq!(snapshot::save(&straight), snapshot::save(&restored));
+}
+
+#[test]
+fn a_constraint_changes_the_checksum_and_is_named_by_first_difference() {
+    let a = all_kinds(Vect::ZERO);
+    let mut b = a.clone();
+    let (h, _) = b
+        .constraints()
+        .last()
+        .unwrap_or_else(|| panic!("constraints"));
+    if let Some(c) = b.constraint_mut(h) {
+        ok(c.set_max_force(Real::from_int(7)));
+    }
+    assert_ne!(a.checksum(), b.checksum());
+    let d = snapshot::first_difference(&a, &b).unwrap_or_else(|| panic!("a difference"));
+    assert_eq!((d.subject, d.field), (Subject::Constraint(h), "max_force"));
+}
+
+#[test]
+fn a_world_without_constraints_hashes_as_before_constraints_existed() {
+    // The checksum skips a constraint arena that never had a slot, so the
+    // goldens of joint-free scenes do not move; once a constraint was added
+    // (even if removed since) the arena is part of the hash.
+    let mut w = Space::new();
+    let a = ok(w.add_body(Body::new_static()));
+    let b = body(&mut w, 1, 1, Vect::ZERO);
+    let before = w.checksum();
+    let h = ok(w.add_constraint(ok(Constraint::new(a, b, ok(SimpleMotor::new(Real::ONE))))));
+    ok(w.remove_constraint(h));
+    assert_ne!(
+        w.checksum(),
+        before,
+        "a freed slot is state (the next handle)"
+    );
+}
+
+#[test]
+fn forged_snapshots_with_bad_constraints_are_errors() {
+    let w = all_kinds(Vect::ZERO);
+    // A constraint on a missing body: remove a body from the state alone.
+    let mut state: WorldState = w.state().clone();
+    let (_, c) = w
+        .constraints()
+        .next()
+        .unwrap_or_else(|| panic!("constraints"));
+    let victim = c.body_b();
+    assert!(state.bodies.remove(victim).is_some());
+    match snapshot::load(&snapshot::save_state(&state)) {
+        Err(SnapshotError::Invalid(why)) => assert!(why.contains("missing body"), "{why}"),
+        other => panic!("accepted: {other:?}"),
+    }
+    // A negative max force, written into the serde form.
+    let mut json = serde_json::to_value(w.state()).unwrap_or_default();
+    let slot = &mut json["constraints"]["slots"][0]["value"];
+    assert!(slot.is_object(), "constraint slot 0 is live");
+    slot["max_force"] = serde_json::Value::from(-(1i64 << 32));
+    let forged: WorldState = serde_json::from_value(json).unwrap_or_else(|e| panic!("{e}"));
+    match snapshot::load(&snapshot::save_state(&forged)) {
+        Err(SnapshotError::Invalid(why)) => assert!(why.contains("max_force"), "{why}"),
+        other => panic!("accepted: {other:?}"),
+    }
+}
+
+#[test]
+fn a_translated_scene_with_joints_moves_bit_for_bit_like_the_original() {
+    // Every joint row is built from differences of body centres, which are
+    // exact in fixed point, so moving the whole scene by 10⁴ m changes no
+    // velocity bit and shifts every position by exactly the offset.
+    let offset = Vect::from_ints(10_000, -10_000);
+    let mut here = all_kinds(Vect::ZERO);
+    let mut there = all_kinds(offset);
+    for step in 0..300 {
+        ok(here.step(DT));
+        ok(there.step(DT));
+        for ((_, a), (_, b)) in here.bodies().zip(there.bodies()) {
+            assert_eq!(a.velocity(), b.velocity(), "step {step}");
+            assert_eq!(a.angular_velocity(), b.angular_velocity(), "step {step}");
+            assert_eq!(a.angle(), b.angle(), "step {step}");
+            assert_eq!(a.position() + offset, b.position(), "step {step}");
+        }
+        for ((_, a), (_, b)) in here.constraints().zip(there.constraints()) {
+            assert_eq!(a.impulse(), b.impulse(), "step {step}");
+        }
+    }
+}
+
+#[test]
+fn collide_bodies_false_suppresses_contacts_between_the_two_bodies() {
+    for collide in [true, false] {
+        let mut w = Space::new();
+        let a = body(&mut w, 1, 1, Vect::ZERO);
+        let b = body(&mut w, 1, 1, Vect::new(Real::HALF, Real::ZERO));
+        for h in [a, b] {
+            ok(w.add_shape(ok(Shape::circle_shape_new(h, Real::ONE, Vect::ZERO))));
+        }
+        let mut c = ok(w.pivot_joint(a, b, Vect::new(Real::ONE, Real::ZERO)));
+        c.set_collide_bodies(collide);
+        ok(w.add_constraint(c));
+        ok(w.step(DT));
+        assert_eq!(
+            w.arbiters().len(),
+            usize::from(collide),
+            "collide_bodies {collide}"
+        );
+    }
+}
+
+#[test]
+fn bad_parameters_are_errors() {
+    let v = Vect::ZERO;
+    assert_eq!(
+        PinJoint::new(v, v, Real::ZERO),
+        Err(ConstraintError::NotPositive("dist"))
+    );
+    assert_eq!(
+        PinJoint::new(v, v, -Real::ONE),
+        Err(ConstraintError::NotPositive("dist"))
+    );
+    assert_eq!(
+        DampedSpring::new(v, v, Real::ONE, -Real::ONE, Real::ZERO),
+        Err(ConstraintError::Negative("stiffness"))
+    );
+    assert_eq!(
+        DampedSpring::new(v, v, -Real::ONE, Real::ONE, Real::ZERO),
+        Err(ConstraintError::Negative("rest_length"))
+    );
+    assert_eq!(
+        DampedSpring::new(v, v, Real::ONE, Real::ONE, -Real::ONE),
+        Err(ConstraintError::Negative("damping"))
+    );
+    assert_eq!(
+        GearJoint::new(Real::ZERO, Real::ZERO),
+        Err(ConstraintError::Zero("ratio"))
+    );
+    assert_eq!(
+        SimpleMotor::new(Real::MAX),
+        Err(ConstraintError::Saturated("rate"))
+    );
+    assert_eq!(
+        PivotJoint::new(Vect::new(Real::MIN, Real::ZERO), v),
+        Err(ConstraintError::Saturated("anchor_a"))
+    );
+    let mut w = Space::new();
+    let a = body(&mut w, 1, 1, Vect::ZERO);
+    let motor = ok(SimpleMotor::new(Real::ONE));
+    assert_eq!(Constraint::new(a, a, motor), Err(ConstraintError::SameBody));
+    // Coincident anchors: a zero-length pin.
+    let b = body(&mut w, 1, 1, Vect::ZERO);
+    assert_eq!(
+        w.pin_joint(a, b, v, v).map(|_| ()),
+        Err(SpaceError::Constraint(ConstraintError::NotPositive("dist")))
+    );
+    let mut c = ok(Constraint::new(a, b, motor));
+    assert_eq!(
+        c.set_max_force(-Real::ONE),
+        Err(ConstraintError::Negative("max_force"))
+    );
+    assert_eq!(
+        c.set_max_bias(-Real::ONE),
+        Err(ConstraintError::Negative("max_bias"))
+    );
+    assert_eq!(
+        c.set_error_bias(Real::TWO),
+        Err(ConstraintError::ErrorBiasRange)
+    );
+    assert_eq!(c.max_force(), Real::MAX, "unchanged by the refused set");
+    // A body not in this space: removed, or of another space.
+    let gone = body(&mut w, 1, 1, Vect::ZERO);
+    ok(w.remove_body(gone));
+    let stale = ok(Constraint::new(a, gone, motor));
+    assert_eq!(
+        w.add_constraint(stale).map(|_| ()),
+        Err(SpaceError::StaleBody(gone))
+    );
+    let mut other = Space::new();
+    // Slots 0 to 3 are taken here: `foreign` (slot 4 there) matches no
+    // handle of `w` by slot, only the origin tells them apart.
+    for _ in 0..4 {
+        body(&mut other, 1, 1, Vect::ZERO);
+    }
+    let foreign = body(&mut other, 1, 1, Vect::ZERO);
+    let c = ok(Constraint::new(a, foreign, motor));
+    assert_eq!(
+        w.add_constraint(c).map(|_| ()),
+        Err(SpaceError::ForeignHandle)
+    );
+    let second = body(&mut other, 1, 1, Vect::ZERO);
+    let h = ok(other.add_constraint(ok(Constraint::new(foreign, second, motor))));
+    assert!(w.constraint(h).is_none(), "a handle of another space");
+    assert_eq!(
+        w.remove_constraint(h).map(|_| ()),
+        Err(SpaceError::ForeignHandle)
+    );
+    ok(w.validate());
+}
+
+#[test]
+fn removing_a_body_removes_its_constraints() {
+    let mut w = Space::new();
+    let a = body(&mut w, 1, 1, Vect::ZERO);
+    let b = body(&mut w, 1, 1, Vect::from_ints(2, 0));
+    let c = body(&mut w, 1, 1, Vect::from_ints(4, 0));
+    let ab = ok(w.add_constraint(ok(w.pin_joint(a, b, Vect::ZERO, Vect::ZERO))));
+    let bc = ok(w.add_constraint(ok(w.pin_joint(b, c, Vect::ZERO, Vect::ZERO))));
+    let ac = ok(w.add_constraint(ok(w.pin_joint(a, c, Vect::ZERO, Vect::ZERO))));
+    ok(w.remove_body(b));
+    assert!(w.constraint(ab).is_none() && w.constraint(bc).is_none());
+    assert!(w.constraint(ac).is_some());
+    assert_eq!(
+        w.remove_constraint(ab).map(|_| ()),
+        Err(SpaceError::StaleConstraint(ab))
+    );
+    ok(w.validate());
+    ok(w.step(DT));
+}
