@@ -5,8 +5,8 @@
 //! measurements use `f64` (tests only: the simulation never sees a float).
 use tamias2d::body::{Body, BodyHandle};
 use tamias2d::constraint::{
-    Constraint, ConstraintError, DampedSpring, GearJoint, JointKind, PinJoint, PivotJoint,
-    SimpleMotor,
+    Constraint, ConstraintError, DampedRotarySpring, DampedSpring, GearJoint, GrooveJoint,
+    JointKind, PinJoint, PivotJoint, RatchetJoint, RotaryLimitJoint, SimpleMotor, SlideJoint,
 };
 use tamias2d::shape::Shape;
 use tamias2d::snapshot::{self, SnapshotError, Subject};
@@ -469,6 +469,53 @@ fn all_kinds(offset: Vect) -> Space {
         wheel2,
         ok(GearJoint::new(Real::ZERO, -Real::TWO)),
     );
+    let quarter = Real::HALF * Real::HALF;
+    add(
+        &mut w,
+        wheel2,
+        crate_,
+        ok(RotaryLimitJoint::new(-quarter, quarter)),
+    );
+    add(
+        &mut w,
+        ground,
+        wheel2,
+        ok(RatchetJoint::new(Real::ZERO, quarter)),
+    );
+    let slider = body(&mut w, 1, 1, offset + Vect::from_ints(10, -5));
+    ok(w.add_shape(ok(Shape::box_shape_new(
+        slider,
+        Real::ONE,
+        Real::HALF,
+        Real::ZERO,
+    ))));
+    let groove = ok(GrooveJoint::new(
+        Vect::from_ints(8, -2),
+        Vect::from_ints(12, -7),
+        Vect::ZERO,
+    ));
+    add(&mut w, ground, slider, groove);
+    add(
+        &mut w,
+        bob,
+        slider,
+        ok(SlideJoint::new(
+            Vect::ZERO,
+            Vect::ZERO,
+            Real::ONE,
+            Real::from_int(4),
+        )),
+    );
+    add(
+        &mut w,
+        crate_,
+        slider,
+        ok(DampedRotarySpring::new(
+            quarter,
+            Real::from_int(30),
+            Real::ONE,
+        )),
+    );
     w
 }
 
@@ -709,4 +756,200 @@ fn removing_a_body_removes_its_constraints() {
     );
     ok(w.validate());
     ok(w.step(DT));
+}
+
+#[test]
+fn slide_joint_rope_overshoots_its_length_by_at_most_one_step() {
+    // A 1 kg bob on a rope (slide joint, min 0, max 2 m) from a static
+    // body, released 0.5 m below the pivot and 1.5 m to the side: it falls
+    // freely until the rope is taut, then swings.
+    let mut w = Space::new();
+    w.set_gravity(Vect::from_ints(0, -10));
+    let pivot = ok(w.add_body(Body::new_static()));
+    let bob = body(&mut w, 1, 1, Vect::new(Real::lit("1.5"), -Real::HALF));
+    add(
+        &mut w,
+        pivot,
+        bob,
+        ok(SlideJoint::new(
+            Vect::ZERO,
+            Vect::ZERO,
+            Real::ZERO,
+            Real::TWO,
+        )),
+    );
+    let (mut longest, mut slack_steps) = (0.0f64, 0);
+    for _ in 0..600 {
+        ok(w.step(DT));
+        let d = f(w.body(bob).map_or(Real::ZERO, |b| b.position().length()));
+        longest = longest.max(d);
+        slack_steps += usize::from(d < 1.99);
+    }
+    println!("rope: longest {longest}, slack steps {slack_steps}");
+    // As in Chipmunk, the rope acts only once stretched past its length,
+    // so it overshoots by the last free-fall step: the bob falls at most
+    // 2 m, reaching v ≤ √(2·g·2) = 6.4 m/s, and moves v·dt ≤ 0.11 m in the
+    // step that stretches the rope. The bias then pulls it back.
+    assert!(longest < 2.0 + 0.11, "longest {longest}");
+    assert!(slack_steps > 5, "the bob fell freely first");
+    let d = f(w.body(bob).map_or(Real::ZERO, |b| b.position().length()));
+    // Swinging taut, the rope stretches each step by the tangential motion,
+    // (v·dt)²/(2·L) ≤ (6.4/60)²/4 = 2.9 mm, of which the bias removes 10 %
+    // per step: at most 2.9 cm of stretch in equilibrium.
+    assert!((d - 2.0).abs() < 0.029, "distance {d}");
+}
+
+#[test]
+fn rotary_limit_overshoots_by_one_step_and_each_rebound_is_ten_times_slower() {
+    // A wheel (I = 1) on a static body spinning at 6 rad/s, limited to
+    // θ_b − θ_a ∈ [−0.5, 0.5].
+    let mut w = Space::new();
+    let ground = ok(w.add_body(Body::new_static()));
+    let wheel = body(&mut w, 1, 1, Vect::ZERO);
+    if let Some(b) = w.body_mut(wheel) {
+        b.set_angular_velocity(Real::from_int(6));
+    }
+    add(
+        &mut w,
+        ground,
+        wheel,
+        ok(RotaryLimitJoint::new(-Real::HALF, Real::HALF)),
+    );
+    let (mut largest, mut smallest) = (0.0f64, 0.0f64);
+    for _ in 0..600 {
+        ok(w.step(DT));
+        let angle = f(w.body(wheel).map_or(Real::ZERO, Body::angle));
+        largest = largest.max(angle);
+        smallest = smallest.min(angle);
+    }
+    let spin = f(w.body(wheel).map_or(Real::ZERO, Body::angular_velocity));
+    println!("rotary limit: {smallest} to {largest}, final ω {spin}");
+    // The limit acts once exceeded (Chipmunk's rule): the overshoot is one
+    // step of the spin, 6·dt = 0.1 rad. As in Chipmunk the correction is a
+    // real velocity (the bias, 10 % of the overshoot per step: at most
+    // 0.1·0.1·60 = 0.6 rad/s), which the one-sided limit does not take
+    // back: the wheel rebounds at ≤ 0.6 rad/s, overshoots the lower limit
+    // by ≤ 0.6·dt = 0.01 rad, and rebounds at ≤ 0.06 rad/s: every impact
+    // divides the speed by at least 10.
+    assert!(largest < 0.5 + 0.1, "largest angle {largest}");
+    assert!(smallest > -0.5 - 0.01, "smallest angle {smallest}");
+    assert!(spin.abs() < 0.06, "still turning at {spin} rad/s");
+}
+
+#[test]
+fn damped_rotary_spring_oscillates_at_sqrt_k_over_i_around_minus_rest_angle() {
+    // A wheel (I = 1) on a static body, torsion spring k = 10 N·m/rad,
+    // rest angle 0.5: Chipmunk's spring holds θ_a − θ_b = rest, so the
+    // wheel oscillates around θ_b = −0.5, starting at rest at 0.
+    let mut w = Space::new();
+    let ground = ok(w.add_body(Body::new_static()));
+    let wheel = body(&mut w, 1, 1, Vect::ZERO);
+    let spring = ok(DampedRotarySpring::new(
+        Real::HALF,
+        Real::from_int(10),
+        Real::ZERO,
+    ));
+    add(&mut w, ground, wheel, spring);
+    let omega = 10.0f64.sqrt();
+    let steps = (8.5 * 2.0 * std::f64::consts::PI / omega * 60.0) as usize;
+    let mut xs = Vec::with_capacity(steps);
+    for _ in 0..steps {
+        ok(w.step(DT));
+        xs.push(f(w.body(wheel).map_or(Real::ZERO, Body::angle)) + 0.5);
+    }
+    // The same backward-Euler period as the linear spring's (see the
+    // undamped spring test): 2π·dt/atan(ω·dt), to 10⁻⁴.
+    let discrete = 2.0 * std::f64::consts::PI / 60.0 / (omega / 60.0).atan();
+    let period = mean_period(&upward_crossings(&xs, 1.0 / 60.0));
+    assert!(
+        (period / discrete - 1.0).abs() < 1e-4,
+        "period {period}, expected {discrete}"
+    );
+}
+
+#[test]
+fn groove_joint_keeps_the_pivot_on_the_groove_and_stops_at_its_end() {
+    // A 1 kg body hanging on a horizontal groove from x = −2 to 2 on a
+    // static body, gravity down, sliding right at 1 m/s.
+    let mut w = Space::new();
+    w.set_gravity(Vect::from_ints(0, -10));
+    let rail = ok(w.add_body(Body::new_static()));
+    let cart = body(&mut w, 1, 1, Vect::ZERO);
+    if let Some(b) = w.body_mut(cart) {
+        b.set_velocity(Vect::from_ints(1, 0));
+    }
+    let groove = ok(GrooveJoint::new(
+        Vect::from_ints(-2, 0),
+        Vect::from_ints(2, 0),
+        Vect::ZERO,
+    ));
+    add(&mut w, rail, cart, groove);
+    let (mut off_line, mut farthest, mut back) = (0.0f64, 0.0f64, 0.0f64);
+    for n in 1..=300 {
+        ok(w.step(DT));
+        let p = w.body(cart).map_or(Vect::ZERO, Body::position);
+        off_line = off_line.max(f(p.y).abs());
+        farthest = farthest.max(f(p.x));
+        back = back.min(f(w.body(cart).map_or(Real::ZERO, |b| b.velocity().x)));
+        if n == 60 {
+            // Free along the groove: 1 m after 1 s (no friction), to 10⁻⁶ m.
+            assert!((f(p.x) - 1.0).abs() < 1e-6, "x after 1 s: {}", f(p.x));
+        }
+    }
+    println!("groove: off line {off_line:e}, farthest {farthest}, back at {back}");
+    // Held on the line: gravity's g·dt per step is cancelled within the
+    // step (one 2-D block row, solved by its first iteration), leaving
+    // rounding: 10⁻⁸ m. At the groove's end x = 2 it overshoots by at most
+    // one step at 1 m/s (1/60 m) and, as in Chipmunk, rebounds at the bias
+    // velocity, 10 % of the overshoot per step: ≤ 0.1 m/s.
+    assert!(off_line < 1e-8, "off the groove by {off_line:e} m");
+    assert!(farthest < 2.0 + 1.0 / 60.0, "farthest x {farthest}");
+    assert!(back > -0.1 - 1e-9, "rebound velocity {back}");
+}
+
+#[test]
+fn ratchet_turns_freely_one_way_and_catches_on_a_tooth_the_other() {
+    // A wheel (I = 1) on a static body with a ratchet of 0.5 rad teeth
+    // (free direction: positive). Driven forward at 3 rad/s for 1 s, then
+    // pushed back by a torque of 10 N·m.
+    let mut w = Space::new();
+    let ground = ok(w.add_body(Body::new_static()));
+    let wheel = body(&mut w, 1, 1, Vect::ZERO);
+    if let Some(b) = w.body_mut(wheel) {
+        b.set_angular_velocity(Real::from_int(3));
+    }
+    let h = ok(w.add_constraint(ok(Constraint::new(
+        ground,
+        wheel,
+        ok(RatchetJoint::new(Real::ZERO, Real::HALF)),
+    ))));
+    for _ in 0..60 {
+        ok(w.step(DT));
+    }
+    let angle = f(w.body(wheel).map_or(Real::ZERO, Body::angle));
+    // Free forward: 3 rad after 1 s (the ratchet never acts).
+    assert!((angle - 3.0).abs() < 1e-6, "angle {angle}");
+    let tooth = match w.constraint(h).map(|c| *c.kind()) {
+        Some(JointKind::Ratchet(r)) => r.angle(),
+        other => panic!("{other:?}"),
+    };
+    // The held tooth is the last one passed, ⌊θ/0.5⌋·0.5 of the angle the
+    // last step's pre-step saw, which is the final angle (positions move
+    // before the pre-step): exactly, in Real arithmetic.
+    let theta = w.body(wheel).map_or(Real::ZERO, Body::angle);
+    assert_eq!(tooth, (theta / Real::HALF).floor() * Real::HALF);
+    let mut lowest = angle;
+    for _ in 0..300 {
+        if let Some(b) = w.body_mut(wheel) {
+            b.set_torque(Real::from_int(-10));
+        }
+        ok(w.step(DT));
+        lowest = lowest.min(f(w.body(wheel).map_or(Real::ZERO, Body::angle)));
+    }
+    println!("ratchet: lowest {lowest}");
+    // Backwards it is caught on the tooth at 3 rad (or the one before, if
+    // the wheel had not reached 3 exactly): it goes back at most one tooth
+    // (0.5 rad) plus one step of the backward motion before the catch
+    // (3 rad/s·dt = 0.05 rad at most).
+    assert!(lowest > 3.0 - 0.5 - 0.05, "lowest angle {lowest}");
 }

@@ -19,7 +19,8 @@
 use serde_json::Value;
 use tamias2d::body::{Body, BodyHandle};
 use tamias2d::constraint::{
-    Constraint, DampedSpring, GearJoint, JointKind, PinJoint, PivotJoint, SimpleMotor,
+    Constraint, DampedRotarySpring, DampedSpring, GearJoint, GrooveJoint, JointKind, PinJoint,
+    PivotJoint, RatchetJoint, RotaryLimitJoint, SimpleMotor, SlideJoint,
 };
 use tamias2d::shape::Shape;
 use tamias2d::snapshot::{checksum_parts, first_difference, Subject};
@@ -78,7 +79,8 @@ fn world() -> Space {
         .collect();
     let (b0, b1, b2, b3) = (dynamic[0], dynamic[1], dynamic[2], dynamic[3]);
     let half = Vect::new(Real::HALF, Real::ZERO);
-    let kinds: [(BodyHandle, BodyHandle, JointKind); 6] = [
+    let quarter = Real::HALF * Real::HALF;
+    let kinds: [(BodyHandle, BodyHandle, JointKind); 11] = [
         (
             b0,
             b1,
@@ -100,19 +102,54 @@ fn world() -> Space {
         (ground, b3, ok(SimpleMotor::new(Real::HALF)).into()),
         (b0, b3, ok(GearJoint::new(Real::ZERO, Real::TWO)).into()),
         (b0, b2, ok(SimpleMotor::new(Real::ONE)).into()),
+        (
+            b1,
+            b3,
+            ok(SlideJoint::new(half, -half, Real::ONE, Real::from_int(3))).into(),
+        ),
+        (b2, b0, ok(RotaryLimitJoint::new(-quarter, quarter)).into()),
+        (
+            b3,
+            b1,
+            ok(DampedRotarySpring::new(
+                quarter,
+                Real::from_int(20),
+                Real::HALF,
+            ))
+            .into(),
+        ),
+        (
+            ground,
+            b2,
+            ok(GrooveJoint::new(
+                Vect::from_ints(0, -5),
+                Vect::from_ints(0, 5),
+                Vect::ZERO,
+            ))
+            .into(),
+        ),
+        (
+            ground,
+            b1,
+            ok(RatchetJoint::new(quarter, Real::HALF)).into(),
+        ),
     ];
     let mut handles = Vec::new();
     for (a, b, kind) in kinds {
         let mut c = ok(Constraint::new(a, b, kind));
         ok(c.set_max_force(Real::from_int(1000)));
-        c.set_collide_bodies(false);
+        c.set_collide_bodies(a == ground);
         handles.push(ok(w.add_constraint(c)));
     }
     ok(w.remove_constraint(handles[5]));
     for _ in 0..60 {
         ok(w.step(Real::ONE / Real::from_int(60)));
     }
-    assert!(w.arbiters().len() >= 3, "the bodies rest on the ground");
+    assert!(
+        w.arbiters().len() >= 3,
+        "the bodies rest on the ground: {:?}",
+        w.bodies().map(|(_, b)| b.position()).collect::<Vec<_>>()
+    );
     ok(w.validate());
     w
 }

@@ -5,7 +5,7 @@
 //! part (Chipmunk's `cpConstraint`) holds the two bodies, `max_force`,
 //! `error_bias`, `max_bias` and `collide_bodies`; the kind ([`JointKind`],
 //! one file per kind) holds its parameters and its accumulated impulse.
-//! Kinds built so far, with Chipmunk's semantics and parameter names:
+//! Chipmunk's ten kinds, with its semantics and parameter names:
 //!
 //! | kind | Chipmunk | keeps |
 //! |---|---|---|
@@ -14,6 +14,11 @@
 //! | [`DampedSpring`] | `cpDampedSpring` | a spring of `rest_length`, `stiffness`, `damping` between two anchors |
 //! | [`SimpleMotor`] | `cpSimpleMotor` | the relative angular velocity at `rate` |
 //! | [`GearJoint`] | `cpGearJoint` | the angles in the ratio `ratio`, offset by `phase` |
+//! | [`SlideJoint`] | `cpSlideJoint` | the distance between two anchors within `[min, max]` |
+//! | [`RotaryLimitJoint`] | `cpRotaryLimitJoint` | the relative angle within `[min, max]` |
+//! | [`DampedRotarySpring`] | `cpDampedRotarySpring` | an angular spring of `rest_angle`, `stiffness`, `damping` |
+//! | [`GrooveJoint`] | `cpGrooveJoint` | a pivot on b sliding along a groove on a |
+//! | [`RatchetJoint`] | `cpRatchetJoint` | the relative angle free one way, caught every `ratchet` the other |
 //!
 //! # State and cache
 //! A constraint is world state ([`WorldState::constraints`], an arena like
@@ -52,22 +57,32 @@
 //! two different bodies of that space.
 //!
 //! [`WorldState::constraints`]: crate::space::WorldState::constraints
+mod damped_rotary_spring;
 mod damped_spring;
 mod gear;
+mod groove;
 mod pin;
 mod pivot;
+mod ratchet;
+mod rotary_limit;
 mod simple_motor;
+mod slide;
 pub(crate) mod solve;
 
 use core::fmt;
 
 use serde::{Deserialize, Serialize};
 
+pub use damped_rotary_spring::DampedRotarySpring;
 pub use damped_spring::DampedSpring;
 pub use gear::GearJoint;
+pub use groove::GrooveJoint;
 pub use pin::PinJoint;
 pub use pivot::PivotJoint;
+pub use ratchet::RatchetJoint;
+pub use rotary_limit::RotaryLimitJoint;
 pub use simple_motor::SimpleMotor;
+pub use slide::SlideJoint;
 
 use crate::arena::{Arena, Handle};
 use crate::body::{Body, BodyHandle};
@@ -164,6 +179,16 @@ pub enum JointKind {
     SimpleMotor(SimpleMotor),
     /// [`GearJoint`].
     Gear(GearJoint),
+    /// [`SlideJoint`].
+    Slide(SlideJoint),
+    /// [`RotaryLimitJoint`].
+    RotaryLimit(RotaryLimitJoint),
+    /// [`DampedRotarySpring`].
+    DampedRotarySpring(DampedRotarySpring),
+    /// [`GrooveJoint`].
+    Groove(GrooveJoint),
+    /// [`RatchetJoint`].
+    Ratchet(RatchetJoint),
 }
 
 impl From<PinJoint> for JointKind {
@@ -191,6 +216,31 @@ impl From<GearJoint> for JointKind {
         JointKind::Gear(j)
     }
 }
+impl From<SlideJoint> for JointKind {
+    fn from(j: SlideJoint) -> Self {
+        JointKind::Slide(j)
+    }
+}
+impl From<RotaryLimitJoint> for JointKind {
+    fn from(j: RotaryLimitJoint) -> Self {
+        JointKind::RotaryLimit(j)
+    }
+}
+impl From<DampedRotarySpring> for JointKind {
+    fn from(j: DampedRotarySpring) -> Self {
+        JointKind::DampedRotarySpring(j)
+    }
+}
+impl From<GrooveJoint> for JointKind {
+    fn from(j: GrooveJoint) -> Self {
+        JointKind::Groove(j)
+    }
+}
+impl From<RatchetJoint> for JointKind {
+    fn from(j: RatchetJoint) -> Self {
+        JointKind::Ratchet(j)
+    }
+}
 
 impl JointKind {
     /// The kind's own parameter checks (the same as its constructor's).
@@ -201,6 +251,11 @@ impl JointKind {
             JointKind::DampedSpring(j) => j.validate(),
             JointKind::SimpleMotor(j) => j.validate(),
             JointKind::Gear(j) => j.validate(),
+            JointKind::Slide(j) => j.validate(),
+            JointKind::RotaryLimit(j) => j.validate(),
+            JointKind::DampedRotarySpring(j) => j.validate(),
+            JointKind::Groove(j) => j.validate(),
+            JointKind::Ratchet(j) => j.validate(),
         }
     }
 
@@ -212,6 +267,11 @@ impl JointKind {
             JointKind::DampedSpring(j) => j.j_acc,
             JointKind::SimpleMotor(j) => j.j_acc.abs(),
             JointKind::Gear(j) => j.j_acc.abs(),
+            JointKind::Slide(j) => j.jn_acc.abs(),
+            JointKind::RotaryLimit(j) => j.j_acc.abs(),
+            JointKind::DampedRotarySpring(j) => j.j_acc,
+            JointKind::Groove(j) => j.j_acc.length(),
+            JointKind::Ratchet(j) => j.j_acc.abs(),
         }
     }
 
@@ -223,6 +283,11 @@ impl JointKind {
             JointKind::DampedSpring(_) => "damped_spring",
             JointKind::SimpleMotor(_) => "simple_motor",
             JointKind::Gear(_) => "gear",
+            JointKind::Slide(_) => "slide",
+            JointKind::RotaryLimit(_) => "rotary_limit",
+            JointKind::DampedRotarySpring(_) => "damped_rotary_spring",
+            JointKind::Groove(_) => "groove",
+            JointKind::Ratchet(_) => "ratchet",
         }
     }
 }
@@ -349,8 +414,9 @@ impl Constraint {
 
     /// The impulse the constraint applied in the last sub-step (Chipmunk
     /// `cpConstraintGetImpulse`): the magnitude of the accumulated impulse,
-    /// signed for a [`DampedSpring`] (negative: pulling the bodies
-    /// together). Divide by the step's `dt` for the force; a game breaks a
+    /// signed for the springs as in Chipmunk ([`DampedSpring`]: negative
+    /// pulls the anchors together; [`DampedRotarySpring`]: positive turns
+    /// b forward). Divide by the step's `dt` for the force; a game breaks a
     /// joint when it exceeds a threshold.
     pub fn impulse(&self) -> Real {
         self.kind.impulse()

@@ -3,11 +3,15 @@
 //! pre-step, warm started after the contacts, and iterated after the
 //! contacts in each solver iteration, in constraint slot order. Also the
 //! pair filter of `collide_bodies = false`.
+use super::damped_rotary_spring::RotarySpringRow;
 use super::damped_spring::SpringRow;
 use super::gear::GearRow;
+use super::groove::GrooveRow;
 use super::pin::PinRow;
 use super::pivot::PivotRow;
+use super::rotary_limit::AngularLimitRow;
 use super::simple_motor::MotorRow;
+use super::slide::SlideRow;
 use super::{Constraint, JointKind};
 use crate::arena::Arena;
 use crate::body::{Body, BodyHandle};
@@ -69,6 +73,12 @@ enum RowKind {
     Spring(SpringRow),
     Motor(MotorRow),
     Gear(GearRow),
+    Slide(SlideRow),
+    RotaryLimit(AngularLimitRow),
+    RotarySpring(RotarySpringRow),
+    Groove(GrooveRow),
+    /// The row and the tooth angle the pre-step moved the ratchet to.
+    Ratchet(AngularLimitRow, Real),
 }
 
 /// One constraint's row for this sub-step.
@@ -183,6 +193,26 @@ impl ConstraintScratch {
                     Cached::Scalar(j.j_acc),
                 ),
                 JointKind::Gear(j) => (RowKind::Gear(GearRow::new(j, &p)), Cached::Scalar(j.j_acc)),
+                JointKind::Slide(j) => (
+                    RowKind::Slide(SlideRow::new(j, &p)),
+                    Cached::Scalar(j.jn_acc),
+                ),
+                JointKind::RotaryLimit(j) => (
+                    RowKind::RotaryLimit(AngularLimitRow::new(j.error(&p), &p)),
+                    Cached::Scalar(j.j_acc),
+                ),
+                JointKind::DampedRotarySpring(j) => (
+                    RowKind::RotarySpring(RotarySpringRow::new(j, &p)),
+                    Cached::Scalar(j.j_acc),
+                ),
+                JointKind::Groove(j) => (
+                    RowKind::Groove(GrooveRow::new(j, &p)),
+                    Cached::Vector(j.j_acc),
+                ),
+                JointKind::Ratchet(j) => {
+                    let (row, tooth) = j.row(&p);
+                    (RowKind::Ratchet(row, tooth), Cached::Scalar(j.j_acc))
+                }
             };
             self.rows.push(Row {
                 slot: h.index(),
@@ -221,6 +251,14 @@ impl ConstraintScratch {
                     (RowKind::Spring(r), Cached::Scalar(j)) => r.warm_start(a, b, j * dt_coef),
                     (RowKind::Motor(r), Cached::Scalar(j)) => r.warm_start(a, b, j * dt_coef),
                     (RowKind::Gear(r), Cached::Scalar(j)) => r.warm_start(a, b, j * dt_coef),
+                    (RowKind::Slide(r), Cached::Scalar(j)) => r.warm_start(a, b, j * dt_coef),
+                    (RowKind::RotaryLimit(r) | RowKind::Ratchet(r, _), Cached::Scalar(j)) => {
+                        r.warm_start(a, b, j * dt_coef)
+                    }
+                    (RowKind::RotarySpring(r), Cached::Scalar(j)) => {
+                        r.warm_start(a, b, j * dt_coef)
+                    }
+                    (RowKind::Groove(r), Cached::Vector(j)) => r.warm_start(a, b, j * dt_coef),
                     // A row and its cache come from the same kind.
                     (_, _) => {}
                 }
@@ -238,6 +276,10 @@ impl ConstraintScratch {
                 RowKind::Spring(r) => r.apply_impulse(a, b, j_max),
                 RowKind::Motor(r) => r.apply_impulse(a, b, j_max),
                 RowKind::Gear(r) => r.apply_impulse(a, b, j_max),
+                RowKind::Slide(r) => r.apply_impulse(a, b, j_max),
+                RowKind::RotaryLimit(r) | RowKind::Ratchet(r, _) => r.apply_impulse(a, b, j_max),
+                RowKind::RotarySpring(r) => r.apply_impulse(a, b, j_max),
+                RowKind::Groove(r) => r.apply_impulse(a, b, j_max),
             });
         }
     }
@@ -262,6 +304,14 @@ impl ConstraintScratch {
                 (JointKind::DampedSpring(j), RowKind::Spring(r)) => j.j_acc = r.j_acc,
                 (JointKind::SimpleMotor(j), RowKind::Motor(r)) => j.j_acc = r.j_acc,
                 (JointKind::Gear(j), RowKind::Gear(r)) => j.j_acc = r.j_acc,
+                (JointKind::Slide(j), RowKind::Slide(r)) => j.jn_acc = r.jn_acc,
+                (JointKind::RotaryLimit(j), RowKind::RotaryLimit(r)) => j.j_acc = r.j_acc,
+                (JointKind::DampedRotarySpring(j), RowKind::RotarySpring(r)) => j.j_acc = r.j_acc,
+                (JointKind::Groove(j), RowKind::Groove(r)) => j.j_acc = r.j_acc,
+                (JointKind::Ratchet(j), RowKind::Ratchet(r, tooth)) => {
+                    j.j_acc = r.j_acc;
+                    j.angle = *tooth;
+                }
                 // A row is built from its constraint's kind.
                 (_, _) => {}
             }

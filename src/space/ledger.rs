@@ -18,7 +18,8 @@ use super::{Settings, WorldState};
 use crate::arbiter::{Arbiter, ArbiterState, ManifoldPoint};
 use crate::body::{Body, BodyType};
 use crate::constraint::{
-    Constraint, DampedSpring, GearJoint, JointKind, PinJoint, PivotJoint, SimpleMotor,
+    Constraint, DampedRotarySpring, DampedSpring, GearJoint, GrooveJoint, JointKind, PinJoint,
+    PivotJoint, RatchetJoint, RotaryLimitJoint, SimpleMotor, SlideJoint,
 };
 use crate::shape::{Circle, Geometry, MassSpec, Material, Poly, Segment, Shape, ShapeFilter};
 
@@ -76,6 +77,36 @@ const _JOINT_KIND: fn(&JointKind) = |k| match k {
         phase: _, // not saturated
         ratio: _, // not zero, not saturated
         j_acc: _, // any value
+    }) => {}
+    JointKind::Slide(SlideJoint {
+        anchor_a: _, // not saturated
+        anchor_b: _, // not saturated
+        min: _,      // ≥ 0, not saturated
+        max: _,      // ≥ min, not saturated
+        jn_acc: _,   // any value
+    }) => {}
+    JointKind::RotaryLimit(RotaryLimitJoint {
+        min: _,   // not saturated
+        max: _,   // ≥ min, not saturated
+        j_acc: _, // any value
+    }) => {}
+    JointKind::DampedRotarySpring(DampedRotarySpring {
+        rest_angle: _, // not saturated
+        stiffness: _,  // ≥ 0, not saturated
+        damping: _,    // ≥ 0, not saturated
+        j_acc: _,      // any value
+    }) => {}
+    JointKind::Groove(GrooveJoint {
+        groove_a: _, // not saturated; differs from groove_b
+        groove_b: _, // not saturated
+        anchor_b: _, // not saturated
+        j_acc: _,    // any value
+    }) => {}
+    JointKind::Ratchet(RatchetJoint {
+        angle: _,   // any value (the step sets it from the bodies' angles)
+        phase: _,   // not saturated
+        ratchet: _, // not zero, not saturated
+        j_acc: _,   // any value
     }) => {}
 };
 
