@@ -3,7 +3,7 @@
 //! [`crate::constraint`]).
 use super::{Space, SpaceError};
 use crate::body::BodyHandle;
-use crate::constraint::{Constraint, ConstraintHandle, PinJoint, PivotJoint};
+use crate::constraint::{Constraint, ConstraintError, ConstraintHandle, PinJoint, PivotJoint};
 use crate::math::{Real, Vect};
 
 impl Space {
@@ -80,6 +80,9 @@ impl Space {
         anchor_a: Vect,
         anchor_b: Vect,
     ) -> Result<Constraint, SpaceError> {
+        if a == b {
+            return Err(ConstraintError::SameBody.into());
+        }
         let (ba, bb) = (self.live_body(a)?, self.live_body(b)?);
         let dist = ba
             .local_to_world(anchor_a)
@@ -100,6 +103,9 @@ impl Space {
         b: BodyHandle,
         pivot: Vect,
     ) -> Result<Constraint, SpaceError> {
+        if a == b {
+            return Err(ConstraintError::SameBody.into());
+        }
         let (ba, bb) = (self.live_body(a)?, self.live_body(b)?);
         let kind = PivotJoint::new(ba.world_to_local(pivot), bb.world_to_local(pivot))?;
         Ok(Constraint::new(a, b, kind)?)
