@@ -1156,3 +1156,123 @@ fn damped_spring_decays_at_the_backward_euler_rate_near_the_closed_form() {
         "decay rate {measured:e}, closed form {closed:e} (slack {slack:e})"
     );
 }
+
+/// A joint of kind `kind % 10` with parameters from raw words (any sign,
+/// zero included); `None` where the constructor refuses them.
+fn arbitrary_joint(kind: u64, words: [u64; 4]) -> Option<JointKind> {
+    // Values in ±8 m (or rad) with 24 fractional bits, 0 one time in 16.
+    let r = |i: usize| {
+        let w = words[i % 4];
+        if w % 16 == 0 {
+            Real::ZERO
+        } else {
+            Real::from_bits(((w >> 8) as i64 % (8 << 32)) & !0xff)
+        }
+    };
+    let v = |i: usize| Vect::new(r(i), r(i + 1));
+    Some(match kind % 10 {
+        0 => PinJoint::new(v(0), v(2), r(1)).ok()?.into(),
+        1 => SlideJoint::new(v(0), v(2), r(1), r(3)).ok()?.into(),
+        2 => PivotJoint::new(v(0), v(2)).ok()?.into(),
+        3 => GrooveJoint::new(v(0), v(1), v(2)).ok()?.into(),
+        4 => DampedSpring::new(v(0), v(2), r(1), r(2), r(3)).ok()?.into(),
+        5 => DampedRotarySpring::new(r(0), r(1), r(2)).ok()?.into(),
+        6 => RotaryLimitJoint::new(r(0), r(1)).ok()?.into(),
+        7 => RatchetJoint::new(r(0), r(1)).ok()?.into(),
+        8 => GearJoint::new(r(0), r(1)).ok()?.into(),
+        _ => SimpleMotor::new(r(0)).ok()?.into(),
+    })
+}
+
+#[test]
+fn random_joint_scripts_never_panic_and_keep_the_world_valid() {
+    // The `world_ops` fuzz target's joint operations, on fixed seeds: random
+    // joints of every kind (bad parameters included) between random bodies
+    // (static, kinematic, dynamic; the same body twice), removals of bodies
+    // and joints, parameter changes and steps. The step validates the world
+    // after itself (the tests' `validate` feature); so does each operation
+    // here. Nothing may panic.
+    let (mut added, mut steps) = (0u32, 0u32);
+    for seed in 0..16u64 {
+        let mut rng = tamias2d_scenes::rng::SplitMix64::new(seed);
+        let mut w = Space::new();
+        w.set_gravity(Vect::from_ints(0, -10));
+        for i in 0..6 {
+            let mut b = match i % 3 {
+                0 => Body::new_static(),
+                1 => Body::new_kinematic(),
+                _ => ok(Body::new(Real::ONE, Real::ONE)),
+            };
+            b.set_position(Vect::from_ints(i, 0));
+            let h = ok(w.add_body(b));
+            ok(w.add_shape(ok(Shape::circle_shape_new(h, Real::HALF, Vect::ZERO))));
+        }
+        for _ in 0..200 {
+            let bodies: Vec<_> = w.bodies().map(|(h, _)| h).collect();
+            let joints: Vec<_> = w.constraints().map(|(h, _)| h).collect();
+            let pick = |n: usize, x: u64| (n > 0).then(|| (x % n as u64) as usize);
+            let op = rng.next_u64() % 8;
+            let (x, y) = (rng.next_u64(), rng.next_u64());
+            match op {
+                0..=2 => {
+                    let words = [
+                        rng.next_u64(),
+                        rng.next_u64(),
+                        rng.next_u64(),
+                        rng.next_u64(),
+                    ];
+                    let (Some(i), Some(j)) = (pick(bodies.len(), x), pick(bodies.len(), y)) else {
+                        continue;
+                    };
+                    if let Some(kind) = arbitrary_joint(x >> 32, words) {
+                        match Constraint::new(bodies[i], bodies[j], kind) {
+                            Ok(c) => {
+                                ok(w.add_constraint(c));
+                                added += 1;
+                            }
+                            Err(e) => assert_eq!((i, e), (j, ConstraintError::SameBody)),
+                        }
+                    }
+                }
+                3 => {
+                    if let Some(i) = pick(joints.len(), x) {
+                        ok(w.remove_constraint(joints[i]));
+                    }
+                }
+                4 => {
+                    if let Some(i) = pick(joints.len(), x) {
+                        if let Some(c) = w.constraint_mut(joints[i]) {
+                            let raw = Real::from_bits((y as i64) >> 20);
+                            let _ = c.set_max_force(raw);
+                            let _ = c.set_max_bias(raw.abs());
+                            let _ = c.set_error_bias(Real::from_bits((y as i64) >> 30));
+                            c.set_collide_bodies(y % 2 == 0);
+                        }
+                    }
+                }
+                5 if bodies.len() > 3 => {
+                    if let Some(i) = pick(bodies.len(), x) {
+                        ok(w.remove_body(bodies[i]));
+                        assert!(w
+                            .constraints()
+                            .all(|(_, c)| c.body_a() != bodies[i] && c.body_b() != bodies[i]));
+                    }
+                }
+                _ => {
+                    let mut b = ok(Body::new(Real::ONE, Real::ONE));
+                    b.set_position(Vect::new(Real::from_bits((x as i64) >> 29), Real::ZERO));
+                    ok(w.add_body(b));
+                    ok(w.step(DT));
+                    steps += 1;
+                }
+            }
+            ok(w.validate());
+            let copy = w.clone();
+            w.restore_state(copy.state());
+            assert_eq!(copy.checksum(), w.checksum());
+        }
+    }
+    // The script did exercise the joints: hundreds added, hundreds of steps.
+    println!("random scripts: {added} joints added, {steps} steps");
+    assert!(added > 300 && steps > 300, "{added} joints, {steps} steps");
+}
