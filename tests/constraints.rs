@@ -3,6 +3,7 @@
 //!
 //! Every bound is derived in the comment above its assertion; the
 //! measurements use `f64` (tests only: the simulation never sees a float).
+use tamias2d::arena::Handle;
 use tamias2d::body::{Body, BodyHandle};
 use tamias2d::constraint::{
     Constraint, ConstraintError, DampedRotarySpring, DampedSpring, GearJoint, GrooveJoint,
@@ -1275,4 +1276,111 @@ fn random_joint_scripts_never_panic_and_keep_the_world_valid() {
     // The script did exercise the joints: hundreds added, hundreds of steps.
     println!("random scripts: {added} joints added, {steps} steps");
     assert!(added > 300 && steps > 300, "{added} joints, {steps} steps");
+}
+
+#[test]
+fn pre_solve_callback_drives_a_servo_and_post_solve_breaks_a_joint() {
+    // Pre-solve: a servo sets the motor's rate from the wheel's angle
+    // (proportional control towards 1 rad); post-solve: a pin joint that
+    // carries more than 30 N breaks (removed by a post-step callback).
+    let mut w = Space::new();
+    w.set_gravity(Vect::from_ints(0, -10));
+    let ground = ok(w.add_body(Body::new_static()));
+    let wheel = body(&mut w, 1, 1, Vect::from_ints(5, 0));
+    let motor = ok(w.add_constraint(ok(Constraint::new(
+        ground,
+        wheel,
+        ok(SimpleMotor::new(Real::ZERO)),
+    ))));
+    // The wheel hangs on a pivot at its centre, so only the motor turns it.
+    ok(w.add_constraint(ok(w.pivot_joint(ground, wheel, Vect::from_ints(5, 0)))));
+    let servo: tamias2d::space::ConstraintFn = Box::new(move |ctx| {
+        let angle = ctx.body(wheel).map_or(Real::ZERO, Body::angle);
+        // Chipmunk's motor drives ω_b − ω_a to −rate: rate = 2·(θ − 1)
+        // turns the wheel towards 1 rad.
+        let rate = Real::TWO * (angle - Real::ONE);
+        ok(ctx.constraint.set_kind(ok(SimpleMotor::new(rate))));
+    });
+    ok(w.set_constraint_pre_solve(motor, Some(servo)));
+    let bob = body(&mut w, 1, 1, Vect::from_ints(0, -1));
+    let rope = ok(w.add_constraint(ok(w.pin_joint(ground, bob, Vect::ZERO, Vect::ZERO))));
+    let breaker: tamias2d::space::ConstraintFn = Box::new(|ctx| {
+        // Force = impulse / dt.
+        if ctx.constraint.impulse() * Real::from_int(60) > Real::from_int(30) {
+            let h = ctx.handle;
+            ctx.add_post_step_callback(
+                7,
+                Box::new(move |space: &mut Space| {
+                    let _ = space.remove_constraint(h);
+                }),
+            );
+        }
+    });
+    ok(w.set_constraint_post_solve(rope, Some(breaker)));
+    for _ in 0..300 {
+        ok(w.step(DT));
+    }
+    // The servo: θ' = −rate = −2(θ − 1) (the motor holds the rate each
+    // step), so θ → 1 with e^(−2t): after 5 s within 1 − e^(−10) ≈ 5·10⁻⁵.
+    let angle = f(w.body(wheel).map_or(Real::ZERO, Body::angle));
+    assert!((angle - 1.0).abs() < 1e-3, "servo angle {angle}");
+    // The bob hangs still: the rope carries m·g = 10 N < 30 N, unbroken.
+    assert!(w.constraint(rope).is_some());
+    // Pulled down with 50 N more, the rope carries 60 N and breaks.
+    for _ in 0..3 {
+        if let Some(b) = w.body_mut(bob) {
+            b.set_force(Vect::from_ints(0, -50));
+        }
+        ok(w.step(DT));
+    }
+    assert!(w.constraint(rope).is_none(), "the rope broke");
+}
+
+#[test]
+fn constraint_callbacks_survive_rollback_and_not_handle_reuse() {
+    let mut w = Space::new();
+    let a = body(&mut w, 1, 1, Vect::ZERO);
+    let b = body(&mut w, 1, 1, Vect::from_ints(1, 0));
+    let h = ok(w.add_constraint(ok(Constraint::new(a, b, ok(SimpleMotor::new(Real::ONE))))));
+    let calls = std::rc::Rc::new(std::cell::Cell::new(0u32));
+    let counter = calls.clone();
+    ok(w.set_constraint_post_solve(h, Some(Box::new(move |_| counter.set(counter.get() + 1)))));
+    ok(w.step(DT));
+    assert_eq!(calls.get(), 1);
+    let saved = w.state().clone();
+    ok(w.remove_constraint(h));
+    ok(w.step(DT));
+    assert_eq!(
+        calls.get(),
+        1,
+        "a removed constraint's callback does not run"
+    );
+    // Rolled back to when the constraint existed: its callback runs again.
+    w.restore_state(&saved);
+    ok(w.step(DT));
+    assert_eq!(calls.get(), 2, "the rollback kept the callback");
+    // A rollback to before a constraint was added re-issues its handle: the
+    // new constraint under it starts without the old one's callback.
+    let before = w.state().clone();
+    let h2 = ok(w.add_constraint(ok(Constraint::new(a, b, ok(SimpleMotor::new(Real::ONE))))));
+    let counter = calls.clone();
+    ok(w.set_constraint_pre_solve(
+        h2,
+        Some(Box::new(move |_| counter.set(counter.get() + 100))),
+    ));
+    w.restore_state(&before);
+    let again = ok(w.add_constraint(ok(Constraint::new(a, b, ok(SimpleMotor::new(Real::ONE))))));
+    assert_eq!(again, h2, "the rollback re-issues the handle");
+    let n = calls.get();
+    ok(w.step(DT));
+    assert_eq!(calls.get(), n + 1, "only h's post-solve ran");
+    // Callbacks are not state: the checksum ignores them.
+    let mut plain = w.clone();
+    ok(w.step(DT));
+    ok(plain.step(DT));
+    assert_eq!(w.checksum(), plain.checksum());
+    assert_eq!(
+        w.set_constraint_pre_solve(Handle::from_raw_parts(9, 0), None),
+        Err(SpaceError::StaleConstraint(Handle::from_raw_parts(9, 0)))
+    );
 }

@@ -1,5 +1,7 @@
 //! Constraints (joints): Chipmunk's `cpConstraint` and its kinds, in fixed
-//! point.
+//! point. Per-constraint pre-solve and post-solve callbacks (closures, not
+//! state) are set on the space: `Space::set_constraint_pre_solve`,
+//! `Space::set_constraint_post_solve`.
 //!
 //! A [`Constraint`] ties two bodies `a` and `b` of one space. The shared
 //! part (Chipmunk's `cpConstraint`) holds the two bodies, `max_force`,

@@ -1,10 +1,64 @@
 //! The constraints of a space (Chipmunk `cpSpaceAddConstraint` and
 //! friends) and their part of the step (stages 4 and 7–11, see
 //! [`crate::constraint`]).
-use super::{Space, SpaceError};
-use crate::body::BodyHandle;
+use std::collections::BTreeMap;
+
+use super::handlers::queue_post_step;
+use super::{PostStepFn, Space, SpaceError};
+use crate::arena::Arena;
+use crate::body::{Body, BodyHandle};
 use crate::constraint::{Constraint, ConstraintError, ConstraintHandle, PinJoint, PivotJoint};
 use crate::math::{Real, Vect};
+
+/// A constraint's pre-solve or post-solve callback (Chipmunk
+/// `cpConstraintPreSolveFunc` / `cpConstraintPostSolveFunc`). Not state:
+/// never saved, hashed or cloned; it must be deterministic (no floats, no
+/// outside state that differs between peers).
+pub type ConstraintFn = Box<dyn FnMut(&mut ConstraintContext<'_>)>;
+
+/// What a constraint callback sees: its constraint (mutable: a pre-solve
+/// callback may change parameters, e.g. a motor's rate, through the
+/// validating setters), the bodies (read-only) and the post-step queue
+/// (where structural changes go, e.g. removing a joint that broke).
+pub struct ConstraintContext<'a> {
+    /// The constraint's handle.
+    pub handle: ConstraintHandle,
+    /// The constraint.
+    pub constraint: &'a mut Constraint,
+    /// All bodies.
+    pub bodies: &'a Arena<Body>,
+    post_step: &'a mut Vec<(u64, PostStepFn)>,
+}
+
+impl ConstraintContext<'_> {
+    /// A body of the constraint's space.
+    pub fn body(&self, h: BodyHandle) -> Option<&Body> {
+        self.bodies.get(h)
+    }
+
+    /// Chipmunk `cpSpaceAddPostStepCallback` from a callback: runs `f`
+    /// after the step, once per `key`; false if `key` is already queued.
+    pub fn add_post_step_callback(&mut self, key: u64, f: PostStepFn) -> bool {
+        queue_post_step(self.post_step, key, f)
+    }
+}
+
+/// The pre-solve and post-solve callbacks of one constraint.
+#[derive(Default)]
+pub(crate) struct Callbacks {
+    pre_solve: Option<ConstraintFn>,
+    post_solve: Option<ConstraintFn>,
+}
+
+/// Callbacks by constraint handle (sorted: they run in slot order).
+pub(crate) type JointCallbacks = BTreeMap<ConstraintHandle, Callbacks>;
+
+/// Which callback to run.
+#[derive(Clone, Copy)]
+enum Phase {
+    PreSolve,
+    PostSolve,
+}
 
 impl Space {
     /// Chipmunk `cpSpaceAddConstraint`: adds a constraint and returns its
@@ -30,7 +84,77 @@ impl Space {
             .constraints
             .insert(c)
             .map_err(|_| SpaceError::Full)?;
+        // A new constraint starts without callbacks, even under a handle a
+        // rollback re-issued (callbacks outlive their constraints).
+        self.joint_callbacks.remove(&h);
         Ok(h.with_origin(self.origin))
+    }
+
+    /// Chipmunk `cpConstraintSetPreSolveFunc`: `f` runs every sub-step
+    /// before the constraint is prepared for the solver, in constraint slot
+    /// order (`None` removes it). Like the custom integrators, callbacks
+    /// are not state and outlive `remove_constraint`, so that a rollback to
+    /// a state where the constraint exists brings them back (see
+    /// [`Space::restore_state`], [`Space::prune_constraint_callbacks`]).
+    pub fn set_constraint_pre_solve(
+        &mut self,
+        h: ConstraintHandle,
+        f: Option<ConstraintFn>,
+    ) -> Result<(), SpaceError> {
+        self.check_origin(h)?;
+        if !self.state.constraints.contains(h) {
+            return Err(SpaceError::StaleConstraint(h));
+        }
+        self.joint_callbacks.entry(h).or_default().pre_solve = f;
+        Ok(())
+    }
+
+    /// Chipmunk `cpConstraintSetPostSolveFunc`: `f` runs every sub-step
+    /// after the solver (the constraint's [`impulse`](Constraint::impulse)
+    /// is this sub-step's), in constraint slot order, before the contacts'
+    /// post-solve handlers (`None` removes it). See
+    /// [`Space::set_constraint_pre_solve`] for rollback.
+    pub fn set_constraint_post_solve(
+        &mut self,
+        h: ConstraintHandle,
+        f: Option<ConstraintFn>,
+    ) -> Result<(), SpaceError> {
+        self.check_origin(h)?;
+        if !self.state.constraints.contains(h) {
+            return Err(SpaceError::StaleConstraint(h));
+        }
+        self.joint_callbacks.entry(h).or_default().post_solve = f;
+        Ok(())
+    }
+
+    /// Drops the callbacks of constraints not in the current state (see
+    /// [`Space::prune_integrators`], the same for bodies).
+    pub fn prune_constraint_callbacks(&mut self) {
+        let constraints = &self.state.constraints;
+        self.joint_callbacks.retain(|h, _| constraints.contains(*h));
+    }
+
+    /// Runs the `phase` callbacks of the live constraints, in slot order.
+    fn run_constraint_callbacks(&mut self, phase: Phase) {
+        if self.joint_callbacks.is_empty() {
+            return;
+        }
+        let origin = self.origin;
+        for (h, cb) in self.joint_callbacks.iter_mut() {
+            let f = match phase {
+                Phase::PreSolve => cb.pre_solve.as_mut(),
+                Phase::PostSolve => cb.post_solve.as_mut(),
+            };
+            let (Some(f), Some(constraint)) = (f, self.state.constraints.get_mut(*h)) else {
+                continue;
+            };
+            f(&mut ConstraintContext {
+                handle: h.with_origin(origin),
+                constraint,
+                bodies: &self.state.bodies,
+                post_step: &mut self.post_step,
+            });
+        }
     }
 
     /// Chipmunk `cpSpaceRemoveConstraint`: removes a constraint and returns
@@ -138,8 +262,10 @@ impl Space {
             .update_filter(&self.state.constraints);
     }
 
-    /// Stage 7, after the contacts: one solver row per constraint.
+    /// Stage 7, after the contacts: the pre-solve callbacks, then one
+    /// solver row per constraint.
     pub(super) fn pre_step_constraints(&mut self, dt: Real, dt_inv: Real) {
+        self.run_constraint_callbacks(Phase::PreSolve);
         self.caches.constraints.pre_step(
             &self.state.constraints,
             &self.state.bodies,
@@ -166,8 +292,11 @@ impl Space {
             .warm_start(&mut self.caches.solver.bodies, dt_coef);
     }
 
-    /// Stage 11, after the contacts: accumulated impulses into the state.
+    /// Stage 11, after the contacts: accumulated impulses into the state,
+    /// then the post-solve callbacks (Chipmunk runs them right after the
+    /// solver, before the arbiters' post-solve).
     pub(super) fn store_constraint_impulses(&mut self) {
         self.caches.constraints.store(&mut self.state.constraints);
+        self.run_constraint_callbacks(Phase::PostSolve);
     }
 }

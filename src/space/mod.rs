@@ -22,6 +22,7 @@ use core::fmt;
 
 use serde::{Deserialize, Serialize};
 
+pub use constraints::{ConstraintContext, ConstraintFn};
 pub use handlers::{ArbiterContext, CollisionHandler, PostStepFn};
 pub use settings::{
     Settings, CHIPMUNK_COLLISION_SLOP, DEFAULT_COLLISION_BIAS, DEFAULT_COLLISION_SLOP,
@@ -253,6 +254,9 @@ pub struct Space {
     pub(crate) handlers: handlers::HandlerTable,
     pub(crate) post_step: Vec<(u64, PostStepFn)>,
     pub(crate) integrators: Integrators,
+    /// Per-constraint pre-solve and post-solve callbacks (closures: not
+    /// state), keyed by constraint handle like the integrators.
+    pub(crate) joint_callbacks: constraints::JointCallbacks,
     pub(crate) locked: bool,
     /// Tag put on the handles this space hands out (see [`Handle`]); shared
     /// by clones, so a game's handles keep working on its rollback copies.
@@ -333,6 +337,7 @@ impl Space {
             handlers: handlers::HandlerTable::default(),
             post_step: Vec::new(),
             integrators: Integrators::default(),
+            joint_callbacks: constraints::JointCallbacks::default(),
             locked: false,
             origin,
         }
@@ -347,9 +352,10 @@ impl Space {
     /// state become this space's (the state may come from another space).
     ///
     /// Callbacks, which are not state: collision handlers (keyed by
-    /// collision type) stay; custom integrators (keyed by body handle) stay,
-    /// including those of bodies removed since the save, which come back
-    /// with their bodies; post-step callbacks still pending are discarded —
+    /// collision type) stay; custom integrators (keyed by body handle) and
+    /// constraint pre/post-solve callbacks (keyed by constraint handle)
+    /// stay, including those of bodies and constraints removed since the
+    /// save, which come back with them; post-step callbacks still pending are discarded —
     /// they were queued in the frames the rollback abandons (queue them from
     /// handlers or before the step they belong to, never across a save).
     pub fn restore_state(&mut self, state: &WorldState) {
