@@ -13,9 +13,13 @@
 //! slices element by element instead (see `Arena`'s `Hash`).
 //!
 //! Coverage: the checksum sees every field of the state because every state
-//! type derives `Hash`, except `Arena` and `Handle`, whose hand-written
-//! impls destructure the type with no `..` (a new field does not compile
-//! until it is hashed or, like a handle's origin tag, said not to be state).
+//! type derives `Hash`, except `Arena`, `Handle` and `WorldState`, whose
+//! hand-written impls destructure the type with no `..` (a new field does
+//! not compile until it is hashed or, like a handle's origin tag, said not
+//! to be state). `WorldState`'s impl is the derive's, except that a
+//! constraint arena that never had a slot adds nothing: a world without
+//! joints hashes exactly as before joints existed, so the goldens of
+//! joint-free scenes did not move when constraints became state.
 //! `tests/mirrors.rs` changes every leaf of a world in turn and checks that
 //! the checksum changes.
 use core::hash::{Hash, Hasher};

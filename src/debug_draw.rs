@@ -8,8 +8,14 @@
 //! body's position and rotation, picks its colours from
 //! [`DebugDrawOptions`] (static grey, kinematic blue, dynamic bodies from a
 //! palette by body slot, so neighbouring boxes differ), and calls one trait
-//! method per shape. Then, if asked, it draws a dot on every contact point of
-//! every touching, non-sensor arbiter.
+//! method per shape. Then it draws every joint (constraint), in slot order,
+//! with the same primitives: a thin line (a segment of radius 0) between
+//! the two world anchors and a dot on each (pin, slide, pivot, damped
+//! spring); the groove on body a and a dot on b's pivot (groove); a line
+//! between the two centres of gravity with a dot on each (the angular
+//! kinds: rotary limit, ratchet, gear, motor, rotary spring). Then, if
+//! asked, it draws a dot on every contact point of every touching,
+//! non-sensor arbiter.
 //!
 //! Coordinates are `f64` **for output only**: they are converted from the
 //! exact `Real` state when drawn and never flow back into the simulation, so
@@ -51,6 +57,7 @@
 //! ```
 use crate::arbiter::ArbiterState;
 use crate::body::{Body, BodyType};
+use crate::constraint::JointKind;
 use crate::math::{Real, Vect};
 use crate::shape::{Geometry, Shape, MAX_POLY_VERTICES};
 use crate::space::Space;
@@ -146,6 +153,12 @@ pub struct DebugDrawOptions {
     pub shapes: bool,
     /// Draw a dot on each contact point of each touching arbiter.
     pub contacts: bool,
+    /// Draw the joints (see the module docs).
+    pub joints: bool,
+    /// Joint lines and anchor dots.
+    pub joint_style: ShapeStyle,
+    /// Joint anchor dot size in output pixels.
+    pub joint_anchor_size: f64,
     /// Shapes of static bodies.
     pub static_style: ShapeStyle,
     /// Shapes of kinematic bodies.
@@ -162,12 +175,15 @@ pub struct DebugDrawOptions {
 }
 
 impl Default for DebugDrawOptions {
-    /// Shapes on, contacts off; grey static, blue kinematic, warm and cool
+    /// Shapes and joints on, contacts off; teal joints; grey static, blue kinematic, warm and cool
     /// tones for dynamic bodies, red contact dots.
     fn default() -> DebugDrawOptions {
         DebugDrawOptions {
             shapes: true,
             contacts: false,
+            joints: true,
+            joint_style: ShapeStyle::filled(Color::rgb(60, 160, 170)),
+            joint_anchor_size: 3.0,
             static_style: ShapeStyle::filled(Color::rgb(150, 150, 150)),
             kinematic_style: ShapeStyle::filled(Color::rgb(90, 140, 230)),
             dynamic_fills: [
@@ -237,8 +253,51 @@ impl Space {
                 }
             }
         }
+        if options.joints {
+            self.draw_joints(out, options);
+        }
         if options.contacts {
             self.draw_contacts(out, options);
+        }
+    }
+
+    /// Every joint as lines and anchor dots (see the module docs).
+    fn draw_joints(&self, out: &mut impl DebugDraw, options: &DebugDrawOptions) {
+        let style = options.joint_style;
+        let (size, dot_color) = (options.joint_anchor_size, style.outline);
+        for (_, c) in self.constraints() {
+            let (Some(a), Some(b)) = (self.body(c.body_a()), self.body(c.body_b())) else {
+                continue;
+            };
+            let anchors = match c.kind() {
+                JointKind::Pin(j) => Some((j.anchor_a(), j.anchor_b())),
+                JointKind::Slide(j) => Some((j.anchor_a(), j.anchor_b())),
+                JointKind::Pivot(j) => Some((j.anchor_a(), j.anchor_b())),
+                JointKind::DampedSpring(j) => Some((j.anchor_a(), j.anchor_b())),
+                JointKind::Groove(j) => {
+                    let (ga, gb) = (
+                        a.local_to_world(j.groove_a()),
+                        a.local_to_world(j.groove_b()),
+                    );
+                    out.segment(point(ga), point(gb), 0.0, style);
+                    out.dot(point(b.local_to_world(j.anchor_b())), size, dot_color);
+                    continue;
+                }
+                JointKind::RotaryLimit(_)
+                | JointKind::Ratchet(_)
+                | JointKind::Gear(_)
+                | JointKind::SimpleMotor(_)
+                | JointKind::DampedRotarySpring(_) => None,
+            };
+            let (pa, pb) = match anchors {
+                Some((anchor_a, anchor_b)) => {
+                    (a.local_to_world(anchor_a), b.local_to_world(anchor_b))
+                }
+                None => (a.center(), b.center()),
+            };
+            out.segment(point(pa), point(pb), 0.0, style);
+            out.dot(point(pa), size, dot_color);
+            out.dot(point(pb), size, dot_color);
         }
     }
 

@@ -31,6 +31,7 @@ pub mod body;
 pub mod broadphase;
 pub mod checksum;
 pub mod collision;
+pub mod constraint;
 #[cfg(feature = "debug-draw")]
 pub mod debug_draw;
 pub mod framing;

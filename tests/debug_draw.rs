@@ -84,3 +84,26 @@ fn debug_draw_circle_in_world_space() {
         .iter()
         .any(|(c, r, _)| c[0] == x && c[1] == y && *r > 0.0));
 }
+
+#[test]
+fn debug_draw_joints_as_lines_between_anchors_and_state_unchanged() {
+    let mut scene = scenes::builtin("chain_100").unwrap().build().unwrap();
+    scene.step_n(3).unwrap();
+    let before = scene.space.checksum();
+    let only_joints = DebugDrawOptions {
+        shapes: false,
+        ..DebugDrawOptions::default()
+    };
+    let mut log = Log::default();
+    scene.space.debug_draw(&mut log, &only_joints);
+    // One line and two anchor dots per pivot joint.
+    assert_eq!((log.segments, log.dots), (100, 200));
+    assert_eq!(scene.space.checksum(), before);
+    let mut log = Log::default();
+    let no_joints = DebugDrawOptions {
+        joints: false,
+        ..only_joints
+    };
+    scene.space.debug_draw(&mut log, &no_joints);
+    assert_eq!((log.segments, log.dots), (0, 0));
+}

@@ -73,7 +73,7 @@ fn lockstep(name: &str, steps: u32) {
     }
     // The checksum sees the motion: a scene where something moves changes
     // state (and so, barring a 2^-64 collision, checksum) every step.
-    assert_eq!(a.space.stamp(), u64::from(steps), "{name}: stamp");
+    assert_eq!(a.space.steps(), u64::from(steps), "{name}: steps");
     assert_eq!(
         checksums.len(),
         steps as usize,
@@ -116,6 +116,11 @@ fn section_b_stacking_scenes_step_in_lockstep() {
 #[test]
 fn section_c_accuracy_scenes_step_in_lockstep() {
     check_section(Section::Accuracy);
+}
+
+#[test]
+fn section_d_joint_scenes_step_in_lockstep() {
+    check_section(Section::Joints);
 }
 
 /// Steps both scenes `steps` times and requires equal states after each.

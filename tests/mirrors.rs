@@ -17,7 +17,11 @@
 //! (The field lists of `first_difference` are also checked by the compiler:
 //! they destructure each struct with no `..`.)
 use serde_json::Value;
-use tamias2d::body::Body;
+use tamias2d::body::{Body, BodyHandle};
+use tamias2d::constraint::{
+    Constraint, DampedRotarySpring, DampedSpring, GearJoint, GrooveJoint, JointKind, PinJoint,
+    PivotJoint, RatchetJoint, RotaryLimitJoint, SimpleMotor, SlideJoint,
+};
 use tamias2d::shape::Shape;
 use tamias2d::snapshot::{checksum_parts, first_difference, Subject};
 use tamias2d::space::{Space, WorldState};
@@ -29,7 +33,8 @@ fn ok<T, E: std::fmt::Display>(r: Result<T, E>) -> T {
 
 /// Bodies resting on a ground segment: a circle, a box, a hexagon and a
 /// capsule (so arbiters with one and two contacts exist), one body removed
-/// (a free slot), non-default settings, after 60 steps.
+/// (a free slot), one constraint of each kind (one removed: a free
+/// constraint slot), non-default settings, after 60 steps.
 fn world() -> Space {
     let mut w = Space::new();
     w.set_gravity(Vect::from_ints(0, -10));
@@ -67,10 +72,84 @@ fn world() -> Space {
             ok(w.remove_body(h));
         }
     }
+    let dynamic: Vec<_> = w
+        .bodies()
+        .filter(|(_, b)| b.is_dynamic())
+        .map(|(h, _)| h)
+        .collect();
+    let (b0, b1, b2, b3) = (dynamic[0], dynamic[1], dynamic[2], dynamic[3]);
+    let half = Vect::new(Real::HALF, Real::ZERO);
+    let quarter = Real::HALF * Real::HALF;
+    let kinds: [(BodyHandle, BodyHandle, JointKind); 11] = [
+        (
+            b0,
+            b1,
+            ok(PinJoint::new(half, -half, Real::from_int(3))).into(),
+        ),
+        (b1, b2, ok(PivotJoint::new(half, -half)).into()),
+        (
+            b2,
+            b3,
+            ok(DampedSpring::new(
+                Vect::ZERO,
+                Vect::ZERO,
+                Real::TWO,
+                Real::from_int(50),
+                Real::ONE,
+            ))
+            .into(),
+        ),
+        (ground, b3, ok(SimpleMotor::new(Real::HALF)).into()),
+        (b0, b3, ok(GearJoint::new(Real::ZERO, Real::TWO)).into()),
+        (b0, b2, ok(SimpleMotor::new(Real::ONE)).into()),
+        (
+            b1,
+            b3,
+            ok(SlideJoint::new(half, -half, Real::ONE, Real::from_int(3))).into(),
+        ),
+        (b2, b0, ok(RotaryLimitJoint::new(-quarter, quarter)).into()),
+        (
+            b3,
+            b1,
+            ok(DampedRotarySpring::new(
+                quarter,
+                Real::from_int(20),
+                Real::HALF,
+            ))
+            .into(),
+        ),
+        (
+            ground,
+            b2,
+            ok(GrooveJoint::new(
+                Vect::from_ints(0, -5),
+                Vect::from_ints(0, 5),
+                Vect::ZERO,
+            ))
+            .into(),
+        ),
+        (
+            ground,
+            b1,
+            ok(RatchetJoint::new(quarter, Real::HALF)).into(),
+        ),
+    ];
+    let mut handles = Vec::new();
+    for (a, b, kind) in kinds {
+        let mut c = ok(Constraint::new(a, b, kind));
+        ok(c.set_max_force(Real::from_int(1000)));
+        c.set_collide_bodies(a == ground);
+        handles.push(ok(w.add_constraint(c)));
+    }
+    ok(w.remove_constraint(handles[5]));
     for _ in 0..60 {
         ok(w.step(Real::ONE / Real::from_int(60)));
     }
-    assert!(w.arbiters().len() >= 3, "the bodies rest on the ground");
+    assert!(
+        w.arbiters().len() >= 3,
+        "the bodies rest on the ground: {:?}",
+        w.bodies().map(|(_, b)| b.position()).collect::<Vec<_>>()
+    );
     ok(w.validate());
     w
 }
@@ -166,12 +245,11 @@ fn expected(path: &[Key], live: bool) -> (&'static str, Option<String>) {
     match top.as_str() {
         "settings" => ("settings", name(1)),
         "arbiters" => ("arbiter", name(2)),
-        "bodies" | "shapes" => {
-            let object = if top == "bodies" { "body" } else { "shape" };
-            let arena = if top == "bodies" {
-                "body arena"
-            } else {
-                "shape arena"
+        "bodies" | "shapes" | "constraints" => {
+            let (object, arena) = match top.as_str() {
+                "bodies" => ("body", "body arena"),
+                "shapes" => ("shape", "shape arena"),
+                _ => ("constraint", "constraint arena"),
             };
             match (name(1).as_deref(), live) {
                 (Some("slots"), true) if name(3).as_deref() == Some("generation") => {
@@ -194,6 +272,8 @@ fn kind(s: Subject) -> &'static str {
         Subject::ShapeArena => "shape arena",
         Subject::Arbiter(_) => "arbiter",
         Subject::Arbiters => "arbiters",
+        Subject::Constraint(_) => "constraint",
+        Subject::ConstraintArena => "constraint arena",
         Subject::Counters => "counters",
     }
 }
@@ -276,6 +356,7 @@ fn every_leaf_of_the_state_is_seen_by_eq_checksum_parts_and_first_difference() {
         [
             "arbiters",
             "bodies",
+            "constraints",
             "current_dt",
             "prev_dt",
             "settings",
@@ -291,6 +372,8 @@ fn every_leaf_of_the_state_is_seen_by_eq_checksum_parts_and_first_difference() {
             "arbiter",
             "body",
             "body arena",
+            "constraint",
+            "constraint arena",
             "counters",
             "settings",
             "shape",

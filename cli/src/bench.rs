@@ -9,7 +9,7 @@
 use std::time::Instant;
 
 use clap::Args;
-use tamias2d_scenes::{self as scenes, Section};
+use tamias2d_scenes as scenes;
 
 use crate::progress::Progress;
 use crate::run::median;
@@ -82,7 +82,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), String> {
         // the sizes that stand for their family.
         scenes::REGISTRY
             .iter()
-            .filter(|s| s.section != Section::Accuracy)
+            .filter(|s| s.is_performance())
             .filter(|s| !args.quick || s.is_quick_bench())
             .map(|s| s.name.to_owned())
             .collect()

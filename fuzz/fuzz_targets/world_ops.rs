@@ -1,10 +1,15 @@
-//! Arbitrary operation scripts on a world (add/remove bodies and shapes,
-//! impulses, steps, queries, clone/restore): never panics, and the world's
-//! invariants hold after every operation.
+//! Arbitrary operation scripts on a world (add/remove bodies, shapes and
+//! joints of every kind, joint parameters, impulses, steps, queries,
+//! clone/restore): never panics, and the world's invariants hold after
+//! every operation.
 #![no_main]
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 use tamias2d::body::Body;
+use tamias2d::constraint::{
+    Constraint, DampedRotarySpring, DampedSpring, GearJoint, GrooveJoint, JointKind, PinJoint,
+    PivotJoint, RatchetJoint, RotaryLimitJoint, SimpleMotor, SlideJoint,
+};
 use tamias2d::math::{Real, Vect, BB};
 use tamias2d::shape::{Shape, ShapeFilter};
 use tamias2d::space::Space;
@@ -60,6 +65,44 @@ enum Op {
         substeps: u8,
         flags: u8,
     },
+    /// A joint of kind `kind % 10` between two bodies (maybe the same
+    /// one: an error), its parameters from `p` (any sign, zero included).
+    AddJoint {
+        kind: u8,
+        a: u8,
+        b: u8,
+        p: [i16; 4],
+    },
+    RemoveJoint {
+        joint: u8,
+    },
+    /// `max_force`, `max_bias`, `error_bias` (any sign: errors) and
+    /// `collide_bodies` of a joint.
+    JointParams {
+        joint: u8,
+        force: i32,
+        bias: i32,
+        error_bias: i32,
+        collide: bool,
+    },
+}
+
+/// A joint kind from fuzz input; constructor errors are fine.
+fn joint_kind(kind: u8, p: [i16; 4]) -> Option<JointKind> {
+    let r = |i: usize| real(i32::from(p[i % 4]), 24);
+    let v = |i: usize| Vect::new(r(i), r(i + 1));
+    Some(match kind % 10 {
+        0 => PinJoint::new(v(0), v(2), r(1)).ok()?.into(),
+        1 => SlideJoint::new(v(0), v(2), r(1), r(3)).ok()?.into(),
+        2 => PivotJoint::new(v(0), v(2)).ok()?.into(),
+        3 => GrooveJoint::new(v(0), v(1), v(2)).ok()?.into(),
+        4 => DampedSpring::new(v(0), v(2), r(1), r(2), r(3)).ok()?.into(),
+        5 => DampedRotarySpring::new(r(0), r(1), r(2)).ok()?.into(),
+        6 => RotaryLimitJoint::new(r(0), r(1)).ok()?.into(),
+        7 => RatchetJoint::new(r(0), r(1)).ok()?.into(),
+        8 => GearJoint::new(r(0), r(1)).ok()?.into(),
+        _ => SimpleMotor::new(r(0)).ok()?.into(),
+    })
 }
 
 fn real(v: i32, shift: u32) -> Real {
@@ -72,6 +115,8 @@ fuzz_target!(|ops: Vec<Op>| {
     for op in ops.iter().take(64) {
         let bodies: Vec<_> = space.bodies().map(|(h, _)| h).collect();
         let shapes: Vec<_> = space.shapes().map(|(h, _)| h).collect();
+        let joints: Vec<_> = space.constraints().map(|(h, _)| h).collect();
+        let pick_joint = |i: u8| joints.get(usize::from(i) % joints.len().max(1)).copied();
         let pick_body = |i: u8| bodies.get(usize::from(i) % bodies.len().max(1)).copied();
         match op {
             Op::AddBody { kind, x, y, mass } => {
@@ -165,6 +210,34 @@ fuzz_target!(|ops: Vec<Op>| {
                 s.restitution = flags & 4 != 0;
                 s.bias_impulses = flags & 8 != 0;
                 let _ = space.set_settings(s);
+            }
+            Op::AddJoint { kind, a, b, p } => {
+                if let (Some(a), Some(b), Some(k)) =
+                    (pick_body(*a), pick_body(*b), joint_kind(*kind, *p))
+                {
+                    if let Ok(c) = Constraint::new(a, b, k) {
+                        let _ = space.add_constraint(c);
+                    }
+                }
+            }
+            Op::RemoveJoint { joint } => {
+                if let Some(j) = pick_joint(*joint) {
+                    let _ = space.remove_constraint(j);
+                }
+            }
+            Op::JointParams {
+                joint,
+                force,
+                bias,
+                error_bias,
+                collide,
+            } => {
+                if let Some(c) = pick_joint(*joint).and_then(|j| space.constraint_mut(j)) {
+                    let _ = c.set_max_force(real(*force, 8));
+                    let _ = c.set_max_bias(real(*bias, 8));
+                    let _ = c.set_error_bias(real(*error_bias, 0));
+                    c.set_collide_bodies(*collide);
+                }
             }
             Op::CloneRestore => {
                 let copy = space.clone();

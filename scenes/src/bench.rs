@@ -46,7 +46,7 @@ pub fn ci_scenes() -> Vec<&'static str> {
 pub fn full_scenes() -> Vec<&'static str> {
     scenes::REGISTRY
         .iter()
-        .filter(|s| s.section != Section::Accuracy && s.covered_by.is_some())
+        .filter(|s| s.is_performance() && s.covered_by.is_some())
         .map(|s| s.name)
         .collect()
 }

@@ -128,3 +128,34 @@ pub mod vects {
         Ok(raw.into_iter().map(|[x, y]| Vect::new(x.0, y.0)).collect())
     }
 }
+
+/// An optional `Real` as a decimal string (absent when `None`).
+pub mod opt_real {
+    use super::*;
+
+    /// Serializes `Some` as a decimal string (use with
+    /// `skip_serializing_if = "Option::is_none"`).
+    pub fn serialize<S: Serializer>(v: &Option<Real>, s: S) -> Result<S::Ok, S::Error> {
+        v.map(Dec).serialize(s)
+    }
+
+    /// Parses a decimal string or an integer.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Real>, D::Error> {
+        Option::<Dec>::deserialize(d).map(|x| x.map(|x| x.0))
+    }
+}
+
+/// An optional `Vect` as `["x", "y"]` (absent when `None`).
+pub mod opt_vect {
+    use super::*;
+
+    /// Serializes `Some` as a two-element array of decimal strings.
+    pub fn serialize<S: Serializer>(v: &Option<Vect>, s: S) -> Result<S::Ok, S::Error> {
+        v.map(|v| [Dec(v.x), Dec(v.y)]).serialize(s)
+    }
+
+    /// Parses a two-element array.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Vect>, D::Error> {
+        Option::<[Dec; 2]>::deserialize(d).map(|x| x.map(|[x, y]| Vect::new(x.0, y.0)))
+    }
+}

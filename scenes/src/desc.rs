@@ -14,6 +14,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::dec;
+pub use super::joints::{ConstraintDesc, JointType};
 use tamias2d::math::{Real, Vect};
 use tamias2d::shape::{CollisionType, ShapeFilter};
 use tamias2d::space::Settings;
@@ -43,6 +44,9 @@ pub struct SceneDesc {
     /// Collision type pairs whose `begin` callbacks are counted.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub begin_counters: Vec<CounterDesc>,
+    /// Joints between initial bodies, added in order after the bodies.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub constraints: Vec<ConstraintDesc>,
 }
 
 /// [`Settings`] with decimal reals; missing fields take Chipmunk's defaults.
@@ -434,6 +438,7 @@ impl SceneDesc {
             forces: Vec::new(),
             spawns: Vec::new(),
             begin_counters: Vec::new(),
+            constraints: Vec::new(),
         }
     }
 

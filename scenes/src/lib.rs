@@ -56,6 +56,7 @@ pub mod dec;
 pub mod desc;
 #[cfg(feature = "ggrs")]
 pub mod ggrs_game;
+pub mod joints;
 pub mod registry;
 pub mod rng;
 pub mod stacking;
@@ -63,8 +64,8 @@ pub mod terrain;
 mod world;
 
 pub use desc::{
-    BodyDesc, BodyKind, CounterDesc, ForceDesc, GeometryDesc, MassDesc, Neighbors, SceneDesc,
-    SettingsDesc, ShapeDesc, ShapeMassDesc, SpawnDesc,
+    BodyDesc, BodyKind, ConstraintDesc, CounterDesc, ForceDesc, GeometryDesc, JointType, MassDesc,
+    Neighbors, SceneDesc, SettingsDesc, ShapeDesc, ShapeMassDesc, SpawnDesc,
 };
 pub use registry::{builtin, find, Golden, SceneInfo, Section, REGISTRY};
 pub use world::{BodyPath, LoadError, SceneError, ScriptedWorld};

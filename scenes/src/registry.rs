@@ -15,7 +15,7 @@
 use tamias2d::real;
 
 use crate::desc::SceneDesc;
-use crate::{accuracy, stacking, terrain};
+use crate::{accuracy, joints, stacking, terrain};
 
 /// The three groups of standard scenes (see `scenes/README.md`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -28,6 +28,8 @@ pub enum Section {
     /// C: accuracy against closed-form answers (free fall, projectiles,
     /// elastic collisions, inclines).
     Accuracy,
+    /// D: joints (constraints): a pendulum, a hanging chain.
+    Joints,
 }
 
 impl Section {
@@ -37,6 +39,7 @@ impl Section {
             Section::Terrain => 'A',
             Section::Stacking => 'B',
             Section::Accuracy => 'C',
+            Section::Joints => 'D',
         }
     }
 
@@ -46,6 +49,7 @@ impl Section {
             Section::Terrain => "terrain",
             Section::Stacking => "stacking",
             Section::Accuracy => "accuracy",
+            Section::Joints => "joints",
         }
     }
 }
@@ -99,7 +103,13 @@ impl SceneInfo {
     /// A full-size scene (no smaller size stands for it) of sections A or
     /// B: the quick benchmark set.
     pub fn is_quick_bench(&self) -> bool {
-        self.section != Section::Accuracy && self.covered_by.is_none()
+        self.is_performance() && self.covered_by.is_none()
+    }
+
+    /// A scene of sections A or B, the performance scenes (compared with
+    /// Rapier; the joint scenes of section D have no Rapier mapping yet).
+    pub fn is_performance(&self) -> bool {
+        matches!(self.section, Section::Terrain | Section::Stacking)
     }
 }
 
@@ -220,6 +230,13 @@ pub const REGISTRY: &[SceneInfo] = &[
         bodies 11, steps 600, None, golden(600, 0x94eddf2fd004a4ca),
         golden(10, 0xec6b746b67c9edbf),
         || Some(accuracy::stack(10))),
+    // D: joints
+    scene!("pendulum", Joints, "a 1 kg bob on a 1 m pin joint, released at 37 degrees",
+        bodies 2, steps 600, None, golden(600, 0x0a10f31ee87d73da), None,
+        || Some(joints::pendulum())),
+    scene!("chain_100", Joints, "100 links on pivot joints falling from horizontal, 100:1 end mass, 4 sub-steps",
+        bodies 101, steps 600, None, golden(300, 0xb2045621d0f71de5), None,
+        || Some(joints::chain(100))),
 ];
 
 /// The registry entry called `name`.

@@ -91,6 +91,14 @@ pub enum SceneError {
     },
     /// Two bodies share a label.
     DuplicateLabel(String),
+    /// `constraints[constraint]` was rejected (a body index that does not
+    /// exist, a missing or foreign parameter, a bad value).
+    Constraint {
+        /// Index into `constraints`.
+        constraint: usize,
+        /// Why.
+        why: String,
+    },
     /// The space rejected a step.
     Step(SpaceError),
 }
@@ -110,6 +118,9 @@ impl fmt::Display for SceneError {
                 write!(f, "forces[{force}] names body {body}, which does not exist")
             }
             SceneError::DuplicateLabel(l) => write!(f, "label {l:?} is used by two bodies"),
+            SceneError::Constraint { constraint, why } => {
+                write!(f, "constraints[{constraint}]: {why}")
+            }
             SceneError::Step(e) => write!(f, "step: {e}"),
         }
     }
@@ -183,6 +194,22 @@ impl SceneDesc {
                     body: f.body,
                 })?;
             scene.forces.push((h, f.force, f.torque));
+        }
+        for (i, c) in self.constraints.iter().enumerate() {
+            let body = |index: u32| {
+                usize::try_from(index)
+                    .ok()
+                    .and_then(|b| scene.bodies.get(b).copied())
+                    .ok_or_else(|| SceneError::Constraint {
+                        constraint: i,
+                        why: format!("body {index} does not exist"),
+                    })
+            };
+            let (a, b) = (body(c.a)?, body(c.b)?);
+            let built = c
+                .build(&scene.space, a, b)
+                .and_then(|c| scene.space.add_constraint(c).map_err(|e| e.to_string()));
+            built.map_err(|why| SceneError::Constraint { constraint: i, why })?;
         }
         validate_spawns(self)?;
         let mut spawns = self.spawns.clone();

@@ -3,8 +3,8 @@
 //!
 //! When a peer reports a checksum that differs from ours, the game needs to
 //! know *what* differs. Two tools, from cheap to thorough:
-//! * [`checksum_parts`]: one digest per body and per shape (by handle) and
-//!   one for each of settings, arenas, arbiters and counters. Small enough
+//! * [`checksum_parts`]: one digest per body, shape and constraint (by
+//!   handle) and one for each of settings, arenas, arbiters and counters. Small enough
 //!   to send over the network (it is serde data);
 //!   [`ChecksumParts::first_mismatch`] names the first part that differs.
 //! * [`first_difference`]: with both worlds at hand (a replay, or a
@@ -22,6 +22,7 @@ use crate::arbiter::Arbiter;
 use crate::arena::{Arena, Handle};
 use crate::body::{Body, BodyHandle};
 use crate::checksum::checksum_of;
+use crate::constraint::{Constraint, ConstraintHandle};
 use crate::shape::Shape;
 use crate::space::{Settings, ShapeHandle, Space, WorldState};
 
@@ -40,6 +41,10 @@ pub struct ChecksumParts {
     pub shape_arena: u64,
     /// All arbiters, in canonical order.
     pub arbiters: u64,
+    /// Each live constraint, in slot order.
+    pub constraints: Vec<(ConstraintHandle, u64)>,
+    /// The whole constraint arena.
+    pub constraint_arena: u64,
     /// Step stamp, current and previous `dt`.
     pub counters: u64,
 }
@@ -62,6 +67,10 @@ pub enum Subject {
     Arbiter(usize),
     /// The arbiter list as a whole (its length, or its digest).
     Arbiters,
+    /// A constraint.
+    Constraint(ConstraintHandle),
+    /// The constraint arena outside the live constraints.
+    ConstraintArena,
     /// Step stamp or time steps.
     Counters,
 }
@@ -76,6 +85,8 @@ impl fmt::Display for Subject {
             Subject::ShapeArena => f.write_str("shape arena"),
             Subject::Arbiter(i) => write!(f, "arbiter [{i}]"),
             Subject::Arbiters => f.write_str("arbiters"),
+            Subject::Constraint(h) => write!(f, "constraint {h:?}"),
+            Subject::ConstraintArena => f.write_str("constraint arena"),
             Subject::Counters => f.write_str("counters"),
         }
     }
@@ -116,6 +127,12 @@ pub fn checksum_parts(space: &Space) -> ChecksumParts {
         shapes: s.shapes.iter().map(|(h, x)| (h, checksum_of(x))).collect(),
         shape_arena: checksum_of(&s.shapes),
         arbiters: checksum_of(&s.arbiters),
+        constraints: s
+            .constraints
+            .iter()
+            .map(|(h, c)| (h, checksum_of(c)))
+            .collect(),
+        constraint_arena: checksum_of(&s.constraints),
         counters: checksum_of(&counters(s)),
     }
 }
@@ -126,8 +143,8 @@ fn counters(s: &WorldState) -> (u64, u64, crate::Real, crate::Real) {
 
 impl ChecksumParts {
     /// The first part that differs, in canonical order (settings, bodies,
-    /// body arena, shapes, shape arena, arbiters, counters); `None` if all
-    /// digests agree.
+    /// body arena, shapes, shape arena, arbiters, constraints, constraint
+    /// arena, counters); `None` if all digests agree.
     pub fn first_mismatch(&self, other: &ChecksumParts) -> Option<Subject> {
         if self.settings != other.settings {
             return Some(Subject::Settings);
@@ -146,6 +163,12 @@ impl ChecksumParts {
         }
         if self.arbiters != other.arbiters {
             return Some(Subject::Arbiters);
+        }
+        if let Some(h) = first_entry_mismatch(&self.constraints, &other.constraints) {
+            return Some(Subject::Constraint(h));
+        }
+        if self.constraint_arena != other.constraint_arena {
+            return Some(Subject::ConstraintArena);
         }
         (self.counters != other.counters).then_some(Subject::Counters)
     }
@@ -202,7 +225,8 @@ macro_rules! first_field {
 /// The first difference between worlds `a` and `b`, in canonical order:
 /// settings, bodies (slot by slot: presence, generation, then each field),
 /// the body arena's free list, shapes likewise, arbiters (one by one, then
-/// the count), counters. `None` if the states are equal.
+/// the count), constraints like bodies, counters. `None` if the states are
+/// equal.
 pub fn first_difference(a: &Space, b: &Space) -> Option<Difference> {
     let (sa, sb) = (a.state(), b.state());
     // Every part of the state, named so that a new one is a compile error
@@ -217,6 +241,7 @@ pub fn first_difference(a: &Space, b: &Space) -> Option<Difference> {
         steps: _,
         current_dt: _,
         prev_dt: _,
+        constraints,
     } = sa;
     let diff = |subject, (field, a, b): (&'static str, String, String)| Difference {
         subject,
@@ -235,6 +260,15 @@ pub fn first_difference(a: &Space, b: &Space) -> Option<Difference> {
         .or_else(|| arena_rest(shapes, &sb.shapes, Subject::ShapeArena))
         .or_else(|| arbiter_difference(sa, sb))
         .or_else(|| {
+            first_slot_difference(
+                constraints,
+                &sb.constraints,
+                Subject::Constraint,
+                constraint_fields,
+            )
+        })
+        .or_else(|| arena_rest(constraints, &sb.constraints, Subject::ConstraintArena))
+        .or_else(|| {
             first_field!(_; sa, sb; stamp, steps, current_dt, prev_dt)
                 .map(|f| diff(Subject::Counters, f))
         })
@@ -243,6 +277,10 @@ pub fn first_difference(a: &Space, b: &Space) -> Option<Difference> {
 fn body_fields(a: &Body, b: &Body) -> Option<(&'static str, String, String)> {
     first_field!(Body; a, b; body_type, mass, mass_inv, moment, moment_inv, explicit_mass, cog,
         p, v, f, a, rot, w, t, v_bias, w_bias)
+}
+
+fn constraint_fields(a: &Constraint, b: &Constraint) -> Option<(&'static str, String, String)> {
+    first_field!(Constraint; a, b; a, b, max_force, error_bias, max_bias, collide_bodies, kind)
 }
 
 fn shape_fields(a: &Shape, b: &Shape) -> Option<(&'static str, String, String)> {

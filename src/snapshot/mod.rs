@@ -32,8 +32,11 @@
 //! ```
 //! The payload must end exactly at the end of the buffer. Its layout is
 //! serde's derive of [`WorldState`] field by field (settings, body arena,
-//! shape arena, arbiters, stamp, current and previous `dt`); each arena is
-//! its slots (generation, optional value), its free list and its length. Any
+//! shape arena, arbiters, stamp, current and previous `dt`, constraint
+//! arena); each arena is its slots (generation, optional value), its free
+//! list and its length. A constraint is its two body handles, `max_force`,
+//! `error_bias`, `max_bias`, `collide_bodies` (one byte) and its kind (a
+//! u32 tag, then the kind's parameters and accumulated impulse). Any
 //! change of that layout changes the bytes and must bump [`FORMAT_VERSION`];
 //! a test pins the empty world's bytes field by field and the encoded size
 //! of each kind of object, so that the change cannot go unnoticed.
@@ -71,7 +74,12 @@
 //!   impulse and cleared slots past them, stamp in `1..=world stamp`, and a
 //!   state that fits the stamp
 //!   (`Cached` exactly when the pair did not touch in the last step, never
-//!   `FirstCollision`, which only exists inside a step).
+//!   `FirstCollision`, which only exists inside a step);
+//! * constraints: the arena as above; two different live bodies (a
+//!   constraint on a missing body is invalid); `max_force` and `max_bias`
+//!   ≥ 0, `error_bias` in `[0, 1]`; the kind's parameters as its
+//!   constructor checks them (lengths, stiffness and damping ≥ 0, a pin's
+//!   distance > 0, a gear's ratio ≠ 0, nothing saturated).
 //!
 //! Only then is the state handed out. Errors are [`SnapshotError`]s that
 //! say what is wrong.
@@ -162,8 +170,9 @@ pub const MAGIC: [u8; 8] = *b"TAMIAS2D";
 /// [`WorldState`] (or anything in it) changes. Version 2: the settings end
 /// with `substeps` (u32) and the solver switches `warm_starting`,
 /// `friction`, `restitution`, `bias_impulses` (one byte each). Version 3:
-/// `block_solver` (one byte) after `bias_impulses`.
-pub const FORMAT_VERSION: u32 = 3;
+/// `block_solver` (one byte) after `bias_impulses`. Version 4: the state
+/// ends with the constraint arena (`constraints`).
+pub const FORMAT_VERSION: u32 = 4;
 
 /// Bytes before the bincode payload: magic, version, checksum (the frame
 /// every Tamias file shares, see [`crate::framing`]).
@@ -325,10 +334,17 @@ fn size_hint(state: &WorldState) -> usize {
     const BODY_SLOT: usize = 176;
     const SHAPE_SLOT: usize = 352;
     const ARBITER: usize = 224;
+    const CONSTRAINT_SLOT: usize = 128;
     (HEADER_LEN + 128)
         .saturating_add(state.bodies.capacity_slots().saturating_mul(BODY_SLOT))
         .saturating_add(state.shapes.capacity_slots().saturating_mul(SHAPE_SLOT))
         .saturating_add(state.arbiters.len().saturating_mul(ARBITER))
+        .saturating_add(
+            state
+                .constraints
+                .capacity_slots()
+                .saturating_mul(CONSTRAINT_SLOT),
+        )
 }
 
 /// The header of `bytes`: checks length, magic and version only.

@@ -17,19 +17,97 @@
 use super::{Settings, WorldState};
 use crate::arbiter::{Arbiter, ArbiterState, ManifoldPoint};
 use crate::body::{Body, BodyType};
+use crate::constraint::{
+    Constraint, DampedRotarySpring, DampedSpring, GearJoint, GrooveJoint, JointKind, PinJoint,
+    PivotJoint, RatchetJoint, RotaryLimitJoint, SimpleMotor, SlideJoint,
+};
 use crate::shape::{Circle, Geometry, MassSpec, Material, Poly, Segment, Shape, ShapeFilter};
 
 const _WORLD: fn(&WorldState) = |s| {
     let WorldState {
-        settings: _,   // Settings::validate, see _SETTINGS
-        bodies: _,     // Arena::validate, then each body (_BODY)
-        shapes: _,     // Arena::validate, then each shape (_SHAPE)
-        arbiters: _,   // canonical order, live shapes, their bodies (one dynamic), _ARBITER
-        stamp: _,      // validate_counters: 0 exactly when no dt was taken
-        steps: _,      // validate_counters: steps ≤ stamp
-        current_dt: _, // validate_counters: 0 before the first step, positive after
-        prev_dt: _,    // validate_counters: 0 before the second step, positive after
+        settings: _,    // Settings::validate, see _SETTINGS
+        bodies: _,      // Arena::validate, then each body (_BODY)
+        shapes: _,      // Arena::validate, then each shape (_SHAPE)
+        arbiters: _,    // canonical order, live shapes, their bodies (one dynamic), _ARBITER
+        stamp: _,       // validate_counters: 0 exactly when no dt was taken
+        steps: _,       // validate_counters: steps ≤ stamp
+        current_dt: _,  // validate_counters: 0 before the first step, positive after
+        prev_dt: _,     // validate_counters: 0 before the second step, positive after
+        constraints: _, // Arena::validate, then each constraint (_CONSTRAINT)
     } = s;
+};
+
+const _CONSTRAINT: fn(&Constraint) = |c| {
+    let Constraint {
+        a: _,              // names a live body (generation included); not b
+        b: _,              // names a live body
+        max_force: _,      // ≥ 0 (Real::MAX: unbounded)
+        error_bias: _,     // in [0, 1]
+        max_bias: _,       // ≥ 0 (Real::MAX: unbounded)
+        collide_bodies: _, // any value
+        kind: _,           // see _JOINT_KIND
+    } = c;
+};
+
+const _JOINT_KIND: fn(&JointKind) = |k| match k {
+    JointKind::Pin(PinJoint {
+        anchor_a: _, // not saturated
+        anchor_b: _, // not saturated
+        dist: _,     // > 0, not saturated
+        jn_acc: _,   // any value (clamped by max_force·dt of its step, which may differ)
+    }) => {}
+    JointKind::Pivot(PivotJoint {
+        anchor_a: _, // not saturated
+        anchor_b: _, // not saturated
+        j_acc: _,    // any value
+    }) => {}
+    JointKind::DampedSpring(DampedSpring {
+        anchor_a: _,    // not saturated
+        anchor_b: _,    // not saturated
+        rest_length: _, // ≥ 0, not saturated
+        stiffness: _,   // ≥ 0, not saturated
+        damping: _,     // ≥ 0, not saturated
+        j_acc: _,       // any value
+    }) => {}
+    JointKind::SimpleMotor(SimpleMotor {
+        rate: _,  // not saturated
+        j_acc: _, // any value
+    }) => {}
+    JointKind::Gear(GearJoint {
+        phase: _, // not saturated
+        ratio: _, // not zero, not saturated
+        j_acc: _, // any value
+    }) => {}
+    JointKind::Slide(SlideJoint {
+        anchor_a: _, // not saturated
+        anchor_b: _, // not saturated
+        min: _,      // ≥ 0, not saturated
+        max: _,      // ≥ min, not saturated
+        jn_acc: _,   // any value
+    }) => {}
+    JointKind::RotaryLimit(RotaryLimitJoint {
+        min: _,   // not saturated
+        max: _,   // ≥ min, not saturated
+        j_acc: _, // any value
+    }) => {}
+    JointKind::DampedRotarySpring(DampedRotarySpring {
+        rest_angle: _, // not saturated
+        stiffness: _,  // ≥ 0, not saturated
+        damping: _,    // ≥ 0, not saturated
+        j_acc: _,      // any value
+    }) => {}
+    JointKind::Groove(GrooveJoint {
+        groove_a: _, // not saturated; differs from groove_b
+        groove_b: _, // not saturated
+        anchor_b: _, // not saturated
+        j_acc: _,    // any value
+    }) => {}
+    JointKind::Ratchet(RatchetJoint {
+        angle: _,   // any value (the step sets it from the bodies' angles)
+        phase: _,   // not saturated
+        ratchet: _, // not zero, not saturated
+        j_acc: _,   // any value
+    }) => {}
 };
 
 const _SETTINGS: fn(&Settings) = |s| {

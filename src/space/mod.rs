@@ -11,6 +11,7 @@
 //!   (closures cannot be serialized; a game re-attaches them by collision
 //!   type after loading a snapshot).
 mod body_shapes;
+mod constraints;
 pub mod handlers;
 mod ledger;
 pub mod query;
@@ -21,6 +22,7 @@ use core::fmt;
 
 use serde::{Deserialize, Serialize};
 
+pub use constraints::{ConstraintContext, ConstraintFn};
 pub use handlers::{ArbiterContext, CollisionHandler, PostStepFn};
 pub use settings::{
     Settings, CHIPMUNK_COLLISION_SLOP, DEFAULT_COLLISION_BIAS, DEFAULT_COLLISION_SLOP,
@@ -32,6 +34,8 @@ use crate::arbiter::{Arbiter, ArbiterBuffers};
 use crate::arena::{Arena, Handle};
 use crate::body::{Body, BodyError, BodyHandle, BodyType};
 use crate::broadphase::BroadphaseCache;
+use crate::constraint::solve::ConstraintScratch;
+use crate::constraint::{Constraint, ConstraintError, ConstraintHandle};
 use crate::math::{Real, Vect, BB};
 use crate::shape::{CollisionType, Geometry, MassSpec, Shape, ShapeError};
 use crate::solver::SolverScratch;
@@ -45,6 +49,10 @@ pub enum SpaceError {
     StaleBody(BodyHandle),
     /// The shape handle is stale or from another space.
     StaleShape(ShapeHandle),
+    /// The constraint handle is stale or from another space.
+    StaleConstraint(ConstraintHandle),
+    /// A constraint's parameters are invalid.
+    Constraint(ConstraintError),
     /// A body invariant is violated.
     Body(BodyError),
     /// A shape is invalid.
@@ -80,6 +88,10 @@ impl fmt::Display for SpaceError {
             SpaceError::StaleShape(h) => {
                 write!(f, "shape handle {h:?} is stale or from another space")
             }
+            SpaceError::StaleConstraint(h) => {
+                write!(f, "constraint handle {h:?} is stale or from another space")
+            }
+            SpaceError::Constraint(e) => write!(f, "{e}"),
             SpaceError::Body(e) => write!(f, "{e}"),
             SpaceError::Shape(e) => write!(f, "{e}"),
             SpaceError::NegativeTimeStep => f.write_str("time step must not be negative"),
@@ -106,6 +118,12 @@ impl From<BodyError> for SpaceError {
     }
 }
 
+impl From<ConstraintError> for SpaceError {
+    fn from(e: ConstraintError) -> Self {
+        SpaceError::Constraint(e)
+    }
+}
+
 impl From<ShapeError> for SpaceError {
     fn from(e: ShapeError) -> Self {
         SpaceError::Shape(e)
@@ -113,7 +131,7 @@ impl From<ShapeError> for SpaceError {
 }
 
 /// Everything that affects future steps: what a snapshot holds.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct WorldState {
     /// Settings.
     pub settings: Settings,
@@ -132,6 +150,41 @@ pub struct WorldState {
     pub current_dt: Real,
     /// `dt` of the (sub-)step before (scales warm starting).
     pub prev_dt: Real,
+    /// Constraints (joints), in slot order (the order they are solved in).
+    pub constraints: Arena<Constraint>,
+}
+
+/// The derive's hash (each field in declaration order), except that a
+/// constraint arena that never held a constraint (no slots) adds nothing:
+/// a world without joints has the checksum it had before constraints
+/// existed, so the committed goldens of joint-free scenes stay valid. An
+/// arena with slots (live or freed) is hashed whole, after the counters.
+impl core::hash::Hash for WorldState {
+    fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
+        // Every field named: a new one is a compile error until hashed.
+        let WorldState {
+            settings,
+            bodies,
+            shapes,
+            arbiters,
+            stamp,
+            steps,
+            current_dt,
+            prev_dt,
+            constraints,
+        } = self;
+        settings.hash(h);
+        bodies.hash(h);
+        shapes.hash(h);
+        arbiters.hash(h);
+        stamp.hash(h);
+        steps.hash(h);
+        current_dt.hash(h);
+        prev_dt.hash(h);
+        if constraints.capacity_slots() > 0 {
+            constraints.hash(h);
+        }
+    }
 }
 
 /// Per-shape world-space cache: rewritten each step for shapes of
@@ -184,6 +237,9 @@ pub(crate) struct Caches {
     pub(crate) arbiters: ArbiterBuffers,
     /// Stages 6–11 (`crate::solver`).
     pub(crate) solver: SolverScratch,
+    /// Stages 4 (pair filter) and 7–11 of the constraints
+    /// ([`crate::constraint`]).
+    pub(crate) constraints: ConstraintScratch,
     /// The step driver's own (`space/step.rs`): `dt` constants, sub-step
     /// forces, counters.
     pub(crate) step: step::StepCache,
@@ -198,6 +254,9 @@ pub struct Space {
     pub(crate) handlers: handlers::HandlerTable,
     pub(crate) post_step: Vec<(u64, PostStepFn)>,
     pub(crate) integrators: Integrators,
+    /// Per-constraint pre-solve and post-solve callbacks (closures: not
+    /// state), keyed by constraint handle like the integrators.
+    pub(crate) joint_callbacks: constraints::JointCallbacks,
     pub(crate) locked: bool,
     /// Tag put on the handles this space hands out (see [`Handle`]); shared
     /// by clones, so a game's handles keep working on its rollback copies.
@@ -278,6 +337,7 @@ impl Space {
             handlers: handlers::HandlerTable::default(),
             post_step: Vec::new(),
             integrators: Integrators::default(),
+            joint_callbacks: constraints::JointCallbacks::default(),
             locked: false,
             origin,
         }
@@ -292,9 +352,10 @@ impl Space {
     /// state become this space's (the state may come from another space).
     ///
     /// Callbacks, which are not state: collision handlers (keyed by
-    /// collision type) stay; custom integrators (keyed by body handle) stay,
-    /// including those of bodies removed since the save, which come back
-    /// with their bodies; post-step callbacks still pending are discarded —
+    /// collision type) stay; custom integrators (keyed by body handle) and
+    /// constraint pre/post-solve callbacks (keyed by constraint handle)
+    /// stay, including those of bodies and constraints removed since the
+    /// save, which come back with them; post-step callbacks still pending are discarded —
     /// they were queued in the frames the rollback abandons (queue them from
     /// handlers or before the step they belong to, never across a save).
     pub fn restore_state(&mut self, state: &WorldState) {
@@ -386,7 +447,13 @@ impl Space {
     }
 
     /// Removes a body, its shapes and their arbiters (separate handlers run
-    /// for touching pairs). Returns the body.
+    /// for touching pairs), and the constraints on it. Returns the body.
+    ///
+    /// Chipmunk requires the game to remove a body's constraints first; a
+    /// constraint left naming a removed body would be a world state that
+    /// `validate_state` rejects (and a snapshot could not be loaded), so
+    /// here removing the body removes them, in slot order. Their handles
+    /// become stale.
     pub fn remove_body(&mut self, h: BodyHandle) -> Result<Body, SpaceError> {
         self.check_unlocked()?;
         self.check_origin(h)?;
@@ -394,6 +461,7 @@ impl Space {
             Some(b) => b.body_type() == BodyType::Static,
             None => return Err(SpaceError::StaleBody(h)),
         };
+        self.remove_constraints_of(h);
         // The body's shapes in slot order, found without a scan.
         let owned: Vec<ShapeHandle> = self
             .caches
@@ -799,11 +867,19 @@ impl Space {
 /// has it (a state saved from this space or one of its clones: the tags are
 /// set whenever a handle is stored, see `add_shape` and the narrowphase).
 fn adopt_handles(state: &mut WorldState, origin: u32) {
-    if state.bodies.origin() == origin && state.shapes.origin() == origin {
+    if state.bodies.origin() == origin
+        && state.shapes.origin() == origin
+        && state.constraints.origin() == origin
+    {
         return;
     }
     state.bodies.set_origin(origin);
     state.shapes.set_origin(origin);
+    state.constraints.set_origin(origin);
+    for (_, c) in state.constraints.iter_mut() {
+        c.a = c.a.with_origin(origin);
+        c.b = c.b.with_origin(origin);
+    }
     for (_, shape) in state.shapes.iter_mut() {
         shape.body = shape.body.with_origin(origin);
     }
@@ -819,8 +895,9 @@ fn adopt_handles(state: &mut WorldState, origin: u32) {
 /// in range; step counters consistent (no `dt` before the first step, a
 /// positive one after it); arenas (free lists, lengths); every body's
 /// invariants and cached inverses; every shape's body link, geometry and
-/// mass specification; arbiter order, references, contact counts (cleared
-/// slots past the count), states and stamps. Returns a description of the
+/// mass specification; constraints (parameters, two different live
+/// bodies); arbiter order, references, contact counts (cleared slots past
+/// the count), states and stamps. Returns a description of the
 /// first violation. What it checks of each field of the state, or why it
 /// checks nothing, is listed in the field ledger (`space/ledger.rs`), which
 /// the compiler keeps complete.
@@ -864,6 +941,7 @@ pub fn validate_state(state: &WorldState) -> Result<(), String> {
             }
         }
     }
+    crate::constraint::validate_constraints(&state.constraints, &state.bodies)?;
     let mut prev: Option<(u32, u32)> = None;
     for arb in &state.arbiters {
         let key = arb.key();

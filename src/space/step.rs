@@ -183,15 +183,19 @@ impl Space {
         self.integrate_positions(dt); // 1
         self.update_shape_caches(); // 2
         self.find_pairs(); // 3
+        self.update_constraint_filter(); // 4: collide_bodies = false
         let active = self.collide_pairs(); // 4, 5
         self.load_solver_bodies(); // 6
         self.pre_step(&active, &dtc, features); // 7
+        self.pre_step_constraints(dtc.dt, dtc.dt_inv); // 7: after the contacts
         self.integrate_velocities(&dtc); // 8
         if features.warm_starting {
             self.warm_start(features); // 9
+            self.warm_start_constraints(); // 9: after the contacts
         }
-        self.solve(features); // 10
+        self.solve(features); // 10: contacts, then constraints, per iteration
         self.store_solver_results(); // 11
+        self.store_constraint_impulses(); // 11
         self.count_saturated_bodies(); // 12
         self.post_solve(&active); // 13
         self.caches.arbiters.active = active;
@@ -425,6 +429,9 @@ impl Space {
         if sa.body == sb.body || sa.filter.rejects(&sb.filter) || (sa.sensor && sb.sensor) {
             return None;
         }
+        if self.caches.constraints.rejects(sa.body, sb.body) {
+            return None;
+        }
         let ba = self.state.bodies.get(sa.body)?;
         let bb = self.state.bodies.get(sb.body)?;
         if !ba.is_dynamic() && !bb.is_dynamic() {
@@ -598,13 +605,15 @@ impl Space {
         }
     }
 
-    /// `n` Gauss–Seidel passes over the active contacts, in canonical order.
+    /// `n` Gauss–Seidel passes over the active contacts, then the
+    /// constraints (joints), in canonical order.
     fn iterate<const FRICTION: bool, const BIAS: bool>(&mut self, n: u32) {
         let SolverScratch {
             bodies: solver_bodies,
             constraints: contact_constraints,
             blocks,
         } = &mut self.caches.solver;
+        let joints = &mut self.caches.constraints;
         for _ in 0..n {
             let mut i = 0usize;
             while let Some((c, tail)) = contact_constraints
@@ -620,6 +629,7 @@ impl Space {
                     i = i.saturating_add(1);
                 }
             }
+            joints.iterate(solver_bodies);
         }
     }
 

@@ -11,7 +11,7 @@ fn format_layout_is_pinned() {
     assert_eq!(&empty[8..12], &FORMAT_VERSION.to_le_bytes());
     let sum = snapshot::payload_checksum(&empty[HEADER_LEN..]);
     assert_eq!(&empty[12..20], &sum.to_le_bytes());
-    assert_eq!(FORMAT_VERSION, 3);
+    assert_eq!(FORMAT_VERSION, 4);
     // The empty world, field by field (little-endian, fixed-width ints,
     // every Real as its raw i64, lengths as u64, enum tags as u32).
     let expected = [
@@ -39,6 +39,9 @@ fn format_layout_is_pinned() {
         "0000000000000000", // steps
         "0000000000000000", // current_dt
         "0000000000000000", // prev_dt
+        "0000000000000000", // constraints.slots
+        "0000000000000000", // constraints.free
+        "00000000",         // constraints.len
     ]
     .concat();
     assert_eq!(hex(&empty[HEADER_LEN..]), expected);
@@ -83,6 +86,16 @@ fn format_layout_is_pinned() {
     state.arbiters.clear();
     let per_arbiter = (save(&stepped).len() - snapshot::save_state(&state).len()) / n;
     assert_eq!(per_arbiter, 218, "bytes per arbiter");
+    // A constraint slot: generation (4), option tag (1), bodies (2 × 8),
+    // max_force, error_bias, max_bias (3 × 8), collide_bodies (1), the kind
+    // tag (4) and the kind: a pin joint's two anchors, distance and
+    // accumulated impulse (6 × 8).
+    let mut w = small_world();
+    let before = save(&w).len();
+    let bodies: Vec<_> = w.bodies().map(|(h, _)| h).collect();
+    let pin = ok(PinJoint::new(Vect::ZERO, Vect::ZERO, Real::ONE));
+    ok(w.add_constraint(ok(Constraint::new(bodies[0], bodies[1], pin))));
+    assert_eq!(save(&w).len() - before, 4 + 1 + 16 + 24 + 1 + 4 + 48);
 }
 
 fn hex(bytes: &[u8]) -> String {

@@ -1,0 +1,438 @@
+//! Joints in scene descriptions ([`ConstraintDesc`]) and the joint scenes
+//! of the registry (`pendulum`, `chain_100`).
+//!
+//! A constraint is one flat JSON object: its `type` (`pin`, `slide`,
+//! `pivot`, `groove`, `damped_spring`, `damped_rotary_spring`,
+//! `rotary_limit`, `ratchet`, `gear`, `simple_motor`), the two bodies `a`
+//! and `b` (indices into `SceneDesc::bodies`), the kind's parameters under
+//! Chipmunk's names as exact decimal strings, and optionally `max_force`,
+//! `max_bias`, `error_bias` and `collide_bodies`. A parameter the kind does
+//! not have is an error, as is a missing one, when the scene is built:
+//!
+//! ```json
+//! { "type": "pin", "a": 0, "b": 1 }
+//! { "type": "damped_spring", "a": 0, "b": 2, "anchor_a": ["1", "0"],
+//!   "rest_length": "2", "stiffness": "100", "damping": "0.5" }
+//! ```
+//!
+//! Anchors default to the bodies' origins; a pin without `dist` takes the
+//! current distance of its anchors (Chipmunk's `cpPinJointNew`), a pivot
+//! with `pivot` (a world point) converts it to both bodies' coordinates
+//! (`cpPivotJointNew`).
+use serde::{Deserialize, Serialize};
+
+use super::dec;
+use super::desc::{BodyDesc, BodyKind, MassDesc, SceneDesc, SettingsDesc, ShapeDesc};
+use tamias2d::body::BodyHandle;
+use tamias2d::constraint::{
+    Constraint, DampedRotarySpring, DampedSpring, GearJoint, GrooveJoint, JointKind, PinJoint,
+    PivotJoint, RatchetJoint, RotaryLimitJoint, SimpleMotor, SlideJoint,
+};
+use tamias2d::math::{Real, Vect};
+use tamias2d::real;
+use tamias2d::space::{Space, SpaceError};
+
+/// The kind of a [`ConstraintDesc`] (its `type`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JointType {
+    /// [`PinJoint`].
+    #[default]
+    Pin,
+    /// [`SlideJoint`].
+    Slide,
+    /// [`PivotJoint`].
+    Pivot,
+    /// [`GrooveJoint`].
+    Groove,
+    /// [`DampedSpring`].
+    DampedSpring,
+    /// [`DampedRotarySpring`].
+    DampedRotarySpring,
+    /// [`RotaryLimitJoint`].
+    RotaryLimit,
+    /// [`RatchetJoint`].
+    Ratchet,
+    /// [`GearJoint`].
+    Gear,
+    /// [`SimpleMotor`].
+    SimpleMotor,
+}
+
+/// One joint of a scene (see the module docs for the format).
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConstraintDesc {
+    /// The kind.
+    #[serde(rename = "type")]
+    pub kind: JointType,
+    /// Index of body a in `SceneDesc::bodies`.
+    pub a: u32,
+    /// Index of body b.
+    pub b: u32,
+    /// Anchor on a (body coordinates); default the origin.
+    #[serde(
+        default,
+        with = "dec::opt_vect",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub anchor_a: Option<Vect>,
+    /// Anchor on b (body coordinates); default the origin.
+    #[serde(
+        default,
+        with = "dec::opt_vect",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub anchor_b: Option<Vect>,
+    /// Pivot: the shared point in world coordinates (instead of anchors).
+    #[serde(
+        default,
+        with = "dec::opt_vect",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub pivot: Option<Vect>,
+    /// Groove: start on a.
+    #[serde(
+        default,
+        with = "dec::opt_vect",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub groove_a: Option<Vect>,
+    /// Groove: end on a.
+    #[serde(
+        default,
+        with = "dec::opt_vect",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub groove_b: Option<Vect>,
+    /// Pin: distance (default: measured).
+    #[serde(
+        default,
+        with = "dec::opt_real",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub dist: Option<Real>,
+    /// Slide and rotary limit: lower limit.
+    #[serde(
+        default,
+        with = "dec::opt_real",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub min: Option<Real>,
+    /// Slide and rotary limit: upper limit.
+    #[serde(
+        default,
+        with = "dec::opt_real",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub max: Option<Real>,
+    /// Damped spring: rest length.
+    #[serde(
+        default,
+        with = "dec::opt_real",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub rest_length: Option<Real>,
+    /// Damped rotary spring: rest angle.
+    #[serde(
+        default,
+        with = "dec::opt_real",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub rest_angle: Option<Real>,
+    /// Springs: stiffness.
+    #[serde(
+        default,
+        with = "dec::opt_real",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub stiffness: Option<Real>,
+    /// Springs: damping.
+    #[serde(
+        default,
+        with = "dec::opt_real",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub damping: Option<Real>,
+    /// Gear and ratchet: phase.
+    #[serde(
+        default,
+        with = "dec::opt_real",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub phase: Option<Real>,
+    /// Gear: ratio.
+    #[serde(
+        default,
+        with = "dec::opt_real",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub ratio: Option<Real>,
+    /// Ratchet: tooth spacing.
+    #[serde(
+        default,
+        with = "dec::opt_real",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub ratchet: Option<Real>,
+    /// Simple motor: rate.
+    #[serde(
+        default,
+        with = "dec::opt_real",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub rate: Option<Real>,
+    /// Largest force (default unbounded).
+    #[serde(
+        default,
+        with = "dec::opt_real",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub max_force: Option<Real>,
+    /// Largest correction speed (default unbounded).
+    #[serde(
+        default,
+        with = "dec::opt_real",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub max_bias: Option<Real>,
+    /// Error left after one second (default `0.9^60`).
+    #[serde(
+        default,
+        with = "dec::opt_real",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub error_bias: Option<Real>,
+    /// Whether the two bodies' shapes collide (default true).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub collide_bodies: Option<bool>,
+}
+
+impl ConstraintDesc {
+    /// A constraint of `kind` between bodies `a` and `b`, every parameter
+    /// unset.
+    pub fn new(kind: JointType, a: u32, b: u32) -> ConstraintDesc {
+        ConstraintDesc {
+            kind,
+            a,
+            b,
+            ..ConstraintDesc::default()
+        }
+    }
+
+    /// The parameters that are set, by name.
+    fn given(&self) -> [(&'static str, bool); 14] {
+        [
+            ("anchor_a", self.anchor_a.is_some()),
+            ("anchor_b", self.anchor_b.is_some()),
+            ("pivot", self.pivot.is_some()),
+            ("groove_a", self.groove_a.is_some()),
+            ("groove_b", self.groove_b.is_some()),
+            ("dist", self.dist.is_some()),
+            ("min", self.min.is_some()),
+            ("max", self.max.is_some()),
+            ("rest_length", self.rest_length.is_some()),
+            ("rest_angle", self.rest_angle.is_some()),
+            ("stiffness", self.stiffness.is_some()),
+            ("damping", self.damping.is_some()),
+            ("phase", self.phase.is_some()),
+            ("ratio", self.ratio.is_some()),
+        ]
+    }
+
+    /// Builds the constraint between `a` and `b` of `space` (bodies already
+    /// added). Errors name the problem.
+    pub(crate) fn build(
+        &self,
+        space: &Space,
+        a: BodyHandle,
+        b: BodyHandle,
+    ) -> Result<Constraint, String> {
+        let kind = self.kind;
+        let allowed: &[&str] = match kind {
+            JointType::Pin => &["anchor_a", "anchor_b", "dist"],
+            JointType::Slide => &["anchor_a", "anchor_b", "min", "max"],
+            JointType::Pivot => &["anchor_a", "anchor_b", "pivot"],
+            JointType::Groove => &["groove_a", "groove_b", "anchor_b"],
+            JointType::DampedSpring => &[
+                "anchor_a",
+                "anchor_b",
+                "rest_length",
+                "stiffness",
+                "damping",
+            ],
+            JointType::DampedRotarySpring => &["rest_angle", "stiffness", "damping"],
+            JointType::RotaryLimit => &["min", "max"],
+            JointType::Ratchet => &["phase"],
+            JointType::Gear => &["phase", "ratio"],
+            JointType::SimpleMotor => &[],
+        };
+        let extra = [
+            ("ratchet", self.ratchet.is_some(), JointType::Ratchet),
+            ("rate", self.rate.is_some(), JointType::SimpleMotor),
+        ];
+        if let Some((name, _)) = self
+            .given()
+            .iter()
+            .find(|(n, set)| *set && !allowed.contains(n))
+        {
+            return Err(format!("{name} is not a parameter of {kind:?}"));
+        }
+        if let Some((name, _, _)) = extra.iter().find(|(_, set, k)| *set && *k != kind) {
+            return Err(format!("{name} is not a parameter of {kind:?}"));
+        }
+        let need = |v: Option<Real>, name: &str| v.ok_or(format!("{kind:?} needs {name}"));
+        let anchor_a = self.anchor_a.unwrap_or(Vect::ZERO);
+        let anchor_b = self.anchor_b.unwrap_or(Vect::ZERO);
+        let err = |e: tamias2d::constraint::ConstraintError| e.to_string();
+        let space_err = |e: SpaceError| e.to_string();
+        let joint: JointKind = match kind {
+            JointType::Pin => match self.dist {
+                Some(d) => PinJoint::new(anchor_a, anchor_b, d).map_err(err)?.into(),
+                None => *space
+                    .pin_joint(a, b, anchor_a, anchor_b)
+                    .map_err(space_err)?
+                    .kind(),
+            },
+            JointType::Slide => SlideJoint::new(
+                anchor_a,
+                anchor_b,
+                need(self.min, "min")?,
+                need(self.max, "max")?,
+            )
+            .map_err(err)?
+            .into(),
+            JointType::Pivot => match self.pivot {
+                Some(p) => {
+                    if self.anchor_a.is_some() || self.anchor_b.is_some() {
+                        return Err("a pivot takes either `pivot` or anchors".into());
+                    }
+                    *space.pivot_joint(a, b, p).map_err(space_err)?.kind()
+                }
+                None => PivotJoint::new(anchor_a, anchor_b).map_err(err)?.into(),
+            },
+            JointType::Groove => GrooveJoint::new(
+                self.groove_a.ok_or("Groove needs groove_a")?,
+                self.groove_b.ok_or("Groove needs groove_b")?,
+                anchor_b,
+            )
+            .map_err(err)?
+            .into(),
+            JointType::DampedSpring => DampedSpring::new(
+                anchor_a,
+                anchor_b,
+                need(self.rest_length, "rest_length")?,
+                need(self.stiffness, "stiffness")?,
+                need(self.damping, "damping")?,
+            )
+            .map_err(err)?
+            .into(),
+            JointType::DampedRotarySpring => DampedRotarySpring::new(
+                need(self.rest_angle, "rest_angle")?,
+                need(self.stiffness, "stiffness")?,
+                need(self.damping, "damping")?,
+            )
+            .map_err(err)?
+            .into(),
+            JointType::RotaryLimit => {
+                RotaryLimitJoint::new(need(self.min, "min")?, need(self.max, "max")?)
+                    .map_err(err)?
+                    .into()
+            }
+            JointType::Ratchet => RatchetJoint::new(
+                self.phase.unwrap_or(Real::ZERO),
+                need(self.ratchet, "ratchet")?,
+            )
+            .map_err(err)?
+            .into(),
+            JointType::Gear => {
+                GearJoint::new(self.phase.unwrap_or(Real::ZERO), need(self.ratio, "ratio")?)
+                    .map_err(err)?
+                    .into()
+            }
+            JointType::SimpleMotor => SimpleMotor::new(need(self.rate, "rate")?)
+                .map_err(err)?
+                .into(),
+        };
+        let mut c = Constraint::new(a, b, joint).map_err(err)?;
+        if let Some(f) = self.max_force {
+            c.set_max_force(f).map_err(err)?;
+        }
+        if let Some(m) = self.max_bias {
+            c.set_max_bias(m).map_err(err)?;
+        }
+        if let Some(e) = self.error_bias {
+            c.set_error_bias(e).map_err(err)?;
+        }
+        if let Some(collide) = self.collide_bodies {
+            c.set_collide_bodies(collide);
+        }
+        Ok(c)
+    }
+}
+
+fn scene(name: &str, steps: u32) -> SceneDesc {
+    SceneDesc {
+        settings: SettingsDesc::with_gravity(Vect::from_ints(0, -10), 10),
+        ..SceneDesc::new(name, Real::ratio(1, 60), steps)
+    }
+}
+
+/// `pendulum`: a 1 kg bob (a circle of radius 0.1, moment 0.005) on a
+/// 1 m pin joint from a static body at the origin, released at rest 0.6 m
+/// to the right (about 37° from the vertical); 600 steps (10 s). g = 10.
+pub fn pendulum() -> SceneDesc {
+    let mut desc = scene("pendulum", 600);
+    desc.bodies.push(BodyDesc::static_body().labeled("pivot"));
+    let bob = BodyDesc::dynamic(Vect::new(real!(0.6), real!(-0.8)), Real::ONE, real!(0.005))
+        .with_shape(ShapeDesc::circle(real!(0.1)))
+        .labeled("bob");
+    desc.bodies.push(bob);
+    desc.constraints
+        .push(ConstraintDesc::new(JointType::Pin, 0, 1));
+    desc
+}
+
+/// `chain_{n}`: `n` links (boxes 0.9 × 0.2 m, density 1, friction 0.6)
+/// hanging from a static body by pivot joints 1 m apart, starting
+/// horizontal to the right at y = 0 and falling under g = 10; the last
+/// link is 100 times denser (a 100:1 end-mass ratio). Neighbouring links
+/// do not collide (`collide_bodies = false`); 4 sub-steps of 10
+/// iterations (a single 1/60 s step lets the swinging end, at up to
+/// 45 m/s, open the joints by metres; 30 iterations do not help, sub-steps
+/// do: the joints' error grows with the square of the step); 600 steps.
+pub fn chain(n: u32) -> SceneDesc {
+    let mut desc = scene(&format!("chain_{n}"), 600);
+    desc.settings.substeps = 4;
+    desc.bodies.push(BodyDesc::static_body().labeled("anchor"));
+    for i in 0..n {
+        let x = Real::from_int(i32::try_from(i).unwrap_or(0)) + Real::HALF;
+        let density = if i.saturating_add(1) == n {
+            Real::from_int(100)
+        } else {
+            Real::ONE
+        };
+        let shape = ShapeDesc::box_shape(real!(0.9), real!(0.2), Real::ZERO)
+            .material(real!(0.6), Real::ZERO)
+            .density(density);
+        let link = BodyDesc {
+            mass: MassDesc::FromShapes,
+            ..BodyDesc::new(BodyKind::Dynamic, Vect::new(x, Real::ZERO))
+        }
+        .with_shape(shape);
+        desc.bodies.push(link);
+        let mut c = ConstraintDesc::new(JointType::Pivot, i, i.saturating_add(1));
+        c.anchor_a = Some(if i == 0 {
+            Vect::ZERO
+        } else {
+            Vect::new(Real::HALF, Real::ZERO)
+        });
+        c.anchor_b = Some(Vect::new(-Real::HALF, Real::ZERO));
+        c.collide_bodies = Some(false);
+        desc.constraints.push(c);
+    }
+    if let Some(end) = desc.bodies.last_mut() {
+        end.label = Some("end".into());
+    }
+    desc
+}

@@ -1,0 +1,115 @@
+//! `DampedRotarySpring` (Chipmunk `cpDampedRotarySpring`): an angular
+//! spring with a damper, solved implicitly like
+//! [`DampedSpring`](super::DampedSpring) (see there for the derivation and
+//! its numerical damping).
+use serde::{Deserialize, Serialize};
+
+use super::rotary_limit::apply_angular;
+use super::solve::{inv_or_zero, Prep};
+use super::{finite, non_negative, ConstraintError};
+use crate::math::Real;
+use crate::solver::SolverBody;
+
+/// A torsion spring holding `θ_a − θ_b` at `rest_angle` (Chipmunk's sign),
+/// with `stiffness` (N·m/rad) and `damping` (N·m·s/rad).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct DampedRotarySpring {
+    pub(crate) rest_angle: Real,
+    pub(crate) stiffness: Real,
+    pub(crate) damping: Real,
+    /// Accumulated angular impulse, Chipmunk's sign: positive turns b
+    /// forward and a back (state).
+    pub(crate) j_acc: Real,
+}
+
+impl DampedRotarySpring {
+    /// Chipmunk `cpDampedRotarySpringNew`; `stiffness`, `damping` ≥ 0.
+    pub fn new(
+        rest_angle: Real,
+        stiffness: Real,
+        damping: Real,
+    ) -> Result<DampedRotarySpring, ConstraintError> {
+        let j = DampedRotarySpring {
+            rest_angle,
+            stiffness,
+            damping,
+            j_acc: Real::ZERO,
+        };
+        j.validate()?;
+        Ok(j)
+    }
+
+    /// The parameter checks of [`DampedRotarySpring::new`].
+    pub fn validate(&self) -> Result<(), ConstraintError> {
+        finite(self.rest_angle, "rest_angle")?;
+        non_negative(self.stiffness, "stiffness")?;
+        non_negative(self.damping, "damping")?;
+        Ok(())
+    }
+
+    /// Rest angle of `θ_a − θ_b`.
+    pub fn rest_angle(&self) -> Real {
+        self.rest_angle
+    }
+
+    /// Stiffness (N·m/rad).
+    pub fn stiffness(&self) -> Real {
+        self.stiffness
+    }
+
+    /// Damping (N·m·s/rad).
+    pub fn damping(&self) -> Real {
+        self.damping
+    }
+}
+
+/// The solver row of a rotary spring for one sub-step: with
+/// `E = θ_a − θ_b − rest_angle`, an impulse `j` (−j on a, +j on b) changes
+/// `Ė = ω_a − ω_b` by `−j·(I_a⁻¹ + I_b⁻¹)`; backward Euler asks
+/// `j = dt·(k·E' + c·Ė')` at the end of the step, i.e.
+/// `−Ė + γ·j − β = 0` with `γ`, `β` as for the linear spring.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RotarySpringRow {
+    soft_mass: Real,
+    gamma: Real,
+    beta: Real,
+    pub(crate) j_acc: Real,
+}
+
+impl RotarySpringRow {
+    pub(crate) fn new(j: &DampedRotarySpring, p: &Prep<'_>) -> RotarySpringRow {
+        let denom = j.damping + p.dt * j.stiffness;
+        if !denom.is_positive() {
+            return RotarySpringRow {
+                soft_mass: Real::ZERO,
+                gamma: Real::ZERO,
+                beta: Real::ZERO,
+                j_acc: Real::ZERO,
+            };
+        }
+        let error = p.body_a.a - p.body_b.a - j.rest_angle;
+        let gamma = (p.dt * denom).recip();
+        RotarySpringRow {
+            soft_mass: inv_or_zero(p.sa.i_inv + p.sb.i_inv + gamma),
+            gamma,
+            beta: error.mul_div(j.stiffness, denom),
+            j_acc: Real::ZERO,
+        }
+    }
+
+    /// Applies `acc` (last step's impulse, already scaled) and keeps it.
+    pub(crate) fn warm_start(&mut self, a: &mut SolverBody, b: &mut SolverBody, acc: Real) {
+        self.j_acc = acc;
+        apply_angular(a, b, acc);
+    }
+
+    /// One iteration: `Δj = (Ė + β − γ·j)·soft_mass`, accumulated impulse
+    /// clamped to `±j_max`.
+    pub(crate) fn apply_impulse(&mut self, a: &mut SolverBody, b: &mut SolverBody, j_max: Real) {
+        let e_dot = a.w - b.w;
+        let j = (e_dot + self.beta - self.gamma * self.j_acc) * self.soft_mass;
+        let old = self.j_acc;
+        self.j_acc = (old + j).clamp(-j_max, j_max);
+        apply_angular(a, b, self.j_acc - old);
+    }
+}

@@ -1,0 +1,166 @@
+//! `DampedSpring` (Chipmunk `cpDampedSpring`): a spring with a damper
+//! between two anchors, solved implicitly in the solver iterations.
+//!
+//! # Why implicit, and how
+//! Chipmunk applies the spring force explicitly (once per step, from the
+//! current stretch) and only the damping implicitly. An explicit stiffness
+//! gains energy and diverges once `ω·dt > 2` (`ω = √(k/m)`): a spring of
+//! `k = 10⁵ N/m` on 1 kg explodes at 1/60 s. Here both parts are implicit
+//! (backward Euler, the soft-constraint form of Catto's "Soft Constraints",
+//! GDC 2011), so a spring of any stiffness is stable at any `dt`.
+//!
+//! With stretch `C = |Δ| − rest_length`, stiffness `k` and damping `c`, the
+//! impulse `λ` of the step must satisfy `λ = −dt·(k·(C + dt·v) + c·v)`,
+//! where `v` is the stretch rate after the impulse. Rearranged:
+//! `v + γ·λ + β = 0` with `γ = 1/(dt·(c + dt·k))` and `β = k·C/(c + dt·k)`;
+//! the iterations solve it like a contact row with effective inverse mass
+//! `k_eff + γ`: `Δλ = −(v + β + γ·λ_acc)/(k_eff + γ)`. The price of implicit
+//! integration is numerical damping: an undamped spring's amplitude shrinks
+//! by `1/√(1 + (ω·dt)²)` per step and its period grows by the factor
+//! `ω·dt / atan(ω·dt)` (0.4 % at `ω·dt = 0.1`). `error_bias` and `max_bias`
+//! are not used (the spring is its own error correction, as in Chipmunk);
+//! `max_force` caps the spring force.
+use serde::{Deserialize, Serialize};
+
+use super::solve::{inv_or_zero, Prep};
+use super::{finite_vect, non_negative, ConstraintError};
+use crate::math::{Real, Vect};
+use crate::solver::{apply_impulses, k_scalar_body, normal_relative_velocity, SolverBody};
+
+/// A spring of natural length `rest_length`, stiffness `stiffness` (N/m)
+/// and damping `damping` (N·s/m) between two anchors (body coordinates).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct DampedSpring {
+    pub(crate) anchor_a: Vect,
+    pub(crate) anchor_b: Vect,
+    pub(crate) rest_length: Real,
+    pub(crate) stiffness: Real,
+    pub(crate) damping: Real,
+    /// Accumulated impulse along the spring, positive pushing the anchors
+    /// apart (state: the next step's warm start).
+    pub(crate) j_acc: Real,
+}
+
+impl DampedSpring {
+    /// Chipmunk `cpDampedSpringNew`. `rest_length`, `stiffness` and
+    /// `damping` must be ≥ 0.
+    pub fn new(
+        anchor_a: Vect,
+        anchor_b: Vect,
+        rest_length: Real,
+        stiffness: Real,
+        damping: Real,
+    ) -> Result<DampedSpring, ConstraintError> {
+        let j = DampedSpring {
+            anchor_a,
+            anchor_b,
+            rest_length,
+            stiffness,
+            damping,
+            j_acc: Real::ZERO,
+        };
+        j.validate()?;
+        Ok(j)
+    }
+
+    /// The parameter checks of [`DampedSpring::new`].
+    pub fn validate(&self) -> Result<(), ConstraintError> {
+        finite_vect(self.anchor_a, "anchor_a")?;
+        finite_vect(self.anchor_b, "anchor_b")?;
+        non_negative(self.rest_length, "rest_length")?;
+        non_negative(self.stiffness, "stiffness")?;
+        non_negative(self.damping, "damping")?;
+        Ok(())
+    }
+
+    /// Anchor on body a (body coordinates).
+    pub fn anchor_a(&self) -> Vect {
+        self.anchor_a
+    }
+
+    /// Anchor on body b (body coordinates).
+    pub fn anchor_b(&self) -> Vect {
+        self.anchor_b
+    }
+
+    /// Natural length.
+    pub fn rest_length(&self) -> Real {
+        self.rest_length
+    }
+
+    /// Stiffness (N/m).
+    pub fn stiffness(&self) -> Real {
+        self.stiffness
+    }
+
+    /// Damping (N·s/m).
+    pub fn damping(&self) -> Real {
+        self.damping
+    }
+}
+
+/// The solver row of a spring for one sub-step (see the module docs).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SpringRow {
+    r1: Vect,
+    r2: Vect,
+    n: Vect,
+    /// `1/(k_eff + γ)`.
+    soft_mass: Real,
+    /// `γ = 1/(dt·(c + dt·k))`.
+    gamma: Real,
+    /// `β = k·C/(c + dt·k)`.
+    beta: Real,
+    pub(crate) j_acc: Real,
+}
+
+impl SpringRow {
+    /// `γ`, `β` and the soft effective mass. A spring with `c + dt·k = 0`
+    /// (no stiffness, no damping) applies nothing: its soft mass is 0. `Δ`
+    /// comes from the difference of the bodies' centres (exact: translation
+    /// changes no bit).
+    pub(crate) fn new(j: &DampedSpring, p: &Prep<'_>) -> SpringRow {
+        let (r1, r2) = p.arms(j.anchor_a, j.anchor_b);
+        let (n, dist) = p.delta(r1, r2).normalize_with_length();
+        let denom = j.damping + p.dt * j.stiffness;
+        if !denom.is_positive() {
+            return SpringRow {
+                r1,
+                r2,
+                n,
+                soft_mass: Real::ZERO,
+                gamma: Real::ZERO,
+                beta: Real::ZERO,
+                j_acc: Real::ZERO,
+            };
+        }
+        let gamma = (p.dt * denom).recip();
+        let beta = (dist - j.rest_length).mul_div(j.stiffness, denom);
+        let k = k_scalar_body(p.sa, r1, n) + k_scalar_body(p.sb, r2, n);
+        SpringRow {
+            r1,
+            r2,
+            n,
+            soft_mass: inv_or_zero(k + gamma),
+            gamma,
+            beta,
+            j_acc: Real::ZERO,
+        }
+    }
+
+    /// Applies `acc` (last step's impulse, already scaled) and keeps it.
+    pub(crate) fn warm_start(&mut self, a: &mut SolverBody, b: &mut SolverBody, acc: Real) {
+        self.j_acc = acc;
+        apply_impulses(a, b, self.r1, self.r2, self.n * acc);
+    }
+
+    /// One iteration: `Δλ = −(v + β + γ·λ)·soft_mass`, accumulated impulse
+    /// clamped to `±j_max`.
+    pub(crate) fn apply_impulse(&mut self, a: &mut SolverBody, b: &mut SolverBody, j_max: Real) {
+        let vrn = normal_relative_velocity(a, b, self.r1, self.r2, self.n);
+        let j = -((vrn + self.beta + self.gamma * self.j_acc) * self.soft_mass);
+        let old = self.j_acc;
+        self.j_acc = (old + j).clamp(-j_max, j_max);
+        apply_impulses(a, b, self.r1, self.r2, self.n * (self.j_acc - old));
+    }
+}

@@ -1,0 +1,147 @@
+//! `GrooveJoint` (Chipmunk `cpGrooveJoint`): a pivot on body b that slides
+//! along a groove (a segment) on body a, like a wheel on a suspension rail
+//! or a piston.
+use serde::{Deserialize, Serialize};
+
+use super::pivot::{clamp_len, KInv};
+use super::solve::Prep;
+use super::{finite_vect, ConstraintError};
+use crate::math::{Real, Vect};
+use crate::solver::{apply_impulses, relative_velocity, SolverBody};
+
+/// The groove from `groove_a` to `groove_b` on body a and the pivot
+/// `anchor_b` on body b (body coordinates).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct GrooveJoint {
+    pub(crate) groove_a: Vect,
+    pub(crate) groove_b: Vect,
+    pub(crate) anchor_b: Vect,
+    /// Accumulated impulse (state).
+    pub(crate) j_acc: Vect,
+}
+
+impl GrooveJoint {
+    /// Chipmunk `cpGrooveJointNew`; the groove's ends must differ.
+    pub fn new(
+        groove_a: Vect,
+        groove_b: Vect,
+        anchor_b: Vect,
+    ) -> Result<GrooveJoint, ConstraintError> {
+        let j = GrooveJoint {
+            groove_a,
+            groove_b,
+            anchor_b,
+            j_acc: Vect::ZERO,
+        };
+        j.validate()?;
+        Ok(j)
+    }
+
+    /// The parameter checks of [`GrooveJoint::new`].
+    pub fn validate(&self) -> Result<(), ConstraintError> {
+        finite_vect(self.groove_a, "groove_a")?;
+        finite_vect(self.groove_b, "groove_b")?;
+        finite_vect(self.anchor_b, "anchor_b")?;
+        if self.groove_a == self.groove_b {
+            return Err(ConstraintError::NotPositive("groove length"));
+        }
+        Ok(())
+    }
+
+    /// Start of the groove (body a's coordinates).
+    pub fn groove_a(&self) -> Vect {
+        self.groove_a
+    }
+
+    /// End of the groove (body a's coordinates).
+    pub fn groove_b(&self) -> Vect {
+        self.groove_b
+    }
+
+    /// The pivot on body b (body coordinates).
+    pub fn anchor_b(&self) -> Vect {
+        self.anchor_b
+    }
+}
+
+/// The solver row of a groove joint for one sub-step.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct GrooveRow {
+    r1: Vect,
+    r2: Vect,
+    /// The groove's normal in world orientation.
+    n: Vect,
+    /// 1 at the groove's start, −1 at its end, 0 in between.
+    clamp: i8,
+    k: KInv,
+    bias: Vect,
+    pub(crate) j_acc: Vect,
+}
+
+impl GrooveRow {
+    /// As Chipmunk: the pivot's projection on the groove (clamped to its
+    /// ends) is the point on a; from there it is a pivot joint, except
+    /// that the impulse along the groove is dropped unless the pivot is
+    /// pushed past an end. Everything is computed relative to a's centre
+    /// (Chipmunk uses world coordinates): the same point, and exact under
+    /// translation.
+    pub(crate) fn new(j: &GrooveJoint, p: &Prep<'_>) -> GrooveRow {
+        let (ta, tb) = p.arms(j.groove_a, j.groove_b);
+        let (_, r2) = p.arms(j.groove_a, j.anchor_b);
+        // Chipmunk's groove normal: the left perpendicular of the
+        // direction from groove_a to groove_b.
+        let n = (tb - ta).normalize().perp();
+        let d = ta.dot(n);
+        // The pivot relative to a's centre.
+        let pivot = (p.body_b.p - p.body_a.p) + r2;
+        let td = pivot.cross(n);
+        let (clamp, r1) = if td <= ta.cross(n) {
+            (1, ta)
+        } else if td >= tb.cross(n) {
+            (-1, tb)
+        } else {
+            (0, n.perp() * (-td) + n * d)
+        };
+        let k = KInv::new(p.sa, p.sb, r1, r2);
+        let delta = pivot - r1;
+        let bias = clamp_len(delta * (-(p.bias_coef * p.dt_inv)), p.max_bias);
+        GrooveRow {
+            r1,
+            r2,
+            n,
+            clamp,
+            k,
+            bias,
+            j_acc: Vect::ZERO,
+        }
+    }
+
+    /// Applies `acc` (last step's impulse, already scaled) and keeps it.
+    pub(crate) fn warm_start(&mut self, a: &mut SolverBody, b: &mut SolverBody, acc: Vect) {
+        self.j_acc = acc;
+        apply_impulses(a, b, self.r1, self.r2, acc);
+    }
+
+    /// One iteration: the pivot impulse, constrained to the groove's normal
+    /// unless it pushes against the clamped end, accumulated impulse
+    /// clamped to length `j_max`.
+    pub(crate) fn apply_impulse(&mut self, a: &mut SolverBody, b: &mut SolverBody, j_max: Real) {
+        let j = self
+            .k
+            .apply(self.bias - relative_velocity(a, b, self.r1, self.r2));
+        let old = self.j_acc;
+        let acc = old + j;
+        let against_end = match self.clamp {
+            1 => acc.cross(self.n).is_positive(),
+            -1 => acc.cross(self.n).is_negative(),
+            _ => false,
+        };
+        let acc = if against_end {
+            acc
+        } else {
+            acc.project(self.n)
+        };
+        self.j_acc = clamp_len(acc, j_max);
+        apply_impulses(a, b, self.r1, self.r2, self.j_acc - old);
+    }
+}

@@ -1,0 +1,463 @@
+//! Constraints (joints): Chipmunk's `cpConstraint` and its kinds, in fixed
+//! point. Per-constraint pre-solve and post-solve callbacks (closures, not
+//! state) are set on the space: `Space::set_constraint_pre_solve`,
+//! `Space::set_constraint_post_solve`.
+//!
+//! A [`Constraint`] ties two bodies `a` and `b` of one space. The shared
+//! part (Chipmunk's `cpConstraint`) holds the two bodies, `max_force`,
+//! `error_bias`, `max_bias` and `collide_bodies`; the kind ([`JointKind`],
+//! one file per kind) holds its parameters and its accumulated impulse.
+//! Chipmunk's ten kinds, with its semantics and parameter names:
+//!
+//! | kind | Chipmunk | keeps |
+//! |---|---|---|
+//! | [`PinJoint`] | `cpPinJoint` | the distance `dist` between two anchors |
+//! | [`PivotJoint`] | `cpPivotJoint` | two anchors at one point |
+//! | [`DampedSpring`] | `cpDampedSpring` | a spring of `rest_length`, `stiffness`, `damping` between two anchors |
+//! | [`SimpleMotor`] | `cpSimpleMotor` | the relative angular velocity at `rate` |
+//! | [`GearJoint`] | `cpGearJoint` | the angles in the ratio `ratio`, offset by `phase` |
+//! | [`SlideJoint`] | `cpSlideJoint` | the distance between two anchors within `[min, max]` |
+//! | [`RotaryLimitJoint`] | `cpRotaryLimitJoint` | the relative angle within `[min, max]` |
+//! | [`DampedRotarySpring`] | `cpDampedRotarySpring` | an angular spring of `rest_angle`, `stiffness`, `damping` |
+//! | [`GrooveJoint`] | `cpGrooveJoint` | a pivot on b sliding along a groove on a |
+//! | [`RatchetJoint`] | `cpRatchetJoint` | the relative angle free one way, caught every `ratchet` the other |
+//!
+//! # State and cache
+//! A constraint is world state ([`WorldState::constraints`], an arena like
+//! bodies and shapes): its parameters and its accumulated impulse (the warm
+//! start of the next step, and what [`Constraint::impulse`] reports) are
+//! saved in snapshots, hashed by the checksum, compared by
+//! `first_difference` and checked by `validate_state`
+//! ([`validate_constraints`]). Everything the solver derives from them each
+//! sub-step (anchors in world space, effective masses, bias) lives in the
+//! space's caches ([`solve`]).
+//!
+//! # Solving
+//! Constraints are solved in the same Gauss–Seidel iterations as contacts,
+//! as Chipmunk does: prepared once per sub-step after the contacts'
+//! pre-step (all divisions and the `error_bias` power happen there), warm
+//! started after the contacts with the accumulated impulse scaled by
+//! `min(dt / prev_dt, 1)` (as contacts are), and one impulse pass per
+//! iteration after the contacts' pass, in constraint slot order (canonical:
+//! it depends only on the state). Position error is corrected as in
+//! Chipmunk: a bias *velocity* `−(1 − error_bias^dt)·C/dt`, capped at
+//! `max_bias`, added to the velocity target (not a pseudo-velocity); the
+//! accumulated impulse is clamped to `max_force·dt`.
+//!
+//! The arithmetic is the saturating `Real` arithmetic throughout: the
+//! contacts' unsaturated fast path (`math::Unsaturated` with an overflow
+//! flag) is not yet applied to constraints.
+//!
+//! # Parameters
+//! Constructors and setters check their parameters and return
+//! [`ConstraintError`] (never panic): lengths and forces must not be
+//! negative, a pin joint's distance must be positive, a gear ratio
+//! non-zero, `error_bias` in `[0, 1]`, and no value may be saturated
+//! (`Real::MIN` or `Real::MAX`, the fixed-point stand-ins for infinities)
+//! except `max_force` and `max_bias`, where `Real::MAX` means "unbounded"
+//! (Chipmunk's `INFINITY`, the default). The space checks the bodies:
+//! two different bodies of that space.
+//!
+//! [`WorldState::constraints`]: crate::space::WorldState::constraints
+mod damped_rotary_spring;
+mod damped_spring;
+mod gear;
+mod groove;
+mod pin;
+mod pivot;
+mod ratchet;
+mod rotary_limit;
+mod simple_motor;
+mod slide;
+pub(crate) mod solve;
+
+use core::fmt;
+
+use serde::{Deserialize, Serialize};
+
+pub use damped_rotary_spring::DampedRotarySpring;
+pub use damped_spring::DampedSpring;
+pub use gear::GearJoint;
+pub use groove::GrooveJoint;
+pub use pin::PinJoint;
+pub use pivot::PivotJoint;
+pub use ratchet::RatchetJoint;
+pub use rotary_limit::RotaryLimitJoint;
+pub use simple_motor::SimpleMotor;
+pub use slide::SlideJoint;
+
+use crate::arena::{Arena, Handle};
+use crate::body::{Body, BodyHandle};
+use crate::math::{Real, Vect};
+
+/// Chipmunk's default `error_bias`, `0.9^60` (10 % of the error corrected
+/// per 1/60 s), computed exactly at compile time: the same value as the
+/// space's default collision bias.
+pub const DEFAULT_ERROR_BIAS: Real = {
+    let base = Real::lit("0.9");
+    let mut acc = Real::ONE;
+    let mut i = 0;
+    while i < 60 {
+        acc = acc.mul_const(base);
+        i += 1;
+    }
+    acc
+};
+
+/// Handle of a constraint in a space.
+pub type ConstraintHandle = Handle<Constraint>;
+
+/// A parameter of a constraint is out of its range.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConstraintError {
+    /// The named parameter is negative where only values ≥ 0 mean something.
+    Negative(&'static str),
+    /// The named parameter must be positive (non-zero).
+    NotPositive(&'static str),
+    /// The named parameter must not be zero.
+    Zero(&'static str),
+    /// The named parameter is saturated (`Real::MIN` or `Real::MAX`), the
+    /// fixed-point form of an infinity or an overflow.
+    Saturated(&'static str),
+    /// `error_bias` is outside `[0, 1]`.
+    ErrorBiasRange,
+    /// Both bodies are the same body.
+    SameBody,
+}
+
+impl fmt::Display for ConstraintError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ConstraintError::Negative(p) => write!(f, "constraint parameter {p} is negative"),
+            ConstraintError::NotPositive(p) => {
+                write!(f, "constraint parameter {p} must be positive")
+            }
+            ConstraintError::Zero(p) => write!(f, "constraint parameter {p} must not be zero"),
+            ConstraintError::Saturated(p) => {
+                write!(f, "constraint parameter {p} is saturated (infinite)")
+            }
+            ConstraintError::ErrorBiasRange => f.write_str("error_bias must be in [0, 1]"),
+            ConstraintError::SameBody => f.write_str("a constraint joins two different bodies"),
+        }
+    }
+}
+
+impl std::error::Error for ConstraintError {}
+
+/// `Err(Saturated)` for a saturated value.
+pub(crate) fn finite(v: Real, name: &'static str) -> Result<Real, ConstraintError> {
+    if v.is_saturated() {
+        Err(ConstraintError::Saturated(name))
+    } else {
+        Ok(v)
+    }
+}
+
+/// A finite vector.
+pub(crate) fn finite_vect(v: Vect, name: &'static str) -> Result<Vect, ConstraintError> {
+    finite(v.x, name)?;
+    finite(v.y, name)?;
+    Ok(v)
+}
+
+/// A finite value ≥ 0.
+pub(crate) fn non_negative(v: Real, name: &'static str) -> Result<Real, ConstraintError> {
+    if v.is_negative() {
+        return Err(ConstraintError::Negative(name));
+    }
+    finite(v, name)
+}
+
+/// The kind of a constraint: its parameters and accumulated impulse.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum JointKind {
+    /// [`PinJoint`].
+    Pin(PinJoint),
+    /// [`PivotJoint`].
+    Pivot(PivotJoint),
+    /// [`DampedSpring`].
+    DampedSpring(DampedSpring),
+    /// [`SimpleMotor`].
+    SimpleMotor(SimpleMotor),
+    /// [`GearJoint`].
+    Gear(GearJoint),
+    /// [`SlideJoint`].
+    Slide(SlideJoint),
+    /// [`RotaryLimitJoint`].
+    RotaryLimit(RotaryLimitJoint),
+    /// [`DampedRotarySpring`].
+    DampedRotarySpring(DampedRotarySpring),
+    /// [`GrooveJoint`].
+    Groove(GrooveJoint),
+    /// [`RatchetJoint`].
+    Ratchet(RatchetJoint),
+}
+
+impl From<PinJoint> for JointKind {
+    fn from(j: PinJoint) -> Self {
+        JointKind::Pin(j)
+    }
+}
+impl From<PivotJoint> for JointKind {
+    fn from(j: PivotJoint) -> Self {
+        JointKind::Pivot(j)
+    }
+}
+impl From<DampedSpring> for JointKind {
+    fn from(j: DampedSpring) -> Self {
+        JointKind::DampedSpring(j)
+    }
+}
+impl From<SimpleMotor> for JointKind {
+    fn from(j: SimpleMotor) -> Self {
+        JointKind::SimpleMotor(j)
+    }
+}
+impl From<GearJoint> for JointKind {
+    fn from(j: GearJoint) -> Self {
+        JointKind::Gear(j)
+    }
+}
+impl From<SlideJoint> for JointKind {
+    fn from(j: SlideJoint) -> Self {
+        JointKind::Slide(j)
+    }
+}
+impl From<RotaryLimitJoint> for JointKind {
+    fn from(j: RotaryLimitJoint) -> Self {
+        JointKind::RotaryLimit(j)
+    }
+}
+impl From<DampedRotarySpring> for JointKind {
+    fn from(j: DampedRotarySpring) -> Self {
+        JointKind::DampedRotarySpring(j)
+    }
+}
+impl From<GrooveJoint> for JointKind {
+    fn from(j: GrooveJoint) -> Self {
+        JointKind::Groove(j)
+    }
+}
+impl From<RatchetJoint> for JointKind {
+    fn from(j: RatchetJoint) -> Self {
+        JointKind::Ratchet(j)
+    }
+}
+
+impl JointKind {
+    /// The kind's own parameter checks (the same as its constructor's).
+    pub fn validate(&self) -> Result<(), ConstraintError> {
+        match self {
+            JointKind::Pin(j) => j.validate(),
+            JointKind::Pivot(j) => j.validate(),
+            JointKind::DampedSpring(j) => j.validate(),
+            JointKind::SimpleMotor(j) => j.validate(),
+            JointKind::Gear(j) => j.validate(),
+            JointKind::Slide(j) => j.validate(),
+            JointKind::RotaryLimit(j) => j.validate(),
+            JointKind::DampedRotarySpring(j) => j.validate(),
+            JointKind::Groove(j) => j.validate(),
+            JointKind::Ratchet(j) => j.validate(),
+        }
+    }
+
+    /// The impulse of the last step (see [`Constraint::impulse`]).
+    fn impulse(&self) -> Real {
+        match self {
+            JointKind::Pin(j) => j.jn_acc.abs(),
+            JointKind::Pivot(j) => j.j_acc.length(),
+            JointKind::DampedSpring(j) => j.j_acc,
+            JointKind::SimpleMotor(j) => j.j_acc.abs(),
+            JointKind::Gear(j) => j.j_acc.abs(),
+            JointKind::Slide(j) => j.jn_acc.abs(),
+            JointKind::RotaryLimit(j) => j.j_acc.abs(),
+            JointKind::DampedRotarySpring(j) => j.j_acc,
+            JointKind::Groove(j) => j.j_acc.length(),
+            JointKind::Ratchet(j) => j.j_acc.abs(),
+        }
+    }
+
+    /// The kind's short name, as in scene files.
+    pub fn name(&self) -> &'static str {
+        match self {
+            JointKind::Pin(_) => "pin",
+            JointKind::Pivot(_) => "pivot",
+            JointKind::DampedSpring(_) => "damped_spring",
+            JointKind::SimpleMotor(_) => "simple_motor",
+            JointKind::Gear(_) => "gear",
+            JointKind::Slide(_) => "slide",
+            JointKind::RotaryLimit(_) => "rotary_limit",
+            JointKind::DampedRotarySpring(_) => "damped_rotary_spring",
+            JointKind::Groove(_) => "groove",
+            JointKind::Ratchet(_) => "ratchet",
+        }
+    }
+}
+
+/// A constraint between two bodies (Chipmunk `cpConstraint`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct Constraint {
+    pub(crate) a: BodyHandle,
+    pub(crate) b: BodyHandle,
+    pub(crate) max_force: Real,
+    pub(crate) error_bias: Real,
+    pub(crate) max_bias: Real,
+    pub(crate) collide_bodies: bool,
+    pub(crate) kind: JointKind,
+}
+
+impl Constraint {
+    /// A constraint of `kind` between bodies `a` and `b`, with Chipmunk's
+    /// defaults: unbounded `max_force` and `max_bias`, `error_bias` =
+    /// `0.9^60` (10 % of the error corrected per 1/60 s), `collide_bodies`
+    /// true. Errors if `a == b`; [`Space::add_constraint`](crate::space::Space::add_constraint)
+    /// checks that both bodies are in the space.
+    pub fn new(
+        a: BodyHandle,
+        b: BodyHandle,
+        kind: impl Into<JointKind>,
+    ) -> Result<Constraint, ConstraintError> {
+        if a == b {
+            return Err(ConstraintError::SameBody);
+        }
+        let kind = kind.into();
+        kind.validate()?;
+        Ok(Constraint {
+            a,
+            b,
+            max_force: Real::MAX,
+            error_bias: DEFAULT_ERROR_BIAS,
+            max_bias: Real::MAX,
+            collide_bodies: true,
+            kind,
+        })
+    }
+
+    /// Body a (Chipmunk `cpConstraintGetBodyA`).
+    pub fn body_a(&self) -> BodyHandle {
+        self.a
+    }
+
+    /// Body b.
+    pub fn body_b(&self) -> BodyHandle {
+        self.b
+    }
+
+    /// The kind, with its parameters.
+    pub fn kind(&self) -> &JointKind {
+        &self.kind
+    }
+
+    /// Replaces the kind's parameters after checking them (the accumulated
+    /// impulse comes with `kind`; a kind built by its constructor starts
+    /// from zero).
+    pub fn set_kind(&mut self, kind: impl Into<JointKind>) -> Result<(), ConstraintError> {
+        let kind = kind.into();
+        kind.validate()?;
+        self.kind = kind;
+        Ok(())
+    }
+
+    /// Largest force the constraint applies (Chipmunk `maxForce`;
+    /// `Real::MAX`: unbounded).
+    pub fn max_force(&self) -> Real {
+        self.max_force
+    }
+
+    /// Sets `max_force` (≥ 0; `Real::MAX` for unbounded).
+    pub fn set_max_force(&mut self, max_force: Real) -> Result<(), ConstraintError> {
+        if max_force.is_negative() {
+            return Err(ConstraintError::Negative("max_force"));
+        }
+        self.max_force = max_force;
+        Ok(())
+    }
+
+    /// Fraction of the position error left uncorrected after one second
+    /// (Chipmunk `errorBias`, default `0.9^60`).
+    pub fn error_bias(&self) -> Real {
+        self.error_bias
+    }
+
+    /// Sets `error_bias` (in `[0, 1]`; 1 corrects nothing).
+    pub fn set_error_bias(&mut self, error_bias: Real) -> Result<(), ConstraintError> {
+        if error_bias.is_negative() || error_bias > Real::ONE {
+            return Err(ConstraintError::ErrorBiasRange);
+        }
+        self.error_bias = error_bias;
+        Ok(())
+    }
+
+    /// Largest speed of the error correction (Chipmunk `maxBias`;
+    /// `Real::MAX`: unbounded).
+    pub fn max_bias(&self) -> Real {
+        self.max_bias
+    }
+
+    /// Sets `max_bias` (≥ 0; `Real::MAX` for unbounded).
+    pub fn set_max_bias(&mut self, max_bias: Real) -> Result<(), ConstraintError> {
+        if max_bias.is_negative() {
+            return Err(ConstraintError::Negative("max_bias"));
+        }
+        self.max_bias = max_bias;
+        Ok(())
+    }
+
+    /// Whether the shapes of the two bodies collide with each other
+    /// (Chipmunk `collideBodies`, default true).
+    pub fn collide_bodies(&self) -> bool {
+        self.collide_bodies
+    }
+
+    /// Sets `collide_bodies`.
+    pub fn set_collide_bodies(&mut self, collide: bool) {
+        self.collide_bodies = collide;
+    }
+
+    /// The impulse the constraint applied in the last sub-step (Chipmunk
+    /// `cpConstraintGetImpulse`): the magnitude of the accumulated impulse,
+    /// signed for the springs as in Chipmunk ([`DampedSpring`]: negative
+    /// pulls the anchors together; [`DampedRotarySpring`]: positive turns
+    /// b forward). Divide by the step's `dt` for the force; a game breaks a
+    /// joint when it exceeds a threshold.
+    pub fn impulse(&self) -> Real {
+        self.kind.impulse()
+    }
+
+    /// The shared parameters' checks (see [`validate_constraints`]).
+    pub fn validate(&self) -> Result<(), ConstraintError> {
+        if self.a == self.b {
+            return Err(ConstraintError::SameBody);
+        }
+        if self.max_force.is_negative() {
+            return Err(ConstraintError::Negative("max_force"));
+        }
+        if self.max_bias.is_negative() {
+            return Err(ConstraintError::Negative("max_bias"));
+        }
+        if self.error_bias.is_negative() || self.error_bias > Real::ONE {
+            return Err(ConstraintError::ErrorBiasRange);
+        }
+        self.kind.validate()
+    }
+}
+
+/// The constraint invariants of `validate_state`: each constraint's
+/// parameters ([`Constraint::validate`]) and two different live bodies.
+pub fn validate_constraints(
+    constraints: &Arena<Constraint>,
+    bodies: &Arena<Body>,
+) -> Result<(), String> {
+    constraints
+        .validate()
+        .map_err(|e| format!("constraints: {e}"))?;
+    for (h, c) in constraints.iter() {
+        c.validate().map_err(|e| format!("constraint {h:?}: {e}"))?;
+        for body in [c.a, c.b] {
+            if !bodies.contains(body) {
+                return Err(format!("constraint {h:?} names missing body {body:?}"));
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,341 @@
+//! The constraints' part of the solver stages (the caches of a space, not
+//! state): one row per constraint per sub-step, built after the contacts'
+//! pre-step, warm started after the contacts, and iterated after the
+//! contacts in each solver iteration, in constraint slot order. Also the
+//! pair filter of `collide_bodies = false`.
+use super::damped_rotary_spring::RotarySpringRow;
+use super::damped_spring::SpringRow;
+use super::gear::GearRow;
+use super::groove::GrooveRow;
+use super::pin::PinRow;
+use super::pivot::PivotRow;
+use super::rotary_limit::AngularLimitRow;
+use super::simple_motor::MotorRow;
+use super::slide::SlideRow;
+use super::{Constraint, JointKind};
+use crate::arena::Arena;
+use crate::body::{Body, BodyHandle};
+use crate::math::{exp, Real, Vect};
+use crate::solver::SolverBody;
+
+/// `1/k`, or 0 when `k ≤ 0` (neither body can move along the direction:
+/// no impulse).
+pub(crate) fn inv_or_zero(k: Real) -> Real {
+    if k.is_positive() {
+        k.recip()
+    } else {
+        Real::ZERO
+    }
+}
+
+/// What a kind's pre-step reads: both bodies (state and solver copy) and
+/// the sub-step's constants.
+pub(crate) struct Prep<'a> {
+    pub(crate) body_a: &'a Body,
+    pub(crate) body_b: &'a Body,
+    pub(crate) sa: &'a SolverBody,
+    pub(crate) sb: &'a SolverBody,
+    pub(crate) dt: Real,
+    pub(crate) dt_inv: Real,
+    /// `1 − error_bias^dt`.
+    pub(crate) bias_coef: Real,
+    pub(crate) max_bias: Real,
+}
+
+impl Prep<'_> {
+    /// The anchors relative to the centres of gravity, in world orientation
+    /// (Chipmunk's `r1`, `r2`).
+    pub(crate) fn arms(&self, anchor_a: Vect, anchor_b: Vect) -> (Vect, Vect) {
+        (
+            self.body_a.rot.apply(anchor_a - self.body_a.cog),
+            self.body_b.rot.apply(anchor_b - self.body_b.cog),
+        )
+    }
+
+    /// World anchor b minus world anchor a, from the difference of the
+    /// centres (exact in fixed point, so independent of where the pair is).
+    pub(crate) fn delta(&self, r1: Vect, r2: Vect) -> Vect {
+        (self.body_b.p - self.body_a.p) + (r2 - r1)
+    }
+
+    /// Chipmunk's bias velocity for a position error `error`:
+    /// `−bias_coef·error/dt`, clamped to `±max_bias`.
+    pub(crate) fn bias(&self, error: Real) -> Real {
+        (-(self.bias_coef * error) * self.dt_inv).clamp(-self.max_bias, self.max_bias)
+    }
+}
+
+/// A kind's solver row.
+#[derive(Clone, Copy, Debug)]
+enum RowKind {
+    Pin(PinRow),
+    Pivot(PivotRow),
+    Spring(SpringRow),
+    Motor(MotorRow),
+    Gear(GearRow),
+    Slide(SlideRow),
+    RotaryLimit(AngularLimitRow),
+    RotarySpring(RotarySpringRow),
+    Groove(GrooveRow),
+    /// The row and the tooth angle the pre-step moved the ratchet to.
+    Ratchet(AngularLimitRow, Real),
+}
+
+/// One constraint's row for this sub-step.
+#[derive(Clone, Copy, Debug)]
+struct Row {
+    /// Constraint slot (where the accumulated impulse goes back).
+    slot: u32,
+    /// Solver-body slots of a and b (different: validated).
+    a: u32,
+    b: u32,
+    /// `max_force·dt`.
+    j_max: Real,
+    /// Last step's accumulated impulse, for the warm start.
+    cached: Cached,
+    kind: RowKind,
+}
+
+/// An accumulated impulse as stored in the state.
+#[derive(Clone, Copy, Debug)]
+enum Cached {
+    Scalar(Real),
+    Vector(Vect),
+}
+
+/// The constraints' solver caches of a space.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ConstraintScratch {
+    rows: Vec<Row>,
+    /// Body slot pairs `(low, high)` of constraints with `collide_bodies`
+    /// false, sorted (rebuilt every sub-step from the state).
+    no_collide: Vec<(u32, u32)>,
+    /// The last `(error_bias, dt) → 1 − error_bias^dt`: constraints mostly
+    /// share the default error bias, and `pow` is the pre-step's costliest
+    /// operation.
+    bias_memo: Option<(Real, Real, Real)>,
+}
+
+impl ConstraintScratch {
+    /// Stage 4's filter list: the body pairs whose shapes must not collide.
+    pub(crate) fn update_filter(&mut self, constraints: &Arena<Constraint>) {
+        self.no_collide.clear();
+        self.no_collide
+            .extend(
+                constraints
+                    .iter()
+                    .filter(|(_, c)| !c.collide_bodies)
+                    .map(|(_, c)| {
+                        let (i, j) = (c.a.index(), c.b.index());
+                        (i.min(j), i.max(j))
+                    }),
+            );
+        self.no_collide.sort_unstable();
+    }
+
+    /// True if a constraint with `collide_bodies = false` joins `a` and `b`.
+    pub(crate) fn rejects(&self, a: BodyHandle, b: BodyHandle) -> bool {
+        if self.no_collide.is_empty() {
+            return false;
+        }
+        let (i, j) = (a.index(), b.index());
+        self.no_collide.binary_search(&(i.min(j), i.max(j))).is_ok()
+    }
+
+    /// The pre-step: one row per constraint, in slot order. Constraints
+    /// whose bodies are missing (never, in a valid state) are skipped.
+    pub(crate) fn pre_step(
+        &mut self,
+        constraints: &Arena<Constraint>,
+        bodies: &Arena<Body>,
+        solver_bodies: &[SolverBody],
+        dt: Real,
+        dt_inv: Real,
+    ) {
+        self.rows.clear();
+        for (h, c) in constraints.iter() {
+            let (Some(body_a), Some(body_b)) = (bodies.get(c.a), bodies.get(c.b)) else {
+                continue;
+            };
+            let (ia, ib) = (c.a.index(), c.b.index());
+            let (Some(sa), Some(sb)) = (
+                solver_bodies.get(ia as usize),
+                solver_bodies.get(ib as usize),
+            ) else {
+                continue;
+            };
+            if ia == ib {
+                continue;
+            }
+            let bias_coef = self.bias_coef(c.error_bias, dt);
+            let p = Prep {
+                body_a,
+                body_b,
+                sa,
+                sb,
+                dt,
+                dt_inv,
+                bias_coef,
+                max_bias: c.max_bias,
+            };
+            let (kind, cached) = match &c.kind {
+                JointKind::Pin(j) => (RowKind::Pin(PinRow::new(j, &p)), Cached::Scalar(j.jn_acc)),
+                JointKind::Pivot(j) => (
+                    RowKind::Pivot(PivotRow::new(j, &p)),
+                    Cached::Vector(j.j_acc),
+                ),
+                JointKind::DampedSpring(j) => (
+                    RowKind::Spring(SpringRow::new(j, &p)),
+                    Cached::Scalar(j.j_acc),
+                ),
+                JointKind::SimpleMotor(j) => (
+                    RowKind::Motor(MotorRow::new(j, &p)),
+                    Cached::Scalar(j.j_acc),
+                ),
+                JointKind::Gear(j) => (RowKind::Gear(GearRow::new(j, &p)), Cached::Scalar(j.j_acc)),
+                JointKind::Slide(j) => (
+                    RowKind::Slide(SlideRow::new(j, &p)),
+                    Cached::Scalar(j.jn_acc),
+                ),
+                JointKind::RotaryLimit(j) => (
+                    RowKind::RotaryLimit(AngularLimitRow::new(j.error(&p), &p)),
+                    Cached::Scalar(j.j_acc),
+                ),
+                JointKind::DampedRotarySpring(j) => (
+                    RowKind::RotarySpring(RotarySpringRow::new(j, &p)),
+                    Cached::Scalar(j.j_acc),
+                ),
+                JointKind::Groove(j) => (
+                    RowKind::Groove(GrooveRow::new(j, &p)),
+                    Cached::Vector(j.j_acc),
+                ),
+                JointKind::Ratchet(j) => {
+                    let (row, tooth) = j.row(&p);
+                    (RowKind::Ratchet(row, tooth), Cached::Scalar(j.j_acc))
+                }
+            };
+            self.rows.push(Row {
+                slot: h.index(),
+                a: ia,
+                b: ib,
+                j_max: c.max_force * dt,
+                cached,
+                kind,
+            });
+        }
+    }
+
+    /// `1 − error_bias^dt`, remembered for the last pair of arguments.
+    fn bias_coef(&mut self, error_bias: Real, dt: Real) -> Real {
+        if let Some((e, d, coef)) = self.bias_memo {
+            if e == error_bias && d == dt {
+                return coef;
+            }
+        }
+        let coef = Real::ONE - exp::pow(error_bias, dt);
+        self.bias_memo = Some((error_bias, dt, coef));
+        coef
+    }
+
+    /// Warm start: each row re-applies last step's accumulated impulse
+    /// scaled by `dt_coef = min(dt / prev_dt, 1)` (as the contacts do, see
+    /// the space's stage 9), which becomes the accumulator the iterations
+    /// start from. Without this call (warm starting off) they start from 0.
+    pub(crate) fn warm_start(&mut self, solver_bodies: &mut [SolverBody], dt_coef: Real) {
+        for row in &mut self.rows {
+            let cached = row.cached;
+            with_bodies(solver_bodies, row.a, row.b, |a, b| {
+                match (&mut row.kind, cached) {
+                    (RowKind::Pin(r), Cached::Scalar(j)) => r.warm_start(a, b, j * dt_coef),
+                    (RowKind::Pivot(r), Cached::Vector(j)) => r.warm_start(a, b, j * dt_coef),
+                    (RowKind::Spring(r), Cached::Scalar(j)) => r.warm_start(a, b, j * dt_coef),
+                    (RowKind::Motor(r), Cached::Scalar(j)) => r.warm_start(a, b, j * dt_coef),
+                    (RowKind::Gear(r), Cached::Scalar(j)) => r.warm_start(a, b, j * dt_coef),
+                    (RowKind::Slide(r), Cached::Scalar(j)) => r.warm_start(a, b, j * dt_coef),
+                    (RowKind::RotaryLimit(r) | RowKind::Ratchet(r, _), Cached::Scalar(j)) => {
+                        r.warm_start(a, b, j * dt_coef)
+                    }
+                    (RowKind::RotarySpring(r), Cached::Scalar(j)) => {
+                        r.warm_start(a, b, j * dt_coef)
+                    }
+                    (RowKind::Groove(r), Cached::Vector(j)) => r.warm_start(a, b, j * dt_coef),
+                    // A row and its cache come from the same kind.
+                    (_, _) => {}
+                }
+            });
+        }
+    }
+
+    /// One solver iteration over the rows, in slot order.
+    pub(crate) fn iterate(&mut self, solver_bodies: &mut [SolverBody]) {
+        for row in &mut self.rows {
+            let j_max = row.j_max;
+            with_bodies(solver_bodies, row.a, row.b, |a, b| match &mut row.kind {
+                RowKind::Pin(r) => r.apply_impulse(a, b, j_max),
+                RowKind::Pivot(r) => r.apply_impulse(a, b, j_max),
+                RowKind::Spring(r) => r.apply_impulse(a, b, j_max),
+                RowKind::Motor(r) => r.apply_impulse(a, b, j_max),
+                RowKind::Gear(r) => r.apply_impulse(a, b, j_max),
+                RowKind::Slide(r) => r.apply_impulse(a, b, j_max),
+                RowKind::RotaryLimit(r) | RowKind::Ratchet(r, _) => r.apply_impulse(a, b, j_max),
+                RowKind::RotarySpring(r) => r.apply_impulse(a, b, j_max),
+                RowKind::Groove(r) => r.apply_impulse(a, b, j_max),
+            });
+        }
+    }
+
+    /// True if there is nothing to solve (the stages are then skipped).
+    pub(crate) fn is_empty(&self) -> bool {
+        self.rows.is_empty()
+    }
+
+    /// Stage 11: the accumulated impulses back into the constraints.
+    pub(crate) fn store(&self, constraints: &mut Arena<Constraint>) {
+        for row in &self.rows {
+            let Some((h, _)) = constraints.get_by_index(row.slot) else {
+                continue;
+            };
+            let Some(c) = constraints.get_mut(h) else {
+                continue;
+            };
+            match (&mut c.kind, &row.kind) {
+                (JointKind::Pin(j), RowKind::Pin(r)) => j.jn_acc = r.jn_acc,
+                (JointKind::Pivot(j), RowKind::Pivot(r)) => j.j_acc = r.j_acc,
+                (JointKind::DampedSpring(j), RowKind::Spring(r)) => j.j_acc = r.j_acc,
+                (JointKind::SimpleMotor(j), RowKind::Motor(r)) => j.j_acc = r.j_acc,
+                (JointKind::Gear(j), RowKind::Gear(r)) => j.j_acc = r.j_acc,
+                (JointKind::Slide(j), RowKind::Slide(r)) => j.jn_acc = r.jn_acc,
+                (JointKind::RotaryLimit(j), RowKind::RotaryLimit(r)) => j.j_acc = r.j_acc,
+                (JointKind::DampedRotarySpring(j), RowKind::RotarySpring(r)) => j.j_acc = r.j_acc,
+                (JointKind::Groove(j), RowKind::Groove(r)) => j.j_acc = r.j_acc,
+                (JointKind::Ratchet(j), RowKind::Ratchet(r, tooth)) => {
+                    j.j_acc = r.j_acc;
+                    j.angle = *tooth;
+                }
+                // A row is built from its constraint's kind.
+                (_, _) => {}
+            }
+        }
+    }
+}
+
+/// Runs `f` on copies of solver bodies `a` and `b` (two different slots)
+/// and writes them back.
+fn with_bodies(
+    bodies: &mut [SolverBody],
+    a: u32,
+    b: u32,
+    f: impl FnOnce(&mut SolverBody, &mut SolverBody),
+) {
+    let (Some(&ba), Some(&bb)) = (bodies.get(a as usize), bodies.get(b as usize)) else {
+        return;
+    };
+    let (mut ba, mut bb) = (ba, bb);
+    f(&mut ba, &mut bb);
+    if let Some(x) = bodies.get_mut(a as usize) {
+        *x = ba;
+    }
+    if let Some(x) = bodies.get_mut(b as usize) {
+        *x = bb;
+    }
+}
