@@ -30,7 +30,7 @@
 //! `first_difference` and checked by `validate_state`
 //! ([`validate_constraints`]). Everything the solver derives from them each
 //! sub-step (anchors in world space, effective masses, bias) lives in the
-//! space's caches ([`solve`]).
+//! space's caches (module `solve`).
 //!
 //! # Solving
 //! Constraints are solved in the same Gauss–Seidel iterations as contacts,
