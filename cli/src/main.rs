@@ -300,7 +300,7 @@ fn command_of(usage: &str) -> &str {
 
 /// The first line of a clap error without its `error: ` prefix; a line
 /// ending in `:` takes the indented lines that follow it ("the following
-/// required arguments were not provided: --output <FILE>").
+/// required arguments were not provided: --output `<FILE>`").
 fn first_paragraph(text: &str) -> String {
     let mut lines = text.lines().skip_while(|l| l.trim().is_empty());
     let first = lines.next().unwrap_or("error: bad command line");

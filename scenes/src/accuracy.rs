@@ -17,7 +17,7 @@
 //! same holds for angles under a constant torque (`α = τ/I`). Accuracy tests
 //! compare with this form within a few ulp per step of rounding, and with
 //! the continuous form within `½·|a|·dt·t`. Every body that a test looks at
-//! has a label ([`Scene::body`](super::Scene::body)).
+//! has a label ([`ScriptedWorld::body`](crate::ScriptedWorld::body)).
 //!
 //! Bodies without a collision partner still get a shape (a circle or box of
 //! the stated size) so the scene can be drawn and fed to other engines; their

@@ -3,7 +3,7 @@
 //! another engine with exactly the same numbers.
 //!
 //! Every `Real` is a decimal string in the serialized form (see
-//! [`dec`](super::dec)); optional fields have defaults, so a hand-written
+//! module `dec`); optional fields have defaults, so a hand-written
 //! file only needs what differs from them. Unknown fields are rejected
 //! (typos must not silently become defaults).
 //!
@@ -226,7 +226,7 @@ pub enum MassDesc {
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BodyDesc {
-    /// A name to find the body's handle with ([`Scene::body`](super::Scene::body)); unique.
+    /// A name to find the body's handle with ([`ScriptedWorld::body`](crate::ScriptedWorld::body)); unique.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub label: Option<String>,
     /// Dynamic, kinematic or static.
@@ -416,7 +416,7 @@ pub struct SpawnDesc {
 }
 
 /// Counts `begin` callbacks of shape pairs with these collision types (the
-/// pair is still accepted). Read with [`Scene::begin_count`](super::Scene::begin_count).
+/// pair is still accepted). Read with [`ScriptedWorld::begin_count`](crate::ScriptedWorld::begin_count).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CounterDesc {

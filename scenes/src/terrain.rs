@@ -159,7 +159,7 @@ pub const NO_COLLIDE_TYPE: u32 = 2;
 /// and columns and never touch each other.
 ///
 /// Decisions: the description carries a `begin` counter on the type pair
-/// (2, 2) ([`Scene::begin_count`](super::Scene::begin_count)); it counts and
+/// (2, 2) ([`ScriptedWorld::begin_count`](crate::ScriptedWorld::begin_count)); it counts and
 /// accepts (Chipmunk's benchmark aborts instead), and must stay 0. Friction
 /// is 0 everywhere (Chipmunk's default). 29 bodies, 857 shapes.
 pub fn no_collide() -> SceneDesc {

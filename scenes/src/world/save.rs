@@ -51,7 +51,7 @@ pub const HEADER_LEN: usize = framing::HEADER_LEN;
 pub enum LoadError {
     /// Shorter than the header and snapshot length.
     TooShort,
-    /// The first bytes are not [`MAGIC`] (a bare engine snapshot starts
+    /// The first bytes are not scripted-world magic `TAMIASSW` (a bare engine snapshot starts
     /// with its own magic: load it with `tamias2d::snapshot`).
     BadMagic,
     /// A format version this build does not read.
