@@ -1384,3 +1384,65 @@ fn constraint_callbacks_survive_rollback_and_not_handle_reuse() {
         Err(SpaceError::StaleConstraint(Handle::from_raw_parts(9, 0)))
     );
 }
+
+/// A registry scene, built.
+fn builtin_scene(name: &str) -> tamias2d_scenes::ScriptedWorld {
+    tamias2d_scenes::builtin(name)
+        .unwrap_or_else(|| panic!("{name} is registered"))
+        .build()
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// Whether any touching arbiter of the last step involves `body`.
+fn touches(w: &Space, body: BodyHandle) -> bool {
+    w.arbiters().iter().any(|a| {
+        let (p, q) = a.bodies();
+        a.count() > 0 && (p == body || q == body)
+    })
+}
+
+#[test]
+fn windmill_turns_at_its_motor_rate_once_unloaded() {
+    // The rotor is pivoted at its centre of gravity, so neither gravity nor
+    // the pivot exerts a torque on it: in a step without contacts the motor
+    // row alone acts on its spin, and one iteration sets ω_rotor − ω_post =
+    // −rate = −1.5 rad/s exactly, up to the rounding of that one update
+    // (2⁻³² per operation, a few 10⁻¹⁰ rad/s). Bound: 10⁻⁶ rad/s. While a
+    // box presses on a blade the motor (max 500 N·m) must push it away: the
+    // rotor is loaded then and may lag.
+    let mut scene = builtin_scene("windmill");
+    let rotor = scene.body("rotor").unwrap_or_else(|| panic!("rotor"));
+    let mut loaded_steps = 0;
+    let mut last_loaded = 0;
+    let mut worst_unloaded = 0.0f64;
+    let mut angle_at = Vec::new();
+    for n in 1..=600u32 {
+        ok(scene.step());
+        let w = &scene.space;
+        let b = w.body(rotor).unwrap_or_else(|| panic!("rotor"));
+        angle_at.push(f(b.angle()));
+        if touches(w, rotor) {
+            loaded_steps += 1;
+            last_loaded = n;
+        } else {
+            worst_unloaded = worst_unloaded.max((f(b.angular_velocity()) + 1.5).abs());
+        }
+    }
+    println!(
+        "windmill: {loaded_steps} loaded steps, last {last_loaded}, \
+         worst unloaded |ω + 1.5| = {worst_unloaded:e}"
+    );
+    // The boxes did hit the blades, and were all batted off well before
+    // the end (the last 4 s run unloaded).
+    assert!(loaded_steps >= 10, "{loaded_steps} loaded steps");
+    assert!(last_loaded <= 360, "still loaded at step {last_loaded}");
+    assert!(
+        worst_unloaded < 1e-6,
+        "unloaded |ω − rate| {worst_unloaded}"
+    );
+    // Over the last 4 s (240 steps) the rotor turns −1.5·4 = −6 rad: the
+    // angle integrates the exact rate, so the error is 240 rounded
+    // position updates, far under 10⁻⁶ rad.
+    let turned = angle_at[599] - angle_at[359];
+    assert!((turned + 6.0).abs() < 1e-6, "turned {turned} rad in 4 s");
+}

@@ -1,5 +1,5 @@
 //! Joints in scene descriptions ([`ConstraintDesc`]) and the joint scenes
-//! of the registry (`pendulum`, `chain_100`).
+//! of the registry (section D: `pendulum`, `chain_100`, `windmill`, …).
 //!
 //! A constraint is one flat JSON object: its `type` (`pin`, `slide`,
 //! `pivot`, `groove`, `damped_spring`, `damped_rotary_spring`,
@@ -22,7 +22,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::dec;
-use super::desc::{BodyDesc, BodyKind, MassDesc, SceneDesc, SettingsDesc, ShapeDesc};
+use super::desc::{BodyDesc, BodyKind, MassDesc, SceneDesc, SettingsDesc, ShapeDesc, SpawnDesc};
 use tamias2d::body::BodyHandle;
 use tamias2d::constraint::{
     Constraint, DampedRotarySpring, DampedSpring, GearJoint, GrooveJoint, JointKind, PinJoint,
@@ -433,6 +433,75 @@ pub fn chain(n: u32) -> SceneDesc {
     }
     if let Some(end) = desc.bodies.last_mut() {
         end.label = Some("end".into());
+    }
+    desc
+}
+
+/// A box of `side` (density 1, friction 0.6) at `(x, y)`, dropped.
+fn crate_box(x: Real, y: Real, side: Real) -> BodyDesc {
+    BodyDesc::new(BodyKind::Dynamic, Vect::new(x, y)).with_shape(
+        ShapeDesc::box_shape(side, side, Real::ZERO)
+            .material(real!(0.6), Real::ZERO)
+            .density(Real::ONE),
+    )
+}
+
+/// `windmill`: a simple motor drives a four-bladed rotor pivoted on a
+/// static post, and boxes dropped on it are batted away. The post (static,
+/// labelled `post`, with a 0.4 × 6 m box under the pivot and a 30 m ground
+/// segment at y = −6) holds the rotor (labelled `rotor`: two crossed
+/// 4 × 0.2 m boxes, density 1, friction 0.6, centred on the pivot at the
+/// origin) by a pivot joint; a [`SimpleMotor`] of rate 1.5 (Chipmunk's
+/// sign: the rotor turns at −1.5 rad/s, clockwise) and `max_force` 500
+/// drives it. Neither joint lets the post and the rotor collide. Ten
+/// 0.5 m boxes (density 1, friction 0.6) are dropped from y = 4, two at
+/// x = ±1.2 every 30 steps from step 0 to step 120; they land on the
+/// ground, below the blades' reach. g = 10, 10 iterations, 600 steps.
+pub fn windmill() -> SceneDesc {
+    let mut desc = scene("windmill", 600);
+    let post = BodyDesc::static_body()
+        .with_shape(
+            ShapeDesc::box_at(real!(0.4), real!(6), Real::ZERO, Vect::from_ints(0, -3))
+                .material(real!(0.6), Real::ZERO),
+        )
+        .with_shape(
+            ShapeDesc::segment(
+                Vect::from_ints(-15, -6),
+                Vect::from_ints(15, -6),
+                real!(0.1),
+            )
+            .material(real!(0.8), Real::ZERO),
+        )
+        .labeled("post");
+    desc.bodies.push(post);
+    let blade = |w: Real, h: Real| {
+        ShapeDesc::box_shape(w, h, Real::ZERO)
+            .material(real!(0.6), Real::ZERO)
+            .density(Real::ONE)
+    };
+    let rotor = BodyDesc::new(BodyKind::Dynamic, Vect::ZERO)
+        .with_shape(blade(real!(4), real!(0.2)))
+        .with_shape(blade(real!(0.2), real!(4)))
+        .labeled("rotor");
+    desc.bodies.push(rotor);
+    let mut pivot = ConstraintDesc::new(JointType::Pivot, 0, 1);
+    pivot.pivot = Some(Vect::ZERO);
+    pivot.collide_bodies = Some(false);
+    desc.constraints.push(pivot);
+    let mut motor = ConstraintDesc::new(JointType::SimpleMotor, 0, 1);
+    motor.rate = Some(real!(1.5));
+    motor.max_force = Some(Real::from_int(500));
+    motor.collide_bodies = Some(false);
+    desc.constraints.push(motor);
+    for k in 0..5u32 {
+        let bodies = [real!(-1.2), real!(1.2)]
+            .into_iter()
+            .map(|x| crate_box(x, Real::from_int(4), Real::HALF))
+            .collect();
+        desc.spawns.push(SpawnDesc {
+            at_step: k.saturating_mul(30),
+            bodies,
+        });
     }
     desc
 }

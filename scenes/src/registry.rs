@@ -28,7 +28,8 @@ pub enum Section {
     /// C: accuracy against closed-form answers (free fall, projectiles,
     /// elastic collisions, inclines).
     Accuracy,
-    /// D: joints (constraints): a pendulum, a hanging chain.
+    /// D: joints (constraints): a pendulum, a hanging chain, machines
+    /// (windmill, gears, springs, a ratchet, a bridge, ragdolls, a car).
     Joints,
 }
 
@@ -237,6 +238,9 @@ pub const REGISTRY: &[SceneInfo] = &[
     scene!("chain_100", Joints, "100 links on pivot joints falling from horizontal, 100:1 end mass, 4 sub-steps",
         bodies 101, steps 600, None, golden(300, 0xb2045621d0f71de5), None,
         || Some(joints::chain(100))),
+    scene!("windmill", Joints, "a simple motor turns a 4-bladed rotor on a static post; 10 boxes dropped on it",
+        bodies 12, steps 600, None, golden(600, 0xb6031c970ef7c5d7), None,
+        || Some(joints::windmill())),
 ];
 
 /// The registry entry called `name`.
