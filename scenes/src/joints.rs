@@ -505,3 +505,62 @@ pub fn windmill() -> SceneDesc {
     }
     desc
 }
+
+/// A pivot joint from body `a` to body `b` at the world point `at`.
+fn pivot_at(a: u32, b: u32, at: Vect) -> ConstraintDesc {
+    let mut c = ConstraintDesc::new(JointType::Pivot, a, b);
+    c.pivot = Some(at);
+    c.collide_bodies = Some(false);
+    c
+}
+
+/// `gear_train`: four wheels on pivot joints to a static frame, each meshed
+/// with the next by a [`GearJoint`], the first driven by a
+/// [`SimpleMotor`]. The wheels (labelled `wheel_1` … `wheel_4`, circles of
+/// radius 1, 0.5, 1 and 0.25, density 1, friction 0.6) sit on y = 0 at
+/// x = 0, 1.55, 3.1 and 4.4, 0.05 m apart rim to rim (they never touch);
+/// the last carries an off-centre weight (a circle of radius 0.1 at
+/// (0.15, 0), density 20), so the train lifts a load that changes with its
+/// angle. Gear `i` joins wheel `i` (a) to wheel `i + 1` (b) with phase 0
+/// and ratio `−r_b / r_a` (−0.5, −2, −0.25: meshed wheels turn opposite
+/// ways, `ω_a = ratio·ω_b`); the motor (rate 1, `max_force` 100) turns
+/// wheel 1 at −1 rad/s, so the wheels turn at −1, 2, −1 and 4 rad/s.
+/// g = 10, 10 iterations, 600 steps.
+pub fn gear_train() -> SceneDesc {
+    let mut desc = scene("gear_train", 600);
+    desc.bodies.push(BodyDesc::static_body().labeled("frame"));
+    let wheels = [
+        (Real::ONE, Real::ZERO, real!(-0.5)),
+        (Real::HALF, real!(1.55), real!(-2)),
+        (Real::ONE, real!(3.1), real!(-0.25)),
+        (real!(0.25), real!(4.4), Real::ZERO),
+    ];
+    for (i, &(radius, x, ratio)) in (1u32..).zip(wheels.iter()) {
+        let mut wheel = BodyDesc::new(BodyKind::Dynamic, Vect::new(x, Real::ZERO)).with_shape(
+            ShapeDesc::circle(radius)
+                .material(real!(0.6), Real::ZERO)
+                .density(Real::ONE),
+        );
+        if i == 4 {
+            wheel = wheel.with_shape(
+                ShapeDesc::circle_at(real!(0.1), Vect::new(real!(0.15), Real::ZERO))
+                    .material(real!(0.6), Real::ZERO)
+                    .density(Real::from_int(20)),
+            );
+        }
+        desc.bodies.push(wheel.labeled(&format!("wheel_{i}")));
+        desc.constraints
+            .push(pivot_at(0, i, Vect::new(x, Real::ZERO)));
+        if i < 4 {
+            let mut gear = ConstraintDesc::new(JointType::Gear, i, i.saturating_add(1));
+            gear.phase = Some(Real::ZERO);
+            gear.ratio = Some(ratio);
+            desc.constraints.push(gear);
+        }
+    }
+    let mut motor = ConstraintDesc::new(JointType::SimpleMotor, 0, 1);
+    motor.rate = Some(Real::ONE);
+    motor.max_force = Some(Real::from_int(100));
+    desc.constraints.push(motor);
+    desc
+}

@@ -241,6 +241,9 @@ pub const REGISTRY: &[SceneInfo] = &[
     scene!("windmill", Joints, "a simple motor turns a 4-bladed rotor on a static post; 10 boxes dropped on it",
         bodies 12, steps 600, None, golden(600, 0xb6031c970ef7c5d7), None,
         || Some(joints::windmill())),
+    scene!("gear_train", Joints, "4 wheels meshed by gear joints (ratios -0.5, -2, -0.25), the first driven by a simple motor",
+        bodies 5, steps 600, None, golden(600, 0xc0d83e3fa0c390b3), None,
+        || Some(joints::gear_train())),
 ];
 
 /// The registry entry called `name`.
