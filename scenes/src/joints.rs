@@ -564,3 +564,51 @@ pub fn gear_train() -> SceneDesc {
     desc.constraints.push(motor);
     desc
 }
+
+/// `spring_mass`: a [`DampedSpring`] and a [`DampedRotarySpring`]. A 1 kg
+/// mass (labelled `mass`, moment 0.02, a circle of radius 0.2) hangs from
+/// a static ceiling (labelled `ceiling`, a segment from (−1, 0) to (1, 0))
+/// on a spring from the ceiling's origin to the mass's centre: rest length
+/// 1, stiffness 100, damping 2. Released at rest at (0, −1.5), 0.4 m below
+/// its equilibrium y = −(1 + m·g/k) = −1.1, it rings at
+/// √(k/m − (c/2m)²) = √99 rad/s and decays at c/2m = 1 /s. Beside it a
+/// wheel (labelled `wheel`, mass 1, moment 0.5, a circle of radius 1 at
+/// (3, −1)) on a pivot joint to the ceiling body, held by a rotary spring
+/// (rest angle 0, stiffness 2, damping 0.1), starts at rest turned 1 rad:
+/// it rings at √(k/I − (c/2I)²) = √3.99 rad/s and decays at c/2I = 0.1 /s.
+/// g = 10, 10 iterations, 600 steps.
+pub fn spring_mass() -> SceneDesc {
+    let mut desc = scene("spring_mass", 600);
+    desc.bodies.push(
+        BodyDesc::static_body()
+            .with_shape(ShapeDesc::segment(
+                Vect::from_ints(-1, 0),
+                Vect::from_ints(1, 0),
+                real!(0.05),
+            ))
+            .labeled("ceiling"),
+    );
+    desc.bodies.push(
+        BodyDesc::dynamic(Vect::new(Real::ZERO, real!(-1.5)), Real::ONE, real!(0.02))
+            .with_shape(ShapeDesc::circle(real!(0.2)))
+            .labeled("mass"),
+    );
+    let mut wheel = BodyDesc::dynamic(Vect::from_ints(3, -1), Real::ONE, Real::HALF)
+        .with_shape(ShapeDesc::circle(Real::ONE))
+        .labeled("wheel");
+    wheel.angle = Real::ONE;
+    desc.bodies.push(wheel);
+    let mut spring = ConstraintDesc::new(JointType::DampedSpring, 0, 1);
+    spring.rest_length = Some(Real::ONE);
+    spring.stiffness = Some(Real::from_int(100));
+    spring.damping = Some(Real::TWO);
+    desc.constraints.push(spring);
+    desc.constraints
+        .push(pivot_at(0, 2, Vect::from_ints(3, -1)));
+    let mut rotary = ConstraintDesc::new(JointType::DampedRotarySpring, 0, 2);
+    rotary.rest_angle = Some(Real::ZERO);
+    rotary.stiffness = Some(Real::TWO);
+    rotary.damping = Some(real!(0.1));
+    desc.constraints.push(rotary);
+    desc
+}

@@ -244,6 +244,9 @@ pub const REGISTRY: &[SceneInfo] = &[
     scene!("gear_train", Joints, "4 wheels meshed by gear joints (ratios -0.5, -2, -0.25), the first driven by a simple motor",
         bodies 5, steps 600, None, golden(600, 0xc0d83e3fa0c390b3), None,
         || Some(joints::gear_train())),
+    scene!("spring_mass", Joints, "a 1 kg mass on a damped spring and a wheel on a damped rotary spring, ringing down",
+        bodies 3, steps 600, None, golden(600, 0x881ec997721a7058), None,
+        || Some(joints::spring_mass())),
 ];
 
 /// The registry entry called `name`.
