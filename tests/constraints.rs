@@ -1614,3 +1614,54 @@ fn spring_mass_rings_down_at_the_backward_euler_rates_and_rests_at_the_closed_fo
         "mass {final_offset} m from equilibrium"
     );
 }
+
+#[test]
+fn ratchet_turns_the_wheel_one_way_and_the_pawl_holds_it() {
+    // The crank turns 3 rad/s · 10 s = 4.8 times, so the rocker reverses
+    // about 9.5 times; on each forward stroke (about 0.6 rad) the drive
+    // ratchet pushes the wheel and its 0.31 kg weight round, on each back
+    // stroke it slips and the pawl holds the weight. The wheel never turns
+    // back by more than one tooth (0.1 rad: the pawl catches on the last
+    // tooth passed) plus the step in which it crosses that tooth: the
+    // weight's torque, at most 0.314·10·0.4 = 1.26 N·m on the wheel's
+    // 0.15 kg·m² (disc 0.098, weight 0.05), accelerates it at 8.4 rad/s²,
+    // to at most √(2·8.4·0.1) = 1.3 rad/s over the 0.1 rad it may fall:
+    // 0.022 rad in a step. Bound 0.125 rad (measured 0.097).
+    let mut scene = builtin_scene("ratchet");
+    let rocker = scene.body("rocker").unwrap_or_else(|| panic!("rocker"));
+    let (mut high, mut worst_back) = (0.0f64, 0.0f64);
+    let mut reversals = 0;
+    let mut last_w = 0.0f64;
+    let mut held = 0;
+    for _ in 0..600 {
+        ok(scene.step());
+        let th = angle_of(&scene, "wheel");
+        high = high.max(th);
+        worst_back = worst_back.max(high - th);
+        let w = f(scene
+            .space
+            .body(rocker)
+            .map_or(Real::ZERO, Body::angular_velocity));
+        if w * last_w < 0.0 {
+            reversals += 1;
+        }
+        last_w = w;
+        // The pawl (the last constraint: frame → wheel) pushing back.
+        let pawl = scene
+            .space
+            .constraints()
+            .last()
+            .map_or(Real::ZERO, |(_, c)| c.impulse());
+        if pawl != Real::ZERO {
+            held += 1;
+        }
+    }
+    let th = angle_of(&scene, "wheel");
+    println!("ratchet: wheel at {th} rad, worst backslide {worst_back} rad, {reversals} rocker reversals, pawl held {held} steps");
+    assert!(reversals >= 9, "the rocker reversed {reversals} times");
+    assert!(held >= 60, "the pawl held the weight in {held} steps only");
+    assert!(worst_back < 0.125, "the wheel turned back {worst_back} rad");
+    // Net: it went round (about 0.5 rad per stroke until the weight goes
+    // over the top, then freely forward): at least 5 rad.
+    assert!(th > 5.0, "the wheel turned {th} rad");
+}

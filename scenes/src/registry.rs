@@ -247,6 +247,9 @@ pub const REGISTRY: &[SceneInfo] = &[
     scene!("spring_mass", Joints, "a 1 kg mass on a damped spring and a wheel on a damped rotary spring, ringing down",
         bodies 3, steps 600, None, golden(600, 0x881ec997721a7058), None,
         || Some(joints::spring_mass())),
+    scene!("ratchet", Joints, "a motor-driven crank rocks a lever that ratchets a weighted wheel round; a pawl ratchet holds it",
+        bodies 4, steps 600, None, golden(600, 0xe2d77549d8856cc8), None,
+        || Some(joints::ratchet())),
 ];
 
 /// The registry entry called `name`.
