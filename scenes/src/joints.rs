@@ -682,3 +682,91 @@ pub fn ratchet() -> SceneDesc {
     }
     desc
 }
+
+/// `rope_bridge`: twelve planks (0.9 × 0.2 m boxes, density 1, friction
+/// 0.8) joined end to end by [`PivotJoint`]s 1 m apart, laid straight from
+/// x = −6 to x = 6 at y = 0 between two static cliffs (one static body,
+/// labelled `cliffs`: 4 × 4 m boxes centred at (±9, −2), their inner top
+/// corners at (±7, 0), and a ground segment at y = −12). The end planks
+/// hang from the cliff corners by [`SlideJoint`] ropes (min 0, max 1.5 m:
+/// 0.5 m of slack each), so the bridge drops into a sag and swings. Six
+/// 0.5 m boxes (density 2, friction 0.8) are dropped on it from y = 3 at
+/// x = −2, 0 and 2, three at step 120 and three at step 180. Neighbouring
+/// planks do not collide. The planks are labelled `plank_0` … `plank_11`,
+/// the boxes `box_0` … `box_5`. g = 10, 2 sub-steps of 10 iterations (the
+/// jerk of the ropes going taut opens the joints by 8.5 cm in one 1/60 s
+/// step, 3.6 cm in two sub-steps), 600 steps.
+pub fn rope_bridge() -> SceneDesc {
+    let mut desc = scene("rope_bridge", 600);
+    desc.settings.substeps = 2;
+    let cliff = |x: i32| {
+        ShapeDesc::box_at(real!(4), real!(4), Real::ZERO, Vect::from_ints(x, -2))
+            .material(real!(0.8), Real::ZERO)
+    };
+    desc.bodies.push(
+        BodyDesc::static_body()
+            .with_shape(cliff(-9))
+            .with_shape(cliff(9))
+            .with_shape(
+                ShapeDesc::segment(
+                    Vect::from_ints(-20, -12),
+                    Vect::from_ints(20, -12),
+                    real!(0.1),
+                )
+                .material(real!(0.8), Real::ZERO),
+            )
+            .labeled("cliffs"),
+    );
+    let planks = 12u32;
+    let half = Vect::new(Real::HALF, Real::ZERO);
+    for i in 0..planks {
+        let x = Real::from_int(i32::try_from(i).unwrap_or(0)) - Real::from_int(6) + Real::HALF;
+        let plank = BodyDesc::new(BodyKind::Dynamic, Vect::new(x, Real::ZERO))
+            .with_shape(
+                ShapeDesc::box_shape(real!(0.9), real!(0.2), Real::ZERO)
+                    .material(real!(0.8), Real::ZERO)
+                    .density(Real::ONE),
+            )
+            .labeled(&format!("plank_{i}"));
+        desc.bodies.push(plank);
+        if i > 0 {
+            let mut c = ConstraintDesc::new(JointType::Pivot, i, i.saturating_add(1));
+            c.anchor_a = Some(half);
+            c.anchor_b = Some(-half);
+            c.collide_bodies = Some(false);
+            desc.constraints.push(c);
+        }
+    }
+    for (plank, corner, end) in [(1, -7, -half), (planks, 7, half)] {
+        let mut rope = ConstraintDesc::new(JointType::Slide, 0, plank);
+        rope.anchor_a = Some(Vect::from_ints(corner, 0));
+        rope.anchor_b = Some(end);
+        rope.min = Some(Real::ZERO);
+        rope.max = Some(real!(1.5));
+        desc.constraints.push(rope);
+    }
+    for (k, at) in [(0u32, 120u32), (1, 180)] {
+        let bodies = [-2, 0, 2]
+            .into_iter()
+            .enumerate()
+            .map(|(j, x)| {
+                BodyDesc::new(BodyKind::Dynamic, Vect::from_ints(x, 3))
+                    .with_shape(
+                        ShapeDesc::box_shape(Real::HALF, Real::HALF, Real::ZERO)
+                            .material(real!(0.8), Real::ZERO)
+                            .density(Real::TWO),
+                    )
+                    .labeled(&format!(
+                        "box_{}",
+                        k.saturating_mul(3)
+                            .saturating_add(u32::try_from(j).unwrap_or(0))
+                    ))
+            })
+            .collect();
+        desc.spawns.push(SpawnDesc {
+            at_step: at,
+            bodies,
+        });
+    }
+    desc
+}

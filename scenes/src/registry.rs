@@ -250,6 +250,9 @@ pub const REGISTRY: &[SceneInfo] = &[
     scene!("ratchet", Joints, "a motor-driven crank rocks a lever that ratchets a weighted wheel round; a pawl ratchet holds it",
         bodies 4, steps 600, None, golden(600, 0xe2d77549d8856cc8), None,
         || Some(joints::ratchet())),
+    scene!("rope_bridge", Joints, "12 planks on pivot joints hung from two cliffs by slide-joint ropes; 6 boxes dropped on it",
+        bodies 19, steps 600, None, golden(600, 0x8a3453de0c6b784b), None,
+        || Some(joints::rope_bridge())),
 ];
 
 /// The registry entry called `name`.
