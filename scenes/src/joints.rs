@@ -770,3 +770,119 @@ pub fn rope_bridge() -> SceneDesc {
     }
     desc
 }
+
+/// One ragdoll part: a dynamic body at `at` (world) with `shape`.
+fn part(at: Vect, shape: ShapeDesc) -> BodyDesc {
+    BodyDesc::new(BodyKind::Dynamic, at)
+        .with_shape(shape.material(real!(0.6), Real::ZERO).density(Real::ONE))
+}
+
+/// `ragdolls_{n}`: `n` ragdolls of six bodies falling onto a flight of
+/// stairs, each limb held to the torso by a [`PivotJoint`] and a
+/// [`RotaryLimitJoint`]. A ragdoll (density 1, friction 0.6, upright, its
+/// torso's centre at the origin of its own frame): a 0.4 × 0.6 m torso; a
+/// head (circle of radius 0.15) centred at (0, 0.45), neck pivot at
+/// (0, 0.3), limit −0.4 to 0.4 rad; two arms (0.12 × 0.6 m boxes) centred
+/// at (±0.28, 0), shoulder pivots at (±0.28, 0.25), limits −1.5 to 1.5;
+/// two legs (0.14 × 0.7 m boxes) centred at (±0.11, −0.65), hip pivots at
+/// (±0.11, −0.3), limits −1 to 1 (each limit on the limb's angle minus
+/// the torso's). A limb does not collide with its torso. The ragdolls
+/// stand in rows of 5, 3 m apart from x = 0.75 and 2.5 m apart from
+/// y = 3, and fall onto the stairs: one static body of ten 1.5 m wide
+/// steps, step `k` a box from x = 1.5k to 1.5k + 1.5 whose top is at
+/// y = −0.5k, down to y = −6, a wall segment at x = 0 from y = 0 to 12
+/// and a ground segment at y = −6 from x = 15 to 40. g = 10, 2 sub-steps
+/// of 10 iterations (one 1/60 s step lets the landings push the neck
+/// 0.58 rad past its limit, two sub-steps 0.31), 600 steps.
+pub fn ragdolls(n: u32) -> SceneDesc {
+    let mut desc = scene(&format!("ragdolls_{n}"), 600);
+    desc.settings.substeps = 2;
+    let mut stairs = BodyDesc::static_body().labeled("stairs");
+    for k in 0..10i32 {
+        let top = -(Real::from_int(k) * Real::HALF);
+        let height = top + Real::from_int(6);
+        let centre = Vect::new(
+            real!(1.5) * Real::from_int(k) + real!(0.75),
+            (top - Real::from_int(6)) * Real::HALF,
+        );
+        stairs = stairs.with_shape(
+            ShapeDesc::box_at(real!(1.5), height, Real::ZERO, centre)
+                .material(real!(0.8), Real::ZERO),
+        );
+    }
+    for (a, b) in [((0, 0), (0, 12)), ((15, -6), (40, -6))] {
+        stairs = stairs.with_shape(
+            ShapeDesc::segment(
+                Vect::from_ints(a.0, a.1),
+                Vect::from_ints(b.0, b.1),
+                real!(0.1),
+            )
+            .material(real!(0.8), Real::ZERO),
+        );
+    }
+    desc.bodies.push(stairs);
+    for r in 0..n {
+        let (col, row) = (r.checked_rem(5).unwrap_or(0), r.checked_div(5).unwrap_or(0));
+        let origin = Vect::new(
+            real!(0.75) + Real::from_int(3) * Real::from_int(i32::try_from(col).unwrap_or(0)),
+            Real::from_int(3) + real!(2.5) * Real::from_int(i32::try_from(row).unwrap_or(0)),
+        );
+        let torso = u32::try_from(desc.bodies.len()).unwrap_or(0);
+        desc.bodies.push(
+            part(
+                origin,
+                ShapeDesc::box_shape(real!(0.4), real!(0.6), Real::ZERO),
+            )
+            .labeled(&format!("torso_{r}")),
+        );
+        // (centre, pivot, shape, min, max), relative to the torso.
+        let limbs = [
+            (
+                Vect::new(Real::ZERO, real!(0.45)),
+                Vect::new(Real::ZERO, real!(0.3)),
+                ShapeDesc::circle(real!(0.15)),
+                real!(-0.4),
+                real!(0.4),
+            ),
+            (
+                Vect::new(real!(-0.28), Real::ZERO),
+                Vect::new(real!(-0.28), real!(0.25)),
+                ShapeDesc::box_shape(real!(0.12), real!(0.6), Real::ZERO),
+                real!(-1.5),
+                real!(1.5),
+            ),
+            (
+                Vect::new(real!(0.28), Real::ZERO),
+                Vect::new(real!(0.28), real!(0.25)),
+                ShapeDesc::box_shape(real!(0.12), real!(0.6), Real::ZERO),
+                real!(-1.5),
+                real!(1.5),
+            ),
+            (
+                Vect::new(real!(-0.11), real!(-0.65)),
+                Vect::new(real!(-0.11), real!(-0.3)),
+                ShapeDesc::box_shape(real!(0.14), real!(0.7), Real::ZERO),
+                -Real::ONE,
+                Real::ONE,
+            ),
+            (
+                Vect::new(real!(0.11), real!(-0.65)),
+                Vect::new(real!(0.11), real!(-0.3)),
+                ShapeDesc::box_shape(real!(0.14), real!(0.7), Real::ZERO),
+                -Real::ONE,
+                Real::ONE,
+            ),
+        ];
+        for (centre, pivot, shape, min, max) in limbs {
+            let limb = u32::try_from(desc.bodies.len()).unwrap_or(0);
+            desc.bodies.push(part(origin + centre, shape));
+            desc.constraints.push(pivot_at(torso, limb, origin + pivot));
+            let mut limit = ConstraintDesc::new(JointType::RotaryLimit, torso, limb);
+            limit.min = Some(min);
+            limit.max = Some(max);
+            limit.collide_bodies = Some(false);
+            desc.constraints.push(limit);
+        }
+    }
+    desc
+}

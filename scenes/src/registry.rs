@@ -253,6 +253,9 @@ pub const REGISTRY: &[SceneInfo] = &[
     scene!("rope_bridge", Joints, "12 planks on pivot joints hung from two cliffs by slide-joint ropes; 6 boxes dropped on it",
         bodies 19, steps 600, None, golden(600, 0x8a3453de0c6b784b), None,
         || Some(joints::rope_bridge())),
+    scene!("ragdolls_20", Joints, "20 six-part ragdolls (pivot + rotary limit joints) falling onto stairs",
+        bodies 121, steps 600, None, golden(300, 0xcaa21a67c7d1fa25), None,
+        || Some(joints::ragdolls(20))),
 ];
 
 /// The registry entry called `name`.
