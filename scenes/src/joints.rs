@@ -886,3 +886,82 @@ pub fn ragdolls(n: u32) -> SceneDesc {
     }
     desc
 }
+
+/// `car`: a chassis on two wheels, each held by a [`GrooveJoint`] (a
+/// vertical slot on the chassis) and a [`DampedSpring`] (the suspension)
+/// and driven by a [`SimpleMotor`], over bumpy terrain. The chassis
+/// (labelled `chassis`, a 3 × 0.5 m box, density 1, friction 0.6) starts
+/// at (0, 1.4); the wheels (labelled `wheel_rear` and `wheel_front`,
+/// circles of radius 0.4, density 1, friction 1) at (∓1, 0.6). Each
+/// groove runs on the chassis from (∓1, −0.3) to (∓1, −1.1) with the
+/// wheel's centre as its anchor; each spring (rest length 0.9, stiffness
+/// 50, damping 3) joins (∓1, 0) on the chassis to the wheel's centre;
+/// each motor (rate 6, `max_force` 20) turns its wheel at −6 rad/s
+/// relative to the chassis (clockwise: forward, to the right, at about
+/// 2.4 m/s). The chassis and its wheels do not collide. The terrain
+/// (static, labelled `terrain`, friction 1) is a chain of segments through
+/// x = −5, −3, …, 55 with heights repeating 0, 0.2, 0, 0.1, 0.3, 0. g = 10,
+/// 10 iterations, 600 steps.
+pub fn car() -> SceneDesc {
+    let mut desc = scene("car", 600);
+    let heights = [
+        Real::ZERO,
+        real!(0.2),
+        Real::ZERO,
+        real!(0.1),
+        real!(0.3),
+        Real::ZERO,
+    ];
+    let points: Vec<Vect> = (0..=30i32)
+        .zip(heights.iter().cycle())
+        .map(|(k, &h)| Vect::new(Real::TWO * Real::from_int(k) - Real::from_int(5), h))
+        .collect();
+    let mut terrain = BodyDesc::static_body().labeled("terrain");
+    for pair in points.windows(2) {
+        if let [a, b] = *pair {
+            terrain = terrain
+                .with_shape(ShapeDesc::segment(a, b, real!(0.05)).material(Real::ONE, Real::ZERO));
+        }
+    }
+    desc.bodies.push(terrain);
+    desc.bodies.push(
+        BodyDesc::new(BodyKind::Dynamic, Vect::new(Real::ZERO, real!(1.4)))
+            .with_shape(
+                ShapeDesc::box_shape(real!(3), Real::HALF, Real::ZERO)
+                    .material(real!(0.6), Real::ZERO)
+                    .density(Real::ONE),
+            )
+            .labeled("chassis"),
+    );
+    for (x, label) in [(-1, "wheel_rear"), (1, "wheel_front")] {
+        let wheel = u32::try_from(desc.bodies.len()).unwrap_or(0);
+        desc.bodies.push(
+            BodyDesc::new(BodyKind::Dynamic, Vect::new(Real::from_int(x), real!(0.6)))
+                .with_shape(
+                    ShapeDesc::circle(real!(0.4))
+                        .material(Real::ONE, Real::ZERO)
+                        .density(Real::ONE),
+                )
+                .labeled(label),
+        );
+        let x = Real::from_int(x);
+        let mut groove = ConstraintDesc::new(JointType::Groove, 1, wheel);
+        groove.groove_a = Some(Vect::new(x, real!(-0.3)));
+        groove.groove_b = Some(Vect::new(x, real!(-1.1)));
+        groove.collide_bodies = Some(false);
+        desc.constraints.push(groove);
+        let mut spring = ConstraintDesc::new(JointType::DampedSpring, 1, wheel);
+        spring.anchor_a = Some(Vect::new(x, Real::ZERO));
+        spring.rest_length = Some(real!(0.9));
+        spring.stiffness = Some(Real::from_int(50));
+        spring.damping = Some(Real::from_int(3));
+        spring.collide_bodies = Some(false);
+        desc.constraints.push(spring);
+        let mut motor = ConstraintDesc::new(JointType::SimpleMotor, 1, wheel);
+        motor.rate = Some(Real::from_int(6));
+        motor.max_force = Some(Real::from_int(20));
+        motor.collide_bodies = Some(false);
+        desc.constraints.push(motor);
+    }
+    desc
+}

@@ -256,6 +256,9 @@ pub const REGISTRY: &[SceneInfo] = &[
     scene!("ragdolls_20", Joints, "20 six-part ragdolls (pivot + rotary limit joints) falling onto stairs",
         bodies 121, steps 600, None, golden(300, 0xcaa21a67c7d1fa25), None,
         || Some(joints::ragdolls(20))),
+    scene!("car", Joints, "a chassis on groove joints and damped springs, wheels driven by simple motors over bumps",
+        bodies 4, steps 600, None, golden(600, 0x6651aeede53b1a16), None,
+        || Some(joints::car())),
 ];
 
 /// The registry entry called `name`.

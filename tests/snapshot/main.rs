@@ -142,7 +142,7 @@ fn round_trip(name: &str, steps: u32, forks: &[u32]) {
 }
 
 /// The section D (joints) scenes at the end of [`ROUND_TRIPS`].
-const JOINT_SCENES: usize = 8;
+const JOINT_SCENES: usize = 9;
 
 /// Smallest size of every scene family, with steps and fork points sized
 /// for debug builds (step + save of the big ones cost tens of ms there).
@@ -174,6 +174,7 @@ const ROUND_TRIPS: &[(&str, u32, &[u32])] = &[
     ("ratchet", 120, &[0, 1, 40, 100]),
     ("rope_bridge", 200, &[0, 119, 120, 150]),
     ("ragdolls_20", 60, &[0, 25, 50]),
+    ("car", 120, &[0, 1, 40, 100]),
 ];
 
 #[test]
