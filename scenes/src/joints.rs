@@ -1,5 +1,5 @@
 //! Joints in scene descriptions ([`ConstraintDesc`]) and the joint scenes
-//! of the registry (`pendulum`, `chain_100`).
+//! of the registry (section D: `pendulum`, `chain_100`, `windmill`, …).
 //!
 //! A constraint is one flat JSON object: its `type` (`pin`, `slide`,
 //! `pivot`, `groove`, `damped_spring`, `damped_rotary_spring`,
@@ -22,7 +22,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::dec;
-use super::desc::{BodyDesc, BodyKind, MassDesc, SceneDesc, SettingsDesc, ShapeDesc};
+use super::desc::{BodyDesc, BodyKind, MassDesc, SceneDesc, SettingsDesc, ShapeDesc, SpawnDesc};
 use tamias2d::body::BodyHandle;
 use tamias2d::constraint::{
     Constraint, DampedRotarySpring, DampedSpring, GearJoint, GrooveJoint, JointKind, PinJoint,
@@ -433,6 +433,535 @@ pub fn chain(n: u32) -> SceneDesc {
     }
     if let Some(end) = desc.bodies.last_mut() {
         end.label = Some("end".into());
+    }
+    desc
+}
+
+/// A box of `side` (density 1, friction 0.6) at `(x, y)`, dropped.
+fn crate_box(x: Real, y: Real, side: Real) -> BodyDesc {
+    BodyDesc::new(BodyKind::Dynamic, Vect::new(x, y)).with_shape(
+        ShapeDesc::box_shape(side, side, Real::ZERO)
+            .material(real!(0.6), Real::ZERO)
+            .density(Real::ONE),
+    )
+}
+
+/// `windmill`: a simple motor drives a four-bladed rotor pivoted on a
+/// static post, and boxes dropped on it are batted away. The post (static,
+/// labelled `post`, with a 0.4 × 6 m box under the pivot and a 30 m ground
+/// segment at y = −6) holds the rotor (labelled `rotor`: two crossed
+/// 4 × 0.2 m boxes, density 1, friction 0.6, centred on the pivot at the
+/// origin) by a pivot joint; a [`SimpleMotor`] of rate 1.5 (Chipmunk's
+/// sign: the rotor turns at −1.5 rad/s, clockwise) and `max_force` 500
+/// drives it. Neither joint lets the post and the rotor collide. Ten
+/// 0.5 m boxes (density 1, friction 0.6) are dropped from y = 4, two at
+/// x = ±1.2 every 30 steps from step 0 to step 120; they land on the
+/// ground, below the blades' reach. g = 10, 10 iterations, 600 steps.
+pub fn windmill() -> SceneDesc {
+    let mut desc = scene("windmill", 600);
+    let post = BodyDesc::static_body()
+        .with_shape(
+            ShapeDesc::box_at(real!(0.4), real!(6), Real::ZERO, Vect::from_ints(0, -3))
+                .material(real!(0.6), Real::ZERO),
+        )
+        .with_shape(
+            ShapeDesc::segment(
+                Vect::from_ints(-15, -6),
+                Vect::from_ints(15, -6),
+                real!(0.1),
+            )
+            .material(real!(0.8), Real::ZERO),
+        )
+        .labeled("post");
+    desc.bodies.push(post);
+    let blade = |w: Real, h: Real| {
+        ShapeDesc::box_shape(w, h, Real::ZERO)
+            .material(real!(0.6), Real::ZERO)
+            .density(Real::ONE)
+    };
+    let rotor = BodyDesc::new(BodyKind::Dynamic, Vect::ZERO)
+        .with_shape(blade(real!(4), real!(0.2)))
+        .with_shape(blade(real!(0.2), real!(4)))
+        .labeled("rotor");
+    desc.bodies.push(rotor);
+    let mut pivot = ConstraintDesc::new(JointType::Pivot, 0, 1);
+    pivot.pivot = Some(Vect::ZERO);
+    pivot.collide_bodies = Some(false);
+    desc.constraints.push(pivot);
+    let mut motor = ConstraintDesc::new(JointType::SimpleMotor, 0, 1);
+    motor.rate = Some(real!(1.5));
+    motor.max_force = Some(Real::from_int(500));
+    motor.collide_bodies = Some(false);
+    desc.constraints.push(motor);
+    for k in 0..5u32 {
+        let bodies = [real!(-1.2), real!(1.2)]
+            .into_iter()
+            .map(|x| crate_box(x, Real::from_int(4), Real::HALF))
+            .collect();
+        desc.spawns.push(SpawnDesc {
+            at_step: k.saturating_mul(30),
+            bodies,
+        });
+    }
+    desc
+}
+
+/// A pivot joint from body `a` to body `b` at the world point `at`.
+fn pivot_at(a: u32, b: u32, at: Vect) -> ConstraintDesc {
+    let mut c = ConstraintDesc::new(JointType::Pivot, a, b);
+    c.pivot = Some(at);
+    c.collide_bodies = Some(false);
+    c
+}
+
+/// `gear_train`: four wheels on pivot joints to a static frame, each meshed
+/// with the next by a [`GearJoint`], the first driven by a
+/// [`SimpleMotor`]. The wheels (labelled `wheel_1` … `wheel_4`, circles of
+/// radius 1, 0.5, 1 and 0.25, density 1, friction 0.6) sit on y = 0 at
+/// x = 0, 1.55, 3.1 and 4.4, 0.05 m apart rim to rim (they never touch);
+/// the last carries an off-centre weight (a circle of radius 0.1 at
+/// (0.15, 0), density 20), so the train lifts a load that changes with its
+/// angle. Gear `i` joins wheel `i` (a) to wheel `i + 1` (b) with phase 0
+/// and ratio `−r_b / r_a` (−0.5, −2, −0.25: meshed wheels turn opposite
+/// ways, `ω_a = ratio·ω_b`); the motor (rate 1, `max_force` 100) turns
+/// wheel 1 at −1 rad/s, so the wheels turn at −1, 2, −1 and 4 rad/s.
+/// g = 10, 10 iterations, 600 steps.
+pub fn gear_train() -> SceneDesc {
+    let mut desc = scene("gear_train", 600);
+    desc.bodies.push(BodyDesc::static_body().labeled("frame"));
+    let wheels = [
+        (Real::ONE, Real::ZERO, real!(-0.5)),
+        (Real::HALF, real!(1.55), real!(-2)),
+        (Real::ONE, real!(3.1), real!(-0.25)),
+        (real!(0.25), real!(4.4), Real::ZERO),
+    ];
+    for (i, &(radius, x, ratio)) in (1u32..).zip(wheels.iter()) {
+        let mut wheel = BodyDesc::new(BodyKind::Dynamic, Vect::new(x, Real::ZERO)).with_shape(
+            ShapeDesc::circle(radius)
+                .material(real!(0.6), Real::ZERO)
+                .density(Real::ONE),
+        );
+        if i == 4 {
+            wheel = wheel.with_shape(
+                ShapeDesc::circle_at(real!(0.1), Vect::new(real!(0.15), Real::ZERO))
+                    .material(real!(0.6), Real::ZERO)
+                    .density(Real::from_int(20)),
+            );
+        }
+        desc.bodies.push(wheel.labeled(&format!("wheel_{i}")));
+        desc.constraints
+            .push(pivot_at(0, i, Vect::new(x, Real::ZERO)));
+        if i < 4 {
+            let mut gear = ConstraintDesc::new(JointType::Gear, i, i.saturating_add(1));
+            gear.phase = Some(Real::ZERO);
+            gear.ratio = Some(ratio);
+            desc.constraints.push(gear);
+        }
+    }
+    let mut motor = ConstraintDesc::new(JointType::SimpleMotor, 0, 1);
+    motor.rate = Some(Real::ONE);
+    motor.max_force = Some(Real::from_int(100));
+    desc.constraints.push(motor);
+    desc
+}
+
+/// `spring_mass`: a [`DampedSpring`] and a [`DampedRotarySpring`]. A 1 kg
+/// mass (labelled `mass`, moment 0.02, a circle of radius 0.2) hangs from
+/// a static ceiling (labelled `ceiling`, a segment from (−1, 0) to (1, 0))
+/// on a spring from the ceiling's origin to the mass's centre: rest length
+/// 1, stiffness 100, damping 2. Released at rest at (0, −1.5), 0.4 m below
+/// its equilibrium y = −(1 + m·g/k) = −1.1, it rings at
+/// √(k/m − (c/2m)²) = √99 rad/s and decays at c/2m = 1 /s. Beside it a
+/// wheel (labelled `wheel`, mass 1, moment 0.5, a circle of radius 1 at
+/// (3, −1)) on a pivot joint to the ceiling body, held by a rotary spring
+/// (rest angle 0, stiffness 2, damping 0.1), starts at rest turned 1 rad:
+/// it rings at √(k/I − (c/2I)²) = √3.99 rad/s and decays at c/2I = 0.1 /s.
+/// g = 10, 10 iterations, 600 steps.
+pub fn spring_mass() -> SceneDesc {
+    let mut desc = scene("spring_mass", 600);
+    desc.bodies.push(
+        BodyDesc::static_body()
+            .with_shape(ShapeDesc::segment(
+                Vect::from_ints(-1, 0),
+                Vect::from_ints(1, 0),
+                real!(0.05),
+            ))
+            .labeled("ceiling"),
+    );
+    desc.bodies.push(
+        BodyDesc::dynamic(Vect::new(Real::ZERO, real!(-1.5)), Real::ONE, real!(0.02))
+            .with_shape(ShapeDesc::circle(real!(0.2)))
+            .labeled("mass"),
+    );
+    let mut wheel = BodyDesc::dynamic(Vect::from_ints(3, -1), Real::ONE, Real::HALF)
+        .with_shape(ShapeDesc::circle(Real::ONE))
+        .labeled("wheel");
+    wheel.angle = Real::ONE;
+    desc.bodies.push(wheel);
+    let mut spring = ConstraintDesc::new(JointType::DampedSpring, 0, 1);
+    spring.rest_length = Some(Real::ONE);
+    spring.stiffness = Some(Real::from_int(100));
+    spring.damping = Some(Real::TWO);
+    desc.constraints.push(spring);
+    desc.constraints
+        .push(pivot_at(0, 2, Vect::from_ints(3, -1)));
+    let mut rotary = ConstraintDesc::new(JointType::DampedRotarySpring, 0, 2);
+    rotary.rest_angle = Some(Real::ZERO);
+    rotary.stiffness = Some(Real::TWO);
+    rotary.damping = Some(real!(0.1));
+    desc.constraints.push(rotary);
+    desc
+}
+
+/// `ratchet`: a [`RatchetJoint`] turns a weighted wheel one way only,
+/// driven by a [`SimpleMotor`] through a linkage whose drive reverses.
+/// On a static frame (labelled `frame`): a crank (labelled `crank`, a
+/// circle of radius 0.3, density 1) on a pivot joint at the origin, turned
+/// by a simple motor of rate −3 (counter-clockwise at 3 rad/s) with
+/// `max_force` 1000; a connecting rod (a pin joint, its length measured:
+/// √3.89 ≈ 1.97 m) from the crank's rim point (0.3, 0) to the tip of a
+/// rocker (labelled `rocker`, a 0.1 × 1 m bar, density 1, standing on a
+/// pivot joint at (2, 0)), which therefore swings back and forth through
+/// about 0.62 rad, reversing twice per crank turn (a crank–rocker
+/// four-bar: ground 2, crank 0.3, rod 1.97, rocker 1). On the rocker's
+/// axle turns the wheel (labelled `wheel`, a circle of radius 0.5,
+/// density 1, with a weight: a circle of radius 0.1 at (0.4, 0), density
+/// 10) on its own pivot joint. The drive ratchet (rocker → wheel, phase
+/// 0, ratchet 0.1 rad) pushes the wheel counter-clockwise on the rocker's
+/// forward strokes and slips on the back strokes; the pawl ratchet
+/// (frame → wheel, phase 0, ratchet 0.1 rad) keeps the weight from
+/// turning the wheel back by more than a tooth. Shapes on one axle do not
+/// collide. g = 10, 10 iterations, 600 steps.
+pub fn ratchet() -> SceneDesc {
+    let mut desc = scene("ratchet", 600);
+    desc.bodies.push(BodyDesc::static_body().labeled("frame"));
+    desc.bodies.push(
+        BodyDesc::new(BodyKind::Dynamic, Vect::ZERO)
+            .with_shape(ShapeDesc::circle(real!(0.3)).density(Real::ONE))
+            .labeled("crank"),
+    );
+    desc.bodies.push(
+        BodyDesc::new(BodyKind::Dynamic, Vect::from_ints(2, 0))
+            .with_shape(
+                ShapeDesc::box_at(
+                    real!(0.1),
+                    Real::ONE,
+                    Real::ZERO,
+                    Vect::new(Real::ZERO, Real::HALF),
+                )
+                .density(Real::ONE),
+            )
+            .labeled("rocker"),
+    );
+    desc.bodies.push(
+        BodyDesc::new(BodyKind::Dynamic, Vect::from_ints(2, 0))
+            .with_shape(ShapeDesc::circle(Real::HALF).density(Real::ONE))
+            .with_shape(
+                ShapeDesc::circle_at(real!(0.1), Vect::new(real!(0.4), Real::ZERO))
+                    .density(Real::from_int(10)),
+            )
+            .labeled("wheel"),
+    );
+    desc.constraints.push(pivot_at(0, 1, Vect::ZERO));
+    let mut motor = ConstraintDesc::new(JointType::SimpleMotor, 0, 1);
+    motor.rate = Some(Real::from_int(-3));
+    motor.max_force = Some(Real::from_int(1000));
+    desc.constraints.push(motor);
+    let mut rod = ConstraintDesc::new(JointType::Pin, 1, 2);
+    rod.anchor_a = Some(Vect::new(real!(0.3), Real::ZERO));
+    rod.anchor_b = Some(Vect::new(Real::ZERO, Real::ONE));
+    desc.constraints.push(rod);
+    desc.constraints.push(pivot_at(0, 2, Vect::from_ints(2, 0)));
+    desc.constraints.push(pivot_at(0, 3, Vect::from_ints(2, 0)));
+    for a in [2, 0] {
+        let mut r = ConstraintDesc::new(JointType::Ratchet, a, 3);
+        r.phase = Some(Real::ZERO);
+        r.ratchet = Some(real!(0.1));
+        r.collide_bodies = Some(false);
+        desc.constraints.push(r);
+    }
+    desc
+}
+
+/// `rope_bridge`: twelve planks (0.9 × 0.2 m boxes, density 1, friction
+/// 0.8) joined end to end by [`PivotJoint`]s 1 m apart, laid straight from
+/// x = −6 to x = 6 at y = 0 between two static cliffs (one static body,
+/// labelled `cliffs`: 4 × 4 m boxes centred at (±9, −2), their inner top
+/// corners at (±7, 0), and a ground segment at y = −12). The end planks
+/// hang from the cliff corners by [`SlideJoint`] ropes (min 0, max 1.5 m:
+/// 0.5 m of slack each), so the bridge drops into a sag and swings. Six
+/// 0.5 m boxes (density 2, friction 0.8) are dropped on it from y = 3 at
+/// x = −2, 0 and 2, three at step 120 and three at step 180. Neighbouring
+/// planks do not collide. The planks are labelled `plank_0` … `plank_11`,
+/// the boxes `box_0` … `box_5`. g = 10, 2 sub-steps of 10 iterations (the
+/// jerk of the ropes going taut opens the joints by 8.5 cm in one 1/60 s
+/// step, 3.6 cm in two sub-steps), 600 steps.
+pub fn rope_bridge() -> SceneDesc {
+    let mut desc = scene("rope_bridge", 600);
+    desc.settings.substeps = 2;
+    let cliff = |x: i32| {
+        ShapeDesc::box_at(real!(4), real!(4), Real::ZERO, Vect::from_ints(x, -2))
+            .material(real!(0.8), Real::ZERO)
+    };
+    desc.bodies.push(
+        BodyDesc::static_body()
+            .with_shape(cliff(-9))
+            .with_shape(cliff(9))
+            .with_shape(
+                ShapeDesc::segment(
+                    Vect::from_ints(-20, -12),
+                    Vect::from_ints(20, -12),
+                    real!(0.1),
+                )
+                .material(real!(0.8), Real::ZERO),
+            )
+            .labeled("cliffs"),
+    );
+    let planks = 12u32;
+    let half = Vect::new(Real::HALF, Real::ZERO);
+    for i in 0..planks {
+        let x = Real::from_int(i32::try_from(i).unwrap_or(0)) - Real::from_int(6) + Real::HALF;
+        let plank = BodyDesc::new(BodyKind::Dynamic, Vect::new(x, Real::ZERO))
+            .with_shape(
+                ShapeDesc::box_shape(real!(0.9), real!(0.2), Real::ZERO)
+                    .material(real!(0.8), Real::ZERO)
+                    .density(Real::ONE),
+            )
+            .labeled(&format!("plank_{i}"));
+        desc.bodies.push(plank);
+        if i > 0 {
+            let mut c = ConstraintDesc::new(JointType::Pivot, i, i.saturating_add(1));
+            c.anchor_a = Some(half);
+            c.anchor_b = Some(-half);
+            c.collide_bodies = Some(false);
+            desc.constraints.push(c);
+        }
+    }
+    for (plank, corner, end) in [(1, -7, -half), (planks, 7, half)] {
+        let mut rope = ConstraintDesc::new(JointType::Slide, 0, plank);
+        rope.anchor_a = Some(Vect::from_ints(corner, 0));
+        rope.anchor_b = Some(end);
+        rope.min = Some(Real::ZERO);
+        rope.max = Some(real!(1.5));
+        desc.constraints.push(rope);
+    }
+    for (k, at) in [(0u32, 120u32), (1, 180)] {
+        let bodies = [-2, 0, 2]
+            .into_iter()
+            .enumerate()
+            .map(|(j, x)| {
+                BodyDesc::new(BodyKind::Dynamic, Vect::from_ints(x, 3))
+                    .with_shape(
+                        ShapeDesc::box_shape(Real::HALF, Real::HALF, Real::ZERO)
+                            .material(real!(0.8), Real::ZERO)
+                            .density(Real::TWO),
+                    )
+                    .labeled(&format!(
+                        "box_{}",
+                        k.saturating_mul(3)
+                            .saturating_add(u32::try_from(j).unwrap_or(0))
+                    ))
+            })
+            .collect();
+        desc.spawns.push(SpawnDesc {
+            at_step: at,
+            bodies,
+        });
+    }
+    desc
+}
+
+/// One ragdoll part: a dynamic body at `at` (world) with `shape`.
+fn part(at: Vect, shape: ShapeDesc) -> BodyDesc {
+    BodyDesc::new(BodyKind::Dynamic, at)
+        .with_shape(shape.material(real!(0.6), Real::ZERO).density(Real::ONE))
+}
+
+/// `ragdolls_{n}`: `n` ragdolls of six bodies falling onto a flight of
+/// stairs, each limb held to the torso by a [`PivotJoint`] and a
+/// [`RotaryLimitJoint`]. A ragdoll (density 1, friction 0.6, upright, its
+/// torso's centre at the origin of its own frame): a 0.4 × 0.6 m torso; a
+/// head (circle of radius 0.15) centred at (0, 0.45), neck pivot at
+/// (0, 0.3), limit −0.4 to 0.4 rad; two arms (0.12 × 0.6 m boxes) centred
+/// at (±0.28, 0), shoulder pivots at (±0.28, 0.25), limits −1.5 to 1.5;
+/// two legs (0.14 × 0.7 m boxes) centred at (±0.11, −0.65), hip pivots at
+/// (±0.11, −0.3), limits −1 to 1 (each limit on the limb's angle minus
+/// the torso's). A limb does not collide with its torso. The ragdolls
+/// stand in rows of 5, 3 m apart from x = 0.75 and 2.5 m apart from
+/// y = 3, and fall onto the stairs: one static body of ten 1.5 m wide
+/// steps, step `k` a box from x = 1.5k to 1.5k + 1.5 whose top is at
+/// y = −0.5k, down to y = −6, a wall segment at x = 0 from y = 0 to 12
+/// and a ground segment at y = −6 from x = 15 to 40. g = 10, 2 sub-steps
+/// of 10 iterations (one 1/60 s step lets the landings push the neck
+/// 0.58 rad past its limit, two sub-steps 0.31), 600 steps.
+pub fn ragdolls(n: u32) -> SceneDesc {
+    let mut desc = scene(&format!("ragdolls_{n}"), 600);
+    desc.settings.substeps = 2;
+    let mut stairs = BodyDesc::static_body().labeled("stairs");
+    for k in 0..10i32 {
+        let top = -(Real::from_int(k) * Real::HALF);
+        let height = top + Real::from_int(6);
+        let centre = Vect::new(
+            real!(1.5) * Real::from_int(k) + real!(0.75),
+            (top - Real::from_int(6)) * Real::HALF,
+        );
+        stairs = stairs.with_shape(
+            ShapeDesc::box_at(real!(1.5), height, Real::ZERO, centre)
+                .material(real!(0.8), Real::ZERO),
+        );
+    }
+    for (a, b) in [((0, 0), (0, 12)), ((15, -6), (40, -6))] {
+        stairs = stairs.with_shape(
+            ShapeDesc::segment(
+                Vect::from_ints(a.0, a.1),
+                Vect::from_ints(b.0, b.1),
+                real!(0.1),
+            )
+            .material(real!(0.8), Real::ZERO),
+        );
+    }
+    desc.bodies.push(stairs);
+    for r in 0..n {
+        let (col, row) = (r.checked_rem(5).unwrap_or(0), r.checked_div(5).unwrap_or(0));
+        let origin = Vect::new(
+            real!(0.75) + Real::from_int(3) * Real::from_int(i32::try_from(col).unwrap_or(0)),
+            Real::from_int(3) + real!(2.5) * Real::from_int(i32::try_from(row).unwrap_or(0)),
+        );
+        let torso = u32::try_from(desc.bodies.len()).unwrap_or(0);
+        desc.bodies.push(
+            part(
+                origin,
+                ShapeDesc::box_shape(real!(0.4), real!(0.6), Real::ZERO),
+            )
+            .labeled(&format!("torso_{r}")),
+        );
+        // (centre, pivot, shape, min, max), relative to the torso.
+        let limbs = [
+            (
+                Vect::new(Real::ZERO, real!(0.45)),
+                Vect::new(Real::ZERO, real!(0.3)),
+                ShapeDesc::circle(real!(0.15)),
+                real!(-0.4),
+                real!(0.4),
+            ),
+            (
+                Vect::new(real!(-0.28), Real::ZERO),
+                Vect::new(real!(-0.28), real!(0.25)),
+                ShapeDesc::box_shape(real!(0.12), real!(0.6), Real::ZERO),
+                real!(-1.5),
+                real!(1.5),
+            ),
+            (
+                Vect::new(real!(0.28), Real::ZERO),
+                Vect::new(real!(0.28), real!(0.25)),
+                ShapeDesc::box_shape(real!(0.12), real!(0.6), Real::ZERO),
+                real!(-1.5),
+                real!(1.5),
+            ),
+            (
+                Vect::new(real!(-0.11), real!(-0.65)),
+                Vect::new(real!(-0.11), real!(-0.3)),
+                ShapeDesc::box_shape(real!(0.14), real!(0.7), Real::ZERO),
+                -Real::ONE,
+                Real::ONE,
+            ),
+            (
+                Vect::new(real!(0.11), real!(-0.65)),
+                Vect::new(real!(0.11), real!(-0.3)),
+                ShapeDesc::box_shape(real!(0.14), real!(0.7), Real::ZERO),
+                -Real::ONE,
+                Real::ONE,
+            ),
+        ];
+        for (centre, pivot, shape, min, max) in limbs {
+            let limb = u32::try_from(desc.bodies.len()).unwrap_or(0);
+            desc.bodies.push(part(origin + centre, shape));
+            desc.constraints.push(pivot_at(torso, limb, origin + pivot));
+            let mut limit = ConstraintDesc::new(JointType::RotaryLimit, torso, limb);
+            limit.min = Some(min);
+            limit.max = Some(max);
+            limit.collide_bodies = Some(false);
+            desc.constraints.push(limit);
+        }
+    }
+    desc
+}
+
+/// `car`: a chassis on two wheels, each held by a [`GrooveJoint`] (a
+/// vertical slot on the chassis) and a [`DampedSpring`] (the suspension)
+/// and driven by a [`SimpleMotor`], over bumpy terrain. The chassis
+/// (labelled `chassis`, a 3 × 0.5 m box, density 1, friction 0.6) starts
+/// at (0, 1.4); the wheels (labelled `wheel_rear` and `wheel_front`,
+/// circles of radius 0.4, density 1, friction 1) at (∓1, 0.6). Each
+/// groove runs on the chassis from (∓1, −0.3) to (∓1, −1.1) with the
+/// wheel's centre as its anchor; each spring (rest length 0.9, stiffness
+/// 50, damping 3) joins (∓1, 0) on the chassis to the wheel's centre;
+/// each motor (rate 6, `max_force` 20) turns its wheel at −6 rad/s
+/// relative to the chassis (clockwise: forward, to the right, at about
+/// 2.4 m/s). The chassis and its wheels do not collide. The terrain
+/// (static, labelled `terrain`, friction 1) is a chain of segments through
+/// x = −5, −3, …, 55 with heights repeating 0, 0.2, 0, 0.1, 0.3, 0. g = 10,
+/// 10 iterations, 600 steps.
+pub fn car() -> SceneDesc {
+    let mut desc = scene("car", 600);
+    let heights = [
+        Real::ZERO,
+        real!(0.2),
+        Real::ZERO,
+        real!(0.1),
+        real!(0.3),
+        Real::ZERO,
+    ];
+    let points: Vec<Vect> = (0..=30i32)
+        .zip(heights.iter().cycle())
+        .map(|(k, &h)| Vect::new(Real::TWO * Real::from_int(k) - Real::from_int(5), h))
+        .collect();
+    let mut terrain = BodyDesc::static_body().labeled("terrain");
+    for pair in points.windows(2) {
+        if let [a, b] = *pair {
+            terrain = terrain
+                .with_shape(ShapeDesc::segment(a, b, real!(0.05)).material(Real::ONE, Real::ZERO));
+        }
+    }
+    desc.bodies.push(terrain);
+    desc.bodies.push(
+        BodyDesc::new(BodyKind::Dynamic, Vect::new(Real::ZERO, real!(1.4)))
+            .with_shape(
+                ShapeDesc::box_shape(real!(3), Real::HALF, Real::ZERO)
+                    .material(real!(0.6), Real::ZERO)
+                    .density(Real::ONE),
+            )
+            .labeled("chassis"),
+    );
+    for (x, label) in [(-1, "wheel_rear"), (1, "wheel_front")] {
+        let wheel = u32::try_from(desc.bodies.len()).unwrap_or(0);
+        desc.bodies.push(
+            BodyDesc::new(BodyKind::Dynamic, Vect::new(Real::from_int(x), real!(0.6)))
+                .with_shape(
+                    ShapeDesc::circle(real!(0.4))
+                        .material(Real::ONE, Real::ZERO)
+                        .density(Real::ONE),
+                )
+                .labeled(label),
+        );
+        let x = Real::from_int(x);
+        let mut groove = ConstraintDesc::new(JointType::Groove, 1, wheel);
+        groove.groove_a = Some(Vect::new(x, real!(-0.3)));
+        groove.groove_b = Some(Vect::new(x, real!(-1.1)));
+        groove.collide_bodies = Some(false);
+        desc.constraints.push(groove);
+        let mut spring = ConstraintDesc::new(JointType::DampedSpring, 1, wheel);
+        spring.anchor_a = Some(Vect::new(x, Real::ZERO));
+        spring.rest_length = Some(real!(0.9));
+        spring.stiffness = Some(Real::from_int(50));
+        spring.damping = Some(Real::from_int(3));
+        spring.collide_bodies = Some(false);
+        desc.constraints.push(spring);
+        let mut motor = ConstraintDesc::new(JointType::SimpleMotor, 1, wheel);
+        motor.rate = Some(Real::from_int(6));
+        motor.max_force = Some(Real::from_int(20));
+        motor.collide_bodies = Some(false);
+        desc.constraints.push(motor);
     }
     desc
 }

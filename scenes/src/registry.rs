@@ -28,7 +28,8 @@ pub enum Section {
     /// C: accuracy against closed-form answers (free fall, projectiles,
     /// elastic collisions, inclines).
     Accuracy,
-    /// D: joints (constraints): a pendulum, a hanging chain.
+    /// D: joints (constraints): a pendulum, a hanging chain, machines
+    /// (windmill, gears, springs, a ratchet, a bridge, ragdolls, a car).
     Joints,
 }
 
@@ -237,6 +238,27 @@ pub const REGISTRY: &[SceneInfo] = &[
     scene!("chain_100", Joints, "100 links on pivot joints falling from horizontal, 100:1 end mass, 4 sub-steps",
         bodies 101, steps 600, None, golden(300, 0xb2045621d0f71de5), None,
         || Some(joints::chain(100))),
+    scene!("windmill", Joints, "a simple motor turns a 4-bladed rotor on a static post; 10 boxes dropped on it",
+        bodies 12, steps 600, None, golden(600, 0xb6031c970ef7c5d7), None,
+        || Some(joints::windmill())),
+    scene!("gear_train", Joints, "4 wheels meshed by gear joints (ratios -0.5, -2, -0.25), the first driven by a simple motor",
+        bodies 5, steps 600, None, golden(600, 0xc0d83e3fa0c390b3), None,
+        || Some(joints::gear_train())),
+    scene!("spring_mass", Joints, "a 1 kg mass on a damped spring and a wheel on a damped rotary spring, ringing down",
+        bodies 3, steps 600, None, golden(600, 0x881ec997721a7058), None,
+        || Some(joints::spring_mass())),
+    scene!("ratchet", Joints, "a motor-driven crank rocks a lever that ratchets a weighted wheel round; a pawl ratchet holds it",
+        bodies 4, steps 600, None, golden(600, 0xe2d77549d8856cc8), None,
+        || Some(joints::ratchet())),
+    scene!("rope_bridge", Joints, "12 planks on pivot joints hung from two cliffs by slide-joint ropes; 6 boxes dropped on it",
+        bodies 19, steps 600, None, golden(600, 0x8a3453de0c6b784b), None,
+        || Some(joints::rope_bridge())),
+    scene!("ragdolls_20", Joints, "20 six-part ragdolls (pivot + rotary limit joints) falling onto stairs",
+        bodies 121, steps 600, None, golden(300, 0xcaa21a67c7d1fa25), None,
+        || Some(joints::ragdolls(20))),
+    scene!("car", Joints, "a chassis on groove joints and damped springs, wheels driven by simple motors over bumps",
+        bodies 4, steps 600, None, golden(600, 0x6651aeede53b1a16), None,
+        || Some(joints::car())),
 ];
 
 /// The registry entry called `name`.

@@ -37,6 +37,20 @@ fn expected_bodies(name: &str) -> (usize, usize) {
         "newtons_cradle" => same(5),
         "stack_10" => same(11),
         "pendulum" => same(2),
+        // post and rotor, then 2 of the 10 boxes at step 0.
+        "windmill" => (2 + 2, 12),
+        // the frame and 4 wheels.
+        "gear_train" => same(5),
+        // the ceiling, the mass and the wheel.
+        "spring_mass" => same(3),
+        // the frame, the crank, the rocker and the wheel.
+        "ratchet" => same(4),
+        // the cliffs and 12 planks, then 6 boxes at steps 120 and 180.
+        "rope_bridge" => (13, 19),
+        // the stairs and 6 bodies per ragdoll.
+        _ if name.starts_with("ragdolls_") => same(6 * num(suffix) + 1),
+        // the terrain, the chassis and 2 wheels.
+        "car" => same(4),
         _ if name.starts_with("chain_") => same(num(suffix) + 1),
         _ => same(1),
     }
@@ -44,7 +58,7 @@ fn expected_bodies(name: &str) -> (usize, usize) {
 
 #[test]
 fn builtin_every_listed_scene_builds_with_documented_body_count() {
-    assert_eq!(scenes::REGISTRY.len(), 31);
+    assert_eq!(scenes::REGISTRY.len(), 38);
     for info in scenes::REGISTRY {
         let name = &info.name;
         assert!(!info.about.is_empty());

@@ -86,8 +86,10 @@ impl GrooveRow {
     /// (Chipmunk uses world coordinates): the same point, and exact under
     /// translation.
     pub(crate) fn new(j: &GrooveJoint, p: &Prep<'_>) -> GrooveRow {
-        let (ta, tb) = p.arms(j.groove_a, j.groove_b);
-        let (_, r2) = p.arms(j.groove_a, j.anchor_b);
+        // Both ends of the groove are on body a (Chipmunk transforms both
+        // by a's transform): `arms` would turn the second by body b.
+        let (ta, r2) = p.arms(j.groove_a, j.anchor_b);
+        let (tb, _) = p.arms(j.groove_b, j.anchor_b);
         // Chipmunk's groove normal: the left perpendicular of the
         // direction from groove_a to groove_b.
         let n = (tb - ta).normalize().perp();
