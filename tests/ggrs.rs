@@ -5,7 +5,7 @@
 //! player balls).
 use tamias2d_scenes::ggrs_game;
 
-use ggrs_game::{run_p2p, run_straight, run_synctest, Game, P2P_INPUT_DELAY};
+use ggrs_game::{run_p2p, run_straight, run_straight_on, run_synctest, Game, P2P_INPUT_DELAY};
 
 /// 600 frames at check distance 7 (8 steps of a 103-body scene per frame).
 const SYNCTEST_FRAMES: u64 = 600;
@@ -19,6 +19,32 @@ fn synctest_check_distance_7_agrees_with_a_straight_run() {
     let straight = run_straight(SYNCTEST_FRAMES, 3, 0);
     assert_eq!(game.space.checksum(), straight.space.checksum());
     assert_eq!(game.space.state(), straight.space.state());
+}
+
+/// The joint scenes under rollback (issue 13): `ragdolls_20` (pivot and
+/// rotary-limit joints, 2 sub-steps) and `car` (groove joints, damped
+/// springs, motors), their first two dynamic bodies driven by the players,
+/// 600 frames at check distance 7; the end state equals a straight run.
+#[test]
+fn synctest_on_the_joint_scenes_agrees_with_a_straight_run() {
+    for name in ["ragdolls_20", "car"] {
+        let mut game = Game::with_scene(name).unwrap_or_else(|| panic!("{name} is a game"));
+        run_synctest(&mut game, SYNCTEST_FRAMES, 7, 3)
+            .unwrap_or_else(|e| panic!("{name}: not deterministic under rollback: {e}"));
+        assert_eq!(game.frame(), SYNCTEST_FRAMES, "{name}");
+        assert!(
+            game.loads >= SYNCTEST_FRAMES - 8,
+            "{name}: rolled back every frame"
+        );
+        let fresh = Game::with_scene(name).unwrap_or_else(|| panic!("{name} is a game"));
+        let straight = run_straight_on(fresh, SYNCTEST_FRAMES, 3, 0);
+        assert_eq!(game.space.checksum(), straight.space.checksum(), "{name}");
+        assert_eq!(game.space.state(), straight.space.state(), "{name}");
+        assert!(
+            game.space.constraints().next().is_some(),
+            "{name} has joints"
+        );
+    }
 }
 
 #[test]

@@ -113,6 +113,32 @@ impl Game {
         }
     }
 
+    /// Any built-in scene as a two-player game: the players are its first
+    /// two dynamic bodies (their buttons push and spin them), the scene's
+    /// own script (scheduled forces, spawns) is not part of the game.
+    /// `None` if the scene is unknown, does not build or has fewer than two
+    /// dynamic bodies.
+    pub fn with_scene(name: &str) -> Option<Game> {
+        let scene = scenes::builtin(name)?.build().ok()?;
+        let dynamic: Vec<BodyHandle> = scene
+            .space
+            .bodies()
+            .filter(|(_, b)| b.is_dynamic())
+            .map(|(h, _)| h)
+            .take(2)
+            .collect();
+        let players = [*dynamic.first()?, *dynamic.get(1)?];
+        Some(Game {
+            dt: scene.dt,
+            space: scene.space,
+            players,
+            checksums: Vec::new(),
+            advances: 0,
+            loads: 0,
+            sabotage: false,
+        })
+    }
+
     /// Frames advanced since the start: `Space::steps` (one per `step`
     /// call), not the sub-step `stamp`, which runs ahead of the frame count
     /// once the settings use sub-steps.
@@ -251,7 +277,11 @@ pub fn run_synctest(
 /// delay applies them (0 for [`run_synctest`], [`P2P_INPUT_DELAY`] for
 /// [`run_p2p`]).
 pub fn run_straight(frames: u64, hold: u64, delay: u64) -> Game {
-    let mut game = Game::new();
+    run_straight_on(Game::new(), frames, hold, delay)
+}
+
+/// [`run_straight`] on a given game (e.g. [`Game::with_scene`]).
+pub fn run_straight_on(mut game: Game, frames: u64, hold: u64, delay: u64) -> Game {
     for frame in 0..frames {
         let buttons = |player| match frame.checked_sub(delay) {
             Some(f) => scripted_buttons(player, f, hold),
