@@ -27,7 +27,11 @@
 //! cargo bench --bench step -- switches           # the switch table only
 //! cargo bench --bench step -- switches --quick   # shorter samples
 //! cargo bench --bench step -- switches/lockstep   # the lockstep table alone
+//! cargo bench --bench step -- sleeping           # sleeping: asleep vs awake
 //! ```
+//!
+//! * `sleeping`: a settled `bowl_boxes_500` asleep against the same scene
+//!   awake, steps 1,200–1,500 timed in lockstep (see `sleeping_lockstep`).
 #![allow(clippy::float_arithmetic)] // timing report only
 
 use tamias2d_scenes::bench as common;
@@ -42,8 +46,17 @@ use criterion::Criterion;
 use tamias2d::space::{Settings, WorldState};
 use tamias2d_scenes as scenes;
 
+/// The scene warmed up with sleeping off (these groups time the work of
+/// awake bodies; the `sleeping` group times sleep).
 fn warmed(name: &str, warmup: u32) -> scenes::ScriptedWorld {
-    let desc = scenes::builtin(name).unwrap_or_else(|| panic!("scene {name} is listed"));
+    warmed_with(name, warmup, false)
+}
+
+fn warmed_with(name: &str, warmup: u32, sleeping: bool) -> scenes::ScriptedWorld {
+    let mut desc = scenes::builtin(name).unwrap_or_else(|| panic!("scene {name} is listed"));
+    if !sleeping {
+        desc.settings.sleep_time_threshold = tamias2d::space::SLEEP_NEVER;
+    }
     let mut scene = desc
         .build()
         .unwrap_or_else(|e| panic!("scene {name} builds: {e}"));
@@ -83,6 +96,34 @@ fn stacking(c: &mut Criterion) {
     for n in ["pyramid_20", "bowl_boxes_500", "bowl_hexagons_500"] {
         bench_scene(c, "stacking", n, 300);
     }
+}
+
+/// `sleeping`: `bowl_boxes_500` settled (1,200 steps), once with sleeping
+/// on (every body asleep by then) and once with it off (the same scene
+/// awake); then steps 1,200–1,500 of each are timed in lockstep (each
+/// round times one step of both, so machine load hits both alike). Prints
+/// the medians and the ratio asleep / awake (issue 14's target: ≤ 5 %).
+fn sleeping_lockstep() {
+    let mut asleep = warmed_with("bowl_boxes_500", 1200, true);
+    let mut awake = warmed_with("bowl_boxes_500", 1200, false);
+    let sleeping_bodies = asleep.space.sleeping_bodies();
+    let (mut t_asleep, mut t_awake) = (Vec::new(), Vec::new());
+    for _ in 0..300 {
+        for (scene, times) in [(&mut asleep, &mut t_asleep), (&mut awake, &mut t_awake)] {
+            let t = Instant::now();
+            scene.step().unwrap_or_else(|e| panic!("step: {e}"));
+            times.push(t.elapsed().as_secs_f64() * 1e3);
+            black_box(&scene.space);
+        }
+    }
+    let (a, w) = (median(&mut t_asleep), median(&mut t_awake));
+    println!(
+        "sleeping (lockstep, steps 1200-1500 of bowl_boxes_500): asleep {a:.4} ms/step \
+         ({sleeping_bodies} of 500 bodies asleep at step 1200, {} at 1500), awake {w:.4} ms/step, \
+         ratio {:.2} %",
+        asleep.space.sleeping_bodies(),
+        100.0 * a / w
+    );
 }
 
 /// A variant of the `switches` group: a name and the settings change.
@@ -214,6 +255,11 @@ fn switches_lockstep(rounds: usize) -> Vec<Row> {
 
 /// True when the command line's filters (if any) select the switch group.
 fn switches_selected() -> bool {
+    group_selected("switches")
+}
+
+/// True when the command line's filters (if any) select `group`.
+fn group_selected(group: &str) -> bool {
     let filters: Vec<String> = std::env::args()
         .skip(1)
         .filter(|a| !a.starts_with('-'))
@@ -221,7 +267,7 @@ fn switches_selected() -> bool {
     filters.is_empty()
         || filters
             .iter()
-            .any(|f| f.starts_with("switches") || "switches".contains(f.as_str()))
+            .any(|f| f.starts_with(group) || group.contains(f.as_str()))
 }
 
 fn print_switch_table(title: &str, rows: &[Row]) {
@@ -266,6 +312,9 @@ fn main() {
             "switches (criterion): median ms per step from the same warmed state, ratio to all_on",
             &rows,
         );
+        if group_selected("sleeping") {
+            sleeping_lockstep();
+        }
         if switches_selected() {
             let lockstep = switches_lockstep(400);
             print_switch_table(

@@ -321,6 +321,19 @@ impl<T> Arena<T> {
             .map(|v| (self.handle(index, slot.generation), v))
     }
 
+    /// The live object in slot `index`, mutably, with its handle.
+    pub fn get_by_index_mut(&mut self, index: u32) -> Option<(Handle<T>, &mut T)> {
+        let origin = self.origin;
+        let slot = self.slots.get_mut(index as usize)?;
+        let generation = slot.generation;
+        slot.value.as_mut().map(|v| {
+            (
+                Handle::from_raw_parts(index, generation).with_origin(origin),
+                v,
+            )
+        })
+    }
+
     /// Live objects in slot order (the canonical iteration order).
     pub fn iter(&self) -> impl Iterator<Item = (Handle<T>, &T)> {
         let origin = self.origin;

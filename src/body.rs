@@ -83,6 +83,36 @@ pub struct Body {
     /// Pseudo-velocities from bias impulses; cleared after each position update.
     pub(crate) v_bias: Vect,
     pub(crate) w_bias: Real,
+    /// Sleeping: idle time, island, opt-out (see [`SleepState`]).
+    pub(crate) sleep: SleepState,
+}
+
+/// A body's part in sleeping (Chipmunk's `sleeping` record, Box2D's
+/// `enableSleep`). The space's `sleep` stage updates it; a game reads it
+/// with [`Body::is_sleeping`] and opts a body out with
+/// [`Body::set_sleep_allowed`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct SleepState {
+    /// Seconds this body has been idle (slower than the space's idle
+    /// speed) while awake; the island sleeps when all its bodies reach the
+    /// sleep time threshold.
+    pub(crate) idle_time: Real,
+    /// `Some(root)` while asleep: the body slot index of its island's root
+    /// (a sleeping body of the same island whose root is itself). Waking
+    /// any body of an island wakes every body with the same root.
+    pub(crate) island: Option<u32>,
+    /// False: the body never falls asleep, nor does any island it is in
+    /// (a player character). Default true.
+    pub(crate) allowed: bool,
+}
+
+impl SleepState {
+    /// Awake, never idle, allowed to sleep.
+    pub(crate) const AWAKE: SleepState = SleepState {
+        idle_time: Real::ZERO,
+        island: None,
+        allowed: true,
+    };
 }
 
 /// `|θ|` below which [`small_angle_rot`] uses its series (error < 1 ulp).
@@ -131,6 +161,7 @@ impl Body {
             t: Real::ZERO,
             v_bias: Vect::ZERO,
             w_bias: Real::ZERO,
+            sleep: SleepState::AWAKE,
         }
     }
 
@@ -387,6 +418,81 @@ impl Body {
         saturate_to_real(twice.round_shr(2 * FRAC_BITS + 1))
     }
 
+    /// True while the body sleeps (its island rests: see `Space`'s sleeping
+    /// settings). A sleeping body does not move and costs nothing in the
+    /// step; the space wakes it when something touches or changes it.
+    pub fn is_sleeping(&self) -> bool {
+        self.sleep.island.is_some()
+    }
+
+    /// Seconds the body has been idle while awake (Chipmunk's idle time):
+    /// its island falls asleep when every body in it reaches
+    /// `Settings::sleep_time_threshold`.
+    pub fn idle_time(&self) -> Real {
+        self.sleep.idle_time
+    }
+
+    /// Whether the body may fall asleep (default true).
+    pub fn is_sleep_allowed(&self) -> bool {
+        self.sleep.allowed
+    }
+
+    /// Allows or forbids sleeping for this body (Box2D's `enableSleep`):
+    /// a body that may not sleep keeps its whole island awake, e.g. a
+    /// player character standing on a pile. Forbidding it resets the idle
+    /// time. Changing it through `Space::body_mut` wakes the body first.
+    pub fn set_sleep_allowed(&mut self, allowed: bool) {
+        self.sleep.allowed = allowed;
+        if !allowed {
+            self.sleep.idle_time = Real::ZERO;
+        }
+    }
+
+    /// True if `|v|² + (I/m)·ω² ≤ idle_speed²`, and the same for the bias
+    /// velocities (Chipmunk's idle test: the
+    /// kinetic energy per unit mass against that of the idle speed; the
+    /// rotation counts at the radius of gyration, so no shape extent is
+    /// needed). Exact: compared on 256 bits, never rounded or saturated.
+    /// Non-dynamic bodies are idle.
+    pub(crate) fn is_idle(&self, idle_speed: Real) -> bool {
+        if self.body_type != BodyType::Dynamic {
+            return true;
+        }
+        let term = |k: Real, r: Real| {
+            I256::mul_i128(i128::from(k.to_bits()), wide_mul(r.to_bits(), r.to_bits()))
+        };
+        let limit = term(self.mass, idle_speed);
+        let below = |v: Vect, w: Real| {
+            let energy = term(self.mass, v.x)
+                .add(term(self.mass, v.y))
+                .add(term(self.moment, w));
+            let excess = energy.sub(limit);
+            excess.is_negative() || excess.is_zero()
+        };
+        // The bias velocities count too: a body pushed out of an overlap
+        // moves although its velocity is 0, and must not sleep overlapping.
+        below(self.v, self.w) && below(self.v_bias, self.w_bias)
+    }
+
+    /// Puts the body to sleep in island `root`: velocities, bias
+    /// velocities, force and torque become exactly 0 (a sleeping body
+    /// holds no motion, so waking it starts from rest).
+    pub(crate) fn fall_asleep(&mut self, root: u32) {
+        self.sleep.island = Some(root);
+        self.v = Vect::ZERO;
+        self.w = Real::ZERO;
+        self.v_bias = Vect::ZERO;
+        self.w_bias = Real::ZERO;
+        self.f = Vect::ZERO;
+        self.t = Real::ZERO;
+    }
+
+    /// Wakes the body with its idle time reset (Chipmunk's activate).
+    pub(crate) fn wake(&mut self) {
+        self.sleep.island = None;
+        self.sleep.idle_time = Real::ZERO;
+    }
+
     /// Default velocity integration (Chipmunk `cpBodyUpdateVelocity`):
     /// `v ← v·damping + (g + f/m)·dt`, `ω ← ω·damping + τ/I·dt`, then the
     /// force and torque accumulators are cleared. `damping` is the per-step
@@ -475,6 +581,40 @@ impl Body {
         } else if !self.mass.is_zero() || !self.moment.is_zero() || self.explicit_mass {
             return Err(BodyError::IllegalBody(
                 "kinematic or static body with a mass or moment",
+            ));
+        }
+        self.validate_sleep()
+    }
+
+    /// A stored body's sleep record: idle time ≥ 0; only a dynamic body
+    /// that may sleep sleeps, and then it holds no motion (the space zeroes
+    /// velocities, forces and bias velocities when an island falls asleep,
+    /// and wakes a body before anything can set them). The island root is
+    /// checked by the space, which sees the other bodies.
+    fn validate_sleep(&self) -> Result<(), BodyError> {
+        if self.sleep.idle_time.is_negative() {
+            return Err(BodyError::IllegalBody("negative idle time"));
+        }
+        if self.sleep.island.is_none() {
+            return Ok(());
+        }
+        if self.body_type != BodyType::Dynamic {
+            return Err(BodyError::IllegalBody("a non-dynamic body is asleep"));
+        }
+        if !self.sleep.allowed {
+            return Err(BodyError::IllegalBody(
+                "a body that may not sleep is asleep",
+            ));
+        }
+        let still = self.v == Vect::ZERO
+            && self.w.is_zero()
+            && self.v_bias == Vect::ZERO
+            && self.w_bias.is_zero()
+            && self.f == Vect::ZERO
+            && self.t.is_zero();
+        if !still {
+            return Err(BodyError::IllegalBody(
+                "a sleeping body has a velocity or force",
             ));
         }
         Ok(())

@@ -197,7 +197,9 @@ impl Broadphase {
     /// Finds every pair of overlapping boxes among `moving` and between
     /// `moving` and `statics`, and leaves them in [`Broadphase::pairs`] in
     /// canonical order (sorted, lower index first, no duplicates).
-    pub fn find_pairs(&mut self, moving: &[Proxy], statics: &StaticTree) {
+    /// `sleeping` holds the shapes of sleeping bodies: queried like
+    /// `statics`, so they pair only with moving shapes.
+    pub fn find_pairs(&mut self, moving: &[Proxy], statics: &StaticTree, sleeping: &StaticTree) {
         self.sort_moving(moving);
         self.found.clear();
         let mut rest = self.sorted.as_slice();
@@ -212,11 +214,13 @@ impl Broadphase {
                 }
             }
             let found = &mut self.found;
-            statics.query(&a.bb, |s| {
-                if s != a.index {
-                    found.push(ordered(a.index, s));
-                }
-            });
+            for tree in [statics, sleeping] {
+                tree.query(&a.bb, |s| {
+                    if s != a.index {
+                        found.push(ordered(a.index, s));
+                    }
+                });
+            }
         }
         self.canonical_pairs();
     }
@@ -394,6 +398,15 @@ pub(crate) struct BroadphaseCache {
     pub(crate) static_inputs: Vec<Proxy>,
     /// How many times the static tree was built (diagnostics, tests).
     pub(crate) static_builds: u64,
+    /// The sleeping bodies' shapes (see `space::sleep`), rebuilt when
+    /// `sleepers_dirty`.
+    pub(crate) sleeping_tree: StaticTree,
+    /// Set when bodies fell asleep or woke (or the state was replaced):
+    /// the next step rewrites the sleeping shapes' entries and rebuilds
+    /// `sleeping_tree`.
+    pub(crate) sleepers_dirty: bool,
+    /// The sleeping shapes' boxes of this step (filled when dirty).
+    pub(crate) sleepers: Vec<Proxy>,
 }
 
 impl BroadphaseCache {
@@ -401,6 +414,7 @@ impl BroadphaseCache {
     pub(crate) fn dirty() -> BroadphaseCache {
         BroadphaseCache {
             statics_dirty: true,
+            sleepers_dirty: true,
             ..BroadphaseCache::default()
         }
     }
@@ -449,7 +463,7 @@ mod tests {
         ];
         let statics = StaticTree::build(vec![proxy(1, 11, 0), proxy(3, 50, 50)]);
         let mut bp = Broadphase::default();
-        bp.find_pairs(&moving, &statics);
+        bp.find_pairs(&moving, &statics, &StaticTree::default());
         assert_eq!(bp.pairs, vec![(1, 9), (2, 5), (2, 7), (5, 7)]);
     }
 
@@ -511,7 +525,7 @@ mod tests {
                 }
                 world.sort_by_key(|b| b.0);
                 let moving: Vec<Proxy> = world.iter().map(|&(i, x, y)| proxy(i, x, y)).collect();
-                bp.find_pairs(&moving, &tree);
+                bp.find_pairs(&moving, &tree, &StaticTree::default());
                 proptest::prop_assert_eq!(&bp.pairs, &find_pairs_full_sort(&moving, &tree));
             }
         }
@@ -529,7 +543,7 @@ mod tests {
         ];
         let mut bp = Broadphase::default();
         for _ in 0..2 {
-            bp.find_pairs(&moving, &tree);
+            bp.find_pairs(&moving, &tree, &StaticTree::default());
             assert_eq!(bp.pairs, find_pairs_full_sort(&moving, &tree));
             assert_eq!(bp.pairs.len(), 6);
         }
@@ -545,7 +559,7 @@ mod tests {
         let backward: Vec<Proxy> = (0..200).map(|i| proxy(i, -(i as i32), 0)).collect();
         let mut bp = Broadphase::default();
         for moving in [&forward, &backward, &forward] {
-            bp.find_pairs(moving, &tree);
+            bp.find_pairs(moving, &tree, &StaticTree::default());
             assert_eq!(bp.pairs, find_pairs_full_sort(moving, &tree));
             assert_eq!(bp.pairs.len(), 199 + 198);
         }

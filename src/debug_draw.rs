@@ -166,6 +166,9 @@ pub struct DebugDrawOptions {
     /// Fills of dynamic bodies: body slot `i` uses entry `i mod len`, so a
     /// body keeps its colour for its whole life and neighbours differ.
     pub dynamic_fills: [Color; DYNAMIC_PALETTE_LEN],
+    /// Shapes of sleeping dynamic bodies (one shade for all, as Box2D's
+    /// grey: a glance shows which islands rest).
+    pub sleeping_style: ShapeStyle,
     /// Sensor shapes are drawn with their body's colours at this alpha.
     pub sensor_alpha: u8,
     /// Contact dots.
@@ -176,7 +179,7 @@ pub struct DebugDrawOptions {
 
 impl Default for DebugDrawOptions {
     /// Shapes and joints on, contacts off; teal joints; grey static, blue kinematic, warm and cool
-    /// tones for dynamic bodies, red contact dots.
+    /// tones for dynamic bodies, slate for sleeping ones, red contact dots.
     fn default() -> DebugDrawOptions {
         DebugDrawOptions {
             shapes: true,
@@ -194,6 +197,7 @@ impl Default for DebugDrawOptions {
                 Color::rgb(230, 205, 85),
                 Color::rgb(180, 130, 210),
             ],
+            sleeping_style: ShapeStyle::filled(Color::rgb(125, 125, 140)),
             sensor_alpha: 96,
             contact_color: Color::rgb(220, 30, 30),
             contact_size: 4.0,
@@ -207,6 +211,7 @@ impl DebugDrawOptions {
         let style = match body.body_type() {
             BodyType::Static => self.static_style,
             BodyType::Kinematic => self.kinematic_style,
+            BodyType::Dynamic if body.is_sleeping() => self.sleeping_style,
             BodyType::Dynamic => {
                 let n = self.dynamic_fills.len();
                 // A u32 always fits in usize on the targets we support (≥ 32 bits).

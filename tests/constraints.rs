@@ -57,7 +57,7 @@ fn mean_period(crossings: &[f64]) -> f64 {
 fn pendulum_small_amplitude_period_is_2pi_sqrt_l_over_g_over_20_periods() {
     // A point mass on a massless rod (pin joint to a static body): L = 1 m,
     // g = 10 m/s², released at θ0 = 0.05 rad.
-    let mut w = Space::new();
+    let mut w = awake_space();
     w.set_gravity(Vect::from_ints(0, -10));
     let pivot = ok(w.add_body(Body::new_static()));
     let theta0 = 0.05f64;
@@ -107,7 +107,7 @@ fn x_of(w: &Space, h: BodyHandle) -> f64 {
 fn undamped_spring_oscillates_at_sqrt_k_over_m_with_backward_euler_phase() {
     // m = 1 kg on a spring k = 10 N/m, rest length 2 m, to a static body;
     // no gravity; released 0.5 m stretched. ω = √10 rad/s, T = 1.987 s.
-    let mut w = Space::new();
+    let mut w = awake_space();
     let anchor = ok(w.add_body(Body::new_static()));
     let mass = body(&mut w, 1, 1, Vect::new(Real::lit("2.5"), Real::ZERO));
     let spring = ok(DampedSpring::new(
@@ -172,7 +172,7 @@ fn stiff_spring_is_stable_at_60_hz() {
     // implicit spring's amplitude shrinks by 1/√(1 + h²) ≈ 1/16.7 per step.
     // Hanging under gravity from a static body, released 0.1 m stretched
     // beyond its rest length of 1 m.
-    let mut w = Space::new();
+    let mut w = awake_space();
     w.set_gravity(Vect::from_ints(0, -10));
     let anchor = ok(w.add_body(Body::new_static()));
     let mass = body(&mut w, 1, 1, Vect::new(Real::ZERO, Real::lit("-1.1")));
@@ -207,7 +207,7 @@ fn stiff_spring_is_stable_at_60_hz() {
 fn gear_joint_keeps_the_exact_ratio() {
     // Two free wheels (no gravity), ratio 3, phase 0, wheel a driven by a
     // torque of 5 N·m for 600 steps.
-    let mut w = Space::new();
+    let mut w = awake_space();
     let a = body(&mut w, 1, 2, Vect::ZERO);
     let b = body(&mut w, 1, 1, Vect::from_ints(3, 0));
     let ratio = Real::from_int(3);
@@ -251,7 +251,7 @@ fn gear_joint_phase_error_is_corrected_at_the_error_bias_rate() {
     // Same wheels at rest, phase 0.25 rad: the joint starts 0.25 rad off.
     // The bias removes 1 − 0.9^(60·dt) = 10 % of the error per step, so
     // after n steps it is 0.25·0.9ⁿ (plus rounding).
-    let mut w = Space::new();
+    let mut w = awake_space();
     let a = body(&mut w, 1, 2, Vect::ZERO);
     let b = body(&mut w, 1, 1, Vect::from_ints(3, 0));
     let (ratio, phase) = (Real::from_int(3), Real::lit("0.25"));
@@ -278,7 +278,7 @@ fn simple_motor_reaches_its_rate_unloaded() {
     // limited to max_force = 6 N·m: angular acceleration 3 rad/s², so the
     // rate is reached after 1 s = 60 steps. Chipmunk's convention: the
     // motor drives ω_b − ω_a to −rate.
-    let mut w = Space::new();
+    let mut w = awake_space();
     let ground = ok(w.add_body(Body::new_static()));
     let wheel = body(&mut w, 1, 2, Vect::ZERO);
     let mut motor = ok(Constraint::new(
@@ -320,7 +320,7 @@ fn simple_motor_reaches_its_rate_unloaded() {
 /// at the origin, joined by pivot joints at the link ends (link i spans
 /// y ∈ [−i−1, −i]).
 fn hanging_chain(n: i32, offset: Vect) -> (Space, Vec<(BodyHandle, BodyHandle, Vect, Vect)>) {
-    let mut w = Space::new();
+    let mut w = awake_space();
     w.set_gravity(Vect::from_ints(0, -10));
     let mut top = Body::new_static();
     top.set_position(offset);
@@ -358,7 +358,7 @@ fn largest_gap(w: &Space, joints: &[(BodyHandle, BodyHandle, Vect, Vect)]) -> f6
 /// origin, joined by pin joints of 1 m; returns the largest
 /// `|distance − 1|` over the joints.
 fn pin_chain(n: i32) -> (Space, Vec<BodyHandle>) {
-    let mut w = Space::new();
+    let mut w = awake_space();
     w.set_gravity(Vect::from_ints(0, -10));
     let mut chain = vec![ok(w.add_body(Body::new_static()))];
     for i in 1..=n {
@@ -566,7 +566,7 @@ fn a_world_without_constraints_hashes_as_before_constraints_existed() {
     // The checksum skips a constraint arena that never had a slot, so the
     // goldens of joint-free scenes do not move; once a constraint was added
     // (even if removed since) the arena is part of the hash.
-    let mut w = Space::new();
+    let mut w = awake_space();
     let a = ok(w.add_body(Body::new_static()));
     let b = body(&mut w, 1, 1, Vect::ZERO);
     let before = w.checksum();
@@ -632,7 +632,7 @@ fn a_translated_scene_with_joints_moves_bit_for_bit_like_the_original() {
 #[test]
 fn collide_bodies_false_suppresses_contacts_between_the_two_bodies() {
     for collide in [true, false] {
-        let mut w = Space::new();
+        let mut w = awake_space();
         let a = body(&mut w, 1, 1, Vect::ZERO);
         let b = body(&mut w, 1, 1, Vect::new(Real::HALF, Real::ZERO));
         for h in [a, b] {
@@ -685,7 +685,7 @@ fn bad_parameters_are_errors() {
         PivotJoint::new(Vect::new(Real::MIN, Real::ZERO), v),
         Err(ConstraintError::Saturated("anchor_a"))
     );
-    let mut w = Space::new();
+    let mut w = awake_space();
     let a = body(&mut w, 1, 1, Vect::ZERO);
     let motor = ok(SimpleMotor::new(Real::ONE));
     assert_eq!(Constraint::new(a, a, motor), Err(ConstraintError::SameBody));
@@ -717,7 +717,7 @@ fn bad_parameters_are_errors() {
         w.add_constraint(stale).map(|_| ()),
         Err(SpaceError::StaleBody(gone))
     );
-    let mut other = Space::new();
+    let mut other = awake_space();
     // Slots 0 to 3 are taken here: `foreign` (slot 4 there) matches no
     // handle of `w` by slot, only the origin tells them apart.
     for _ in 0..4 {
@@ -741,7 +741,7 @@ fn bad_parameters_are_errors() {
 
 #[test]
 fn removing_a_body_removes_its_constraints() {
-    let mut w = Space::new();
+    let mut w = awake_space();
     let a = body(&mut w, 1, 1, Vect::ZERO);
     let b = body(&mut w, 1, 1, Vect::from_ints(2, 0));
     let c = body(&mut w, 1, 1, Vect::from_ints(4, 0));
@@ -764,7 +764,7 @@ fn slide_joint_rope_overshoots_its_length_by_at_most_one_step() {
     // A 1 kg bob on a rope (slide joint, min 0, max 2 m) from a static
     // body, released 0.5 m below the pivot and 1.5 m to the side: it falls
     // freely until the rope is taut, then swings.
-    let mut w = Space::new();
+    let mut w = awake_space();
     w.set_gravity(Vect::from_ints(0, -10));
     let pivot = ok(w.add_body(Body::new_static()));
     let bob = body(&mut w, 1, 1, Vect::new(Real::lit("1.5"), -Real::HALF));
@@ -804,7 +804,7 @@ fn slide_joint_rope_overshoots_its_length_by_at_most_one_step() {
 fn rotary_limit_overshoots_by_one_step_and_each_rebound_is_ten_times_slower() {
     // A wheel (I = 1) on a static body spinning at 6 rad/s, limited to
     // θ_b − θ_a ∈ [−0.5, 0.5].
-    let mut w = Space::new();
+    let mut w = awake_space();
     let ground = ok(w.add_body(Body::new_static()));
     let wheel = body(&mut w, 1, 1, Vect::ZERO);
     if let Some(b) = w.body_mut(wheel) {
@@ -842,7 +842,7 @@ fn damped_rotary_spring_oscillates_at_sqrt_k_over_i_around_minus_rest_angle() {
     // A wheel (I = 1) on a static body, torsion spring k = 10 N·m/rad,
     // rest angle 0.5: Chipmunk's spring holds θ_a − θ_b = rest, so the
     // wheel oscillates around θ_b = −0.5, starting at rest at 0.
-    let mut w = Space::new();
+    let mut w = awake_space();
     let ground = ok(w.add_body(Body::new_static()));
     let wheel = body(&mut w, 1, 1, Vect::ZERO);
     let spring = ok(DampedRotarySpring::new(
@@ -872,7 +872,7 @@ fn damped_rotary_spring_oscillates_at_sqrt_k_over_i_around_minus_rest_angle() {
 fn groove_joint_keeps_the_pivot_on_the_groove_and_stops_at_its_end() {
     // A 1 kg body hanging on a horizontal groove from x = −2 to 2 on a
     // static body, gravity down, sliding right at 1 m/s.
-    let mut w = Space::new();
+    let mut w = awake_space();
     w.set_gravity(Vect::from_ints(0, -10));
     let rail = ok(w.add_body(Body::new_static()));
     let cart = body(&mut w, 1, 1, Vect::ZERO);
@@ -913,7 +913,7 @@ fn ratchet_turns_freely_one_way_and_catches_on_a_tooth_the_other() {
     // A wheel (I = 1) on a static body with a ratchet of 0.5 rad teeth
     // (free direction: positive). Driven forward at 3 rad/s for 1 s, then
     // pushed back by a torque of 10 N·m.
-    let mut w = Space::new();
+    let mut w = awake_space();
     let ground = ok(w.add_body(Body::new_static()));
     let wheel = body(&mut w, 1, 1, Vect::ZERO);
     if let Some(b) = w.body_mut(wheel) {
@@ -1014,7 +1014,7 @@ fn elliptic_k(k: f64) -> f64 {
 /// A point-mass pendulum (pin joint, L = 1 m, g = 10) released at rest at
 /// `theta0` from the vertical; returns the space and the bob.
 fn pendulum_at(theta0: f64) -> (Space, BodyHandle) {
-    let mut w = Space::new();
+    let mut w = awake_space();
     w.set_gravity(Vect::from_ints(0, -10));
     let pivot = ok(w.add_body(Body::new_static()));
     let bob = body(
@@ -1110,7 +1110,7 @@ fn undamped_pendulum_energy_does_not_grow_over_10k_steps() {
 fn damped_spring_decays_at_the_backward_euler_rate_near_the_closed_form() {
     // m = 1, k = 10, c = 0.5 (ζ = c/(2√(k·m)) = 0.079), no gravity,
     // released 0.5 m stretched.
-    let mut w = Space::new();
+    let mut w = awake_space();
     let anchor = ok(w.add_body(Body::new_static()));
     let mass = body(&mut w, 1, 1, Vect::new(Real::lit("2.5"), Real::ZERO));
     let spring = ok(DampedSpring::new(
@@ -1196,7 +1196,7 @@ fn random_joint_scripts_never_panic_and_keep_the_world_valid() {
     let (mut added, mut steps) = (0u32, 0u32);
     for seed in 0..16u64 {
         let mut rng = tamias2d_scenes::rng::SplitMix64::new(seed);
-        let mut w = Space::new();
+        let mut w = awake_space();
         w.set_gravity(Vect::from_ints(0, -10));
         for i in 0..6 {
             let mut b = match i % 3 {
@@ -1283,7 +1283,7 @@ fn pre_solve_callback_drives_a_servo_and_post_solve_breaks_a_joint() {
     // Pre-solve: a servo sets the motor's rate from the wheel's angle
     // (proportional control towards 1 rad); post-solve: a pin joint that
     // carries more than 30 N breaks (removed by a post-step callback).
-    let mut w = Space::new();
+    let mut w = awake_space();
     w.set_gravity(Vect::from_ints(0, -10));
     let ground = ok(w.add_body(Body::new_static()));
     let wheel = body(&mut w, 1, 1, Vect::from_ints(5, 0));
@@ -1338,7 +1338,7 @@ fn pre_solve_callback_drives_a_servo_and_post_solve_breaks_a_joint() {
 
 #[test]
 fn constraint_callbacks_survive_rollback_and_not_handle_reuse() {
-    let mut w = Space::new();
+    let mut w = awake_space();
     let a = body(&mut w, 1, 1, Vect::ZERO);
     let b = body(&mut w, 1, 1, Vect::from_ints(1, 0));
     let h = ok(w.add_constraint(ok(Constraint::new(a, b, ok(SimpleMotor::new(Real::ONE))))));
@@ -1391,6 +1391,20 @@ fn builtin_scene(name: &str) -> tamias2d_scenes::ScriptedWorld {
         .unwrap_or_else(|| panic!("{name} is registered"))
         .build()
         .unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// A space that never sleeps. The closed-form checks here follow motion
+/// that slows towards rest (ring-down, drift, error correction) for many
+/// seconds, which sleeping would freeze once it is slower than the idle
+/// speed; sleeping has its own tests (`tests/sleep.rs`).
+fn awake_space() -> Space {
+    let mut w = Space::new();
+    let settings = tamias2d::space::Settings {
+        sleep_time_threshold: tamias2d::space::SLEEP_NEVER,
+        ..w.settings().clone()
+    };
+    ok(w.set_settings(settings));
+    w
 }
 
 /// Whether any touching arbiter of the last step involves `body`.
@@ -1545,6 +1559,12 @@ fn spring_mass_rings_down_at_the_backward_euler_rates_and_rests_at_the_closed_fo
     // ones within 10⁻³ (the crossing interpolation), and the closed-form
     // ones within those gaps plus 0.5 %.
     let mut scene = builtin_scene("spring_mass");
+    // It rings down to 10⁻⁸ m: never asleep (see `awake_space`).
+    let settings = tamias2d::space::Settings {
+        sleep_time_threshold: tamias2d::space::SLEEP_NEVER,
+        ..scene.space.settings().clone()
+    };
+    ok(scene.space.set_settings(settings));
     let mass = scene.body("mass").unwrap_or_else(|| panic!("mass"));
     let (mut ys, mut thetas) = (Vec::new(), Vec::new());
     for _ in 0..600 {
@@ -1898,7 +1918,7 @@ fn a_groove_stays_on_body_a_while_body_b_spins() {
     // spinning at 5 rad/s sliding down it at 1 m/s, no gravity: the pivot
     // is the wheel's centre, so nothing pushes it sideways and it stays on
     // x = 0 exactly (up to the rounding of the solve, 10⁻⁹ m).
-    let mut w = Space::new();
+    let mut w = awake_space();
     let ground = ok(w.add_body(Body::new_static()));
     let wheel = body(&mut w, 1, 1, Vect::from_ints(0, -1));
     if let Some(b) = w.body_mut(wheel) {

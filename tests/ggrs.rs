@@ -5,7 +5,9 @@
 //! player balls).
 use tamias2d_scenes::ggrs_game;
 
-use ggrs_game::{run_p2p, run_straight, run_straight_on, run_synctest, Game, P2P_INPUT_DELAY};
+use ggrs_game::{
+    run_p2p, run_straight, run_straight_on, run_synctest, scripted_buttons, Game, P2P_INPUT_DELAY,
+};
 
 /// 600 frames at check distance 7 (8 steps of a 103-body scene per frame).
 const SYNCTEST_FRAMES: u64 = 600;
@@ -45,6 +47,35 @@ fn synctest_on_the_joint_scenes_agrees_with_a_straight_run() {
             "{name} has joints"
         );
     }
+}
+
+/// Sleeping under rollback (issue 14): `sleep_wake`'s players are two
+/// balls that the scripted buttons roll into the sleeping columns, which
+/// wake, scatter and fall asleep again. 600 frames at check distance 7;
+/// the end state equals a straight run, and the straight run did sleep and
+/// wake (counted frame by frame).
+#[test]
+fn synctest_across_sleep_and_wake_agrees_with_a_straight_run() {
+    let name = "sleep_wake";
+    let mut game = Game::with_scene(name).expect("sleep_wake is a game");
+    run_synctest(&mut game, SYNCTEST_FRAMES, 7, 3)
+        .unwrap_or_else(|e| panic!("{name}: not deterministic under rollback: {e}"));
+    let mut straight = Game::with_scene(name).expect("sleep_wake is a game");
+    let (mut asleep_frames, mut wakes, mut last) = (0u64, 0u64, 0usize);
+    for frame in 0..SYNCTEST_FRAMES {
+        straight.advance(&[scripted_buttons(0, frame, 3), scripted_buttons(1, frame, 3)]);
+        let now = straight.space.sleeping_bodies();
+        asleep_frames += u64::from(now > 0);
+        wakes += u64::from(now < last);
+        last = now;
+    }
+    assert_eq!(game.space.checksum(), straight.space.checksum());
+    assert_eq!(game.space.state(), straight.space.state());
+    println!("sleep_wake: {asleep_frames} frames with sleeping bodies, {wakes} wake-ups");
+    assert!(
+        asleep_frames > 100 && wakes > 0,
+        "{asleep_frames} frames asleep, {wakes} wakes"
+    );
 }
 
 #[test]

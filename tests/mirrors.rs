@@ -245,6 +245,7 @@ fn expected(path: &[Key], live: bool) -> (&'static str, Option<String>) {
     match top.as_str() {
         "settings" => ("settings", name(1)),
         "arbiters" => ("arbiter", name(2)),
+        "dormant_arbiters" => ("dormant arbiter", name(2)),
         "bodies" | "shapes" | "constraints" => {
             let (object, arena) = match top.as_str() {
                 "bodies" => ("body", "body arena"),
@@ -272,6 +273,8 @@ fn kind(s: Subject) -> &'static str {
         Subject::ShapeArena => "shape arena",
         Subject::Arbiter(_) => "arbiter",
         Subject::Arbiters => "arbiters",
+        Subject::DormantArbiter(_) => "dormant arbiter",
+        Subject::DormantArbiters => "dormant arbiters",
         Subject::Constraint(_) => "constraint",
         Subject::ConstraintArena => "constraint arena",
         Subject::Counters => "counters",

@@ -184,7 +184,8 @@ fn static_body_moved_by_a_custom_position_integrator() {
         b.space.step(dt()).unwrap_or_else(|e| panic!("{e}"));
         assert!(
             a.space.state() == b.space.state(),
-            "step {i}: integrator and body_mut differ"
+            "step {i}: integrator and body_mut differ: {:?}",
+            tamias2d::snapshot::first_difference(&a.space, &b.space)
         );
     }
     assert!(height(&a.space, a.resting) > Real::ONE);

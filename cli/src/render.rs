@@ -307,7 +307,11 @@ impl Quantizer {
         let rgb = |c: Color| [c.r, c.g, c.b];
         let (r, g, b) = BACKGROUND;
         let mut pure = vec![[r, g, b]];
-        let styles = [options.static_style, options.kinematic_style];
+        let styles = [
+            options.static_style,
+            options.kinematic_style,
+            options.sleeping_style,
+        ];
         for style in styles {
             pure.extend([rgb(style.fill), rgb(style.outline)]);
         }

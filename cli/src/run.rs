@@ -174,6 +174,7 @@ fn run_and_report(
             view.height
         );
     }
+    println!("sleeping bodies: {}", sim.space.sleeping_bodies());
     println!("checksum: {:#018x}", sim.space.checksum());
     Ok(())
 }

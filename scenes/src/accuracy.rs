@@ -265,3 +265,57 @@ pub fn stack(n: u32) -> SceneDesc {
     }
     desc
 }
+
+/// `sleep_wake`: two columns of five unit boxes, 20 m apart on one ground
+/// (labels `left_top`, `right_top`), and two resting 50 kg balls 5 m
+/// outside them (`player_left`, `player_right`: the GGRS game's players),
+/// fall asleep (about 1 s: the default
+/// 0.5 s of rest after they settle); at step 180 a 1 kg ball (label `ball`)
+/// appears 4 m above the left column, falls onto it and wakes that island
+/// only, which settles and falls asleep again. 480 steps. The scene of the
+/// sleep tests and of the GGRS SyncTest across sleep and wake.
+pub fn sleep_wake() -> SceneDesc {
+    let mut desc = stacking::scene("sleep_wake".to_owned());
+    desc.steps = 480;
+    let twenty = Real::from_int(20);
+    let ground = BodyDesc::static_body()
+        .labeled("ground")
+        .with_shape(stacking::ground_segment(-twenty, twenty, Real::ZERO));
+    desc.bodies.push(ground);
+    // The first two dynamic bodies are the players of the GGRS game
+    // (`Game::with_scene`): 50 kg balls beside the columns, at rest in a
+    // plain run; pushed by the scripted buttons they roll into the
+    // columns, which then wake and fall asleep again.
+    for (x, side) in [(-15, "left"), (15, "right")] {
+        let player = ball(
+            Vect::new(Real::from_int(x), Real::HALF),
+            Vect::ZERO,
+            Real::HALF,
+            Real::from_int(50),
+        )
+        .labeled(&format!("player_{side}"));
+        desc.bodies.push(player);
+    }
+    for (x, side) in [(-10, "left"), (10, "right")] {
+        for i in 0..5 {
+            let p = Vect::new(Real::from_int(x), Real::from_int(i) + Real::HALF);
+            let mut b = stacking::box_body(p, Real::ONE);
+            if i == 4 {
+                b.label = Some(format!("{side}_top"));
+            }
+            desc.bodies.push(b);
+        }
+    }
+    let ball = ball(
+        Vect::from_ints(-10, 9),
+        Vect::ZERO,
+        Real::lit("0.3"),
+        Real::ONE,
+    )
+    .labeled("ball");
+    desc.spawns.push(super::desc::SpawnDesc {
+        at_step: 180,
+        bodies: vec![ball],
+    });
+    desc
+}

@@ -111,6 +111,9 @@ pub fn scene_with(name: &str, config: Config) -> SceneDesc {
     desc.dt = Real::ratio(1, den);
     desc.settings.iterations = config.iterations;
     desc.settings.substeps = config.substeps.max(1);
+    // Sleeping off, as in the Rapier world (`can_sleep(false)`): the
+    // side-by-side compares the work of awake bodies.
+    desc.settings.sleep_time_threshold = tamias2d::space::SLEEP_NEVER;
     desc
 }
 

@@ -17,7 +17,7 @@ use super::dec;
 pub use super::joints::{ConstraintDesc, JointType};
 use tamias2d::math::{Real, Vect};
 use tamias2d::shape::{CollisionType, ShapeFilter};
-use tamias2d::space::Settings;
+use tamias2d::space::{Settings, DEFAULT_IDLE_SPEED_THRESHOLD, DEFAULT_SLEEP_TIME_THRESHOLD};
 
 /// A whole scene: settings, time step, bodies and scripted events.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -87,6 +87,38 @@ pub struct SettingsDesc {
     /// Block solver (see [`Settings::block_solver`]); omitted when on.
     #[serde(skip_serializing_if = "is_true")]
     pub block_solver: bool,
+    /// Seconds of rest before an island sleeps (see
+    /// [`Settings::sleep_time_threshold`]); omitted when the default.
+    #[serde(
+        with = "dec::real",
+        default = "default_sleep_time",
+        skip_serializing_if = "is_default_sleep_time"
+    )]
+    pub sleep_time_threshold: Real,
+    /// Idle speed (see [`Settings::idle_speed_threshold`]); omitted when
+    /// the default.
+    #[serde(
+        with = "dec::real",
+        default = "default_idle_speed",
+        skip_serializing_if = "is_default_idle_speed"
+    )]
+    pub idle_speed_threshold: Real,
+}
+
+fn default_sleep_time() -> Real {
+    DEFAULT_SLEEP_TIME_THRESHOLD
+}
+
+fn is_default_sleep_time(v: &Real) -> bool {
+    *v == DEFAULT_SLEEP_TIME_THRESHOLD
+}
+
+fn default_idle_speed() -> Real {
+    DEFAULT_IDLE_SPEED_THRESHOLD
+}
+
+fn is_default_idle_speed(v: &Real) -> bool {
+    *v == DEFAULT_IDLE_SPEED_THRESHOLD
 }
 
 // The settings added after the first scene files are written only when they
@@ -115,6 +147,8 @@ impl From<&Settings> for SettingsDesc {
             restitution,
             bias_impulses,
             block_solver,
+            sleep_time_threshold,
+            idle_speed_threshold,
         } = *s;
         SettingsDesc {
             gravity,
@@ -129,6 +163,8 @@ impl From<&Settings> for SettingsDesc {
             restitution,
             bias_impulses,
             block_solver,
+            sleep_time_threshold,
+            idle_speed_threshold,
         }
     }
 }
@@ -148,6 +184,8 @@ impl From<&SettingsDesc> for Settings {
             restitution,
             bias_impulses,
             block_solver,
+            sleep_time_threshold,
+            idle_speed_threshold,
         } = *s;
         Settings {
             iterations,
@@ -162,6 +200,8 @@ impl From<&SettingsDesc> for Settings {
             restitution,
             bias_impulses,
             block_solver,
+            sleep_time_threshold,
+            idle_speed_threshold,
         }
     }
 }

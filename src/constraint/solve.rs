@@ -164,7 +164,8 @@ impl ConstraintScratch {
             ) else {
                 continue;
             };
-            if ia == ib {
+            // A sleeping island's joints rest with it (their impulses stay).
+            if ia == ib || body_a.is_sleeping() || body_b.is_sleeping() {
                 continue;
             }
             let bias_coef = self.bias_coef(c.error_bias, dt);

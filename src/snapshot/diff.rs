@@ -67,6 +67,10 @@ pub enum Subject {
     Arbiter(usize),
     /// The arbiter list as a whole (its length, or its digest).
     Arbiters,
+    /// The dormant arbiter (of a sleeping island) at this position.
+    DormantArbiter(usize),
+    /// The dormant arbiter list as a whole.
+    DormantArbiters,
     /// A constraint.
     Constraint(ConstraintHandle),
     /// The constraint arena outside the live constraints.
@@ -85,6 +89,8 @@ impl fmt::Display for Subject {
             Subject::ShapeArena => f.write_str("shape arena"),
             Subject::Arbiter(i) => write!(f, "arbiter [{i}]"),
             Subject::Arbiters => f.write_str("arbiters"),
+            Subject::DormantArbiter(i) => write!(f, "dormant arbiter [{i}]"),
+            Subject::DormantArbiters => f.write_str("dormant arbiters"),
             Subject::Constraint(h) => write!(f, "constraint {h:?}"),
             Subject::ConstraintArena => f.write_str("constraint arena"),
             Subject::Counters => f.write_str("counters"),
@@ -242,6 +248,7 @@ pub fn first_difference(a: &Space, b: &Space) -> Option<Difference> {
         current_dt: _,
         prev_dt: _,
         constraints,
+        dormant_arbiters: _,
     } = sa;
     let diff = |subject, (field, a, b): (&'static str, String, String)| Difference {
         subject,
@@ -251,14 +258,30 @@ pub fn first_difference(a: &Space, b: &Space) -> Option<Difference> {
     };
     let found = first_field!(Settings; settings, &sb.settings;
         iterations, gravity, damping, collision_slop, collision_bias, collision_persistence,
-        substeps, warm_starting, friction, restitution, bias_impulses, block_solver)
+        substeps, warm_starting, friction, restitution, bias_impulses, block_solver,
+        sleep_time_threshold, idle_speed_threshold)
     .map(|f| diff(Subject::Settings, f));
     found
         .or_else(|| first_slot_difference(bodies, &sb.bodies, Subject::Body, body_fields))
         .or_else(|| arena_rest(bodies, &sb.bodies, Subject::BodyArena))
         .or_else(|| first_slot_difference(shapes, &sb.shapes, Subject::Shape, shape_fields))
         .or_else(|| arena_rest(shapes, &sb.shapes, Subject::ShapeArena))
-        .or_else(|| arbiter_difference(sa, sb))
+        .or_else(|| {
+            arbiter_list_difference(
+                &sa.arbiters,
+                &sb.arbiters,
+                Subject::Arbiter,
+                Subject::Arbiters,
+            )
+        })
+        .or_else(|| {
+            arbiter_list_difference(
+                &sa.dormant_arbiters,
+                &sb.dormant_arbiters,
+                Subject::DormantArbiter,
+                Subject::DormantArbiters,
+            )
+        })
         .or_else(|| {
             first_slot_difference(
                 constraints,
@@ -276,7 +299,7 @@ pub fn first_difference(a: &Space, b: &Space) -> Option<Difference> {
 
 fn body_fields(a: &Body, b: &Body) -> Option<(&'static str, String, String)> {
     first_field!(Body; a, b; body_type, mass, mass_inv, moment, moment_inv, explicit_mass, cog,
-        p, v, f, a, rot, w, t, v_bias, w_bias)
+        p, v, f, a, rot, w, t, v_bias, w_bias, sleep)
 }
 
 fn constraint_fields(a: &Constraint, b: &Constraint) -> Option<(&'static str, String, String)> {
@@ -346,28 +369,28 @@ fn arena_rest<T: core::hash::Hash>(
     })
 }
 
-fn arbiter_difference(sa: &WorldState, sb: &WorldState) -> Option<Difference> {
-    let found = sa
-        .arbiters
-        .iter()
-        .zip(&sb.arbiters)
-        .enumerate()
-        .find_map(|(i, (x, y))| {
-            first_field!(Arbiter; x, y; shape_a, shape_b, body_a, body_b, normal, count, contacts,
+fn arbiter_list_difference(
+    la: &[Arbiter],
+    lb: &[Arbiter],
+    at: fn(usize) -> Subject,
+    whole: Subject,
+) -> Option<Difference> {
+    let found = la.iter().zip(lb).enumerate().find_map(|(i, (x, y))| {
+        first_field!(Arbiter; x, y; shape_a, shape_b, body_a, body_b, normal, count, contacts,
                 restitution, friction, surface_velocity, warm_start_id, stamp, state, sensor)
-            .map(|(field, a, b)| Difference {
-                subject: Subject::Arbiter(i),
-                field,
-                a,
-                b,
-            })
-        });
+        .map(|(field, a, b)| Difference {
+            subject: at(i),
+            field,
+            a,
+            b,
+        })
+    });
     found.or_else(|| {
-        (sa.arbiters.len() != sb.arbiters.len()).then(|| Difference {
-            subject: Subject::Arbiters,
+        (la.len() != lb.len()).then(|| Difference {
+            subject: whole,
             field: "count",
-            a: sa.arbiters.len().to_string(),
-            b: sb.arbiters.len().to_string(),
+            a: la.len().to_string(),
+            b: lb.len().to_string(),
         })
     })
 }

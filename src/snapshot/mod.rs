@@ -33,7 +33,7 @@
 //! The payload must end exactly at the end of the buffer. Its layout is
 //! serde's derive of [`WorldState`] field by field (settings, body arena,
 //! shape arena, arbiters, stamp, current and previous `dt`, constraint
-//! arena); each arena is its slots (generation, optional value), its free
+//! arena, dormant arbiters of sleeping islands); each arena is its slots (generation, optional value), its free
 //! list and its length. A constraint is its two body handles, `max_force`,
 //! `error_bias`, `max_bias`, `collide_bodies` (one byte) and its kind (a
 //! u32 tag, then the kind's parameters and accumulated impulse). Any
@@ -172,7 +172,7 @@ pub const MAGIC: [u8; 8] = *b"TAMIAS2D";
 /// `friction`, `restitution`, `bias_impulses` (one byte each). Version 3:
 /// `block_solver` (one byte) after `bias_impulses`. Version 4: the state
 /// ends with the constraint arena (`constraints`).
-pub const FORMAT_VERSION: u32 = 4;
+pub const FORMAT_VERSION: u32 = 5;
 
 /// Bytes before the bincode payload: magic, version, checksum (the frame
 /// every Tamias file shares, see [`crate::framing`]).

@@ -73,6 +73,9 @@ impl Space {
                 return Err(SpaceError::StaleBody(body));
             }
         }
+        // A joint changes its bodies' islands: both wake.
+        self.wake_touching(c.a);
+        self.wake_touching(c.b);
         // Stored handles carry the space's origin (the caller's may be 0).
         let c = Constraint {
             a: c.a.with_origin(self.origin),
@@ -148,6 +151,13 @@ impl Space {
             let (Some(f), Some(constraint)) = (f, self.state.constraints.get_mut(*h)) else {
                 continue;
             };
+            // As in Chipmunk, a sleeping island's joints are not solved and
+            // their callbacks do not run (keep a servo's bodies awake with
+            // `Body::set_sleep_allowed(false)`, or wake them).
+            let asleep = |b| self.state.bodies.get(b).is_some_and(Body::is_sleeping);
+            if asleep(constraint.a) || asleep(constraint.b) {
+                continue;
+            }
             f(&mut ConstraintContext {
                 handle: h.with_origin(origin),
                 constraint,
@@ -163,6 +173,14 @@ impl Space {
     pub fn remove_constraint(&mut self, h: ConstraintHandle) -> Result<Constraint, SpaceError> {
         self.check_unlocked()?;
         self.check_origin(h)?;
+        let (a, b) = self
+            .state
+            .constraints
+            .get(h)
+            .map(|c| (c.a, c.b))
+            .ok_or(SpaceError::StaleConstraint(h))?;
+        self.wake_touching(a);
+        self.wake_touching(b);
         self.state
             .constraints
             .remove(h)
@@ -176,9 +194,13 @@ impl Space {
     }
 
     /// A constraint, mutably: its setters check their values, and its
-    /// bodies cannot be changed.
+    /// bodies cannot be changed. Asking for it wakes both bodies' islands
+    /// (a motor's new rate must act).
     pub fn constraint_mut(&mut self, h: ConstraintHandle) -> Option<&mut Constraint> {
         self.check_origin(h).ok()?;
+        let (a, b) = self.state.constraints.get(h).map(|c| (c.a, c.b))?;
+        self.wake_touching(a);
+        self.wake_touching(b);
         self.state.constraints.get_mut(h)
     }
 

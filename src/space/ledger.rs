@@ -34,6 +34,8 @@ const _WORLD: fn(&WorldState) = |s| {
         current_dt: _,  // validate_counters: 0 before the first step, positive after
         prev_dt: _,     // validate_counters: 0 before the second step, positive after
         constraints: _, // Arena::validate, then each constraint (_CONSTRAINT)
+        dormant_arbiters: _, // sleep::validate_sleep: sorted, not live, between sleeping
+                        // bodies, age < stamp, then _ARBITER as of that age
     } = s;
 };
 
@@ -124,6 +126,8 @@ const _SETTINGS: fn(&Settings) = |s| {
         restitution: _,           // any value
         bias_impulses: _,         // any value
         block_solver: _,          // any value
+        sleep_time_threshold: _,  // ≥ 0 (SLEEP_NEVER: off)
+        idle_speed_threshold: _,  // ≥ 0
     } = s;
 };
 
@@ -146,10 +150,20 @@ const _BODY: fn(&Body) = |b| {
         t: _,      // any value
         v_bias: _, // any value (the last solve's pseudo-velocity, used by the next step)
         w_bias: _, // any value
+        sleep: _,  // see _SLEEP
     } = b;
     match b.body_type {
         BodyType::Dynamic | BodyType::Kinematic | BodyType::Static => {}
     }
+};
+
+const _SLEEP: fn(&crate::body::SleepState) = |s| {
+    let crate::body::SleepState {
+        idle_time: _, // ≥ 0
+        island: _,    // Some only for a dynamic body that may sleep, with zero velocities,
+        // bias velocities, force and torque; the root is a sleeping body whose root is itself
+        allowed: _, // any value
+    } = s;
 };
 
 const _SHAPE: fn(&Shape) = |s| {

@@ -16,6 +16,7 @@ pub mod handlers;
 mod ledger;
 pub mod query;
 mod settings;
+mod sleep;
 mod step;
 
 use core::fmt;
@@ -26,7 +27,8 @@ pub use constraints::{ConstraintContext, ConstraintFn};
 pub use handlers::{ArbiterContext, CollisionHandler, PostStepFn};
 pub use settings::{
     Settings, CHIPMUNK_COLLISION_SLOP, DEFAULT_COLLISION_BIAS, DEFAULT_COLLISION_SLOP,
-    MAX_ITERATIONS, MAX_SUBSTEPS,
+    DEFAULT_IDLE_SPEED_THRESHOLD, DEFAULT_SLEEP_TIME_THRESHOLD, MAX_ITERATIONS, MAX_SUBSTEPS,
+    SLEEP_NEVER,
 };
 pub use step::sub_step_dts;
 
@@ -77,6 +79,8 @@ pub enum SpaceError {
     /// it. Give it a mass (`Body::new`, `Body::set_mass`) or a shape a
     /// density (`Shape::set_density`). The first such body in slot order.
     MasslessDynamicBody(BodyHandle),
+    /// A sleep request the rules refuse (see [`Space::sleep_body`]).
+    Sleep(&'static str),
 }
 
 impl fmt::Display for SpaceError {
@@ -106,6 +110,7 @@ impl fmt::Display for SpaceError {
                 f,
                 "dynamic body {h:?} has no mass: give it a mass or a shape with mass or density"
             ),
+            SpaceError::Sleep(why) => write!(f, "cannot sleep: {why}"),
         }
     }
 }
@@ -152,6 +157,10 @@ pub struct WorldState {
     pub prev_dt: Real,
     /// Constraints (joints), in slot order (the order they are solved in).
     pub constraints: Arena<Constraint>,
+    /// Arbiters of sleeping islands, sorted by pair key like `arbiters`
+    /// (no pair in both): kept with their contacts and impulses while the
+    /// island sleeps; their `stamp` holds their age (see `space::sleep`).
+    pub dormant_arbiters: Vec<Arbiter>,
 }
 
 /// The derive's hash (each field in declaration order), except that a
@@ -172,6 +181,7 @@ impl core::hash::Hash for WorldState {
             current_dt,
             prev_dt,
             constraints,
+            dormant_arbiters,
         } = self;
         settings.hash(h);
         bodies.hash(h);
@@ -184,6 +194,7 @@ impl core::hash::Hash for WorldState {
         if constraints.capacity_slots() > 0 {
             constraints.hash(h);
         }
+        dormant_arbiters.hash(h);
     }
 }
 
@@ -363,6 +374,7 @@ impl Space {
         self.state.clone_from(state);
         adopt_handles(&mut self.state, self.origin);
         self.caches.broadphase.statics_dirty = true;
+        self.caches.broadphase.sleepers_dirty = true;
         self.caches.body_shapes.invalidate();
         self.caches.step.dt_constants = [None, None];
     }
@@ -373,15 +385,24 @@ impl Space {
     }
 
     /// Replaces the settings after checking them.
+    /// Changed settings wake every sleeping body (new gravity, thresholds
+    /// or solver switches concern them too); the same settings wake none.
     pub fn set_settings(&mut self, settings: Settings) -> Result<(), SpaceError> {
         settings.validate()?;
+        if settings != self.state.settings {
+            self.wake_all();
+        }
         self.state.settings = settings;
         self.caches.step.dt_constants = [None, None];
         Ok(())
     }
 
     /// MIS `spaceSetGravity`.
+    /// A new gravity wakes every sleeping body.
     pub fn set_gravity(&mut self, gravity: Vect) {
+        if gravity != self.state.settings.gravity {
+            self.wake_all();
+        }
         self.state.settings.gravity = gravity;
         self.caches.step.dt_constants = [None, None];
     }
@@ -461,6 +482,7 @@ impl Space {
             Some(b) => b.body_type() == BodyType::Static,
             None => return Err(SpaceError::StaleBody(h)),
         };
+        self.wake_touching(h);
         self.remove_constraints_of(h);
         // The body's shapes in slot order, found without a scan.
         let owned: Vec<ShapeHandle> = self
@@ -498,6 +520,7 @@ impl Space {
             .get(bh)
             .ok_or(SpaceError::StaleBody(bh))?
             .body_type();
+        self.wake_touching(bh);
         // Stored handles carry the space's origin (the caller's may be 0).
         let shape = Shape {
             body: bh.with_origin(self.origin),
@@ -516,6 +539,11 @@ impl Space {
             .body_shapes
             .insert(&self.state.shapes, bh, h.index());
         self.update_mass_from_shapes(bh);
+        if body_type != BodyType::Dynamic {
+            // A new piece of level (or of a kinematic body) may overlap a
+            // sleeping pile, which no moving shape would wake.
+            self.wake_overlapping(bh);
+        }
         Ok(h.with_origin(self.origin))
     }
 
@@ -554,9 +582,10 @@ impl Space {
     pub fn remove_shape(&mut self, h: ShapeHandle) -> Result<Shape, SpaceError> {
         self.check_unlocked()?;
         self.check_origin(h)?;
-        if !self.state.shapes.contains(h) {
+        let Some(owner) = self.state.shapes.get(h).map(|s| s.body) else {
             return Err(SpaceError::StaleShape(h));
-        }
+        };
+        self.wake_touching(owner);
         let mut removed = Vec::new();
         self.state.arbiters.retain(|arb| {
             let hit = arb.shape_a == h || arb.shape_b == h;
@@ -596,14 +625,21 @@ impl Space {
 
     /// A body, mutably. Moving a static body this way is noticed: the static
     /// index is rebuilt on the next step (if its shapes' boxes changed).
+    ///
+    /// Asking for it wakes the body's island and the islands resting on it
+    /// (whatever is then changed: Chipmunk's setters wake the body too).
+    /// A static or kinematic body moved this way does not know what it
+    /// will touch: call [`activate_body`](Self::activate_body) on it
+    /// afterwards to wake the islands at its new place.
     pub fn body_mut(&mut self, h: BodyHandle) -> Option<&mut Body> {
         self.check_origin(h).ok()?;
-        let body = self.state.bodies.get_mut(h)?;
+        let body_type = self.state.bodies.get(h)?.body_type();
+        self.wake_touching(h);
         // Kinematic bodies' shapes are swept each step, not in the tree.
-        if body.body_type() == BodyType::Static {
+        if body_type == BodyType::Static {
             self.caches.broadphase.statics_dirty = true;
         }
-        Some(body)
+        self.state.bodies.get_mut(h)
     }
 
     /// A shape.
@@ -634,6 +670,12 @@ impl Space {
         if !self.state.bodies.contains(body) {
             return Err(SpaceError::StaleBody(body));
         }
+        let old_body = shape.body;
+        self.wake_touching(old_body);
+        self.wake_touching(body);
+        let Some(shape) = self.state.shapes.get_mut(h) else {
+            return Err(SpaceError::StaleShape(h));
+        };
         if copy.body != shape.body {
             // Only the crate can move a shape to another body.
             self.caches.body_shapes.invalidate();
@@ -641,6 +683,9 @@ impl Space {
         *shape = copy;
         self.mark_statics_if_static(body);
         self.update_mass_from_shapes(body);
+        if self.state.bodies.get(body).is_some_and(|b| !b.is_dynamic()) {
+            self.wake_overlapping(body);
+        }
         Ok(out)
     }
 
@@ -883,7 +928,7 @@ fn adopt_handles(state: &mut WorldState, origin: u32) {
     for (_, shape) in state.shapes.iter_mut() {
         shape.body = shape.body.with_origin(origin);
     }
-    for arb in &mut state.arbiters {
+    for arb in state.arbiters.iter_mut().chain(&mut state.dormant_arbiters) {
         arb.shape_a = arb.shape_a.with_origin(origin);
         arb.shape_b = arb.shape_b.with_origin(origin);
         arb.body_a = arb.body_a.with_origin(origin);
@@ -949,30 +994,37 @@ pub fn validate_state(state: &WorldState) -> Result<(), String> {
             return Err(format!("arbiter {key:?} out of canonical order"));
         }
         prev = Some(key);
-        let (Some(a), Some(b)) = (state.shapes.get(arb.shape_a), state.shapes.get(arb.shape_b))
-        else {
-            return Err(format!("arbiter {key:?} names a missing shape"));
-        };
-        if a.body != arb.body_a || b.body != arb.body_b {
-            return Err(format!("arbiter {key:?} bodies do not match its shapes"));
-        }
-        if arb.count() != usize::from(arb.count) {
-            return Err(format!("arbiter {key:?} has too many contacts"));
-        }
-        // The narrowphase never pairs a body with itself or two bodies that
-        // cannot move, and neither a shape's body nor a body's type changes.
-        let dynamic = |h| state.bodies.get(h).is_some_and(Body::is_dynamic);
-        if arb.body_a == arb.body_b || !(dynamic(arb.body_a) || dynamic(arb.body_b)) {
-            return Err(format!("arbiter {key:?} pairs bodies that never collide"));
-        }
-        arb.validate(state.stamp)
-            .map_err(|e| format!("arbiter {key:?}: {e}"))?;
-        // The narrowphase clears the slots past the count, so that the state
-        // (and its checksum) does not depend on earlier contacts.
-        let unused = arb.contacts.get(arb.count()..).unwrap_or(&[]);
-        if unused.iter().any(|c| *c != Default::default()) {
-            return Err(format!("arbiter {key:?} has data past its contact count"));
-        }
+        validate_arbiter(state, arb)?;
+    }
+    sleep::validate_sleep(state)
+}
+
+/// One arbiter's references, contact count, unused slots, state and
+/// stamp (live arbiters, and dormant ones with their age made a stamp).
+fn validate_arbiter(state: &WorldState, arb: &Arbiter) -> Result<(), String> {
+    let key = arb.key();
+    let (Some(a), Some(b)) = (state.shapes.get(arb.shape_a), state.shapes.get(arb.shape_b)) else {
+        return Err(format!("arbiter {key:?} names a missing shape"));
+    };
+    if a.body != arb.body_a || b.body != arb.body_b {
+        return Err(format!("arbiter {key:?} bodies do not match its shapes"));
+    }
+    if arb.count() != usize::from(arb.count) {
+        return Err(format!("arbiter {key:?} has too many contacts"));
+    }
+    // The narrowphase never pairs a body with itself or two bodies that
+    // cannot move, and neither a shape's body nor a body's type changes.
+    let dynamic = |h| state.bodies.get(h).is_some_and(Body::is_dynamic);
+    if arb.body_a == arb.body_b || !(dynamic(arb.body_a) || dynamic(arb.body_b)) {
+        return Err(format!("arbiter {key:?} pairs bodies that never collide"));
+    }
+    arb.validate(state.stamp)
+        .map_err(|e| format!("arbiter {key:?}: {e}"))?;
+    // The narrowphase clears the slots past the count, so that the state
+    // (and its checksum) does not depend on earlier contacts.
+    let unused = arb.contacts.get(arb.count()..).unwrap_or(&[]);
+    if unused.iter().any(|c| *c != Default::default()) {
+        return Err(format!("arbiter {key:?} has data past its contact count"));
     }
     Ok(())
 }

@@ -95,7 +95,32 @@ pub struct Settings {
     /// mirrors) and converges faster per iteration. Off: Chipmunk's
     /// sequential contacts. See the `solver::block` module.
     pub block_solver: bool,
+    /// Seconds every body of an island must stay idle before the island
+    /// falls asleep (default 0.5 s, Box2D v3's `b2_timeToSleep`; Chipmunk's
+    /// default is infinity, i.e. off). [`SLEEP_NEVER`] (`Real::MAX`) turns
+    /// sleeping off: the sleep stage is skipped, no idle time is kept.
+    /// A sleeping body costs nothing in the step: see the `space::sleep`
+    /// module for when islands sleep and wake.
+    pub sleep_time_threshold: Real,
+    /// A body is idle while `|v|² + (I/m)·ω² ≤ idle_speed_threshold²` (a
+    /// speed, default 0.05 m/s: Box2D v3's sleep threshold; Chipmunk's
+    /// default derives it from gravity, `|g|·dt`, which is 0.16 m/s at
+    /// 1/60 s in metres and changes with the step). Scale it with the
+    /// length unit like [`collision_slop`](Self::collision_slop).
+    pub idle_speed_threshold: Real,
 }
+
+/// [`Settings::sleep_time_threshold`] that turns sleeping off.
+pub const SLEEP_NEVER: Real = Real::MAX;
+
+/// The default sleep time threshold, 0.5 s (Box2D v3's): long enough that
+/// a body at the top of its bounce (speed 0 for an instant) never sleeps,
+/// short enough that a settled pile stops costing within a second.
+pub const DEFAULT_SLEEP_TIME_THRESHOLD: Real = Real::lit("0.5");
+
+/// The default idle speed, 0.05 m/s (Box2D v3's): a body slower than this
+/// moves less than a millimetre per 1/60 s step.
+pub const DEFAULT_IDLE_SPEED_THRESHOLD: Real = Real::lit("0.05");
 
 /// The default collision slop, 0.005 m (see [`Settings`]): deep enough that
 /// resting contacts keep their overlap (the standard stacks rest 4.4 mm
@@ -144,7 +169,23 @@ impl Settings {
         if self.substeps == 0 || self.substeps > MAX_SUBSTEPS {
             return Err(SpaceError::InvalidSetting("substeps must be in 1..=64"));
         }
+        if self.sleep_time_threshold.is_negative() {
+            return Err(SpaceError::InvalidSetting(
+                "sleep time threshold must be ≥ 0",
+            ));
+        }
+        if self.idle_speed_threshold.is_negative() {
+            return Err(SpaceError::InvalidSetting(
+                "idle speed threshold must be ≥ 0",
+            ));
+        }
         Ok(())
+    }
+
+    /// True unless [`sleep_time_threshold`](Self::sleep_time_threshold) is
+    /// [`SLEEP_NEVER`].
+    pub fn sleeping_enabled(&self) -> bool {
+        self.sleep_time_threshold != SLEEP_NEVER
     }
 }
 
@@ -173,6 +214,8 @@ impl Default for Settings {
             restitution: true,
             bias_impulses: true,
             block_solver: true,
+            sleep_time_threshold: DEFAULT_SLEEP_TIME_THRESHOLD,
+            idle_speed_threshold: DEFAULT_IDLE_SPEED_THRESHOLD,
         }
     }
 }

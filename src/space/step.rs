@@ -182,8 +182,15 @@ impl Space {
 
         self.integrate_positions(dt); // 1
         self.update_shape_caches(); // 2
-        self.find_pairs(); // 3
         self.update_constraint_filter(); // 4: collide_bodies = false
+        self.find_pairs(); // 3
+                           // 3b: a moving shape touching a sleeping one wakes its island,
+                           // whose shapes then move too: stages 2-3 again (at most once per
+                           // island woken, so it ends).
+        while self.wake_touched_islands() {
+            self.update_shape_caches();
+            self.find_pairs();
+        }
         let active = self.collide_pairs(); // 4, 5
         self.load_solver_bodies(); // 6
         self.pre_step(&active, &dtc, features); // 7
@@ -198,6 +205,7 @@ impl Space {
         self.store_constraint_impulses(); // 11
         self.count_saturated_bodies(); // 12
         self.post_solve(&active); // 13
+        self.update_sleep(dt, &active); // 13b
         self.caches.arbiters.active = active;
 
         self.locked = false;
@@ -236,12 +244,19 @@ impl Space {
     fn integrate_positions(&mut self, dt: Real) {
         let custom = &mut self.integrators.position;
         let mut moved_static = false;
+        let mut moved_by_hand = Vec::new();
         for (h, body) in self.state.bodies.iter_mut() {
+            if body.is_sleeping() {
+                continue;
+            }
             match custom.get_mut(&h) {
                 Some(f) => {
                     // A custom integrator may move even a static body: its
                     // shapes' cache entries and the static tree are redone.
                     moved_static |= body.body_type() == BodyType::Static;
+                    if !body.is_dynamic() {
+                        moved_by_hand.push(h);
+                    }
                     f(body, dt)
                 }
                 None => body.update_position(dt),
@@ -249,6 +264,11 @@ impl Space {
         }
         if moved_static {
             self.caches.broadphase.statics_dirty = true;
+        }
+        // Sleeping piles do not see a static or kinematic body that an
+        // integrator teleports (only velocities are noticed): wake them.
+        for h in moved_by_hand {
+            self.wake_for_moved(h);
         }
     }
 
@@ -265,6 +285,8 @@ impl Space {
         let caches = &mut self.caches.shapes;
         let bp = &mut self.caches.broadphase;
         let rewrite_statics = bp.statics_dirty;
+        let rewrite_sleepers = bp.sleepers_dirty;
+        bp.sleepers.clear();
         let mut statics_changed = false;
         let bodies = &self.state.bodies;
         let shapes = &self.state.shapes;
@@ -283,6 +305,12 @@ impl Space {
             if is_static && !rewrite_statics && entry.as_ref().is_some_and(|c| c.is_static) {
                 continue;
             }
+            // A sleeping body has not moved since its entry was written
+            // (anything that could move it wakes it and sets the flag).
+            let sleeping = body.is_sleeping();
+            if sleeping && !rewrite_sleepers && entry.as_ref().is_some_and(|c| !c.is_static) {
+                continue;
+            }
             statics_changed |= is_static;
             let geometry = s.geometry.to_world(body.position(), body.rotation());
             let bb = geometry.bb();
@@ -291,7 +319,12 @@ impl Space {
                 bb,
                 is_static,
             });
-            if !is_static {
+            if sleeping {
+                bp.sleepers.push(Proxy {
+                    index: i as u32,
+                    bb,
+                });
+            } else if !is_static {
                 bp.proxies.push(Proxy {
                     index: i as u32,
                     bb,
@@ -322,8 +355,20 @@ impl Space {
                 .collect();
             self.caches.broadphase.set_statics(statics);
         }
+        self.rebuild_sleeping_tree();
         let bp = &mut self.caches.broadphase;
-        bp.sweep.find_pairs(&bp.proxies, &bp.static_tree);
+        bp.sweep
+            .find_pairs(&bp.proxies, &bp.static_tree, &bp.sleeping_tree);
+    }
+
+    /// The sleeping tree from this step's sleeping boxes, if they changed
+    /// (bodies fell asleep or woke since the last build).
+    fn rebuild_sleeping_tree(&mut self) {
+        let bp = &mut self.caches.broadphase;
+        if bp.sleepers_dirty {
+            bp.sleeping_tree = crate::broadphase::StaticTree::build(bp.sleepers.clone());
+            bp.sleepers_dirty = false;
+        }
     }
 
     /// Stages 4–5: narrowphase and arbiter matching. Old and new arbiters
@@ -434,7 +479,10 @@ impl Space {
         }
         let ba = self.state.bodies.get(sa.body)?;
         let bb = self.state.bodies.get(sb.body)?;
-        if !ba.is_dynamic() && !bb.is_dynamic() {
+        // Two bodies that cannot move, or a sleeping body and one that
+        // does not move it (stage 3b woke the islands a mover touches).
+        let awake = |b: &crate::body::Body| b.is_dynamic() && !b.is_sleeping();
+        if !awake(ba) && !awake(bb) {
             return None;
         }
         let ca = self.caches.shapes.get(ia as usize)?.as_ref()?;
@@ -469,7 +517,9 @@ impl Space {
         let mut massless = 0u32;
         for (h, body) in self.state.bodies.iter() {
             if let Some(slot) = sb.get_mut(h.index() as usize) {
-                let dynamic = body.body_type() == BodyType::Dynamic;
+                // A sleeping body is solved as if static (it is never in
+                // an active contact: stage 3b woke whatever touches it).
+                let dynamic = body.body_type() == BodyType::Dynamic && !body.is_sleeping();
                 massless = massless.saturating_add(u32::from(dynamic && body.mass_inv().is_zero()));
                 *slot = SolverBody {
                     v: body.velocity(),
@@ -542,6 +592,9 @@ impl Space {
         let g = self.state.settings.gravity;
         let custom = &mut self.integrators.velocity;
         for (h, body) in self.state.bodies.iter_mut() {
+            if body.is_sleeping() {
+                continue;
+            }
             match custom.get_mut(&h) {
                 Some(f) => f(body, g, dtc.damping, dtc.dt),
                 None => body.update_velocity(g, dtc.damping, dtc.dt),
@@ -649,7 +702,7 @@ impl Space {
             }
         }
         for (h, body) in self.state.bodies.iter_mut() {
-            if body.body_type() != BodyType::Dynamic {
+            if body.body_type() != BodyType::Dynamic || body.is_sleeping() {
                 continue;
             }
             if let Some(s) = self.caches.solver.bodies.get(h.index() as usize) {

@@ -277,8 +277,11 @@ pub fn similarity_error(
     steps: u32,
     block_solver: bool,
 ) -> Result<(f64, u32), SceneError> {
+    // Sleeping off: the idle speed is absolute (m/s), so the two scales
+    // would fall asleep at different steps; this compares the solver.
     let with_solver = |mut d: SceneDesc| {
         d.settings.block_solver = block_solver;
+        d.settings.sleep_time_threshold = tamias2d::space::SLEEP_NEVER;
         d
     };
     let mut unit = build(&with_solver(scaled_stack(n, Real::ONE, Real::ONE)));

@@ -166,6 +166,9 @@ const ROUND_TRIPS: &[(&str, u32, &[u32])] = &[
     ("incline_slide", 120, &[0, 1, 40, 100]),
     ("incline_stick", 120, &[0, 1, 40, 100]),
     ("stack_10", 60, &[0, 7, 30, 55]),
+    // Asleep by step 100, the ball spawns at 180, the left column is
+    // awake at 200 and asleep again by 480: saves across sleep and wake.
+    ("sleep_wake", 480, &[0, 100, 179, 180, 200, 400]),
     ("pendulum", 120, &[0, 1, 40, 100]),
     ("chain_100", 60, &[0, 25, 50]),
     ("windmill", 150, &[0, 29, 30, 100]),
@@ -557,12 +560,19 @@ fn small_world() -> Space {
         let x = i32::try_from(i).unwrap_or(0) * 4 - 6;
         let mut b = ok(Body::new(Real::ZERO, Real::ZERO));
         b.set_position(Vect::from_ints(x, 1));
+        // Two bodies stay awake (live arbiters), the others fall asleep
+        // (sleep records and dormant arbiters): both are in the bytes.
+        b.set_sleep_allowed(i >= 2);
         let h = ok(w.add_body(b));
         assert!(add_shape(&mut w, h, kind, 4).is_some());
     }
     apply(&mut w, &Op::RemoveBody { pick: 4 });
-    apply(&mut w, &Op::Step { n: 55 });
+    apply(&mut w, &Op::Step { n: 100 });
     assert!(w.arbiters().len() >= 2, "resting bodies touch the ground");
+    assert!(
+        !w.state().dormant_arbiters.is_empty(),
+        "sleeping bodies keep their contacts"
+    );
     ok(w.validate());
     w
 }

@@ -71,8 +71,8 @@ fn wrong_magic_version_and_trailing_bytes_are_named() {
 #[test]
 fn a_forged_length_prefix_fails_without_allocating() {
     // The first length in the payload is the body arena's slot count, after
-    // the settings (u32 + 2×8 + 3×8 + u32 + u32 + 4×bool = 56 bytes).
-    let at = HEADER_LEN + 56;
+    // the settings (u32 + 2×8 + 3×8 + u32 + u32 + 5×bool + 2×8 = 73 bytes).
+    let at = HEADER_LEN + 73;
     for len in [1u64 << 62, 1 << 40, 1 << 27, u64::MAX] {
         let mut bad = small_snapshot().to_vec();
         bad[at..at + 8].copy_from_slice(&len.to_le_bytes());
