@@ -267,7 +267,7 @@ pub fn stack(n: u32) -> SceneDesc {
 }
 
 /// `sleep_wake`: two columns of five unit boxes, 20 m apart on one ground
-/// (labels `left_top`, `right_top`), and two resting 50 kg balls 5 m
+/// (labels `left_top`, `right_top`), and two resting 200 kg balls 1.5 m
 /// outside them (`player_left`, `player_right`: the GGRS game's players),
 /// fall asleep (about 1 s: the default
 /// 0.5 s of rest after they settle); at step 180 a 1 kg ball (label `ball`)
@@ -283,15 +283,16 @@ pub fn sleep_wake() -> SceneDesc {
         .with_shape(stacking::ground_segment(-twenty, twenty, Real::ZERO));
     desc.bodies.push(ground);
     // The first two dynamic bodies are the players of the GGRS game
-    // (`Game::with_scene`): 50 kg balls beside the columns, at rest in a
-    // plain run; pushed by the scripted buttons they roll into the
-    // columns, which then wake and fall asleep again.
-    for (x, side) in [(-15, "left"), (15, "right")] {
+    // (`Game::with_scene`): 200 kg balls (heavy enough that the game's
+    // jump impulses do not lift them off for good) 1.5 m beside the
+    // columns, at rest in a plain run; pushed by the scripted buttons they
+    // roll into the columns, which then wake and fall asleep again.
+    for (x, side) in [(-12, "left"), (12, "right")] {
         let player = ball(
             Vect::new(Real::from_int(x), Real::HALF),
             Vect::ZERO,
             Real::HALF,
-            Real::from_int(50),
+            Real::from_int(200),
         )
         .labeled(&format!("player_{side}"));
         desc.bodies.push(player);
