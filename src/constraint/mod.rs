@@ -63,6 +63,7 @@ mod damped_rotary_spring;
 mod damped_spring;
 mod gear;
 mod groove;
+mod kernel;
 mod pin;
 mod pivot;
 mod ratchet;
