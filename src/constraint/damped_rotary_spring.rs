@@ -96,7 +96,6 @@ impl RotarySpringRow {
             j_acc: Real::ZERO,
         }
     }
-
 }
 
 impl JointKernel for RotarySpringRow {

@@ -148,7 +148,6 @@ impl SpringRow {
             j_acc: Real::ZERO,
         }
     }
-
 }
 
 impl JointKernel for SpringRow {

@@ -82,7 +82,6 @@ impl GearRow {
             j_acc: Real::ZERO,
         }
     }
-
 }
 
 impl JointKernel for GearRow {

@@ -118,7 +118,6 @@ impl GrooveRow {
             j_acc: Vect::ZERO,
         }
     }
-
 }
 
 impl JointKernel for GrooveRow {

@@ -94,7 +94,6 @@ impl PinRow {
             jn_acc: Real::ZERO,
         }
     }
-
 }
 
 impl JointKernel for PinRow {

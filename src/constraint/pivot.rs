@@ -249,13 +249,26 @@ mod tests {
     fn clamp_len_keeps_the_boundary_exactly_as_vect_clamp() {
         // (3, 4) raw has length exactly 5 raw; ⌊√S⌋ ≤ L up to S = L·(L + 2).
         let r = Real::from_bits;
-        for (x, y, l) in [(3, 4, 5), (3, 4, 4), (5, 0, 4), (0, 0, 0), (1, 1, 0), (1, 1, 1)] {
+        for (x, y, l) in [
+            (3, 4, 5),
+            (3, 4, 4),
+            (5, 0, 4),
+            (0, 0, 0),
+            (1, 1, 0),
+            (1, 1, 1),
+        ] {
             let v = Vect::new(r(x), r(y));
             assert_eq!(clamp_len(v, r(l)), v.clamp(r(l)), "{x} {y} {l}");
         }
         // At L = 5 the bound is S ≤ 35: S = 34 is kept (⌊√34⌋ = 5), S = 36 is not.
-        assert_eq!(clamp_len(Vect::new(r(5), r(3)), r(5)), Vect::new(r(5), r(3)));
-        assert_ne!(clamp_len(Vect::new(r(6), r(0)), r(5)), Vect::new(r(6), r(0)));
+        assert_eq!(
+            clamp_len(Vect::new(r(5), r(3)), r(5)),
+            Vect::new(r(5), r(3))
+        );
+        assert_ne!(
+            clamp_len(Vect::new(r(6), r(0)), r(5)),
+            Vect::new(r(6), r(0))
+        );
     }
 
     proptest! {

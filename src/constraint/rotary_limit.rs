@@ -98,7 +98,6 @@ impl AngularLimitRow {
             j_acc: Real::ZERO,
         }
     }
-
 }
 
 impl JointKernel for AngularLimitRow {

@@ -60,7 +60,6 @@ impl MotorRow {
             j_acc: Real::ZERO,
         }
     }
-
 }
 
 impl JointKernel for MotorRow {

@@ -111,7 +111,6 @@ impl SlideRow {
             jn_acc: Real::ZERO,
         }
     }
-
 }
 
 impl JointKernel for SlideRow {
