@@ -407,6 +407,45 @@ pub(crate) mod tests {
         Ok(fast.iter().all(|&f| f))
     }
 
+    #[test]
+    fn inactive_rows_are_skipped_and_keep_a_zero_accumulator() {
+        use crate::constraint::{rotary_limit::AngularLimitRow, slide::SlideRow};
+        // A slide joint inside its limits (n = 0) and a rotary limit inside
+        // its range (sign 0), with free values elsewhere.
+        let mut v = vec![Real::ONE; 16];
+        let body = SolverBody {
+            v: Vect::new(Real::ONE, -Real::ONE),
+            w: Real::HALF,
+            m_inv: Real::ONE,
+            i_inv: Real::ONE,
+            ..SolverBody::default()
+        };
+        v[4] = Real::ZERO;
+        v[5] = Real::ZERO;
+        let slide = SlideRow::from_raw(&v);
+        v[0] = Real::ZERO;
+        let limit = AngularLimitRow::from_raw(&v);
+        assert!(!slide.is_active() && !limit.is_active());
+        for acc in [Real::ONE, Real::MIN, Real::MAX] {
+            let (mut s, mut l) = (slide, limit);
+            let mut bodies = [body, SolverBody::default()];
+            warm_start(&mut s, &mut bodies, 0, 1, acc);
+            warm_start(&mut l, &mut bodies, 0, 1, acc);
+            solve(&mut s, &mut bodies, 0, 1, Real::MAX);
+            solve(&mut l, &mut bodies, 0, 1, Real::MAX);
+            assert_eq!(bodies, [body, SolverBody::default()]);
+            assert_eq!((s.acc(), l.acc()), (Real::ZERO, Real::ZERO));
+            let case = (
+                v.clone(),
+                [acc; 8],
+                [acc; 8],
+                Vect::new(acc, acc),
+                Real::MAX,
+            );
+            assert!(check_all_kinds(&case).is_ok());
+        }
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(3000))]
         /// Every joint kernel's fast path is bit-identical to its
