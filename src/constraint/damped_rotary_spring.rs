@@ -4,10 +4,10 @@
 //! its numerical damping).
 use serde::{Deserialize, Serialize};
 
-use super::rotary_limit::apply_angular;
+use super::kernel::{apply_angular, JointKernel};
 use super::solve::{inv_or_zero, Prep};
 use super::{finite, non_negative, ConstraintError};
-use crate::math::Real;
+use crate::math::{FixedArith, Real};
 use crate::solver::SolverBody;
 
 /// A torsion spring holding `θ_a − θ_b` at `rest_angle` (Chipmunk's sign),
@@ -96,20 +96,59 @@ impl RotarySpringRow {
             j_acc: Real::ZERO,
         }
     }
+}
 
-    /// Applies `acc` (last step's impulse, already scaled) and keeps it.
-    pub(crate) fn warm_start(&mut self, a: &mut SolverBody, b: &mut SolverBody, acc: Real) {
-        self.j_acc = acc;
-        apply_angular(a, b, acc);
+impl JointKernel for RotarySpringRow {
+    type Impulse = Real;
+
+    #[inline(always)]
+    fn acc(&self) -> Real {
+        self.j_acc
     }
 
-    /// One iteration: `Δj = (Ė + β − γ·j)·soft_mass`, accumulated impulse
-    /// clamped to `±j_max`.
-    pub(crate) fn apply_impulse(&mut self, a: &mut SolverBody, b: &mut SolverBody, j_max: Real) {
-        let e_dot = a.w - b.w;
-        let j = (e_dot + self.beta - self.gamma * self.j_acc) * self.soft_mass;
-        let old = self.j_acc;
-        self.j_acc = (old + j).clamp(-j_max, j_max);
-        apply_angular(a, b, self.j_acc - old);
+    #[inline(always)]
+    fn set_acc(&mut self, acc: Real) {
+        self.j_acc = acc;
+    }
+
+    #[inline(always)]
+    fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Real, ar: &mut A) {
+        apply_angular(a, b, j, ar);
+    }
+
+    /// `Δj = (Ė + β − γ·j)·soft_mass`, accumulated impulse clamped to
+    /// `±j_max`.
+    #[inline(always)]
+    fn iterate<A: FixedArith>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        acc: &mut Real,
+        j_max: Real,
+        ar: &mut A,
+    ) {
+        let old = *acc;
+        let e_dot = ar.sub(a.w, b.w);
+        let e_beta = ar.add(e_dot, self.beta);
+        let soft = ar.mul(self.gamma, old);
+        let err = ar.sub(e_beta, soft);
+        let j = ar.mul(err, self.soft_mass);
+        *acc = ar.add(old, j).clamp(-j_max, j_max);
+        let d = ar.sub(*acc, old);
+        apply_angular(a, b, d, ar);
+    }
+}
+
+#[cfg(test)]
+impl RotarySpringRow {
+    /// A row from free values (the kernel tests).
+    pub(crate) fn from_raw(v: &[Real]) -> RotarySpringRow {
+        use crate::constraint::kernel::tests::at;
+        RotarySpringRow {
+            soft_mass: at(v, 0),
+            gamma: at(v, 1),
+            beta: at(v, 2),
+            j_acc: Real::ZERO,
+        }
     }
 }

@@ -22,10 +22,11 @@
 //! `max_force` caps the spring force.
 use serde::{Deserialize, Serialize};
 
+use super::kernel::{apply_impulses, mult, neg, normal_relative_velocity, JointKernel};
 use super::solve::{inv_or_zero, Prep};
 use super::{finite_vect, non_negative, ConstraintError};
-use crate::math::{Real, Vect};
-use crate::solver::{apply_impulses, k_scalar_body, normal_relative_velocity, SolverBody};
+use crate::math::{FixedArith, Real, Vect};
+use crate::solver::{k_scalar_body, SolverBody};
 
 /// A spring of natural length `rest_length`, stiffness `stiffness` (N/m)
 /// and damping `damping` (N·s/m) between two anchors (body coordinates).
@@ -147,20 +148,65 @@ impl SpringRow {
             j_acc: Real::ZERO,
         }
     }
+}
 
-    /// Applies `acc` (last step's impulse, already scaled) and keeps it.
-    pub(crate) fn warm_start(&mut self, a: &mut SolverBody, b: &mut SolverBody, acc: Real) {
-        self.j_acc = acc;
-        apply_impulses(a, b, self.r1, self.r2, self.n * acc);
+impl JointKernel for SpringRow {
+    type Impulse = Real;
+
+    #[inline(always)]
+    fn acc(&self) -> Real {
+        self.j_acc
     }
 
-    /// One iteration: `Δλ = −(v + β + γ·λ)·soft_mass`, accumulated impulse
-    /// clamped to `±j_max`.
-    pub(crate) fn apply_impulse(&mut self, a: &mut SolverBody, b: &mut SolverBody, j_max: Real) {
-        let vrn = normal_relative_velocity(a, b, self.r1, self.r2, self.n);
-        let j = -((vrn + self.beta + self.gamma * self.j_acc) * self.soft_mass);
-        let old = self.j_acc;
-        self.j_acc = (old + j).clamp(-j_max, j_max);
-        apply_impulses(a, b, self.r1, self.r2, self.n * (self.j_acc - old));
+    #[inline(always)]
+    fn set_acc(&mut self, acc: Real) {
+        self.j_acc = acc;
+    }
+
+    /// The impulse `n·j` at the anchors.
+    #[inline(always)]
+    fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Real, ar: &mut A) {
+        let p = mult(self.n, j, ar);
+        apply_impulses(a, b, self.r1, self.r2, p, ar);
+    }
+
+    /// `Δλ = −(v + β + γ·λ)·soft_mass`, accumulated impulse clamped to
+    /// `±j_max`.
+    #[inline(always)]
+    fn iterate<A: FixedArith>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        acc: &mut Real,
+        j_max: Real,
+        ar: &mut A,
+    ) {
+        let vrn = normal_relative_velocity(a, b, self.r1, self.r2, self.n, ar);
+        let old = *acc;
+        let v_beta = ar.add(vrn, self.beta);
+        let soft = ar.mul(self.gamma, old);
+        let err = ar.add(v_beta, soft);
+        let j = ar.mul(err, self.soft_mass);
+        let j = neg(j, ar);
+        *acc = ar.add(old, j).clamp(-j_max, j_max);
+        let d = ar.sub(*acc, old);
+        self.apply(a, b, d, ar);
+    }
+}
+
+#[cfg(test)]
+impl SpringRow {
+    /// A row from free values (the kernel tests).
+    pub(crate) fn from_raw(v: &[Real]) -> SpringRow {
+        use crate::constraint::kernel::tests::{at, vect_at};
+        SpringRow {
+            r1: vect_at(v, 0),
+            r2: vect_at(v, 2),
+            n: vect_at(v, 4),
+            soft_mass: at(v, 6),
+            gamma: at(v, 7),
+            beta: at(v, 8),
+            j_acc: Real::ZERO,
+        }
     }
 }

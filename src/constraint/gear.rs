@@ -2,9 +2,10 @@
 //! a fixed ratio, like two meshed gears.
 use serde::{Deserialize, Serialize};
 
+use super::kernel::JointKernel;
 use super::solve::Prep;
 use super::{finite, ConstraintError};
-use crate::math::Real;
+use crate::math::{FixedArith, Real};
 use crate::solver::SolverBody;
 
 /// Keeps `ratio·θ_b − θ_a = phase` (Chipmunk's definition), so that
@@ -81,25 +82,64 @@ impl GearRow {
             j_acc: Real::ZERO,
         }
     }
+}
 
-    /// Applies `acc` (last step's impulse, already scaled) and keeps it.
-    pub(crate) fn warm_start(&mut self, a: &mut SolverBody, b: &mut SolverBody, acc: Real) {
+impl JointKernel for GearRow {
+    type Impulse = Real;
+
+    #[inline(always)]
+    fn acc(&self) -> Real {
+        self.j_acc
+    }
+
+    #[inline(always)]
+    fn set_acc(&mut self, acc: Real) {
         self.j_acc = acc;
-        self.apply(a, b, acc);
     }
 
-    /// One iteration: drive `ratio·ω_b − ω_a` to the bias, accumulated
-    /// impulse clamped to `±j_max`.
-    pub(crate) fn apply_impulse(&mut self, a: &mut SolverBody, b: &mut SolverBody, j_max: Real) {
-        let wr = b.w * self.ratio - a.w;
-        let j = (self.bias - wr) * self.i_sum;
-        let old = self.j_acc;
-        self.j_acc = (old + j).clamp(-j_max, j_max);
-        self.apply(a, b, self.j_acc - old);
+    /// `ω_a −= j·I_a⁻¹/ratio` (two roundings, in that order), `ω_b += j·I_b⁻¹`.
+    #[inline(always)]
+    fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Real, ar: &mut A) {
+        let ja = ar.mul(j, a.i_inv);
+        let dwa = ar.mul(ja, self.ratio_inv);
+        a.w = ar.sub(a.w, dwa);
+        let dwb = ar.mul(j, b.i_inv);
+        b.w = ar.add(b.w, dwb);
     }
 
-    fn apply(&self, a: &mut SolverBody, b: &mut SolverBody, j: Real) {
-        a.w -= j * a.i_inv * self.ratio_inv;
-        b.w += j * b.i_inv;
+    /// Drive `ratio·ω_b − ω_a` to the bias, accumulated impulse clamped to
+    /// `±j_max`.
+    #[inline(always)]
+    fn iterate<A: FixedArith>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        acc: &mut Real,
+        j_max: Real,
+        ar: &mut A,
+    ) {
+        let wb = ar.mul(b.w, self.ratio);
+        let wr = ar.sub(wb, a.w);
+        let err = ar.sub(self.bias, wr);
+        let j = ar.mul(err, self.i_sum);
+        let old = *acc;
+        *acc = ar.add(old, j).clamp(-j_max, j_max);
+        let d = ar.sub(*acc, old);
+        self.apply(a, b, d, ar);
+    }
+}
+
+#[cfg(test)]
+impl GearRow {
+    /// A row from free values (the kernel tests).
+    pub(crate) fn from_raw(v: &[Real]) -> GearRow {
+        use crate::constraint::kernel::tests::at;
+        GearRow {
+            ratio: at(v, 0),
+            ratio_inv: at(v, 1),
+            i_sum: at(v, 2),
+            bias: at(v, 3),
+            j_acc: Real::ZERO,
+        }
     }
 }

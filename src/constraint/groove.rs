@@ -3,11 +3,12 @@
 //! or a piston.
 use serde::{Deserialize, Serialize};
 
+use super::kernel::{add, apply_impulses, sub, JointKernel};
 use super::pivot::{clamp_len, KInv};
 use super::solve::Prep;
 use super::{finite_vect, ConstraintError};
-use crate::math::{Real, Vect};
-use crate::solver::{apply_impulses, relative_velocity, SolverBody};
+use crate::math::{FixedArith, Real, Vect};
+use crate::solver::SolverBody;
 
 /// The groove from `groove_a` to `groove_b` on body a and the pivot
 /// `anchor_b` on body b (body coordinates).
@@ -117,33 +118,79 @@ impl GrooveRow {
             j_acc: Vect::ZERO,
         }
     }
+}
 
-    /// Applies `acc` (last step's impulse, already scaled) and keeps it.
-    pub(crate) fn warm_start(&mut self, a: &mut SolverBody, b: &mut SolverBody, acc: Vect) {
-        self.j_acc = acc;
-        apply_impulses(a, b, self.r1, self.r2, acc);
+impl JointKernel for GrooveRow {
+    type Impulse = Vect;
+
+    #[inline(always)]
+    fn acc(&self) -> Vect {
+        self.j_acc
     }
 
-    /// One iteration: the pivot impulse, constrained to the groove's normal
-    /// unless it pushes against the clamped end, accumulated impulse
-    /// clamped to length `j_max`.
-    pub(crate) fn apply_impulse(&mut self, a: &mut SolverBody, b: &mut SolverBody, j_max: Real) {
-        let j = self
-            .k
-            .apply(self.bias - relative_velocity(a, b, self.r1, self.r2));
-        let old = self.j_acc;
-        let acc = old + j;
+    #[inline(always)]
+    fn set_acc(&mut self, acc: Vect) {
+        self.j_acc = acc;
+    }
+
+    #[inline(always)]
+    fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Vect, ar: &mut A) {
+        apply_impulses(a, b, self.r1, self.r2, j, ar);
+    }
+
+    /// The pivot impulse, constrained to the groove's normal unless it
+    /// pushes against the clamped end, accumulated impulse clamped to
+    /// length `j_max`. The end test, the projection and the length clamp
+    /// are the saturating `Vect` functions (the same in both modes).
+    #[inline(always)]
+    fn iterate<A: FixedArith>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        acc: &mut Vect,
+        j_max: Real,
+        ar: &mut A,
+    ) {
+        let j = self.k.point_impulse(a, b, self.r1, self.r2, self.bias, ar);
+        let old = *acc;
+        let sum = add(old, j, ar);
         let against_end = match self.clamp {
-            1 => acc.cross(self.n).is_positive(),
-            -1 => acc.cross(self.n).is_negative(),
+            1 => sum.cross(self.n).is_positive(),
+            -1 => sum.cross(self.n).is_negative(),
             _ => false,
         };
-        let acc = if against_end {
-            acc
+        let sum = if against_end {
+            sum
         } else {
-            acc.project(self.n)
+            sum.project(self.n)
         };
-        self.j_acc = clamp_len(acc, j_max);
-        apply_impulses(a, b, self.r1, self.r2, self.j_acc - old);
+        *acc = clamp_len(sum, j_max);
+        let d = sub(*acc, old, ar);
+        apply_impulses(a, b, self.r1, self.r2, d, ar);
+    }
+}
+
+#[cfg(test)]
+impl GrooveRow {
+    /// A row from free values (the kernel tests); the clamp side from the
+    /// sign of `v[14]`.
+    pub(crate) fn from_raw(v: &[Real]) -> GrooveRow {
+        use crate::constraint::kernel::tests::{at, vect_at};
+        let side = at(v, 14);
+        GrooveRow {
+            r1: vect_at(v, 0),
+            r2: vect_at(v, 2),
+            n: vect_at(v, 12),
+            clamp: if side.is_positive() {
+                1
+            } else if side.is_negative() {
+                -1
+            } else {
+                0
+            },
+            k: KInv::from_raw(v.get(4..).unwrap_or_default()),
+            bias: vect_at(v, 7),
+            j_acc: Vect::ZERO,
+        }
     }
 }

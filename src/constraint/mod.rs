@@ -44,9 +44,13 @@
 //! `max_bias`, added to the velocity target (not a pseudo-velocity); the
 //! accumulated impulse is clamped to `max_force·dt`.
 //!
-//! The arithmetic is the saturating `Real` arithmetic throughout: the
-//! contacts' unsaturated fast path (`math::Unsaturated` with an overflow
-//! flag) is not yet applied to constraints.
+//! The warm start and the iterations run on the contacts' fast path
+//! (module `kernel`): each kind's impulse code is generic over the
+//! arithmetic, runs first in `math::Unsaturated` (wide integer operations,
+//! one overflow flag, no per-operation saturation checks) and is rerun in
+//! the saturating `Real` arithmetic only when the flag is raised, so the
+//! result is always the saturating one, bit for bit. The pre-step (once per
+//! sub-step, with its divisions and roots) is saturating `Real` arithmetic.
 //!
 //! # Parameters
 //! Constructors and setters check their parameters and return
@@ -63,6 +67,7 @@ mod damped_rotary_spring;
 mod damped_spring;
 mod gear;
 mod groove;
+mod kernel;
 mod pin;
 mod pivot;
 mod ratchet;

@@ -2,10 +2,11 @@
 //! anchor points fixed, like a massless rod with a pin at each end.
 use serde::{Deserialize, Serialize};
 
+use super::kernel::{apply_impulses, mult, normal_relative_velocity, JointKernel};
 use super::solve::{inv_or_zero, Prep};
 use super::{finite, finite_vect, ConstraintError};
-use crate::math::{Real, Vect};
-use crate::solver::{apply_impulses, k_scalar_body, normal_relative_velocity, SolverBody};
+use crate::math::{FixedArith, Real, Vect};
+use crate::solver::{k_scalar_body, SolverBody};
 
 /// A rod of length `dist` between `anchor_a` on body a and `anchor_b` on
 /// body b (anchors in body coordinates, relative to the body's origin, as
@@ -93,21 +94,61 @@ impl PinRow {
             jn_acc: Real::ZERO,
         }
     }
+}
 
-    /// Applies `acc` (last step's impulse, already scaled) and keeps it as
-    /// the accumulator.
-    pub(crate) fn warm_start(&mut self, a: &mut SolverBody, b: &mut SolverBody, acc: Real) {
-        self.jn_acc = acc;
-        apply_impulses(a, b, self.r1, self.r2, self.n * acc);
+impl JointKernel for PinRow {
+    type Impulse = Real;
+
+    #[inline(always)]
+    fn acc(&self) -> Real {
+        self.jn_acc
     }
 
-    /// One iteration: drive the relative velocity along `n` to the bias,
-    /// accumulated impulse clamped to `±j_max`.
-    pub(crate) fn apply_impulse(&mut self, a: &mut SolverBody, b: &mut SolverBody, j_max: Real) {
-        let vrn = normal_relative_velocity(a, b, self.r1, self.r2, self.n);
-        let jn = (self.bias - vrn) * self.n_mass;
-        let old = self.jn_acc;
-        self.jn_acc = (old + jn).clamp(-j_max, j_max);
-        apply_impulses(a, b, self.r1, self.r2, self.n * (self.jn_acc - old));
+    #[inline(always)]
+    fn set_acc(&mut self, acc: Real) {
+        self.jn_acc = acc;
+    }
+
+    /// The impulse `n·j` at the anchors.
+    #[inline(always)]
+    fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Real, ar: &mut A) {
+        let p = mult(self.n, j, ar);
+        apply_impulses(a, b, self.r1, self.r2, p, ar);
+    }
+
+    /// Drive the relative velocity along `n` to the bias, accumulated
+    /// impulse clamped to `±j_max`.
+    #[inline(always)]
+    fn iterate<A: FixedArith>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        acc: &mut Real,
+        j_max: Real,
+        ar: &mut A,
+    ) {
+        let vrn = normal_relative_velocity(a, b, self.r1, self.r2, self.n, ar);
+        let err = ar.sub(self.bias, vrn);
+        let jn = ar.mul(err, self.n_mass);
+        let old = *acc;
+        *acc = ar.add(old, jn).clamp(-j_max, j_max);
+        let d = ar.sub(*acc, old);
+        self.apply(a, b, d, ar);
+    }
+}
+
+#[cfg(test)]
+impl PinRow {
+    /// A row from free values (the kernel tests).
+    pub(crate) fn from_raw(v: &[Real]) -> PinRow {
+        use crate::constraint::kernel::tests::{at, vect_at};
+        PinRow {
+            r1: vect_at(v, 0),
+            r2: vect_at(v, 2),
+            n: vect_at(v, 4),
+            n_mass: at(v, 6),
+            bias: at(v, 7),
+            jn_acc: Real::ZERO,
+        }
     }
 }

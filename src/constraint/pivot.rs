@@ -2,10 +2,12 @@
 //! at the same point, like a pin through both (a hinge).
 use serde::{Deserialize, Serialize};
 
+use super::kernel::{add, apply_impulses, relative_velocity, sub, JointKernel};
 use super::solve::Prep;
 use super::{finite_vect, ConstraintError};
-use crate::math::{Real, Vect};
-use crate::solver::{apply_impulses, relative_velocity, SolverBody};
+use crate::math::wide::int::{sum_sq, wide_mul_u64};
+use crate::math::{FixedArith, Real, Vect};
+use crate::solver::SolverBody;
 
 /// Anchors `anchor_a` on body a and `anchor_b` on body b (body
 /// coordinates) kept at one point.
@@ -119,39 +121,168 @@ impl KInv {
     }
 
     /// `K⁻¹·e`.
-    pub(crate) fn apply(&self, e: Vect) -> Vect {
+    #[inline(always)]
+    pub(crate) fn apply<A: FixedArith>(&self, e: Vect, ar: &mut A) -> Vect {
         Vect::new(
-            Real::mul_add2(self.k11, e.x, self.k12, e.y),
-            Real::mul_add2(self.k12, e.x, self.k22, e.y),
+            ar.mul_add2(self.k11, e.x, self.k12, e.y),
+            ar.mul_add2(self.k12, e.x, self.k22, e.y),
         )
     }
+
+    /// The impulse `K⁻¹ (bias − vr)` that cancels the anchors' relative
+    /// velocity `vr` minus the bias (pivot and groove joints).
+    #[inline(always)]
+    pub(crate) fn point_impulse<A: FixedArith>(
+        &self,
+        a: &SolverBody,
+        b: &SolverBody,
+        r1: Vect,
+        r2: Vect,
+        bias: Vect,
+        ar: &mut A,
+    ) -> Vect {
+        let vr = relative_velocity(a, b, r1, r2, ar);
+        let e = sub(bias, vr, ar);
+        self.apply(e, ar)
+    }
 }
 
-impl PivotRow {
-    /// Applies `acc` (last step's impulse, already scaled) and keeps it.
-    pub(crate) fn warm_start(&mut self, a: &mut SolverBody, b: &mut SolverBody, acc: Vect) {
+impl JointKernel for PivotRow {
+    type Impulse = Vect;
+
+    #[inline(always)]
+    fn acc(&self) -> Vect {
+        self.j_acc
+    }
+
+    #[inline(always)]
+    fn set_acc(&mut self, acc: Vect) {
         self.j_acc = acc;
-        apply_impulses(a, b, self.r1, self.r2, acc);
     }
 
-    /// One iteration: `j = K⁻¹ (bias − vr)`, accumulated impulse clamped to
-    /// length `j_max`.
-    pub(crate) fn apply_impulse(&mut self, a: &mut SolverBody, b: &mut SolverBody, j_max: Real) {
-        let j = self
-            .k
-            .apply(self.bias - relative_velocity(a, b, self.r1, self.r2));
-        let old = self.j_acc;
-        self.j_acc = clamp_len(old + j, j_max);
-        apply_impulses(a, b, self.r1, self.r2, self.j_acc - old);
+    #[inline(always)]
+    fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Vect, ar: &mut A) {
+        apply_impulses(a, b, self.r1, self.r2, j, ar);
+    }
+
+    /// `j = K⁻¹ (bias − vr)`, accumulated impulse clamped to length `j_max`
+    /// (the clamp's length is computed by the saturating `Vect::clamp`, the
+    /// same in both modes, and only for a finite `max_force`).
+    #[inline(always)]
+    fn iterate<A: FixedArith>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        acc: &mut Vect,
+        j_max: Real,
+        ar: &mut A,
+    ) {
+        let j = self.k.point_impulse(a, b, self.r1, self.r2, self.bias, ar);
+        let old = *acc;
+        *acc = clamp_len(add(old, j, ar), j_max);
+        let d = sub(*acc, old, ar);
+        apply_impulses(a, b, self.r1, self.r2, d, ar);
     }
 }
 
-/// `v` shortened to length `max` if longer; `Real::MAX` (unbounded) skips
-/// the square root (every length is at most `Real::MAX`: the same result).
+#[cfg(test)]
+impl KInv {
+    /// A matrix from free values (the kernel tests).
+    pub(crate) fn from_raw(v: &[Real]) -> KInv {
+        use crate::constraint::kernel::tests::at;
+        KInv {
+            k11: at(v, 0),
+            k12: at(v, 1),
+            k22: at(v, 2),
+        }
+    }
+}
+
+#[cfg(test)]
+impl PivotRow {
+    /// A row from free values (the kernel tests).
+    pub(crate) fn from_raw(v: &[Real]) -> PivotRow {
+        use crate::constraint::kernel::tests::vect_at;
+        PivotRow {
+            r1: vect_at(v, 0),
+            r2: vect_at(v, 2),
+            k: KInv::from_raw(v.get(4..).unwrap_or_default()),
+            bias: vect_at(v, 7),
+            j_acc: Vect::ZERO,
+        }
+    }
+}
+
+/// `v` shortened to length `max` if longer: `v.clamp(max)`, bit for bit,
+/// without its square root when `v` is kept.
+///
+/// Why: the accumulated impulse is clamped every iteration, and is almost
+/// always far inside the bound (`max_force` is unbounded by default, and
+/// then `j_max = max_force·dt` is huge but not `Real::MAX`), while the
+/// root is most of an iteration's cost. `Vect::clamp` keeps `v` iff
+/// `⌊√S⌋ ≤ L`, with `S = |v|²` exact in raw units and `L = max(max, 0)`
+/// raw, i.e. iff `S < (L + 1)²`, i.e. iff `S ≤ L·(L + 2)`: an exact
+/// integer test (`L < 2^63`, so `L·(L + 2) < 2^127`). `Real::MAX` bounds
+/// every length. Only a vector longer than `max` takes the root.
+#[inline(always)]
 pub(crate) fn clamp_len(v: Vect, max: Real) -> Vect {
     if max == Real::MAX {
+        return v;
+    }
+    let l = max.to_bits().max(0).unsigned_abs();
+    // l < 2^63 (not Real::MAX), so l + 2 never saturates.
+    let bound = wide_mul_u64(l, l.saturating_add(2));
+    if sum_sq(v.x.to_bits(), v.y.to_bits()) <= bound {
         v
     } else {
         v.clamp(max)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::constraint::kernel::tests::any_real;
+    use proptest::prelude::*;
+
+    #[test]
+    fn clamp_len_keeps_the_boundary_exactly_as_vect_clamp() {
+        // (3, 4) raw has length exactly 5 raw; ⌊√S⌋ ≤ L up to S = L·(L + 2).
+        let r = Real::from_bits;
+        for (x, y, l) in [
+            (3, 4, 5),
+            (3, 4, 4),
+            (5, 0, 4),
+            (0, 0, 0),
+            (1, 1, 0),
+            (1, 1, 1),
+        ] {
+            let v = Vect::new(r(x), r(y));
+            assert_eq!(clamp_len(v, r(l)), v.clamp(r(l)), "{x} {y} {l}");
+        }
+        // At L = 5 the bound is S ≤ 35: S = 34 is kept (⌊√34⌋ = 5), S = 36 is not.
+        assert_eq!(
+            clamp_len(Vect::new(r(5), r(3)), r(5)),
+            Vect::new(r(5), r(3))
+        );
+        assert_ne!(
+            clamp_len(Vect::new(r(6), r(0)), r(5)),
+            Vect::new(r(6), r(0))
+        );
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(5000))]
+        /// The root-free test gives `Vect::clamp`'s bits on any input.
+        #[test]
+        fn clamp_len_is_vect_clamp(x in any_real(), y in any_real(), max in any_real()) {
+            let v = Vect::new(x, y);
+            prop_assert_eq!(clamp_len(v, max), v.clamp(max));
+            // Near the boundary: max = the vector's own length, ±1 ulp.
+            let l = v.length();
+            for m in [l, l - Real::from_bits(1), l + Real::from_bits(1)] {
+                prop_assert_eq!(clamp_len(v, m), v.clamp(m));
+            }
+        }
     }
 }

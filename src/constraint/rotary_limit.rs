@@ -2,9 +2,10 @@
 //! angle `θ_b − θ_a` within `[min, max]` (an elbow, a door stop).
 use serde::{Deserialize, Serialize};
 
+use super::kernel::{apply_angular, neg, JointKernel};
 use super::solve::{inv_or_zero, Prep};
 use super::{finite, ConstraintError};
-use crate::math::Real;
+use crate::math::{FixedArith, Real};
 use crate::solver::SolverBody;
 
 /// `θ_b − θ_a` kept within `[min, max]` (radians; the angles count turns,
@@ -97,38 +98,77 @@ impl AngularLimitRow {
             j_acc: Real::ZERO,
         }
     }
+}
 
-    /// Applies `acc` (last step's impulse, already scaled) and keeps it;
-    /// nothing when inactive.
-    pub(crate) fn warm_start(&mut self, a: &mut SolverBody, b: &mut SolverBody, acc: Real) {
-        if self.sign == 0 {
-            return;
-        }
-        self.j_acc = acc;
-        apply_angular(a, b, acc);
+impl JointKernel for AngularLimitRow {
+    type Impulse = Real;
+
+    #[inline(always)]
+    fn acc(&self) -> Real {
+        self.j_acc
     }
 
-    /// One iteration: drive `ω_b − ω_a` to `−bias` (Chipmunk's sign: the
-    /// bias is `−bias_coef·pdist/dt`), the accumulated impulse only pushing
-    /// back into the limits and at most `j_max`.
-    pub(crate) fn apply_impulse(&mut self, a: &mut SolverBody, b: &mut SolverBody, j_max: Real) {
-        if self.sign == 0 {
-            return;
-        }
-        let wr = b.w - a.w;
-        let j = -((self.bias + wr) * self.i_sum);
-        let old = self.j_acc;
-        self.j_acc = if self.sign > 0 {
-            (old + j).clamp(Real::ZERO, j_max)
+    #[inline(always)]
+    fn set_acc(&mut self, acc: Real) {
+        self.j_acc = acc;
+    }
+
+    /// No limit violated: the row does nothing (zero accumulator).
+    #[inline(always)]
+    fn is_active(&self) -> bool {
+        self.sign != 0
+    }
+
+    #[inline(always)]
+    fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Real, ar: &mut A) {
+        apply_angular(a, b, j, ar);
+    }
+
+    /// Drive `ω_b − ω_a` to `−bias` (Chipmunk's sign: the bias is
+    /// `−bias_coef·pdist/dt`), the accumulated impulse only pushing back
+    /// into the limits and at most `j_max`.
+    #[inline(always)]
+    fn iterate<A: FixedArith>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        acc: &mut Real,
+        j_max: Real,
+        ar: &mut A,
+    ) {
+        let wr = ar.sub(b.w, a.w);
+        let err = ar.add(self.bias, wr);
+        let j = ar.mul(err, self.i_sum);
+        let j = neg(j, ar);
+        let old = *acc;
+        let sum = ar.add(old, j);
+        *acc = if self.sign > 0 {
+            sum.clamp(Real::ZERO, j_max)
         } else {
-            (old + j).clamp(-j_max, Real::ZERO)
+            sum.clamp(-j_max, Real::ZERO)
         };
-        apply_angular(a, b, self.j_acc - old);
+        let d = ar.sub(*acc, old);
+        apply_angular(a, b, d, ar);
     }
 }
 
-/// Angular impulse `−j` on a, `+j` on b.
-pub(crate) fn apply_angular(a: &mut SolverBody, b: &mut SolverBody, j: Real) {
-    a.w -= j * a.i_inv;
-    b.w += j * b.i_inv;
+#[cfg(test)]
+impl AngularLimitRow {
+    /// A row from free values (the kernel tests); the sign from `v[0]`'s.
+    pub(crate) fn from_raw(v: &[Real]) -> AngularLimitRow {
+        use crate::constraint::kernel::tests::at;
+        let side = at(v, 0);
+        AngularLimitRow {
+            sign: if side.is_positive() {
+                1
+            } else if side.is_negative() {
+                -1
+            } else {
+                0
+            },
+            i_sum: at(v, 1),
+            bias: at(v, 2),
+            j_acc: Real::ZERO,
+        }
+    }
 }

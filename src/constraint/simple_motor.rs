@@ -2,9 +2,10 @@
 //! velocity of two bodies constant, with a torque bounded by `max_force`.
 use serde::{Deserialize, Serialize};
 
+use super::kernel::{apply_angular, neg, JointKernel};
 use super::solve::{inv_or_zero, Prep};
 use super::{finite, ConstraintError};
-use crate::math::Real;
+use crate::math::{FixedArith, Real};
 use crate::solver::SolverBody;
 
 /// A motor turning body b relative to body a. As in Chipmunk, it drives
@@ -59,26 +60,56 @@ impl MotorRow {
             j_acc: Real::ZERO,
         }
     }
+}
 
-    /// Applies `acc` (last step's impulse, already scaled) and keeps it.
-    pub(crate) fn warm_start(&mut self, a: &mut SolverBody, b: &mut SolverBody, acc: Real) {
-        self.j_acc = acc;
-        apply_angular(a, b, acc);
+impl JointKernel for MotorRow {
+    type Impulse = Real;
+
+    #[inline(always)]
+    fn acc(&self) -> Real {
+        self.j_acc
     }
 
-    /// One iteration: cancel `ω_b − ω_a + rate`, accumulated impulse clamped
-    /// to `±j_max`.
-    pub(crate) fn apply_impulse(&mut self, a: &mut SolverBody, b: &mut SolverBody, j_max: Real) {
-        let wr = b.w - a.w + self.rate;
-        let j = -(wr * self.i_sum);
-        let old = self.j_acc;
-        self.j_acc = (old + j).clamp(-j_max, j_max);
-        apply_angular(a, b, self.j_acc - old);
+    #[inline(always)]
+    fn set_acc(&mut self, acc: Real) {
+        self.j_acc = acc;
+    }
+
+    #[inline(always)]
+    fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Real, ar: &mut A) {
+        apply_angular(a, b, j, ar);
+    }
+
+    /// Cancel `ω_b − ω_a + rate`, accumulated impulse clamped to `±j_max`.
+    #[inline(always)]
+    fn iterate<A: FixedArith>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        acc: &mut Real,
+        j_max: Real,
+        ar: &mut A,
+    ) {
+        let dw = ar.sub(b.w, a.w);
+        let wr = ar.add(dw, self.rate);
+        let j = ar.mul(wr, self.i_sum);
+        let j = neg(j, ar);
+        let old = *acc;
+        *acc = ar.add(old, j).clamp(-j_max, j_max);
+        let d = ar.sub(*acc, old);
+        apply_angular(a, b, d, ar);
     }
 }
 
-/// Angular impulse `−j` on a, `+j` on b.
-fn apply_angular(a: &mut SolverBody, b: &mut SolverBody, j: Real) {
-    a.w -= j * a.i_inv;
-    b.w += j * b.i_inv;
+#[cfg(test)]
+impl MotorRow {
+    /// A row from free values (the kernel tests).
+    pub(crate) fn from_raw(v: &[Real]) -> MotorRow {
+        use crate::constraint::kernel::tests::at;
+        MotorRow {
+            rate: at(v, 0),
+            i_sum: at(v, 1),
+            j_acc: Real::ZERO,
+        }
+    }
 }

@@ -3,10 +3,11 @@
 //! rod.
 use serde::{Deserialize, Serialize};
 
+use super::kernel::{apply_impulses, mult, normal_relative_velocity, JointKernel};
 use super::solve::{inv_or_zero, Prep};
 use super::{finite_vect, non_negative, ConstraintError};
-use crate::math::{Real, Vect};
-use crate::solver::{apply_impulses, k_scalar_body, normal_relative_velocity, SolverBody};
+use crate::math::{FixedArith, Real, Vect};
+use crate::solver::{k_scalar_body, SolverBody};
 
 /// The distance between `anchor_a` on a and `anchor_b` on b (body
 /// coordinates) kept within `[min, max]`.
@@ -110,27 +111,68 @@ impl SlideRow {
             jn_acc: Real::ZERO,
         }
     }
+}
 
-    /// Applies `acc` (last step's impulse, already scaled) and keeps it;
-    /// nothing when inactive.
-    pub(crate) fn warm_start(&mut self, a: &mut SolverBody, b: &mut SolverBody, acc: Real) {
-        if self.n == Vect::ZERO {
-            return;
-        }
-        self.jn_acc = acc;
-        apply_impulses(a, b, self.r1, self.r2, self.n * acc);
+impl JointKernel for SlideRow {
+    type Impulse = Real;
+
+    #[inline(always)]
+    fn acc(&self) -> Real {
+        self.jn_acc
     }
 
-    /// One iteration: like a pin joint's, but the accumulated impulse only
-    /// pulls back towards the limit (clamped to `[−j_max, 0]`).
-    pub(crate) fn apply_impulse(&mut self, a: &mut SolverBody, b: &mut SolverBody, j_max: Real) {
-        if self.n == Vect::ZERO {
-            return;
+    #[inline(always)]
+    fn set_acc(&mut self, acc: Real) {
+        self.jn_acc = acc;
+    }
+
+    /// Inside the limits the row does nothing (and keeps a zero
+    /// accumulator: the cached impulse is dropped).
+    #[inline(always)]
+    fn is_active(&self) -> bool {
+        self.n != Vect::ZERO
+    }
+
+    /// The impulse `n·j` at the anchors.
+    #[inline(always)]
+    fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Real, ar: &mut A) {
+        let p = mult(self.n, j, ar);
+        apply_impulses(a, b, self.r1, self.r2, p, ar);
+    }
+
+    /// Like a pin joint's, but the accumulated impulse only pulls back
+    /// towards the limit (clamped to `[−j_max, 0]`).
+    #[inline(always)]
+    fn iterate<A: FixedArith>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        acc: &mut Real,
+        j_max: Real,
+        ar: &mut A,
+    ) {
+        let vrn = normal_relative_velocity(a, b, self.r1, self.r2, self.n, ar);
+        let err = ar.sub(self.bias, vrn);
+        let jn = ar.mul(err, self.n_mass);
+        let old = *acc;
+        *acc = ar.add(old, jn).clamp(-j_max, Real::ZERO);
+        let d = ar.sub(*acc, old);
+        self.apply(a, b, d, ar);
+    }
+}
+
+#[cfg(test)]
+impl SlideRow {
+    /// A row from free values (the kernel tests); inactive when `n` is 0.
+    pub(crate) fn from_raw(v: &[Real]) -> SlideRow {
+        use crate::constraint::kernel::tests::{at, vect_at};
+        SlideRow {
+            r1: vect_at(v, 0),
+            r2: vect_at(v, 2),
+            n: vect_at(v, 4),
+            n_mass: at(v, 6),
+            bias: at(v, 7),
+            jn_acc: Real::ZERO,
         }
-        let vrn = normal_relative_velocity(a, b, self.r1, self.r2, self.n);
-        let jn = (self.bias - vrn) * self.n_mass;
-        let old = self.jn_acc;
-        self.jn_acc = (old + jn).clamp(-j_max, Real::ZERO);
-        apply_impulses(a, b, self.r1, self.r2, self.n * (self.jn_acc - old));
     }
 }

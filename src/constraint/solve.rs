@@ -7,6 +7,7 @@ use super::damped_rotary_spring::RotarySpringRow;
 use super::damped_spring::SpringRow;
 use super::gear::GearRow;
 use super::groove::GrooveRow;
+use super::kernel;
 use super::pin::PinRow;
 use super::pivot::PivotRow;
 use super::rotary_limit::AngularLimitRow;
@@ -242,46 +243,49 @@ impl ConstraintScratch {
     /// scaled by `dt_coef = min(dt / prev_dt, 1)` (as the contacts do, see
     /// the space's stage 9), which becomes the accumulator the iterations
     /// start from. Without this call (warm starting off) they start from 0.
+    /// The cached impulse's scaling is saturating; its application runs on
+    /// the fast path (module `kernel`).
     pub(crate) fn warm_start(&mut self, solver_bodies: &mut [SolverBody], dt_coef: Real) {
+        use kernel::warm_start as ws;
+        let bodies = solver_bodies;
         for row in &mut self.rows {
-            let cached = row.cached;
-            with_bodies(solver_bodies, row.a, row.b, |a, b| {
-                match (&mut row.kind, cached) {
-                    (RowKind::Pin(r), Cached::Scalar(j)) => r.warm_start(a, b, j * dt_coef),
-                    (RowKind::Pivot(r), Cached::Vector(j)) => r.warm_start(a, b, j * dt_coef),
-                    (RowKind::Spring(r), Cached::Scalar(j)) => r.warm_start(a, b, j * dt_coef),
-                    (RowKind::Motor(r), Cached::Scalar(j)) => r.warm_start(a, b, j * dt_coef),
-                    (RowKind::Gear(r), Cached::Scalar(j)) => r.warm_start(a, b, j * dt_coef),
-                    (RowKind::Slide(r), Cached::Scalar(j)) => r.warm_start(a, b, j * dt_coef),
-                    (RowKind::RotaryLimit(r) | RowKind::Ratchet(r, _), Cached::Scalar(j)) => {
-                        r.warm_start(a, b, j * dt_coef)
-                    }
-                    (RowKind::RotarySpring(r), Cached::Scalar(j)) => {
-                        r.warm_start(a, b, j * dt_coef)
-                    }
-                    (RowKind::Groove(r), Cached::Vector(j)) => r.warm_start(a, b, j * dt_coef),
-                    // A row and its cache come from the same kind.
-                    (_, _) => {}
+            let (a, b) = (row.a, row.b);
+            match (&mut row.kind, row.cached) {
+                (RowKind::Pin(r), Cached::Scalar(j)) => ws(r, bodies, a, b, j * dt_coef),
+                (RowKind::Pivot(r), Cached::Vector(j)) => ws(r, bodies, a, b, j * dt_coef),
+                (RowKind::Spring(r), Cached::Scalar(j)) => ws(r, bodies, a, b, j * dt_coef),
+                (RowKind::Motor(r), Cached::Scalar(j)) => ws(r, bodies, a, b, j * dt_coef),
+                (RowKind::Gear(r), Cached::Scalar(j)) => ws(r, bodies, a, b, j * dt_coef),
+                (RowKind::Slide(r), Cached::Scalar(j)) => ws(r, bodies, a, b, j * dt_coef),
+                (RowKind::RotaryLimit(r) | RowKind::Ratchet(r, _), Cached::Scalar(j)) => {
+                    ws(r, bodies, a, b, j * dt_coef)
                 }
-            });
+                (RowKind::RotarySpring(r), Cached::Scalar(j)) => ws(r, bodies, a, b, j * dt_coef),
+                (RowKind::Groove(r), Cached::Vector(j)) => ws(r, bodies, a, b, j * dt_coef),
+                // A row and its cache come from the same kind.
+                (_, _) => {}
+            }
         }
     }
 
-    /// One solver iteration over the rows, in slot order.
+    /// One solver iteration over the rows, in slot order, each on the fast
+    /// path with the saturating fallback (module `kernel`).
     pub(crate) fn iterate(&mut self, solver_bodies: &mut [SolverBody]) {
+        use kernel::solve;
+        let bodies = solver_bodies;
         for row in &mut self.rows {
-            let j_max = row.j_max;
-            with_bodies(solver_bodies, row.a, row.b, |a, b| match &mut row.kind {
-                RowKind::Pin(r) => r.apply_impulse(a, b, j_max),
-                RowKind::Pivot(r) => r.apply_impulse(a, b, j_max),
-                RowKind::Spring(r) => r.apply_impulse(a, b, j_max),
-                RowKind::Motor(r) => r.apply_impulse(a, b, j_max),
-                RowKind::Gear(r) => r.apply_impulse(a, b, j_max),
-                RowKind::Slide(r) => r.apply_impulse(a, b, j_max),
-                RowKind::RotaryLimit(r) | RowKind::Ratchet(r, _) => r.apply_impulse(a, b, j_max),
-                RowKind::RotarySpring(r) => r.apply_impulse(a, b, j_max),
-                RowKind::Groove(r) => r.apply_impulse(a, b, j_max),
-            });
+            let (a, b, j_max) = (row.a, row.b, row.j_max);
+            match &mut row.kind {
+                RowKind::Pin(r) => solve(r, bodies, a, b, j_max),
+                RowKind::Pivot(r) => solve(r, bodies, a, b, j_max),
+                RowKind::Spring(r) => solve(r, bodies, a, b, j_max),
+                RowKind::Motor(r) => solve(r, bodies, a, b, j_max),
+                RowKind::Gear(r) => solve(r, bodies, a, b, j_max),
+                RowKind::Slide(r) => solve(r, bodies, a, b, j_max),
+                RowKind::RotaryLimit(r) | RowKind::Ratchet(r, _) => solve(r, bodies, a, b, j_max),
+                RowKind::RotarySpring(r) => solve(r, bodies, a, b, j_max),
+                RowKind::Groove(r) => solve(r, bodies, a, b, j_max),
+            }
         }
     }
 
@@ -317,26 +321,5 @@ impl ConstraintScratch {
                 (_, _) => {}
             }
         }
-    }
-}
-
-/// Runs `f` on copies of solver bodies `a` and `b` (two different slots)
-/// and writes them back.
-fn with_bodies(
-    bodies: &mut [SolverBody],
-    a: u32,
-    b: u32,
-    f: impl FnOnce(&mut SolverBody, &mut SolverBody),
-) {
-    let (Some(&ba), Some(&bb)) = (bodies.get(a as usize), bodies.get(b as usize)) else {
-        return;
-    };
-    let (mut ba, mut bb) = (ba, bb);
-    f(&mut ba, &mut bb);
-    if let Some(x) = bodies.get_mut(a as usize) {
-        *x = ba;
-    }
-    if let Some(x) = bodies.get_mut(b as usize) {
-        *x = bb;
     }
 }

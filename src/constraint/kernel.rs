@@ -1,0 +1,473 @@
+//! The joints' per-iteration arithmetic on the solver's fast path, as the
+//! contacts' (`solver::ContactConstraint::solve_with`).
+//!
+//! Each kind's row implements [`JointKernel`]: its warm-start impulse
+//! ([`apply`](JointKernel::apply)) and its iteration
+//! ([`iterate`](JointKernel::iterate)) are written once, generic over the
+//! arithmetic [`FixedArith`]. [`solve`] and [`warm_start`] run them first in
+//! [`Unsaturated`] arithmetic (plain wide integer operations and one sticky
+//! overflow flag) on copies of the two bodies and the accumulated impulse;
+//! only if the flag is raised do they discard the copies and rerun the same
+//! code in [`Saturating`] arithmetic (`Real`'s operators, the reference).
+//! Wrapping and saturating arithmetic agree on every in-range result, so
+//! the outcome is the saturating one bit for bit, and ordinary scenes pay
+//! for no per-operation saturation checks.
+//!
+//! The kernels repeat the saturating code they replaced operation for
+//! operation (same products, same roundings, same order: `relative_velocity`
+//! below is `solver::relative_velocity`, and so on), which is what keeps the
+//! goldens. Operations that are not hot (a vector's length for the
+//! `max_force` clamp, a projection, a sign test) call the saturating `Real`
+//! and `Vect` functions directly: they are the same function in both modes,
+//! so they need no flag.
+use crate::math::{FixedArith, Real, Saturating, Unsaturated, Vect};
+use crate::solver::SolverBody;
+
+/// A joint row's impulse arithmetic, generic over the arithmetic mode.
+pub(crate) trait JointKernel {
+    /// The accumulated impulse: a scalar along the row's direction, or a
+    /// vector for point constraints.
+    type Impulse: Copy;
+
+    /// The row's accumulated impulse.
+    fn acc(&self) -> Self::Impulse;
+
+    /// Sets the row's accumulated impulse.
+    fn set_acc(&mut self, acc: Self::Impulse);
+
+    /// False for a row that does nothing this sub-step (a limit not
+    /// reached): it is neither warm started nor iterated.
+    #[inline(always)]
+    fn is_active(&self) -> bool {
+        true
+    }
+
+    /// Applies the impulse `j` to body copies `a` (−) and `b` (+): the
+    /// warm start.
+    fn apply<A: FixedArith>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        j: Self::Impulse,
+        ar: &mut A,
+    );
+
+    /// One iteration on body copies `a`, `b` and the accumulated impulse
+    /// `acc`, which is clamped by `j_max = max_force·dt`.
+    fn iterate<A: FixedArith>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        acc: &mut Self::Impulse,
+        j_max: Real,
+        ar: &mut A,
+    );
+}
+
+/// One iteration of row `k` on solver bodies `ia`, `ib`: fast path first,
+/// the saturating reference only if something overflowed.
+#[inline(always)]
+pub(crate) fn solve<K: JointKernel>(
+    k: &mut K,
+    bodies: &mut [SolverBody],
+    ia: u32,
+    ib: u32,
+    j_max: Real,
+) {
+    if !k.is_active() {
+        return;
+    }
+    let Some((a0, b0)) = load_pair(bodies, ia, ib) else {
+        return;
+    };
+    let acc0 = k.acc();
+    let (mut a, mut b, mut acc) = (a0, b0, acc0);
+    let mut fast = Unsaturated::new();
+    k.iterate(&mut a, &mut b, &mut acc, j_max, &mut fast);
+    if fast.overflowed() {
+        (a, b, acc) = (a0, b0, acc0);
+        iterate_saturating(k, &mut a, &mut b, &mut acc, j_max);
+    }
+    k.set_acc(acc);
+    store_pair(bodies, ia, a, ib, b);
+}
+
+/// The reference path of [`solve`], out of line: it runs only when
+/// something saturates.
+#[cold]
+#[inline(never)]
+fn iterate_saturating<K: JointKernel>(
+    k: &K,
+    a: &mut SolverBody,
+    b: &mut SolverBody,
+    acc: &mut K::Impulse,
+    j_max: Real,
+) {
+    k.iterate(a, b, acc, j_max, &mut Saturating);
+}
+
+/// The warm start of row `k`: `acc` (last step's impulse, already scaled)
+/// becomes the accumulator and is applied to solver bodies `ia`, `ib`, fast
+/// path first as in [`solve`]. An inactive row keeps its zero accumulator.
+#[inline(always)]
+pub(crate) fn warm_start<K: JointKernel>(
+    k: &mut K,
+    bodies: &mut [SolverBody],
+    ia: u32,
+    ib: u32,
+    acc: K::Impulse,
+) {
+    if !k.is_active() {
+        return;
+    }
+    k.set_acc(acc);
+    let Some((a0, b0)) = load_pair(bodies, ia, ib) else {
+        return;
+    };
+    let (mut a, mut b) = (a0, b0);
+    let mut fast = Unsaturated::new();
+    k.apply(&mut a, &mut b, acc, &mut fast);
+    if fast.overflowed() {
+        (a, b) = (a0, b0);
+        apply_saturating(k, &mut a, &mut b, acc);
+    }
+    store_pair(bodies, ia, a, ib, b);
+}
+
+/// The reference path of [`warm_start`].
+#[cold]
+#[inline(never)]
+fn apply_saturating<K: JointKernel>(
+    k: &K,
+    a: &mut SolverBody,
+    b: &mut SolverBody,
+    acc: K::Impulse,
+) {
+    k.apply(a, b, acc, &mut Saturating);
+}
+
+/// Copies out solver bodies `a` and `b` (`None` if one is out of range;
+/// the rows' bodies differ: validated).
+#[inline(always)]
+fn load_pair(bodies: &[SolverBody], a: u32, b: u32) -> Option<(SolverBody, SolverBody)> {
+    Some((*bodies.get(a as usize)?, *bodies.get(b as usize)?))
+}
+
+/// Writes the copies back, a then b.
+#[inline(always)]
+fn store_pair(bodies: &mut [SolverBody], ia: u32, a: SolverBody, ib: u32, b: SolverBody) {
+    if let Some(slot) = bodies.get_mut(ia as usize) {
+        *slot = a;
+    }
+    if let Some(slot) = bodies.get_mut(ib as usize) {
+        *slot = b;
+    }
+}
+
+/// `−x` (saturating: `0 − x`, which is `Real`'s `−x` on every input, and
+/// raises the flag on `−Real::MIN`).
+#[inline(always)]
+pub(crate) fn neg<A: FixedArith>(x: Real, ar: &mut A) -> Real {
+    ar.sub(Real::ZERO, x)
+}
+
+/// `v·s` (`Vect::mult`).
+#[inline(always)]
+pub(crate) fn mult<A: FixedArith>(v: Vect, s: Real, ar: &mut A) -> Vect {
+    Vect::new(ar.mul(v.x, s), ar.mul(v.y, s))
+}
+
+/// `u + v`.
+#[inline(always)]
+pub(crate) fn add<A: FixedArith>(u: Vect, v: Vect, ar: &mut A) -> Vect {
+    Vect::new(ar.add(u.x, v.x), ar.add(u.y, v.y))
+}
+
+/// `u − v`.
+#[inline(always)]
+pub(crate) fn sub<A: FixedArith>(u: Vect, v: Vect, ar: &mut A) -> Vect {
+    Vect::new(ar.sub(u.x, v.x), ar.sub(u.y, v.y))
+}
+
+/// `solver::relative_velocity`: `(v_b + perp(r2)·ω_b) − (v_a + perp(r1)·ω_a)`.
+#[inline(always)]
+pub(crate) fn relative_velocity<A: FixedArith>(
+    a: &SolverBody,
+    b: &SolverBody,
+    r1: Vect,
+    r2: Vect,
+    ar: &mut A,
+) -> Vect {
+    let va = point_velocity(a, r1, ar);
+    let vb = point_velocity(b, r2, ar);
+    sub(vb, va, ar)
+}
+
+/// `v + perp(r)·ω`, with `perp(r) = (−r.y, r.x)`.
+#[inline(always)]
+fn point_velocity<A: FixedArith>(body: &SolverBody, r: Vect, ar: &mut A) -> Vect {
+    let perp = Vect::new(neg(r.y, ar), r.x);
+    let spin = mult(perp, body.w, ar);
+    add(body.v, spin, ar)
+}
+
+/// `solver::normal_relative_velocity`: `relative_velocity · n`.
+#[inline(always)]
+pub(crate) fn normal_relative_velocity<A: FixedArith>(
+    a: &SolverBody,
+    b: &SolverBody,
+    r1: Vect,
+    r2: Vect,
+    n: Vect,
+    ar: &mut A,
+) -> Real {
+    let vr = relative_velocity(a, b, r1, r2, ar);
+    ar.mul_add2(vr.x, n.x, vr.y, n.y)
+}
+
+/// `solver::apply_impulse`: `v += j·m⁻¹`, `ω += I⁻¹ (r × j)`.
+#[inline(always)]
+fn apply_impulse<A: FixedArith>(body: &mut SolverBody, j: Vect, r: Vect, ar: &mut A) {
+    let dv = mult(j, body.m_inv, ar);
+    body.v = add(body.v, dv, ar);
+    let torque = ar.mul_sub2(r.x, j.y, r.y, j.x);
+    let dw = ar.mul(body.i_inv, torque);
+    body.w = ar.add(body.w, dw);
+}
+
+/// `solver::apply_impulses`: `−j` on `a` at `r1`, `+j` on `b` at `r2`.
+#[inline(always)]
+pub(crate) fn apply_impulses<A: FixedArith>(
+    a: &mut SolverBody,
+    b: &mut SolverBody,
+    r1: Vect,
+    r2: Vect,
+    j: Vect,
+    ar: &mut A,
+) {
+    let minus_j = Vect::new(neg(j.x, ar), neg(j.y, ar));
+    apply_impulse(a, minus_j, r1, ar);
+    apply_impulse(b, j, r2, ar);
+}
+
+/// Angular impulse `−j` on a, `+j` on b: `ω_a −= j·I_a⁻¹`, `ω_b += j·I_b⁻¹`.
+#[inline(always)]
+pub(crate) fn apply_angular<A: FixedArith>(
+    a: &mut SolverBody,
+    b: &mut SolverBody,
+    j: Real,
+    ar: &mut A,
+) {
+    let dwa = ar.mul(j, a.i_inv);
+    a.w = ar.sub(a.w, dwa);
+    let dwb = ar.mul(j, b.i_inv);
+    b.w = ar.add(b.w, dwb);
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    //! Every kind's kernel: the fast path ([`solve`], [`warm_start`])
+    //! against the saturating reference alone, on free inputs (the rows'
+    //! fields need not be consistent: the fast path must match on any
+    //! input), extremes and rounding ties included.
+    use super::*;
+    use proptest::prelude::*;
+    use proptest::test_runner::TestCaseError;
+
+    /// Raw values over the whole range: small (ordinary scenes), large
+    /// (near saturation), ties and the extremes.
+    pub(crate) fn any_real() -> impl Strategy<Value = Real> {
+        prop_oneof![
+            (-(1i64 << 40)..(1i64 << 40)).prop_map(Real::from_bits),
+            // Tiny raw values times multiples of ½: rounding ties.
+            (-64i64..64).prop_map(Real::from_bits),
+            (-8i64..8).prop_map(|k| Real::from_bits(k << 31)),
+            (any::<i64>(), 0u32..63).prop_map(|(v, s)| Real::from_bits(v >> s)),
+            Just(Real::MAX),
+            Just(Real::MIN),
+        ]
+    }
+
+    /// Raw values within ±16, ties among them: no kernel operation on
+    /// these can leave the range.
+    fn moderate() -> impl Strategy<Value = Real> {
+        prop_oneof![
+            (-(1i64 << 36)..(1i64 << 36)).prop_map(Real::from_bits),
+            (-64i64..64).prop_map(Real::from_bits),
+            (-8i64..8).prop_map(|k| Real::from_bits(k << 31)),
+        ]
+    }
+
+    /// The free values a row is built from (`v[i]`, zero past the end).
+    pub(crate) fn at(v: &[Real], i: usize) -> Real {
+        v.get(i).copied().unwrap_or(Real::ZERO)
+    }
+
+    /// The free vector `(v[i], v[i + 1])`.
+    pub(crate) fn vect_at(v: &[Real], i: usize) -> Vect {
+        Vect::new(at(v, i), at(v, i.saturating_add(1)))
+    }
+
+    fn solver_body(v: [Real; 8]) -> SolverBody {
+        SolverBody {
+            v: Vect::new(v[0], v[1]),
+            w: v[2],
+            v_bias: Vect::new(v[3], v[4]),
+            w_bias: v[5],
+            m_inv: v[6].abs(),
+            i_inv: v[7].abs(),
+        }
+    }
+
+    /// [`solve`] and [`warm_start`] on row `k` against its saturating
+    /// `iterate` and `apply`: the same bodies and accumulator, bit for bit.
+    /// Returns whether both stayed on the fast path (no overflow).
+    pub(crate) fn check<K>(
+        k: K,
+        acc: K::Impulse,
+        a: SolverBody,
+        b: SolverBody,
+        j_max: Real,
+    ) -> Result<bool, TestCaseError>
+    where
+        K: JointKernel + Copy,
+        K::Impulse: PartialEq + core::fmt::Debug,
+    {
+        // The iteration.
+        let mut fast = k;
+        fast.set_acc(acc);
+        let mut bodies = [a, b];
+        solve(&mut fast, &mut bodies, 0, 1, j_max);
+        let (mut ra, mut rb, mut racc) = (a, b, acc);
+        if k.is_active() {
+            k.iterate(&mut ra, &mut rb, &mut racc, j_max, &mut Saturating);
+        }
+        prop_assert_eq!(bodies, [ra, rb]);
+        prop_assert_eq!(fast.acc(), racc);
+
+        // The warm start.
+        let mut fast = k;
+        let before = k.acc();
+        let mut bodies = [a, b];
+        warm_start(&mut fast, &mut bodies, 0, 1, acc);
+        let (mut ra, mut rb) = (a, b);
+        if k.is_active() {
+            k.apply(&mut ra, &mut rb, acc, &mut Saturating);
+            prop_assert_eq!(fast.acc(), acc);
+        } else {
+            prop_assert_eq!(fast.acc(), before);
+        }
+        prop_assert_eq!(bodies, [ra, rb]);
+
+        // Whether the fast path was enough.
+        let (mut fa, mut fb, mut facc) = (a, b, acc);
+        let mut u = Unsaturated::new();
+        if k.is_active() {
+            k.iterate(&mut fa, &mut fb, &mut facc, j_max, &mut u);
+            k.apply(&mut fa, &mut fb, acc, &mut u);
+        }
+        Ok(!u.overflowed())
+    }
+
+    /// The inputs of one case: the row's free values, two bodies, an
+    /// accumulator (as a vector; scalar rows take `x`) and `j_max`.
+    pub(crate) type Case = (Vec<Real>, [Real; 8], [Real; 8], Vect, Real);
+
+    pub(crate) fn any_case() -> impl Strategy<Value = Case> {
+        (
+            proptest::collection::vec(any_real(), 16),
+            proptest::array::uniform8(any_real()),
+            proptest::array::uniform8(any_real()),
+            (any_real(), any_real()).prop_map(|(x, y)| Vect::new(x, y)),
+            prop_oneof![any_real().prop_map(Real::abs), Just(Real::MAX)],
+        )
+    }
+
+    /// Runs [`check`] on every kind's row built from the case's values;
+    /// returns whether every kind stayed on the fast path.
+    pub(crate) fn check_all_kinds(case: &Case) -> Result<bool, TestCaseError> {
+        let (v, av, bv, acc, j_max) = case;
+        let (a, b, j_max) = (solver_body(*av), solver_body(*bv), *j_max);
+        use crate::constraint::{
+            damped_rotary_spring::RotarySpringRow, damped_spring::SpringRow, gear::GearRow,
+            groove::GrooveRow, pin::PinRow, pivot::PivotRow, rotary_limit::AngularLimitRow,
+            simple_motor::MotorRow, slide::SlideRow,
+        };
+        let fast = [
+            check(PinRow::from_raw(v), acc.x, a, b, j_max)?,
+            check(PivotRow::from_raw(v), *acc, a, b, j_max)?,
+            check(SpringRow::from_raw(v), acc.x, a, b, j_max)?,
+            check(MotorRow::from_raw(v), acc.x, a, b, j_max)?,
+            check(GearRow::from_raw(v), acc.x, a, b, j_max)?,
+            check(SlideRow::from_raw(v), acc.x, a, b, j_max)?,
+            check(AngularLimitRow::from_raw(v), acc.x, a, b, j_max)?,
+            check(RotarySpringRow::from_raw(v), acc.x, a, b, j_max)?,
+            check(GrooveRow::from_raw(v), *acc, a, b, j_max)?,
+        ];
+        Ok(fast.iter().all(|&f| f))
+    }
+
+    #[test]
+    fn inactive_rows_are_skipped_and_keep_a_zero_accumulator() {
+        use crate::constraint::{rotary_limit::AngularLimitRow, slide::SlideRow};
+        // A slide joint inside its limits (n = 0) and a rotary limit inside
+        // its range (sign 0), with free values elsewhere.
+        let mut v = vec![Real::ONE; 16];
+        let body = SolverBody {
+            v: Vect::new(Real::ONE, -Real::ONE),
+            w: Real::HALF,
+            m_inv: Real::ONE,
+            i_inv: Real::ONE,
+            ..SolverBody::default()
+        };
+        v[4] = Real::ZERO;
+        v[5] = Real::ZERO;
+        let slide = SlideRow::from_raw(&v);
+        v[0] = Real::ZERO;
+        let limit = AngularLimitRow::from_raw(&v);
+        assert!(!slide.is_active() && !limit.is_active());
+        for acc in [Real::ONE, Real::MIN, Real::MAX] {
+            let (mut s, mut l) = (slide, limit);
+            let mut bodies = [body, SolverBody::default()];
+            warm_start(&mut s, &mut bodies, 0, 1, acc);
+            warm_start(&mut l, &mut bodies, 0, 1, acc);
+            solve(&mut s, &mut bodies, 0, 1, Real::MAX);
+            solve(&mut l, &mut bodies, 0, 1, Real::MAX);
+            assert_eq!(bodies, [body, SolverBody::default()]);
+            assert_eq!((s.acc(), l.acc()), (Real::ZERO, Real::ZERO));
+            let case = (
+                v.clone(),
+                [acc; 8],
+                [acc; 8],
+                Vect::new(acc, acc),
+                Real::MAX,
+            );
+            assert!(check_all_kinds(&case).is_ok());
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(3000))]
+        /// Every joint kernel's fast path is bit-identical to its
+        /// saturating reference on any input, extremes and ties included.
+        #[test]
+        fn fast_joint_kernels_equal_the_saturating_ones(case in any_case()) {
+            check_all_kinds(&case)?;
+        }
+
+        /// The same on moderate inputs (within ±16, `j_max` finite or
+        /// unbounded), where every kernel must stay on the fast path: the
+        /// first test alone could pass with a fallback that always runs.
+        #[test]
+        fn fast_joint_kernels_equal_the_saturating_ones_in_range(
+            v in proptest::collection::vec(moderate(), 16),
+            av in proptest::array::uniform8(moderate()),
+            bv in proptest::array::uniform8(moderate()),
+            (ax, ay) in (moderate(), moderate()),
+            j_max in prop_oneof![moderate().prop_map(Real::abs), Just(Real::MAX)],
+        ) {
+            let fast = check_all_kinds(&(v, av, bv, Vect::new(ax, ay), j_max))?;
+            prop_assert!(fast, "an in-range case left the fast path");
+        }
+    }
+}
