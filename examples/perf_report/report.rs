@@ -265,18 +265,21 @@ impl Report {
              defines them, 1/60 s steps), both engines in lockstep; the time is the \
              median step after a one-second warm-up. A dagger (†) marks a scene whose \
              Rapier world lacks joints Rapier has no counterpart for (see the mapping \
-             below): its ratio is not like for like.\n\n",
+             below): its ratio is not like for like. Rapier's joint count is after an \
+             angular limit or motor has gone onto the pair's revolute or pin-slot joint, \
+             with the empty joints that stand in for left-out ones where those disabled \
+             contacts.\n\n",
         );
         s.push_str(
             "| scene | bodies | joints (Tamias2D / Rapier) | settings | steps timed | \
-             Tamias2D ms/step | Rapier ms/step | Tamias2D / Rapier |\n\
+             Tamias2D µs/step | Rapier µs/step | Tamias2D / Rapier |\n\
              |---|---:|---:|---|---:|---:|---:|---:|\n",
         );
         let dagger = |r: &SideRow| if r.left_out.is_empty() { "" } else { " †" };
         for r in &self.joints {
             let _ = writeln!(
                 s,
-                "| `{}`{} | {} | {} / {} | {} | {} | {:.3} | {:.3} | **{:.2}** |",
+                "| `{}`{} | {} | {} / {} | {} | {} | {} | {} | **{:.2}** |",
                 r.name,
                 dagger(r),
                 r.bodies,
@@ -284,8 +287,8 @@ impl Report {
                 r.rapier.joints,
                 r.config.label(),
                 r.tamias.timed_steps,
-                r.tamias.median_step * 1e3,
-                r.rapier.median_step * 1e3,
+                sig(r.tamias.median_step * 1e6),
+                sig(r.rapier.median_step * 1e6),
                 r.ratio()
             );
         }
