@@ -348,8 +348,8 @@ impl Report {
         }
         s.push_str(
             "\nThe hard joints keep Rapier's default joint softness (1 MHz, ζ = 1: rigid); \
-             where Rapier only has a motor for a rigid Chipmunk constraint (a pin's push \
-             side, a simple motor), the motor gets that same stiffness. Chipmunk's \
+             where Rapier only has a motor for a rigid Chipmunk constraint (a pin, a \
+             simple motor), the motor gets that same stiffness. Chipmunk's \
              `error_bias` and `max_bias` have no Rapier counterpart; `max_force` is \
              mapped on motors. An angular limit or motor between two bodies that a \
              revolute or pin-slot joint already holds goes on that joint.\n",

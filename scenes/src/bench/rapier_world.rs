@@ -1,6 +1,8 @@
 //! A [`SceneDesc`] as a Rapier world: same bodies, shapes, materials,
 //! gravity, time step and iteration count, with the scripted forces and
-//! spawns replayed as [`ScriptedWorld::step`](crate::ScriptedWorld::step) does.
+//! spawns replayed as [`ScriptedWorld::step`](crate::ScriptedWorld::step) does,
+//! and the constraints as the closest Rapier joints ([`JOINT_MAPPING`]; gears
+//! and ratchets have none and are left out, [`RapierRun::left_out`]).
 //!
 //! The mapping, shape by shape (Chipmunk's rounding radius is Rapier's
 //! border radius: both grow the core shape outward):
@@ -199,9 +201,10 @@ impl RapierRun {
 /// Rules behind it: the hard joints map to Rapier's joints with their
 /// default softness (`SpringCoefficients::joint_defaults`, 1 MHz, ζ = 1:
 /// effectively rigid); where a Chipmunk constraint is rigid but Rapier only
-/// has a motor for it (the push side of a pin, a velocity motor), the
-/// motor is given that same softness as stiffness (`k = ω²`, `c = 2ζω`),
-/// so it is as rigid as Rapier's own joints. Chipmunk's `max_bias` and
+/// has a motor for it (a pin, a velocity motor), the motor is given that
+/// same softness as stiffness and damping (`k = ω²`, `c = 2ζω`, with
+/// `AccelerationBased` coefficients these give Rapier's joint `erp` and a
+/// negligible `cfm`), so it is as rigid as Rapier's own joints. Chipmunk's `max_bias` and
 /// `error_bias` have no Rapier counterpart (its joints use the softness
 /// above); `max_force` is mapped where Rapier has it (motors). An angular
 /// constraint (rotary limit, motor, rotary spring) between two bodies that
@@ -220,10 +223,10 @@ pub const JOINT_MAPPING: &[(&str, &str, &str)] = &[
     ),
     (
         "pin",
-        "`RopeJoint` (max distance = the pin's length) + a position motor on the same \
-         distance (target the length, Rapier's joint stiffness)",
-        "Rapier's distance limit holds only the max (`limit_linear_coupled`: \
-         \"FIXME: handle min limit too\"), so the motor pushes",
+        "`SpringJoint` (rest length = the pin's length) made rigid: stiffness and \
+         damping of Rapier's own joint softness, `MotorModel::AccelerationBased`",
+        "Rapier has no rigid distance joint: `RopeJoint`'s distance limit holds only the \
+         max (`limit_linear_coupled`: \"FIXME: handle min limit too\"), and a pin also pushes",
     ),
     (
         "slide",
@@ -308,10 +311,9 @@ impl RapierRun {
                     },
                 ),
                 JointType::Pin => {
-                    let mut g = plain(RopeJoint::new(j.dist as f32).data);
-                    g.set_motor_position(JointAxis::LinX, j.dist as f32, rigid_k, rigid_c)
-                        .set_motor_model(JointAxis::LinX, MotorModel::AccelerationBased);
-                    (g, AngularSlots::default())
+                    let mut spring = SpringJoint::new(j.dist as f32, rigid_k, rigid_c);
+                    spring.set_spring_model(MotorModel::AccelerationBased);
+                    (plain(spring.data), AngularSlots::default())
                 }
                 JointType::Slide => (
                     plain(RopeJoint::new(j.max as f32).data),
