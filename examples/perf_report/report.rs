@@ -242,14 +242,17 @@ impl Report {
             .any(|l| l > 1.0);
         let _ = writeln!(
             s,
-            "Measured {} on {} cores ({}), {}, {}; `perf_report{}` joint part {:.0} s. \
+            "Measured {} on {} cores ({}), {}, {}; `{}`, joint part {:.0} s. \
              1-minute load average {} before, {} after{}.\n",
             m.date,
             m.cores,
             m.model,
             m.rustc,
             m.engines,
-            if self.quick { " --quick" } else { "" },
+            std::iter::once("perf_report".to_owned())
+                .chain(std::env::args().skip(1))
+                .collect::<Vec<_>>()
+                .join(" "),
             self.joints_elapsed,
             load(self.load_before),
             load(self.load_after),
