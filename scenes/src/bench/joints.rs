@@ -10,7 +10,7 @@
 //! same anchors.
 //!
 //! The error measure, per joint, from the bodies' origins and angles
-//! ([`BodyState`], the same reading for both engines):
+//! ([`BodyState`](super::measure::BodyState), the same reading for both engines):
 //!
 //! | kind           | positional error (m)                                   |
 //! |----------------|--------------------------------------------------------|
