@@ -1,11 +1,13 @@
 //! Regenerates every table and plot of `docs/performance.md`: Tamias2D beside
 //! Rapier2D on the standard scenes (time per step and the quality it buys),
-//! the accuracy scenes at default settings, and the speed/accuracy trade
+//! the accuracy scenes at default settings, the joint scenes beside Rapier's
+//! joints (time per step and joint error), and the speed/accuracy trade
 //! curves over solver iterations, step size and sub-steps.
 //!
 //! ```text
 //! cargo run --release --example perf_report -- --out docs     # full run (5-9 min on 2 cores)
 //! cargo run --release --example perf_report -- --quick        # CI-sized scenes, short sweep (< 1 min)
+//! cargo run --release --example perf_report -- --out docs --only joints   # section D only (~1 min)
 //! ```
 //! Options: `--out DIR` (default `target/perf_report`): the tables go into
 //! `DIR/performance.md` between its `<!-- BEGIN perf_report:… -->` /
@@ -15,7 +17,10 @@
 //! sweep. `--skip-side`, `--skip-sweep` leave parts out; `--scenes a,b`
 //! restricts both parts to the named scenes; `--skip-substeps` leaves the
 //! sub-step series (`Settings::substeps` = 2 and 4) out of the sweep (see
-//! `sweep::plan`).
+//! `sweep::plan`). `--skip-joints` leaves the joint scenes out; `--only
+//! side|joints|sweep` runs that part alone (`side` is sections A–C) and
+//! rewrites only its sections of `performance.md` (the machine table
+//! belongs to `side` and `sweep`; the joint section carries its own).
 #![allow(clippy::float_arithmetic)] // measurement and reports only
 
 use tamias2d_scenes::bench as common;
@@ -35,6 +40,7 @@ pub struct Options {
     quick: bool,
     side: bool,
     sweep: bool,
+    joints: bool,
     scenes: Option<Vec<String>>,
     substeps: bool,
 }
@@ -45,6 +51,7 @@ fn parse_args() -> Result<Options, String> {
         quick: false,
         side: true,
         sweep: true,
+        joints: true,
         scenes: None,
         substeps: true,
     };
@@ -56,13 +63,24 @@ fn parse_args() -> Result<Options, String> {
             "--skip-side" => o.side = false,
             "--skip-sweep" => o.sweep = false,
             "--skip-substeps" => o.substeps = false,
+            "--skip-joints" => o.joints = false,
+            "--only" => {
+                let part = args.next().ok_or("--only needs side, joints or sweep")?;
+                o.side = part == "side";
+                o.joints = part == "joints";
+                o.sweep = part == "sweep";
+                if !(o.side || o.joints || o.sweep) {
+                    return Err(format!("--only {part:?}: expected side, joints or sweep"));
+                }
+            }
             "--scenes" => {
                 let list = args.next().ok_or("--scenes needs a list")?;
                 o.scenes = Some(list.split(',').map(|s| s.trim().to_owned()).collect());
             }
             "-h" | "--help" => {
                 return Err("usage: perf_report [--out DIR] [--quick] [--skip-side] \
-                            [--skip-sweep] [--skip-substeps] [--scenes a,b,…]"
+                            [--skip-sweep] [--skip-substeps] [--skip-joints] \
+                            [--only side|joints|sweep] [--scenes a,b,…]"
                     .to_owned())
             }
             other => return Err(format!("unknown argument {other:?} (try --help)")),
@@ -117,6 +135,26 @@ fn main() -> ExitCode {
             rep.accuracy.push(row);
         }
     }
+    if opts.joints {
+        let t0 = started.elapsed().as_secs_f64();
+        rep.load_before = report::load_average();
+        for name in common::joint_scenes().into_iter().filter(keep) {
+            let row = side::run_joints(name);
+            eprintln!(
+                "[{:>5.0} s] {name:<20} Tamias2D {:>8.3} ms  Rapier {:>8.3} ms  ratio {:.2}  \
+                 joint error Tamias2D {:.2e} m  Rapier {:.2e} m",
+                started.elapsed().as_secs_f64(),
+                row.tamias.median_step * 1e3,
+                row.rapier.median_step * 1e3,
+                row.ratio(),
+                row.tamias.joint.position,
+                row.rapier.joint.position
+            );
+            rep.joints.push(row);
+        }
+        rep.load_after = report::load_average();
+        rep.joints_elapsed = started.elapsed().as_secs_f64() - t0;
+    }
     if opts.sweep {
         let heavy = if opts.quick {
             "bowl_boxes_100"
@@ -138,7 +176,7 @@ fn main() -> ExitCode {
         }
     }
     rep.elapsed = started.elapsed().as_secs_f64();
-    match rep.write(opts.side, opts.sweep) {
+    match rep.write(opts.side, opts.sweep, opts.joints) {
         Ok(path) => {
             eprintln!(
                 "wrote {} in {:.0} s",

@@ -20,8 +20,26 @@ pub struct Report {
     pub accuracy: Vec<SideRow>,
     /// Trade sweeps per scene.
     pub sweeps: Vec<(String, Vec<Series>)>,
+    /// Section D beside Rapier's joints.
+    pub joints: Vec<SideRow>,
+    /// Wall time of the joint part (s).
+    pub joints_elapsed: f64,
+    /// 1-minute load average before and after the joint part.
+    pub load_before: Option<f64>,
+    /// See `load_before`.
+    pub load_after: Option<f64>,
     /// Wall time of the whole run (s).
     pub elapsed: f64,
+}
+
+/// The 1-minute load average (`/proc/loadavg`), where there is one.
+pub fn load_average() -> Option<f64> {
+    fs::read_to_string("/proc/loadavg")
+        .ok()?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()
 }
 
 /// `x` with 3 significant digits, in plain or scientific notation.
@@ -62,6 +80,39 @@ fn locked_version(package: &str) -> Option<String> {
     None
 }
 
+/// What the machine tables say about where a run happened.
+struct Machine {
+    date: String,
+    cores: usize,
+    model: String,
+    rustc: String,
+    engines: String,
+}
+
+impl Machine {
+    fn read() -> Machine {
+        let model = command_output("lscpu", &[])
+            .and_then(|s| {
+                s.lines()
+                    .find(|l| l.starts_with("Model name"))
+                    .and_then(|l| l.split(':').nth(1))
+                    .map(|m| m.trim().to_owned())
+            })
+            .unwrap_or_else(|| "unknown".to_owned());
+        let rapier = locked_version("rapier2d").unwrap_or_else(|| "?".to_owned());
+        Machine {
+            date: command_output("date", &["-u", "+%Y-%m-%d"]).unwrap_or_default(),
+            cores: std::thread::available_parallelism().map_or(0, |n| n.get()),
+            model,
+            rustc: command_output("rustc", &["-V"]).unwrap_or_else(|| "unknown".to_owned()),
+            engines: format!(
+                "Tamias2D {} (I32F32); rapier2d {rapier} (f32, `enhanced-determinism`)",
+                env!("CARGO_PKG_VERSION")
+            ),
+        }
+    }
+}
+
 impl Report {
     /// An empty report writing under `out`.
     pub fn new(out: &Path, quick: bool) -> Report {
@@ -71,34 +122,23 @@ impl Report {
             side: Vec::new(),
             accuracy: Vec::new(),
             sweeps: Vec::new(),
+            joints: Vec::new(),
+            joints_elapsed: 0.0,
+            load_before: None,
+            load_after: None,
             elapsed: 0.0,
         }
     }
 
     fn machine(&self) -> String {
-        let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
-        let model = command_output("lscpu", &[])
-            .and_then(|s| {
-                s.lines()
-                    .find(|l| l.starts_with("Model name"))
-                    .and_then(|l| l.split(':').nth(1))
-                    .map(|m| m.trim().to_owned())
-            })
-            .unwrap_or_else(|| "unknown".to_owned());
-        let rustc = command_output("rustc", &["-V"]).unwrap_or_else(|| "unknown".to_owned());
-        let date = command_output("date", &["-u", "+%Y-%m-%d"]).unwrap_or_default();
-        let rapier = locked_version("rapier2d").unwrap_or_else(|| "?".to_owned());
+        let m = Machine::read();
         let mut s = String::new();
         let _ = writeln!(s, "| | |\n|---|---|");
-        let _ = writeln!(s, "| date | {date} |");
-        let _ = writeln!(s, "| `nproc` | {cores} |");
-        let _ = writeln!(s, "| `lscpu` model | {model} |");
-        let _ = writeln!(s, "| rustc | {rustc} |");
-        let _ = writeln!(
-            s,
-            "| engines | Tamias2D {} (I32F32); rapier2d {rapier} (f32, `enhanced-determinism`) |",
-            env!("CARGO_PKG_VERSION")
-        );
+        let _ = writeln!(s, "| date | {} |", m.date);
+        let _ = writeln!(s, "| `nproc` | {} |", m.cores);
+        let _ = writeln!(s, "| `lscpu` model | {} |", m.model);
+        let _ = writeln!(s, "| rustc | {} |", m.rustc);
+        let _ = writeln!(s, "| engines | {} |", m.engines);
         let _ = writeln!(
             s,
             "| run | `perf_report{}`, {:.0} s in all |",
@@ -186,6 +226,137 @@ impl Report {
                 );
             }
         }
+        s
+    }
+
+    /// The joint section: its own machine note, the time and joint-error
+    /// tables, and the mapping to Rapier's joints.
+    fn joint_section(&self) -> String {
+        let m = Machine::read();
+        let mut s = String::new();
+        let load = |l: Option<f64>| l.map_or("?".to_owned(), |x| format!("{x:.2}"));
+        let busy = self
+            .load_before
+            .into_iter()
+            .chain(self.load_after)
+            .any(|l| l > 1.0);
+        let _ = writeln!(
+            s,
+            "Measured {} on {} cores ({}), {}, {}; `{}`, joint part {:.0} s. \
+             1-minute load average {} before, {} after{}.\n",
+            m.date,
+            m.cores,
+            m.model,
+            m.rustc,
+            m.engines,
+            std::iter::once("perf_report".to_owned())
+                .chain(std::env::args().skip(1))
+                .collect::<Vec<_>>()
+                .join(" "),
+            self.joints_elapsed,
+            load(self.load_before),
+            load(self.load_after),
+            if busy {
+                ": **measured while other builds ran**, so the times are noisy \
+                 (the lockstep order spreads the noise over both engines alike)"
+            } else {
+                ""
+            }
+        );
+        s.push_str(
+            "Each scene runs at its own settings (iterations and sub-steps as the scene \
+             defines them, 1/60 s steps), both engines in lockstep; the time is the \
+             median step after a one-second warm-up. A dagger (†) marks a scene whose \
+             Rapier world lacks joints Rapier has no counterpart for (see the mapping \
+             below): its ratio is not like for like. Rapier's joint count is after an \
+             angular limit or motor has gone onto the pair's revolute or pin-slot joint, \
+             with the empty joints that stand in for left-out ones where those disabled \
+             contacts.\n\n",
+        );
+        s.push_str(
+            "| scene | bodies | joints (Tamias2D / Rapier) | settings | steps timed | \
+             Tamias2D µs/step | Rapier µs/step | Tamias2D / Rapier |\n\
+             |---|---:|---:|---|---:|---:|---:|---:|\n",
+        );
+        let dagger = |r: &SideRow| if r.left_out.is_empty() { "" } else { " †" };
+        for r in &self.joints {
+            let _ = writeln!(
+                s,
+                "| `{}`{} | {} | {} / {} | {} | {} | {} | {} | **{:.2}** |",
+                r.name,
+                dagger(r),
+                r.bodies,
+                r.tamias.joints,
+                r.rapier.joints,
+                r.config.label(),
+                r.tamias.timed_steps,
+                sig(r.tamias.median_step * 1e6),
+                sig(r.rapier.median_step * 1e6),
+                r.ratio()
+            );
+        }
+        s.push_str(
+            "\nJoint error, measured the same way for both engines from the bodies' \
+             positions and angles after every step of the run: for pivots the distance \
+             between the two world anchors, for pins the anchors' distance minus the pin's \
+             length, for slides (ropes) the distance outside [min, max], for grooves the \
+             distance of the anchor from the groove; the worst joint at the worst step \
+             (max) and the worst joint averaged over the steps (mean). Rotary limits: how \
+             far the relative angle went past its limit. Springs, motors, gears and \
+             ratchets are not measured.\n\n\
+             | scene | max, Tamias2D (m) | max, Rapier (m) | mean, Tamias2D (m) | \
+             mean, Rapier (m) | rotary limit excess max, Tamias2D / Rapier (rad) | \
+             left out of Rapier |\n|---|---:|---:|---:|---:|---:|---|\n",
+        );
+        for r in &self.joints {
+            let (t, ra) = (&r.tamias.joint, &r.rapier.joint);
+            let pos = |x: f64| if t.has_position { sig(x) } else { "-".into() };
+            let angle = if t.has_angle {
+                format!("{} / {}", sig(t.angle), sig(ra.angle))
+            } else {
+                "-".into()
+            };
+            let mut left: Vec<String> = Vec::new();
+            for k in &r.left_out {
+                let n = r.left_out.iter().filter(|x| *x == k).count();
+                let item = format!("{n} × {k}");
+                if !left.contains(&item) {
+                    left.push(item);
+                }
+            }
+            let _ = writeln!(
+                s,
+                "| `{}`{} | {} | {} | {} | {} | {} | {} |",
+                r.name,
+                dagger(r),
+                pos(t.position),
+                pos(ra.position),
+                pos(t.position_mean()),
+                pos(ra.position_mean()),
+                angle,
+                if left.is_empty() {
+                    "-".to_owned()
+                } else {
+                    left.join(", ")
+                }
+            );
+        }
+        s.push_str(
+            "\nThe mapping (Tamias2D's joints are Chipmunk's; Rapier 0.36's joints as built \
+             by the side-by-side's converter):\n\n\
+             | Tamias2D | Rapier 0.36 | note |\n|---|---|---|\n",
+        );
+        for (ours, theirs, note) in crate::common::JOINT_MAPPING {
+            let _ = writeln!(s, "| {ours} | {theirs} | {note} |");
+        }
+        s.push_str(
+            "\nThe hard joints keep Rapier's default joint softness (1 MHz, ζ = 1: rigid); \
+             where Rapier only has a motor for a rigid Chipmunk constraint (a pin, a \
+             simple motor), the motor gets that same stiffness. Chipmunk's \
+             `error_bias` and `max_bias` have no Rapier counterpart; `max_force` is \
+             mapped on motors. An angular limit or motor between two bodies that a \
+             revolute or pin-slot joint already holds goes on that joint.\n",
+        );
         s
     }
 
@@ -310,15 +481,55 @@ impl Report {
         if !self.sweeps.is_empty() {
             fs::write(data.join("perf_sweep.csv"), sw)?;
         }
+        let mut joints = String::from(
+            "scene,engine,iterations,substeps,joints,median_step_ms,timed_steps,\
+             joint_error_max_m,joint_error_mean_m,rotary_limit_excess_rad,left_out\n",
+        );
+        for r in &self.joints {
+            for (engine, e) in [("tamias2d", &r.tamias), ("rapier", &r.rapier)] {
+                let _ = writeln!(
+                    joints,
+                    "{},{engine},{},{},{},{},{},{},{},{},{}",
+                    r.name,
+                    r.config.iterations,
+                    r.config.substeps,
+                    e.joints,
+                    e.median_step * 1e3,
+                    e.timed_steps,
+                    e.joint.position,
+                    e.joint.position_mean(),
+                    e.joint.angle,
+                    if engine == "rapier" {
+                        r.left_out.join(";")
+                    } else {
+                        String::new()
+                    }
+                );
+            }
+        }
+        if !self.joints.is_empty() {
+            fs::write(data.join("perf_joints.csv"), joints)?;
+        }
         Ok(())
     }
 
     /// Writes plots, CSV files and the marked sections of `performance.md`;
     /// returns the markdown file's path.
-    pub fn write(&self, side: bool, sweep: bool) -> Result<PathBuf, Box<dyn std::error::Error>> {
+    pub fn write(
+        &self,
+        side: bool,
+        sweep: bool,
+        joints: bool,
+    ) -> Result<PathBuf, Box<dyn std::error::Error>> {
         fs::create_dir_all(&self.out)?;
         self.write_csv()?;
-        let mut sections = vec![("machine", self.machine())];
+        let mut sections = Vec::new();
+        if side || sweep {
+            sections.push(("machine", self.machine()));
+        }
+        if joints {
+            sections.push(("joints", self.joint_section()));
+        }
         if side {
             sections.push(("side_by_side", self.side_table()));
             sections.push(("quality", self.quality_table()));

@@ -7,8 +7,15 @@
 //! the warm-up (300 steps, or until the rain is all out). Quality is read
 //! between steps, outside the timed code, every 4th step of the second half
 //! of the run.
+//!
+//! The joint scenes (section D, [`run_joints`]) run at their own settings
+//! (iterations and sub-steps as the scene defines them), are timed after a
+//! one-second warm-up (they move throughout), and also measure the joint
+//! error ([`common::joints`]) of both engines after every step, outside the
+//! timed code.
 use std::time::Instant;
 
+use crate::common::joints::{self, JointError, Resolved};
 use crate::common::{self, Config, Engine, Penetration, RapierRun, TamiasRun};
 use crate::measures;
 
@@ -29,6 +36,10 @@ pub struct EngineResult {
     pub escaped: usize,
     /// Scene-specific errors at the end ([`measures::errors`]).
     pub errors: Vec<f64>,
+    /// Joint error over the whole run (joint scenes).
+    pub joint: JointError,
+    /// Joints the engine simulates.
+    pub joints: usize,
 }
 
 /// One scene of the side-by-side table.
@@ -44,6 +55,11 @@ pub struct SideRow {
     pub tamias: EngineResult,
     /// Rapier.
     pub rapier: EngineResult,
+    /// Solver settings both engines ran at.
+    pub config: Config,
+    /// Kinds of the scene's constraints that Rapier has no counterpart for
+    /// (left out of its world).
+    pub left_out: Vec<String>,
 }
 
 impl SideRow {
@@ -53,14 +69,40 @@ impl SideRow {
     }
 }
 
-/// Runs scene `name` on both engines (see the module docs).
+/// Runs scene `name` on both engines at the benchmark's default settings
+/// (see the module docs).
 pub fn run(name: &str) -> SideRow {
-    let config = Config::DEFAULT;
+    run_with(name, Config::DEFAULT)
+}
+
+/// Runs joint scene `name` on both engines at its own settings, with the
+/// joint error (see the module docs).
+pub fn run_joints(name: &str) -> SideRow {
+    run_with(name, common::scene_config(name))
+}
+
+fn run_with(name: &str, config: Config) -> SideRow {
     let desc = common::scene_with(name, config);
+    let resolved: Vec<Resolved> = joints::resolve(&desc);
     let steps = desc.steps;
-    let warmup = common::warmup_steps(name).min(steps.saturating_sub(100));
+    // The joint scenes move throughout (falls, swings, a drive): their
+    // warm-up is one second, enough for warm starting to be in effect.
+    let warmup = if resolved.is_empty() {
+        common::warmup_steps(name)
+    } else {
+        config.steps_for(1.0)
+    }
+    .min(steps.saturating_sub(100));
     let mut tamias = TamiasRun::new(&desc, config);
     let mut rapier = RapierRun::new(&desc, config, common::length_unit(name));
+    let (rapier_joints, left_out) = (
+        rapier.joints,
+        rapier
+            .left_out
+            .iter()
+            .map(|k| format!("{k:?}"))
+            .collect::<Vec<_>>(),
+    );
     let mut engines: [(&mut dyn Engine, Acc); 2] =
         [(&mut tamias, Acc::default()), (&mut rapier, Acc::default())];
     // Each engine's initial states are read from that engine (Rapier's are
@@ -88,18 +130,25 @@ pub fn run(name: &str) -> SideRow {
             if k == drift_step && name.contains("pyramid") {
                 acc.drift = Some(measures::drift(&acc.init, &**e));
             }
+            if !resolved.is_empty() {
+                acc.joint.merge(joints::error(&resolved, &**e));
+            }
         }
     }
     let t = steps as f64 * config.dt();
     let [(t_engine, t_acc), (r_engine, r_acc)] = engines;
-    let tamias = t_acc.finish(name, &*t_engine, t);
-    let rapier = r_acc.finish(name, &*r_engine, t);
+    let mut tamias = t_acc.finish(name, &*t_engine, t);
+    let mut rapier = r_acc.finish(name, &*r_engine, t);
+    tamias.joints = desc.constraints.len();
+    rapier.joints = rapier_joints;
     SideRow {
         name: name.to_owned(),
         bodies: t_engine.body_count(),
         steps,
         tamias,
         rapier,
+        config,
+        left_out,
     }
 }
 
@@ -111,6 +160,7 @@ struct Acc {
     times: Vec<f64>,
     pen: Penetration,
     drift: Option<measures::Drift>,
+    joint: JointError,
 }
 
 impl Acc {
@@ -129,6 +179,8 @@ impl Acc {
             energy_drift,
             escaped,
             errors,
+            joint: self.joint,
+            joints: 0,
         }
     }
 }

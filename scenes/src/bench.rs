@@ -21,16 +21,19 @@
     clippy::indexing_slicing
 )]
 
+pub mod joints;
 pub mod measure;
 pub mod rapier_world;
 
 use crate::{self as scenes, SceneDesc, Section};
 use tamias2d::math::Real;
 
+#[allow(unused_imports)]
+pub use joints::JointError;
 #[allow(unused_imports)] // each user takes a different part
 pub use measure::{BodyState, Engine, Penetration, TamiasRun};
 #[allow(unused_imports)]
-pub use rapier_world::RapierRun;
+pub use rapier_world::{RapierRun, JOINT_MAPPING};
 
 /// Sections A and B (terrain, stacking), the sizes that stand for their
 /// family: the quick set.
@@ -56,6 +59,26 @@ pub fn accuracy_scenes() -> Vec<&'static str> {
     scenes::registry::section(Section::Accuracy)
         .map(|s| s.name)
         .collect()
+}
+
+/// Section D (joints), compared with Rapier's joints at each scene's own
+/// settings ([`scene_config`]).
+pub fn joint_scenes() -> Vec<&'static str> {
+    scenes::registry::section(Section::Joints)
+        .map(|s| s.name)
+        .collect()
+}
+
+/// The solver settings scene `name` is defined with (its iterations,
+/// sub-steps and step rate): the joint scenes are compared at these, not at
+/// [`Config::DEFAULT`], because their sub-steps are part of the scene.
+pub fn scene_config(name: &str) -> Config {
+    let desc = scenes::builtin(name).unwrap_or_else(|| panic!("scene {name} is listed"));
+    Config {
+        iterations: desc.settings.iterations,
+        substeps: desc.settings.substeps.max(1),
+        rate: (1.0 / desc.dt.to_f64()).round() as u32,
+    }
 }
 
 /// Solver settings of one run: what the trade-off sweep varies.

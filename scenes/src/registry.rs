@@ -108,7 +108,8 @@ impl SceneInfo {
     }
 
     /// A scene of sections A or B, the performance scenes (compared with
-    /// Rapier; the joint scenes of section D have no Rapier mapping yet).
+    /// Rapier at the benchmark's default settings; the joint scenes of
+    /// section D are compared at their own settings, apart).
     pub fn is_performance(&self) -> bool {
         matches!(self.section, Section::Terrain | Section::Stacking)
     }

@@ -1,6 +1,8 @@
 //! A [`SceneDesc`] as a Rapier world: same bodies, shapes, materials,
 //! gravity, time step and iteration count, with the scripted forces and
-//! spawns replayed as [`ScriptedWorld::step`](crate::ScriptedWorld::step) does.
+//! spawns replayed as [`ScriptedWorld::step`](crate::ScriptedWorld::step) does,
+//! and the constraints as the closest Rapier joints ([`JOINT_MAPPING`]; gears
+//! and ratchets have none and are left out, [`RapierRun::left_out`]).
 //!
 //! The mapping, shape by shape (Chipmunk's rounding radius is Rapier's
 //! border radius: both grow the core shape outward):
@@ -31,7 +33,8 @@
 //! counterpart and are not mapped; damping is mapped to Rapier's linear and
 //! angular damping (`−ln damping`), though every built-in scene has none.
 use crate::{
-    BodyDesc, BodyKind, GeometryDesc, MassDesc, SceneDesc, ShapeDesc, ShapeMassDesc, SpawnDesc,
+    BodyDesc, BodyKind, GeometryDesc, JointType, MassDesc, SceneDesc, ShapeDesc, ShapeMassDesc,
+    SpawnDesc,
 };
 use rapier2d::prelude::*;
 use tamias2d::math::Vect;
@@ -55,6 +58,13 @@ pub struct RapierRun {
     sub_dt: f32,
     /// Rapier damping of every body (from the scene's damping setting).
     damping: f32,
+    /// Rapier joints made from the scene's constraints (see
+    /// [`JOINT_MAPPING`]), placeholders that only disable contacts
+    /// included.
+    pub joints: usize,
+    /// Constraints of the scene that have no Rapier counterpart and were
+    /// left out (their kinds, in scene order).
+    pub left_out: Vec<JointType>,
 }
 
 fn v2(v: Vect) -> Vector {
@@ -89,6 +99,8 @@ impl RapierRun {
             substeps,
             sub_dt,
             damping: 0.0,
+            joints: 0,
+            left_out: Vec::new(),
         };
         let damping = desc.settings.damping.to_f64();
         if damping > 0.0 && damping < 1.0 {
@@ -97,6 +109,7 @@ impl RapierRun {
         for body in &desc.bodies {
             run.add(body);
         }
+        run.add_joints(desc);
         for force in &desc.forces {
             let h = run.handles[force.body as usize];
             run.forces.push((h, v2(force.force), f(force.torque)));
@@ -179,6 +192,232 @@ impl RapierRun {
         }
         debug_assert_eq!(self.world.integration_parameters.dt, self.sub_dt);
         self.world.step();
+    }
+}
+
+/// How each of our joint kinds is built in Rapier 0.36, one row per kind:
+/// (kind, Rapier joint, notes). The performance report prints it.
+///
+/// Rules behind it: the hard joints map to Rapier's joints with their
+/// default softness (`SpringCoefficients::joint_defaults`, 1 MHz, ζ = 1:
+/// effectively rigid); where a Chipmunk constraint is rigid but Rapier only
+/// has a motor for it (a pin, a velocity motor), the motor is given that
+/// same softness as stiffness and damping (`k = ω²`, `c = 2ζω`, with
+/// `AccelerationBased` coefficients these give Rapier's joint `erp` and a
+/// negligible `cfm`), so it is as rigid as Rapier's own joints. Chipmunk's `max_bias` and
+/// `error_bias` have no Rapier counterpart (its joints use the softness
+/// above); `max_force` is mapped where Rapier has it (motors). An angular
+/// constraint (rotary limit, motor, rotary spring) between two bodies that
+/// a revolute (or pin-slot) joint already holds becomes that joint's
+/// angular limit or motor, as a Rapier user would write it; otherwise it is
+/// a generic joint with no locked axis and only that limit or motor.
+/// Angles: Chipmunk's rotary limit bounds `θb − θa`, its motor drives
+/// `ω_b − ω_a` to `−rate` and its rotary spring drives `θa − θb` to the
+/// rest angle; Rapier's angular axis measures `θ2 − θ1`, so the rate and
+/// the rest angle change sign.
+pub const JOINT_MAPPING: &[(&str, &str, &str)] = &[
+    (
+        "pivot",
+        "`RevoluteJoint` (local anchors)",
+        "exact counterpart",
+    ),
+    (
+        "pin",
+        "`SpringJoint` (rest length = the pin's length) made rigid: stiffness and \
+         damping of Rapier's own joint softness, `MotorModel::AccelerationBased`",
+        "Rapier has no rigid distance joint: `RopeJoint`'s distance limit holds only the \
+         max (`limit_linear_coupled`: \"FIXME: handle min limit too\"), and a pin also pushes",
+    ),
+    (
+        "slide",
+        "`RopeJoint` (max distance = `max`)",
+        "`min` is not held (same limitation); every slide of section D has `min` = 0",
+    ),
+    (
+        "groove",
+        "`PinSlotJoint` (anchor 1 = groove start, axis along the groove, \
+         limits [0, groove length], anchor 2 = b's anchor)",
+        "exact counterpart (free rotation, translation along the slot)",
+    ),
+    (
+        "damped spring",
+        "`SpringJoint` (rest length, stiffness, damping; `MotorModel::ForceBased`)",
+        "same spring law, both implicit",
+    ),
+    (
+        "damped rotary spring",
+        "angular position motor (target −rest angle, stiffness, damping, \
+         `ForceBased`) on the pair's revolute joint",
+        "same spring law",
+    ),
+    (
+        "rotary limit",
+        "angular limits [min, max] on the pair's revolute joint",
+        "exact counterpart",
+    ),
+    (
+        "simple motor",
+        "angular velocity motor (target −rate, factor = Rapier's joint damping \
+         2ζω, max force = `max_force`) on the pair's revolute or pin-slot joint",
+        "Chipmunk's is a rigid velocity constraint; Rapier's is as stiff as its joints",
+    ),
+    (
+        "gear",
+        "none",
+        "no Rapier joint couples two angles; left out",
+    ),
+    (
+        "ratchet",
+        "none (an empty `GenericJoint` keeps `contacts_enabled(false)` where the \
+         ratchet disabled contacts)",
+        "no one-way angular joint in Rapier; left out",
+    ),
+];
+
+/// Which angular slots of a Rapier joint are taken.
+#[derive(Clone, Copy, Default)]
+struct AngularSlots {
+    /// The joint frees rotation (revolute, pin slot): an angular limit or
+    /// motor of the same pair can go on it.
+    host: bool,
+    limit: bool,
+    motor: bool,
+}
+
+impl RapierRun {
+    /// Adds the Rapier joints of `desc`'s constraints ([`JOINT_MAPPING`]).
+    fn add_joints(&mut self, desc: &SceneDesc) {
+        let resolved = super::joints::resolve(desc);
+        let rigid = SpringCoefficients::<f32>::joint_defaults();
+        let omega = rigid.angular_frequency();
+        let (rigid_k, rigid_c) = (omega * omega, 2.0 * rigid.damping_ratio * omega);
+        let vf = |p: [f64; 2]| Vector::new(p[0] as f32, p[1] as f32);
+        // (a, b, joint, angular slots), in scene order.
+        let mut built: Vec<(usize, usize, GenericJoint, AngularSlots)> = Vec::new();
+        for j in &resolved {
+            let (a1, a2) = (vf(j.anchor_a), vf(j.anchor_b));
+            let plain = |mut g: GenericJoint| {
+                g.set_local_anchor1(a1)
+                    .set_local_anchor2(a2)
+                    .set_contacts_enabled(j.collide);
+                g
+            };
+            let (joint, slots) = match j.kind {
+                JointType::Pivot => (
+                    plain(RevoluteJoint::new().data),
+                    AngularSlots {
+                        host: true,
+                        ..AngularSlots::default()
+                    },
+                ),
+                JointType::Pin => {
+                    let mut spring = SpringJoint::new(j.dist as f32, rigid_k, rigid_c);
+                    spring.set_spring_model(MotorModel::AccelerationBased);
+                    (plain(spring.data), AngularSlots::default())
+                }
+                JointType::Slide => (
+                    plain(RopeJoint::new(j.max as f32).data),
+                    AngularSlots::default(),
+                ),
+                JointType::Groove => {
+                    let (g0, g1) = (j.groove[0], j.groove[1]);
+                    let axis = [g1[0] - g0[0], g1[1] - g0[1]];
+                    let len = axis[0].hypot(axis[1]);
+                    let unit = vf([axis[0] / len, axis[1] / len]);
+                    let mut g = PinSlotJoint::new(unit).data;
+                    g.set_local_anchor1(vf(g0))
+                        .set_local_anchor2(a2)
+                        .set_limits(JointAxis::LinX, [0.0, len as f32])
+                        .set_contacts_enabled(j.collide);
+                    (
+                        g,
+                        AngularSlots {
+                            host: true,
+                            ..AngularSlots::default()
+                        },
+                    )
+                }
+                JointType::DampedSpring => (
+                    plain(
+                        SpringJoint::new(j.rest as f32, j.stiffness as f32, j.damping as f32).data,
+                    ),
+                    AngularSlots::default(),
+                ),
+                JointType::RotaryLimit | JointType::SimpleMotor | JointType::DampedRotarySpring => {
+                    let is_motor = j.kind != JointType::RotaryLimit;
+                    // The pair's revolute or pin-slot joint with that slot free.
+                    let host = built.iter().position(|(a, b, _, s)| {
+                        s.host
+                            && ((*a, *b) == (j.a, j.b) || (*a, *b) == (j.b, j.a))
+                            && if is_motor { !s.motor } else { !s.limit }
+                    });
+                    let index = host.unwrap_or_else(|| {
+                        let mut g = GenericJoint::new(JointAxesMask::empty());
+                        g.set_contacts_enabled(j.collide);
+                        built.push((j.a, j.b, g, AngularSlots::default()));
+                        built.len() - 1
+                    });
+                    let (a, _, target, s) = &mut built[index];
+                    if is_motor {
+                        s.motor = true;
+                    } else {
+                        s.limit = true;
+                    }
+                    target.contacts_enabled &= j.collide;
+                    let sign = if *a == j.a { 1.0 } else { -1.0 };
+                    angular(target, j, sign, rigid_c);
+                    continue;
+                }
+                JointType::Gear | JointType::Ratchet => {
+                    self.left_out.push(j.kind);
+                    if j.collide {
+                        continue;
+                    }
+                    let mut g = GenericJoint::new(JointAxesMask::empty());
+                    g.set_contacts_enabled(false);
+                    (g, AngularSlots::default())
+                }
+            };
+            built.push((j.a, j.b, joint, slots));
+        }
+        for (a, b, joint, _) in built {
+            let (h1, h2) = (self.handles[a], self.handles[b]);
+            self.world.impulse_joints.insert(h1, h2, joint, true);
+            self.joints += 1;
+        }
+    }
+}
+
+/// Puts the angular limit or motor of `j` on `g`, whose angle is
+/// `sign · (θb − θa)` of `j`'s bodies (see [`JOINT_MAPPING`]).
+fn angular(g: &mut GenericJoint, j: &super::joints::Resolved, sign: f64, rigid_c: f32) {
+    let ax = JointAxis::AngX;
+    match j.kind {
+        JointType::RotaryLimit => {
+            let (lo, hi) = if sign > 0.0 {
+                (j.min, j.max)
+            } else {
+                (-j.max, -j.min)
+            };
+            g.set_limits(ax, [lo as f32, hi as f32]);
+        }
+        JointType::SimpleMotor => {
+            g.set_motor_velocity(ax, (-j.rate * sign) as f32, rigid_c)
+                .set_motor_model(ax, MotorModel::AccelerationBased);
+            if let Some(f) = j.max_force {
+                g.set_motor_max_force(ax, f as f32);
+            }
+        }
+        JointType::DampedRotarySpring => {
+            g.set_motor_position(
+                ax,
+                (-j.rest * sign) as f32,
+                j.stiffness as f32,
+                j.damping as f32,
+            )
+            .set_motor_model(ax, MotorModel::ForceBased);
+        }
+        _ => {}
     }
 }
 
