@@ -4,9 +4,12 @@
 //! # Method
 //! QuickHull, as Chipmunk does it: start with the chord from the leftmost to
 //! the rightmost point, keep the points outside it, take the farthest one as a
-//! new hull vertex and recurse on the two new chords. Points within
-//! `tolerance` of a chord are dropped, and so are collinear points (a point
-//! must be *strictly* outside a chord to survive).
+//! new hull vertex and recurse on the two new chords. A chord whose
+//! farthest point is within `tolerance` becomes a hull edge and its points
+//! are dropped (so every dropped point lies within `tolerance` of the
+//! hull; Chipmunk drops points near intermediate chords, which can leave
+//! one farther out), and so are collinear points (a point must be
+//! *strictly* outside a chord to survive).
 //!
 //! Built this way because:
 //! * **Exact orientation.** Every side test is [`orientation`]: the cross
@@ -77,11 +80,10 @@ fn threshold(a: Vect, b: Vect, tolerance: Real) -> i128 {
     i128::try_from(tol.saturating_mul(len)).unwrap_or(i128::MAX)
 }
 
-/// The points strictly more than `tolerance` to the right of `a → b` (exact
-/// orientation test; collinear points are not outside).
-fn outside(points: impl Iterator<Item = Vect>, a: Vect, b: Vect, tolerance: Real) -> Vec<Vect> {
-    let limit = threshold(a, b, tolerance);
-    points.filter(|p| orientation(b, a, *p) > limit).collect()
+/// The points strictly to the right of `a → b` (exact orientation test;
+/// collinear points are not outside).
+fn outside(points: impl Iterator<Item = Vect>, a: Vect, b: Vect) -> Vec<Vect> {
+    points.filter(|p| orientation(b, a, *p) > 0).collect()
 }
 
 /// The point of `points` farthest right of `a → b`; ties (points on one line
@@ -126,18 +128,25 @@ fn reduce(a: Vect, b: Vect, points: Vec<Vect>, tolerance: Real, hull: &mut Vec<V
                 let Some(pivot) = farthest(a, b, &points) else {
                     continue;
                 };
+                // The tolerance is applied here only, to the farthest
+                // point: if even it is within `tolerance` of `a → b`, the
+                // chord is a hull edge and all its points are dropped, each
+                // within `tolerance` of that edge. (Dropping points near an
+                // intermediate chord, as Chipmunk does, can leave one farther
+                // than `tolerance` outside the edges that later replace it.)
+                if orientation(b, a, pivot) <= threshold(a, b, tolerance) {
+                    continue;
+                }
                 // Each point goes to at most one side, so the work list never
                 // holds more points than the input (even if saturated
                 // orientations were inconsistent). The pivot itself has
                 // orientation 0 against both new chords and is dropped.
-                let left_limit = threshold(a, pivot, tolerance);
-                let right_limit = threshold(pivot, b, tolerance);
                 let mut left = Vec::new();
                 let mut right = Vec::new();
                 for p in points {
-                    if orientation(pivot, a, p) > left_limit {
+                    if orientation(pivot, a, p) > 0 {
                         left.push(p);
-                    } else if orientation(b, pivot, p) > right_limit {
+                    } else if orientation(b, pivot, p) > 0 {
                         right.push(p);
                     }
                 }
@@ -162,8 +171,8 @@ fn extremes(points: &[Vect]) -> Option<(Vect, Vect)> {
 /// MIS/Chipmunk `convexHull`: the convex hull of `points`, counter-clockwise,
 /// starting at the point with the smallest x (then smallest y).
 ///
-/// Points within `tolerance` of a hull edge (as QuickHull meets them) are
-/// dropped, and so are collinear points and duplicates; a negative
+/// Points within `tolerance` of a hull edge are dropped (each dropped
+/// point lies within `tolerance` outside the edge it was dropped for), and so are collinear points and duplicates; a negative
 /// `tolerance` counts as 0. With `tolerance = 0` every input point lies
 /// exactly inside or on the result (see the module docs for the range).
 ///
@@ -180,8 +189,8 @@ pub fn convex_hull(points: &[Vect], tolerance: Real) -> Vec<Vect> {
     let tolerance = tolerance.max(Real::ZERO);
     // Right of start → end is below the chord: the counter-clockwise way
     // from the leftmost point runs along the bottom first.
-    let below = outside(points.iter().copied(), start, end, tolerance);
-    let above = outside(points.iter().copied(), end, start, tolerance);
+    let below = outside(points.iter().copied(), start, end);
+    let above = outside(points.iter().copied(), end, start);
     let mut hull = vec![start];
     reduce(start, end, below, tolerance, &mut hull);
     hull.push(end);
@@ -237,6 +246,34 @@ mod tests {
             convex_hull(&pts, Real::ZERO),
             vec![v(0, -1), v(5, 0), v(5, 4), v(0, 3)]
         );
+    }
+
+    #[test]
+    fn a_point_dropped_for_tolerance_is_within_it_of_the_final_hull() {
+        // Found by the hull proptest: Chipmunk's way dropped the second
+        // point near the first chord (within 0.68 of it) but 0.945 outside
+        // the edge that replaced that chord.
+        let p = |x: &str, y: &str| Vect::new(Real::lit(x), Real::lit(y));
+        let pts = [
+            p("56.3462375812", "-55.5872626046"),
+            p("56.346237581", "-56.537359312"),
+            p("0", "0"),
+            p("1", "-49.9293666685"),
+        ];
+        let tol = Real::from_bits(2_904_942_407);
+        let h = convex_hull(&pts, tol);
+        for (i, a) in h.iter().enumerate() {
+            let b = h[(i + 1) % h.len()];
+            let len = (b - *a).length();
+            for q in &pts {
+                // Right of a → b is outside (counter-clockwise hull).
+                let out = (b - *a).cross(*q - *a) / len;
+                assert!(
+                    out >= -tol - Real::from_bits(4),
+                    "{q:?} is {out} outside {a:?}→{b:?}"
+                );
+            }
+        }
     }
 
     #[test]
