@@ -11,7 +11,7 @@ fn format_layout_is_pinned() {
     assert_eq!(&empty[8..12], &FORMAT_VERSION.to_le_bytes());
     let sum = snapshot::payload_checksum(&empty[HEADER_LEN..]);
     assert_eq!(&empty[12..20], &sum.to_le_bytes());
-    assert_eq!(FORMAT_VERSION, 4);
+    assert_eq!(FORMAT_VERSION, 5);
     // The empty world, field by field (little-endian, fixed-width ints,
     // every Real as its raw i64, lengths as u64, enum tags as u32).
     let expected = [
@@ -74,11 +74,11 @@ fn format_layout_is_pinned() {
     grow(&w);
     let per_object: Vec<usize> = sizes.windows(2).map(|p| p[1].wrapping_sub(p[0])).collect();
     // A slot is its generation (4) and option tag (1) before the value:
-    // body 165; shape 65 + geometry (circle 24, segment 88, polygon 265:
+    // body 166 (the last byte is `bullet`, version 5); shape 65 + geometry (circle 24, segment 88, polygon 265:
     // 8 inline vertices and normals). Removing the body and its 3 shapes
     // leaves 4 empty slots (5 bytes each) and 4 free-list entries (u32).
-    assert_eq!(per_object[..4], [170, 94, 158, 335]);
-    let removed = [170, 94, 158, 335].iter().map(|n| n - 5 - 4).sum::<usize>();
+    assert_eq!(per_object[..4], [171, 94, 158, 335]);
+    let removed = [171, 94, 158, 335].iter().map(|n| n - 5 - 4).sum::<usize>();
     assert_eq!(per_object[4], 0usize.wrapping_sub(removed));
     let stepped = small_world();
     let mut state = stepped.state().clone();
