@@ -15,7 +15,7 @@
 use tamias2d::real;
 
 use crate::desc::SceneDesc;
-use crate::{accuracy, joints, stacking, terrain};
+use crate::{accuracy, bullets, joints, stacking, terrain};
 
 /// The three groups of standard scenes (see `scenes/README.md`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -231,6 +231,9 @@ pub const REGISTRY: &[SceneInfo] = &[
         bodies 11, steps 600, None, golden(600, 0x94eddf2fd004a4ca),
         golden(10, 0xec6b746b67c9edbf),
         || Some(accuracy::stack(10))),
+    scene!("bullets", Accuracy, "a gun fires 32 bullets (r 0.05 m, 300 m/s) into a 0.1 m wall; none may pass",
+        bodies 46, steps 120, None, golden(120, 0x072fd64efc03a6fe), None,
+        || Some(bullets::bullets())),
     // D: joints
     scene!("pendulum", Joints, "a 1 kg bob on a 1 m pin joint, released at 37 degrees",
         bodies 2, steps 600, None, golden(600, 0x0a10f31ee87d73da), None,

@@ -36,6 +36,8 @@ fn expected_bodies(name: &str) -> (usize, usize) {
         "elastic_pair" | "incline_slide" | "incline_stick" => same(2),
         "newtons_cradle" => same(5),
         "stack_10" => same(11),
+        // ground, wall and 12 boxes, then one bullet every 2 steps from step 0.
+        "bullets" => (2 + 12 + 1, 2 + 12 + 32),
         "pendulum" => same(2),
         // post and rotor, then 2 of the 10 boxes at step 0.
         "windmill" => (2 + 2, 12),
@@ -58,7 +60,7 @@ fn expected_bodies(name: &str) -> (usize, usize) {
 
 #[test]
 fn builtin_every_listed_scene_builds_with_documented_body_count() {
-    assert_eq!(scenes::REGISTRY.len(), 38);
+    assert_eq!(scenes::REGISTRY.len(), 39);
     for info in scenes::REGISTRY {
         let name = &info.name;
         assert!(!info.about.is_empty());

@@ -126,7 +126,8 @@ impl RapierRun {
             .angvel(f(desc.angular_velocity))
             .linear_damping(self.damping)
             .angular_damping(self.damping)
-            .can_sleep(false);
+            .can_sleep(false)
+            .ccd_enabled(desc.bullet);
         let explicit = match desc.mass {
             MassDesc::Explicit { mass, moment } if desc.kind == BodyKind::Dynamic => {
                 builder = builder.additional_mass_properties(MassProperties::new(
