@@ -55,6 +55,13 @@
 //!   than `2δ` passes through a static or kinematic shape, at any speed
 //!   the step can represent.
 //!
+//! A pair whose relative motion in the sub-step (the bound above) is less
+//! than half the bullet shape's half thickness (its radius, for a circle)
+//! is not swept: the shape's centre cannot get past the middle of what it
+//! hits, so the discrete contact catches it (Box2D v3 sweeps only bodies
+//! that move more than half their smallest extent, for the same reason).
+//! A bullet at rest or moving slowly costs one length per shape.
+//!
 //! A pair that already touches at the start of the sweep (`d ≤`
 //! [`CONTACT_TOLERANCE`]) is skipped: the previous sub-step's narrowphase
 //! saw that pose and the solver already acted on that contact, and a
@@ -76,7 +83,7 @@
 //! bullet through in the next sub-step, since that pair then touches at
 //! the start of its sweep.
 use crate::body::{Body, BodyHandle, BodyType};
-use crate::collision::{separation, CONTACT_TOLERANCE};
+use crate::collision::{separation, SupportShape, CONTACT_TOLERANCE};
 use crate::math::{Real, Rot, Vect, BB};
 use crate::shape::Geometry;
 
@@ -204,6 +211,29 @@ fn reach(local: &Geometry, cog: Vect) -> Real {
     r + Real::DELTA
 }
 
+/// Half the thickness of `local`: a radius of the largest circle about an
+/// inner point that it contains (its radius for a circle or a segment; for
+/// a polygon the least distance from an inner point to an edge, plus the
+/// rounding radius). A shape that moves less than this in a sub-step cannot
+/// pass anything: its centre never reaches the far side of what it hits.
+fn half_thickness(local: &Geometry) -> Real {
+    match local {
+        Geometry::Circle(c) => c.radius,
+        Geometry::Segment(s) => s.radius,
+        Geometry::Poly(p) => {
+            let c = p.center();
+            let inner = p
+                .verts()
+                .iter()
+                .zip(p.normals())
+                .map(|(&v, &n)| n.dot(v - c))
+                .min()
+                .unwrap_or(Real::ZERO);
+            inner.max(Real::ZERO) + p.radius()
+        }
+    }
+}
+
 /// One side of a swept pair: its shape in body coordinates, its motion
 /// and its reach.
 struct Swept<'a> {
@@ -241,12 +271,16 @@ fn target_overlap(slop: Real, full: Real) -> Real {
 
 /// The time of impact of `a` and `b` over `[0, 1]` (see the module docs):
 /// `Some(t)` with `t < 1` if they come within contact during the motion,
-/// `None` if not (or if they touch already at `t = 0`).
-fn time_of_impact(a: &Swept<'_>, b: &Swept<'_>, slop: Real) -> Option<Real> {
+/// `None` if not (or if they touch already at `t = 0`, or if they move
+/// less than `slow` relative to each other: the discrete step handles that).
+fn time_of_impact(a: &Swept<'_>, b: &Swept<'_>, slop: Real, slow: Real) -> Option<Real> {
     let dp = a.motion.dp - b.motion.dp;
     let turn = a.turn_bound() + b.turn_bound();
     // The ulp covers the rounding of the normal and of the poses.
     let full = dp.length() + turn + Real::DELTA;
+    if full < slow {
+        return None;
+    }
     let delta = target_overlap(slop, full);
     let (mut d, mut n) = separation(&a.at(Real::ZERO), &b.at(Real::ZERO));
     if d <= CONTACT_TOLERANCE {
@@ -348,18 +382,22 @@ impl Space {
                 motion,
                 reach: reach(&sa.geometry, body.cog),
             };
+            // Slow: less than half its half thickness (Box2D v3's margin).
+            let slow = half_thickness(&sa.geometry) * Real::HALF;
             let bb = a.swept_bb(&end.bb, DELTA_MAX);
             candidates.clear();
-            self.caches
-                .broadphase
-                .static_tree
-                .query(&bb, |i| candidates.push(i));
+            if a.motion.dp.length() + a.turn_bound() >= slow {
+                self.caches
+                    .broadphase
+                    .static_tree
+                    .query(&bb, |i| candidates.push(i));
+            }
             for &ib in &candidates {
                 let Some(b) = self.static_target(ib) else {
                     continue;
                 };
                 if self.pair_is_swept(ia, ib) {
-                    let toi = time_of_impact(&a, &b, slop);
+                    let toi = time_of_impact(&a, &b, slop, slow);
                     best = earlier(best, toi.map(|t| Impact { t, carrier: None }));
                 }
             }
@@ -387,7 +425,7 @@ impl Space {
                     if b.swept_bb(&kend.bb, Real::ZERO).intersects(&bb)
                         && self.pair_is_swept(ia, ib)
                     {
-                        let toi = time_of_impact(&a, &b, slop);
+                        let toi = time_of_impact(&a, &b, slop, slow);
                         let carrier = Some(kmotion);
                         best = earlier(best, toi.map(|t| Impact { t, carrier }));
                     }

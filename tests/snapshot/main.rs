@@ -166,6 +166,7 @@ const ROUND_TRIPS: &[(&str, u32, &[u32])] = &[
     ("incline_slide", 120, &[0, 1, 40, 100]),
     ("incline_stick", 120, &[0, 1, 40, 100]),
     ("stack_10", 60, &[0, 7, 30, 55]),
+    ("bullets", 60, &[0, 1, 2, 3, 31]),
     ("pendulum", 120, &[0, 1, 40, 100]),
     ("chain_100", 60, &[0, 25, 50]),
     ("windmill", 150, &[0, 29, 30, 100]),
@@ -464,6 +465,8 @@ fn apply(w: &mut Space, op: &Op) -> Option<String> {
             // Near the ground and each other, so that bodies collide.
             b.set_position(Vect::from_ints(i32::from(x) / 16, i32::from(y % 4) + 1));
             b.set_angle(Real::from_int(i32::from(x)) / Real::from_int(50));
+            // Half the dynamic bodies of explicit mass are bullets.
+            b.set_bullet(kind == 3 && x % 2 == 0);
             let h = w.add_body(b).ok()?;
             let s = add_shape(w, h, shape, 2 + y % 4);
             Some(format!("{h:?} {s:?}"))
