@@ -63,10 +63,10 @@ pub fn bullets() -> SceneDesc {
         )
         .labeled("wall");
     desc.bodies.push(wall);
-    for column in 0..3 {
+    for column in 0..3i32 {
         for row in 0..4 {
             let at = Vect::new(
-                Real::TWO + Real::ratio(6 * column, 10),
+                Real::TWO + Real::ratio(column.saturating_mul(6), 10),
                 Real::ratio(1, 4) + Real::ratio(row, 2),
             );
             let b = BodyDesc::new(BodyKind::Dynamic, at).with_shape(

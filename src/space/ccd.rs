@@ -527,3 +527,154 @@ fn earlier(a: Option<Impact>, b: Option<Impact>) -> Option<Impact> {
         (None, y) => y,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::real;
+    use crate::shape::{Circle, Segment};
+
+    const SLOP: Real = Real::lit("0.1");
+
+    fn circle() -> Geometry {
+        Geometry::Circle(Circle::new(real!(0.05), Vect::ZERO))
+    }
+
+    /// A body at `p0` (angle `a0`) moving by `dp` and turning by `da`.
+    fn motion(p0: Vect, dp: Vect, a0: Real, da: Real) -> Motion {
+        let rot0 = Rot::from_angle(a0);
+        Motion {
+            p0,
+            dp,
+            a0,
+            da,
+            rot0,
+            cog: Vect::ZERO,
+            end: Pose {
+                p: p0 + dp,
+                a: a0 + da,
+                rot: rot0.compose(Rot::from_angle(da)),
+            },
+        }
+    }
+
+    fn wall() -> Geometry {
+        Geometry::Segment(Segment::new(
+            Vect::from_ints(0, -5),
+            Vect::from_ints(0, 5),
+            Real::ZERO,
+        ))
+    }
+
+    fn fixed(g: &Geometry) -> Swept<'_> {
+        Swept {
+            local: g,
+            motion: motion(Vect::ZERO, Vect::ZERO, Real::ZERO, Real::ZERO),
+            reach: Real::ZERO,
+        }
+    }
+
+    fn bullet(g: &Geometry, p0: Vect, dp: Vect) -> Swept<'_> {
+        Swept {
+            local: g,
+            motion: motion(p0, dp, Real::ZERO, Real::ZERO),
+            reach: reach(g, Vect::ZERO),
+        }
+    }
+
+    /// The separation of the pair at `t`.
+    fn gap(a: &Swept<'_>, b: &Swept<'_>, t: Real) -> Real {
+        separation(&a.at(t), &b.at(t)).0
+    }
+
+    #[test]
+    fn head_on_stops_within_delta_of_contact() {
+        let (c, w) = (circle(), wall());
+        // 5 m of travel from 1 m before the wall: contact at t ≈ 0.19.
+        let a = bullet(&c, Vect::from_ints(-1, 0), Vect::from_ints(5, 0));
+        let b = fixed(&w);
+        let t = time_of_impact(&a, &b, SLOP, Real::ZERO).unwrap_or(Real::ONE);
+        let d = gap(&a, &b, t);
+        assert!(d <= Real::ZERO && d >= -DELTA_MAX, "t {t:?} d {d:?}");
+        assert!((t - real!(0.19)).abs() < real!(0.001), "{t:?}");
+    }
+
+    #[test]
+    fn misses_grazes_and_touching_starts_give_none() {
+        let (c, w) = (circle(), wall());
+        let b = fixed(&w);
+        // Moving away, parallel, or stopping short.
+        for dp in [(-5, 0), (0, 3)] {
+            let a = bullet(&c, Vect::from_ints(-1, 0), Vect::from_ints(dp.0, dp.1));
+            assert_eq!(time_of_impact(&a, &b, SLOP, Real::ZERO), None, "{dp:?}");
+        }
+        let short = bullet(
+            &c,
+            Vect::from_ints(-1, 0),
+            Vect::new(real!(0.9), Real::ZERO),
+        );
+        assert_eq!(time_of_impact(&short, &b, SLOP, Real::ZERO), None);
+        // Touching at the start: the last step's contact handles it.
+        let touching = bullet(
+            &c,
+            Vect::new(-real!(0.05), Real::ZERO),
+            Vect::from_ints(5, 0),
+        );
+        assert_eq!(time_of_impact(&touching, &b, SLOP, Real::ZERO), None);
+        // Slow: moving less than `slow` is left to the discrete step.
+        let a = bullet(&c, Vect::from_ints(-1, 0), Vect::from_ints(5, 0));
+        assert_eq!(time_of_impact(&a, &b, SLOP, Real::from_int(6)), None);
+    }
+
+    #[test]
+    fn a_turning_box_never_overshoots() {
+        // A 1 x 0.2 box turning 3 rad while moving 4 m toward the wall:
+        // whatever the iterations do, the returned pose overlaps by at
+        // most delta (or is still apart).
+        let v = [
+            Vect::new(real!(0.5), -real!(0.1)),
+            Vect::new(real!(0.5), real!(0.1)),
+            Vect::new(-real!(0.5), real!(0.1)),
+            Vect::new(-real!(0.5), -real!(0.1)),
+        ];
+        let g = Geometry::Poly(crate::shape::Poly::from_ccw_unchecked(&v, Real::ZERO));
+        let w = wall();
+        let b = fixed(&w);
+        for k in 0..16 {
+            let a = Swept {
+                local: &g,
+                motion: motion(
+                    Vect::new(-Real::from_int(2), Real::ZERO),
+                    Vect::new(Real::from_int(4), Real::ZERO),
+                    Real::ratio(k, 8),
+                    Real::from_int(3),
+                ),
+                reach: reach(&g, Vect::ZERO),
+            };
+            let t = time_of_impact(&a, &b, SLOP, Real::ZERO);
+            let Some(t) = t else {
+                panic!("angle {k}/8: the box must hit the wall");
+            };
+            assert!(gap(&a, &b, t) >= -DELTA_MAX, "angle {k}/8 t {t:?}");
+            // Nothing touched before t: sample the path.
+            for i in 0..64 {
+                let s = t * Real::ratio(i, 64);
+                assert!(gap(&a, &b, s) > -DELTA_MAX, "angle {k}/8 at {s:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn half_thickness_of_each_kind() {
+        assert_eq!(half_thickness(&circle()), real!(0.05));
+        assert_eq!(half_thickness(&wall()), Real::ZERO);
+        let v = [
+            Vect::from_ints(1, -1),
+            Vect::from_ints(1, 1),
+            Vect::from_ints(-1, 1),
+            Vect::from_ints(-1, -1),
+        ];
+        let g = Geometry::Poly(crate::shape::Poly::from_ccw_unchecked(&v, real!(0.25)));
+        assert_eq!(half_thickness(&g), real!(1.25));
+    }
+}
