@@ -1190,7 +1190,8 @@ fn random_joint_scripts_never_panic_and_keep_the_world_valid() {
     // The `world_ops` fuzz target's joint operations, on fixed seeds: random
     // joints of every kind (bad parameters included) between random bodies
     // (static, kinematic, dynamic; the same body twice), removals of bodies
-    // and joints, parameter changes and steps. The step validates the world
+    // and joints, parameter changes, steps, and fast bullets swept against
+    // the static and kinematic circles. The step validates the world
     // after itself (the tests' `validate` feature); so does each operation
     // here. Nothing may panic.
     let (mut added, mut steps) = (0u32, 0u32);
@@ -1262,7 +1263,18 @@ fn random_joint_scripts_never_panic_and_keep_the_world_valid() {
                 _ => {
                     let mut b = ok(Body::new(Real::ONE, Real::ONE));
                     b.set_position(Vect::new(Real::from_bits((x as i64) >> 29), Real::ZERO));
-                    ok(w.add_body(b));
+                    // Every third one a fast bullet (continuous collision
+                    // against the static and kinematic circles).
+                    if y % 3 == 0 {
+                        b.set_bullet(true);
+                        b.set_velocity(Vect::new(Real::from_bits((y as i64) >> 24), Real::ZERO));
+                    }
+                    let h = ok(w.add_body(b));
+                    ok(w.add_shape(ok(Shape::circle_shape_new(
+                        h,
+                        Real::ratio(1, 4),
+                        Vect::ZERO,
+                    ))));
                     ok(w.step(DT));
                     steps += 1;
                 }

@@ -45,7 +45,8 @@ enum Command {
     Demo(DemoArgs),
     /// The built-in scenes, one line each.
     List,
-    /// Runs a scene headless: prints timing and the final checksum.
+    /// Runs a scene headless: prints timing and the final checksum (and, for
+    /// the `bullets` scene, `tunnelled: N`, the bullets beyond the wall).
     Run(RunArgs),
     /// Scene files.
     #[command(subcommand)]

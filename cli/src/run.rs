@@ -174,6 +174,9 @@ fn run_and_report(
             view.height
         );
     }
+    if let Some(n) = tamias2d_scenes::bullets::tunnelled(sim) {
+        println!("tunnelled: {n}");
+    }
     println!("sleeping bodies: {}", sim.space.sleeping_bodies());
     println!("checksum: {:#018x}", sim.space.checksum());
     Ok(())

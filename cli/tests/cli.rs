@@ -126,6 +126,14 @@ fn run_prints_timing_and_the_library_checksum() {
 }
 
 #[test]
+fn run_bullets_prints_tunnelled_zero() {
+    let out = ok(&["run", "bullets"]);
+    assert!(out.lines().any(|l| l == "tunnelled: 0"), "{out}");
+    let other = ok(&["run", "stack_10", "--steps", "2"]);
+    assert!(!other.contains("tunnelled"), "{other}");
+}
+
+#[test]
 fn run_dt_is_exact_and_iterations_matter() {
     let default = checksum(&ok(&["run", "stack_10", "--steps", "20"]));
     // The built-in step is 1/60; its decimal form is the same bits.

@@ -50,6 +50,7 @@ pub fn measures(name: &str) -> &'static [Measure] {
         "incline_slide" => &[m!("acceleration error", "rel.")],
         "incline_stick" => &[m!("slip along the slope", "m")],
         "stack_10" => &[m!("top box |x| drift", "m")],
+        "bullets" => &[m!("bullets beyond the wall", "of 32")],
         _ => &[],
     }
 }
@@ -59,7 +60,7 @@ pub fn sweep_seconds(name: &str) -> f64 {
     match name {
         "pyramid_20" | "stack_10" | "projectile_45" | "projectile_60" | "spin" => 10.0,
         "bowl_boxes_500" | "bowl_boxes_100" => 8.0,
-        "newtons_cradle" => 2.0,
+        "newtons_cradle" | "bullets" => 2.0,
         "incline_slide" | "incline_stick" => 3.0,
         _ => 4.0, // free_fall, constant_force, elastic_pair
     }
@@ -132,6 +133,13 @@ pub fn errors(
         "stack_10" => {
             let top = engine.body_count() - 1;
             vec![(b(top).position[0] - init[top].position[0]).abs()]
+        }
+        "bullets" => {
+            // Ground, wall and 12 boxes, then the bullets; the wall is at x = 0.
+            let beyond = (14..engine.body_count())
+                .filter(|&i| b(i).position[0] > 0.0)
+                .count();
+            vec![beyond as f64]
         }
         _ => Vec::new(),
     }

@@ -1,5 +1,5 @@
-//! Arbitrary operation scripts on a world (add/remove bodies, shapes and
-//! joints of every kind, joint parameters, impulses, steps, queries,
+//! Arbitrary operation scripts on a world (add/remove bodies (bullets
+//! among them), shapes and joints of every kind, joint parameters, impulses, steps, queries,
 //! clone/restore): never panics, and the world's invariants hold after
 //! every operation.
 #![no_main]
@@ -130,6 +130,9 @@ fuzz_target!(|ops: Vec<Op>| {
                     _ => Body::new_static(),
                 };
                 b.set_position(Vect::new(real(*x, 16), real(*y, 16)));
+                // Bit 7: a bullet (continuous collision; kept but inert on
+                // kinematic and static bodies).
+                b.set_bullet(kind & 0x80 != 0);
                 let _ = space.add_body(b);
             }
             Op::AddCircle { body, r, x, y } => {

@@ -286,6 +286,10 @@ pub struct BodyDesc {
     /// Mass and moment.
     #[serde(default)]
     pub mass: MassDesc,
+    /// Continuous collision ([`Body::set_bullet`](tamias2d::body::Body::set_bullet));
+    /// omitted when false.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub bullet: bool,
     /// Shapes, in creation order.
     pub shapes: Vec<ShapeDesc>,
 }
@@ -512,6 +516,7 @@ impl BodyDesc {
             velocity: Vect::ZERO,
             angular_velocity: Real::ZERO,
             mass: MassDesc::FromShapes,
+            bullet: false,
             shapes: Vec::new(),
         }
     }
@@ -532,6 +537,12 @@ impl BodyDesc {
     /// Builder: sets the label.
     pub fn labeled(mut self, label: &str) -> BodyDesc {
         self.label = Some(label.to_owned());
+        self
+    }
+
+    /// Builder: marks the body as a bullet (continuous collision).
+    pub fn bullet(mut self) -> BodyDesc {
+        self.bullet = true;
         self
     }
 

@@ -52,6 +52,7 @@
 pub mod accuracy;
 #[cfg(feature = "bench")]
 pub mod bench;
+pub mod bullets;
 pub mod dec;
 pub mod desc;
 #[cfg(feature = "ggrs")]

@@ -15,7 +15,7 @@
 use tamias2d::real;
 
 use crate::desc::SceneDesc;
-use crate::{accuracy, joints, stacking, terrain};
+use crate::{accuracy, bullets, joints, stacking, terrain};
 
 /// The three groups of standard scenes (see `scenes/README.md`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -235,6 +235,9 @@ pub const REGISTRY: &[SceneInfo] = &[
     scene!("sleep_wake", Accuracy, "two 5-box columns fall asleep; a ball dropped at step 180 wakes only the left one",
         bodies 14, steps 480, None, golden(480, 0x6412316990b91a01), None,
         || Some(accuracy::sleep_wake())),
+    scene!("bullets", Accuracy, "a gun fires 32 bullets (r 0.05 m, 300 m/s) into a 0.1 m wall; none may pass",
+        bodies 46, steps 120, None, golden(120, 0x63f31f8a2b24ccd2), None,
+        || Some(bullets::bullets())),
     // D: joints
     scene!("pendulum", Joints, "a 1 kg bob on a 1 m pin joint, released at 37 degrees",
         bodies 2, steps 600, None, golden(600, 0x76f49f2c748f5916), None,

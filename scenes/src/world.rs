@@ -420,6 +420,7 @@ fn add_body(space: &mut Space, desc: &BodyDesc, at: BodyPath) -> Result<BodyHand
     body.set_position(desc.position);
     body.set_velocity(desc.velocity);
     body.set_angular_velocity(desc.angular_velocity);
+    body.set_bullet(desc.bullet);
     let h = space.add_body(body).map_err(body_err)?;
     for (i, shape) in desc.shapes.iter().enumerate() {
         let shape_err = |error: SpaceError| SceneError::Shape {

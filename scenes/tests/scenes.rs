@@ -38,6 +38,8 @@ fn expected_bodies(name: &str) -> (usize, usize) {
         "stack_10" => same(11),
         // the ground, 2 players and 10 boxes, then the ball at step 180.
         "sleep_wake" => (13, 14),
+        // ground, wall and 12 boxes, then one bullet every 2 steps from step 0.
+        "bullets" => (2 + 12 + 1, 2 + 12 + 32),
         "pendulum" => same(2),
         // post and rotor, then 2 of the 10 boxes at step 0.
         "windmill" => (2 + 2, 12),
@@ -60,7 +62,7 @@ fn expected_bodies(name: &str) -> (usize, usize) {
 
 #[test]
 fn builtin_every_listed_scene_builds_with_documented_body_count() {
-    assert_eq!(scenes::REGISTRY.len(), 39);
+    assert_eq!(scenes::REGISTRY.len(), 40);
     for info in scenes::REGISTRY {
         let name = &info.name;
         assert!(!info.about.is_empty());

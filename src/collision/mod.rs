@@ -41,6 +41,7 @@ mod gjk;
 mod pairs;
 mod sat;
 mod support;
+mod toi;
 
 use core::cmp::Ordering;
 
@@ -58,6 +59,7 @@ pub use support::{
     support_edge_for_poly, support_edge_for_segment, Edge, EdgePoint, MinkowskiPoint,
     SupportContext, SupportPoint, SupportShape,
 };
+pub use toi::separation;
 
 use crate::math::{wide, Real, Vect};
 use crate::shape::{Circle, Geometry, Poly, Segment};

@@ -299,7 +299,7 @@ pub fn first_difference(a: &Space, b: &Space) -> Option<Difference> {
 
 fn body_fields(a: &Body, b: &Body) -> Option<(&'static str, String, String)> {
     first_field!(Body; a, b; body_type, mass, mass_inv, moment, moment_inv, explicit_mass, cog,
-        p, v, f, a, rot, w, t, v_bias, w_bias, sleep)
+        p, v, f, a, rot, w, t, v_bias, w_bias, sleep, bullet)
 }
 
 fn constraint_fields(a: &Constraint, b: &Constraint) -> Option<(&'static str, String, String)> {

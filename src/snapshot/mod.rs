@@ -171,7 +171,10 @@ pub const MAGIC: [u8; 8] = *b"TAMIAS2D";
 /// with `substeps` (u32) and the solver switches `warm_starting`,
 /// `friction`, `restitution`, `bias_impulses` (one byte each). Version 3:
 /// `block_solver` (one byte) after `bias_impulses`. Version 4: the state
-/// ends with the constraint arena (`constraints`).
+/// ends with the constraint arena (`constraints`). Version 5: a body ends
+/// with its sleep record (`sleep`: idle time, optional island root, allowed)
+/// and `bullet` (one byte, [`Body::set_bullet`](crate::body::Body::set_bullet));
+/// the state ends with the dormant arbiters of sleeping islands.
 pub const FORMAT_VERSION: u32 = 5;
 
 /// Bytes before the bincode payload: magic, version, checksum (the frame

@@ -151,6 +151,7 @@ const _BODY: fn(&Body) = |b| {
         v_bias: _, // any value (the last solve's pseudo-velocity, used by the next step)
         w_bias: _, // any value
         sleep: _,  // see _SLEEP
+        bullet: _, // any value (no effect on kinematic and static bodies)
     } = b;
     match b.body_type {
         BodyType::Dynamic | BodyType::Kinematic | BodyType::Static => {}

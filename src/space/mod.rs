@@ -11,6 +11,7 @@
 //!   (closures cannot be serialized; a game re-attaches them by collision
 //!   type after loading a snapshot).
 mod body_shapes;
+mod ccd;
 mod constraints;
 pub mod handlers;
 mod ledger;
@@ -23,6 +24,7 @@ use core::fmt;
 
 use serde::{Deserialize, Serialize};
 
+pub use ccd::MAX_TOI_ITERATIONS;
 pub use constraints::{ConstraintContext, ConstraintFn};
 pub use handlers::{ArbiterContext, CollisionHandler, PostStepFn};
 pub use settings::{
@@ -256,6 +258,8 @@ pub(crate) struct Caches {
     pub(crate) step: step::StepCache,
     /// Each body's shapes (not a stage: kept by the building operations).
     pub(crate) body_shapes: body_shapes::BodyShapes,
+    /// Stage 2b: the bullets' sweep (`space/ccd.rs`).
+    pub(crate) ccd: ccd::CcdCache,
 }
 
 /// The world: bodies, shapes, arbiters, settings and handlers.

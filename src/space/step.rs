@@ -2,6 +2,10 @@
 //!
 //! 1. integrate positions with last step's velocities (plus bias velocities);
 //! 2. move shapes into world space and update their bounding boxes;
+//!
+//!    2b. bullets only: sweep each bullet from its pose before stage 1 to
+//!    its new one against static and kinematic shapes, and put it back at
+//!    the time of impact (`ccd.rs`);
 //! 3. broadphase: candidate pairs in canonical order;
 //! 4. narrowphase: filter, collide, match arbiters by feature id (warm start),
 //!    run begin / pre-solve handlers;
@@ -180,8 +184,10 @@ impl Space {
         let dtc = self.dt_constants(dt);
         let features = self.contact_features();
 
+        self.record_sweep_starts(); // 1: bullets' start poses (ccd.rs)
         self.integrate_positions(dt); // 1
         self.update_shape_caches(); // 2
+        self.sweep_bullets(); // 2b: bullets to their time of impact (ccd.rs)
         self.update_constraint_filter(); // 4: collide_bodies = false
         self.find_pairs(); // 3
                            // 3b: a moving shape touching a sleeping one wakes its island,
@@ -340,6 +346,27 @@ impl Space {
     /// static shapes come from the static tree (rebuilt only when statics
     /// changed).
     fn find_pairs(&mut self) {
+        self.update_static_tree();
+        self.rebuild_sleeping_tree();
+        let bp = &mut self.caches.broadphase;
+        bp.sweep
+            .find_pairs(&bp.proxies, &bp.static_tree, &bp.sleeping_tree);
+    }
+
+    /// The sleeping tree from this step's sleeping boxes, if they changed
+    /// (bodies fell asleep or woke since the last build).
+    fn rebuild_sleeping_tree(&mut self) {
+        let bp = &mut self.caches.broadphase;
+        if bp.sleepers_dirty {
+            bp.sleeping_tree = crate::broadphase::StaticTree::build(bp.sleepers.clone());
+            bp.sleepers_dirty = false;
+        }
+    }
+
+    /// Stage 3's first half (also run by stage 2b when there are bullets):
+    /// rebuilds the static tree from the static shapes' boxes if statics
+    /// changed.
+    pub(super) fn update_static_tree(&mut self) {
         if self.caches.broadphase.statics_dirty {
             let statics: Vec<Proxy> = self
                 .caches
@@ -354,20 +381,6 @@ impl Space {
                 })
                 .collect();
             self.caches.broadphase.set_statics(statics);
-        }
-        self.rebuild_sleeping_tree();
-        let bp = &mut self.caches.broadphase;
-        bp.sweep
-            .find_pairs(&bp.proxies, &bp.static_tree, &bp.sleeping_tree);
-    }
-
-    /// The sleeping tree from this step's sleeping boxes, if they changed
-    /// (bodies fell asleep or woke since the last build).
-    fn rebuild_sleeping_tree(&mut self) {
-        let bp = &mut self.caches.broadphase;
-        if bp.sleepers_dirty {
-            bp.sleeping_tree = crate::broadphase::StaticTree::build(bp.sleepers.clone());
-            bp.sleepers_dirty = false;
         }
     }
 

@@ -77,12 +77,13 @@ fn format_layout_is_pinned() {
     grow(&w);
     let per_object: Vec<usize> = sizes.windows(2).map(|p| p[1].wrapping_sub(p[0])).collect();
     // A slot is its generation (4) and option tag (1) before the value:
-    // body 175 (10 of them its sleep record while awake, 14 asleep); shape
-    // 65 + geometry (circle 24, segment 88, polygon 265:
-    // 8 inline vertices and normals). Removing the body and its 3 shapes
-    // leaves 4 empty slots (5 bytes each) and 4 free-list entries (u32).
-    assert_eq!(per_object[..4], [180, 94, 158, 335]);
-    let removed = [180, 94, 158, 335].iter().map(|n| n - 5 - 4).sum::<usize>();
+    // body 176 (10 of them its sleep record while awake, 14 asleep; the
+    // last byte is `bullet`); shape 65 + geometry (circle 24, segment 88,
+    // polygon 265: 8 inline vertices and normals). Removing the body and
+    // its 3 shapes leaves 4 empty slots (5 bytes each) and 4 free-list
+    // entries (u32).
+    assert_eq!(per_object[..4], [181, 94, 158, 335]);
+    let removed = [181, 94, 158, 335].iter().map(|n| n - 5 - 4).sum::<usize>();
     assert_eq!(per_object[4], 0usize.wrapping_sub(removed));
     let stepped = small_world();
     let mut state = stepped.state().clone();

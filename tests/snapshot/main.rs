@@ -169,6 +169,7 @@ const ROUND_TRIPS: &[(&str, u32, &[u32])] = &[
     // Asleep by step 100, the ball spawns at 180, the left column is
     // awake at 200 and asleep again by 480: saves across sleep and wake.
     ("sleep_wake", 480, &[0, 100, 179, 180, 200, 400]),
+    ("bullets", 60, &[0, 1, 2, 3, 31]),
     ("pendulum", 120, &[0, 1, 40, 100]),
     ("chain_100", 60, &[0, 25, 50]),
     ("windmill", 150, &[0, 29, 30, 100]),
@@ -467,6 +468,8 @@ fn apply(w: &mut Space, op: &Op) -> Option<String> {
             // Near the ground and each other, so that bodies collide.
             b.set_position(Vect::from_ints(i32::from(x) / 16, i32::from(y % 4) + 1));
             b.set_angle(Real::from_int(i32::from(x)) / Real::from_int(50));
+            // Half the dynamic bodies of explicit mass are bullets.
+            b.set_bullet(kind == 3 && x % 2 == 0);
             let h = w.add_body(b).ok()?;
             let s = add_shape(w, h, shape, 2 + y % 4);
             Some(format!("{h:?} {s:?}"))

@@ -139,7 +139,8 @@ impl RapierRun {
             .angvel(f(desc.angular_velocity))
             .linear_damping(self.damping)
             .angular_damping(self.damping)
-            .can_sleep(false);
+            .can_sleep(false)
+            .ccd_enabled(desc.bullet);
         let explicit = match desc.mass {
             MassDesc::Explicit { mass, moment } if desc.kind == BodyKind::Dynamic => {
                 builder = builder.additional_mass_properties(MassProperties::new(
@@ -424,10 +425,7 @@ fn angular(g: &mut GenericJoint, j: &super::joints::Resolved, sign: f64, rigid_c
 /// The Rapier collider of one of our shapes. `massive`: the shape's own
 /// mass or density counts (not for explicit-mass or non-dynamic bodies).
 fn collider(d: &ShapeDesc, massive: bool) -> Collider {
-    assert!(
-        d.filter == ShapeFilter::ALL,
-        "collision filters are not mapped to Rapier"
-    );
+    let groups = interaction_groups(&d.filter);
     let builder = match &d.geometry {
         GeometryDesc::Circle { radius, offset } => {
             ColliderBuilder::ball(f(*radius)).translation(v2(*offset))
@@ -477,13 +475,35 @@ fn collider(d: &ShapeDesc, massive: bool) -> Collider {
         .restitution(f(d.elasticity))
         .friction_combine_rule(CoefficientCombineRule::Multiply)
         .restitution_combine_rule(CoefficientCombineRule::Multiply)
-        .sensor(d.sensor);
+        .sensor(d.sensor)
+        .collision_groups(groups);
     builder = match d.mass {
         ShapeMassDesc::Mass(m) if massive => builder.mass(f(m)),
         ShapeMassDesc::Density(rho) if massive => builder.density(f(rho)),
         _ => builder.density(0.0),
     };
     builder.build()
+}
+
+/// Rapier's interaction groups for a Chipmunk filter that uses only its
+/// group (categories and mask all set; anything else is not mapped): group
+/// `g` in 1..=31 is membership bit `g` with every other bit in the filter,
+/// so shapes of one group never meet and meet every other shape; group 0
+/// is bit 0 with every bit in the filter.
+fn interaction_groups(filter: &ShapeFilter) -> InteractionGroups {
+    assert!(
+        filter.categories == ShapeFilter::ALL.categories
+            && filter.mask == ShapeFilter::ALL.mask
+            && filter.group < 32,
+        "only collision filter groups 0..32 are mapped to Rapier"
+    );
+    let own = Group::from_bits_truncate(1u32 << filter.group);
+    let others = if filter.group == 0 {
+        Group::ALL
+    } else {
+        Group::ALL.difference(own)
+    };
+    InteractionGroups::new(own, others, InteractionTestMode::And)
 }
 
 impl Engine for RapierRun {
