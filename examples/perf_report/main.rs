@@ -1,13 +1,16 @@
 //! Regenerates every table and plot of `docs/performance.md`: Tamias2D beside
 //! Rapier2D on the standard scenes (time per step and the quality it buys),
 //! the accuracy scenes at default settings, the joint scenes beside Rapier's
-//! joints (time per step and joint error), and the speed/accuracy trade
-//! curves over solver iterations, step size and sub-steps.
+//! joints (time per step and joint error), settling scenes with sleeping
+//! on in both engines (awake and settled time per step), and the
+//! speed/accuracy trade curves over solver iterations, step size and
+//! sub-steps.
 //!
 //! ```text
 //! cargo run --release --example perf_report -- --out docs     # full run (5-9 min on 2 cores)
 //! cargo run --release --example perf_report -- --quick        # CI-sized scenes, short sweep (< 1 min)
 //! cargo run --release --example perf_report -- --out docs --only joints   # section D only (~1 min)
+//! cargo run --release --example perf_report -- --out docs --only sleep    # sleeping table only (~1 min)
 //! ```
 //! Options: `--out DIR` (default `target/perf_report`): the tables go into
 //! `DIR/performance.md` between its `<!-- BEGIN perf_report:… -->` /
@@ -17,10 +20,11 @@
 //! sweep. `--skip-side`, `--skip-sweep` leave parts out; `--scenes a,b`
 //! restricts both parts to the named scenes; `--skip-substeps` leaves the
 //! sub-step series (`Settings::substeps` = 2 and 4) out of the sweep (see
-//! `sweep::plan`). `--skip-joints` leaves the joint scenes out; `--only
-//! side|joints|sweep` runs that part alone (`side` is sections A–C) and
-//! rewrites only its sections of `performance.md` (the machine table
-//! belongs to `side` and `sweep`; the joint section carries its own).
+//! `sweep::plan`). `--skip-joints` leaves the joint scenes out,
+//! `--skip-sleep` the sleeping table; `--only side|joints|sleep|sweep` runs
+//! that part alone (`side` is sections A–C) and rewrites only its sections
+//! of `performance.md` (the machine table belongs to `side` and `sweep`;
+//! the joint and sleeping sections carry their own).
 #![allow(clippy::float_arithmetic)] // measurement and reports only
 
 use tamias2d_scenes::bench as common;
@@ -28,6 +32,7 @@ mod measures;
 mod plot;
 mod report;
 mod side;
+mod sleep;
 mod sweep;
 
 use std::path::PathBuf;
@@ -41,6 +46,7 @@ pub struct Options {
     side: bool,
     sweep: bool,
     joints: bool,
+    sleep: bool,
     scenes: Option<Vec<String>>,
     substeps: bool,
 }
@@ -52,6 +58,7 @@ fn parse_args() -> Result<Options, String> {
         side: true,
         sweep: true,
         joints: true,
+        sleep: true,
         scenes: None,
         substeps: true,
     };
@@ -64,13 +71,19 @@ fn parse_args() -> Result<Options, String> {
             "--skip-sweep" => o.sweep = false,
             "--skip-substeps" => o.substeps = false,
             "--skip-joints" => o.joints = false,
+            "--skip-sleep" => o.sleep = false,
             "--only" => {
-                let part = args.next().ok_or("--only needs side, joints or sweep")?;
+                let part = args
+                    .next()
+                    .ok_or("--only needs side, joints, sleep or sweep")?;
                 o.side = part == "side";
                 o.joints = part == "joints";
+                o.sleep = part == "sleep";
                 o.sweep = part == "sweep";
-                if !(o.side || o.joints || o.sweep) {
-                    return Err(format!("--only {part:?}: expected side, joints or sweep"));
+                if !(o.side || o.joints || o.sleep || o.sweep) {
+                    return Err(format!(
+                        "--only {part:?}: expected side, joints, sleep or sweep"
+                    ));
                 }
             }
             "--scenes" => {
@@ -80,7 +93,8 @@ fn parse_args() -> Result<Options, String> {
             "-h" | "--help" => {
                 return Err("usage: perf_report [--out DIR] [--quick] [--skip-side] \
                             [--skip-sweep] [--skip-substeps] [--skip-joints] \
-                            [--only side|joints|sweep] [--scenes a,b,…]"
+                            [--skip-sleep] [--only side|joints|sleep|sweep] \
+                            [--scenes a,b,…]"
                     .to_owned())
             }
             other => return Err(format!("unknown argument {other:?} (try --help)")),
@@ -155,6 +169,40 @@ fn main() -> ExitCode {
         rep.load_after = report::load_average();
         rep.joints_elapsed = started.elapsed().as_secs_f64() - t0;
     }
+    if opts.sleep {
+        let t0 = started.elapsed().as_secs_f64();
+        rep.sleep_load_before = report::load_average();
+        let scenes = if opts.quick {
+            vec!["pyramid_20", "bowl_boxes_100"]
+        } else {
+            vec![
+                "pyramid_20",
+                "bowl_boxes_500",
+                "many_pyramids_4x4",
+                "rain_1000",
+            ]
+        };
+        for name in scenes.into_iter().filter(keep) {
+            let row = sleep::run(name);
+            eprintln!(
+                "[{:>5.0} s] {name:<20} sleeping on, awake: Tamias2D {:>8.3} ms  Rapier {:>8.3} ms; \
+                 settled: Tamias2D {:>8.4} ms  Rapier {:>8.4} ms (Tamias2D off {:.3} ms); \
+                 asleep {} / {} of {}",
+                started.elapsed().as_secs_f64(),
+                row.tamias.awake * 1e3,
+                row.rapier.awake * 1e3,
+                row.tamias.settled * 1e3,
+                row.rapier.settled * 1e3,
+                row.tamias_off.settled * 1e3,
+                row.tamias.asleep,
+                row.rapier.asleep,
+                row.dynamic
+            );
+            rep.sleep.push(row);
+        }
+        rep.sleep_load_after = report::load_average();
+        rep.sleep_elapsed = started.elapsed().as_secs_f64() - t0;
+    }
     if opts.sweep {
         let heavy = if opts.quick {
             "bowl_boxes_100"
@@ -176,7 +224,7 @@ fn main() -> ExitCode {
         }
     }
     rep.elapsed = started.elapsed().as_secs_f64();
-    match rep.write(opts.side, opts.sweep, opts.joints) {
+    match rep.write(opts.side, opts.sweep, opts.joints, opts.sleep) {
         Ok(path) => {
             eprintln!(
                 "wrote {} in {:.0} s",

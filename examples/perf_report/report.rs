@@ -8,6 +8,7 @@ use std::process::Command;
 use crate::measures;
 use crate::plot;
 use crate::side::SideRow;
+use crate::sleep::{SleepRow, AWAKE, SETTLED};
 use crate::sweep::{Kind, Series};
 
 /// Everything one run measured.
@@ -28,6 +29,14 @@ pub struct Report {
     pub load_before: Option<f64>,
     /// See `load_before`.
     pub load_after: Option<f64>,
+    /// Settling scenes with sleeping on in both engines.
+    pub sleep: Vec<SleepRow>,
+    /// Wall time of the sleeping part (s).
+    pub sleep_elapsed: f64,
+    /// 1-minute load average before and after the sleeping part.
+    pub sleep_load_before: Option<f64>,
+    /// See `sleep_load_before`.
+    pub sleep_load_after: Option<f64>,
     /// Wall time of the whole run (s).
     pub elapsed: f64,
 }
@@ -126,6 +135,10 @@ impl Report {
             joints_elapsed: 0.0,
             load_before: None,
             load_after: None,
+            sleep: Vec::new(),
+            sleep_elapsed: 0.0,
+            sleep_load_before: None,
+            sleep_load_after: None,
             elapsed: 0.0,
         }
     }
@@ -360,6 +373,108 @@ impl Report {
         s
     }
 
+    /// The sleeping section: its own machine note, the table (awake and
+    /// settled windows, bodies asleep, the saving against sleeping off) and
+    /// the settings of each scene in both engines.
+    fn sleep_section(&self) -> String {
+        let m = Machine::read();
+        let mut s = String::new();
+        let load = |l: Option<f64>| l.map_or("?".to_owned(), |x| format!("{x:.2}"));
+        let busy = self
+            .sleep_load_before
+            .into_iter()
+            .chain(self.sleep_load_after)
+            .any(|l| l > 1.0);
+        let _ = writeln!(
+            s,
+            "Measured {} on {} cores ({}), {}, {}; `{}`, sleeping part {:.0} s. \
+             1-minute load average {} before, {} after{}.\n",
+            m.date,
+            m.cores,
+            m.model,
+            m.rustc,
+            m.engines,
+            std::iter::once("perf_report".to_owned())
+                .chain(std::env::args().skip(1))
+                .collect::<Vec<_>>()
+                .join(" "),
+            self.sleep_elapsed,
+            load(self.sleep_load_before),
+            load(self.sleep_load_after),
+            if busy {
+                ": **measured while other builds ran**, so the times are noisy \
+                 (the lockstep order spreads the noise over the three runs alike)"
+            } else {
+                ""
+            }
+        );
+        let _ = writeln!(
+            s,
+            "| scene | dynamic bodies | steps {a0}–{a1}: Tamias2D µs/step | Rapier µs/step | \
+             Tamias2D / Rapier | steps {s0}–{s1}: Tamias2D µs/step | Rapier µs/step | \
+             Tamias2D / Rapier | asleep after step {s1}, Tamias2D / Rapier | \
+             Tamias2D sleeping off, µs/step, steps {a0}–{a1} / {s0}–{s1} | \
+             Tamias2D settled, on / off |\n\
+             |---|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|",
+            a0 = AWAKE.0,
+            a1 = AWAKE.1,
+            s0 = SETTLED.0,
+            s1 = SETTLED.1
+        );
+        let asleep = |r: &crate::sleep::SleepRun| match r.all_asleep_from {
+            Some(k) => format!("{} (all from step {k})", r.asleep),
+            None => r.asleep.to_string(),
+        };
+        for r in &self.sleep {
+            let _ = writeln!(
+                s,
+                "| `{}` | {} | {} | {} | **{:.2}** | {} | {} | **{:.2}** | {} / {} | {} / {} | \
+                 {:.1} % |",
+                r.name,
+                r.dynamic,
+                sig(r.tamias.awake * 1e6),
+                sig(r.rapier.awake * 1e6),
+                r.awake_ratio(),
+                sig(r.tamias.settled * 1e6),
+                sig(r.rapier.settled * 1e6),
+                r.settled_ratio(),
+                asleep(&r.tamias),
+                asleep(&r.rapier),
+                sig(r.tamias_off.awake * 1e6),
+                sig(r.tamias_off.settled * 1e6),
+                100.0 * r.tamias.settled / r.tamias_off.settled
+            );
+        }
+        s.push_str(
+            "\nThe settings of each scene (idle speed in the scene's length units per \
+             second; Rapier's linear threshold is multiplied by its `length_unit`):\n\n\
+             | scene | `length_unit` | Tamias2D `idle_speed_threshold` | Tamias2D \
+             `sleep_time_threshold` (s) | Rapier `normalized_linear_threshold` | Rapier \
+             `angular_threshold` (rad/s, idle / r_g per body) | Rapier `time_until_sleep` (s) |\n\
+             |---|---:|---:|---:|---:|---:|---:|\n",
+        );
+        for r in &self.sleep {
+            let (lo, hi) = r.rapier_angular;
+            let angular = if (hi - lo).abs() <= 1e-6 * hi.abs() {
+                sig(f64::from(lo))
+            } else {
+                format!("{}–{}", sig(f64::from(lo)), sig(f64::from(hi)))
+            };
+            let _ = writeln!(
+                s,
+                "| `{}` | {} | {} | {} | {} | {} | {} |",
+                r.name,
+                r.length_unit,
+                sig(r.idle_speed),
+                sig(r.sleep_time),
+                sig(f64::from(r.rapier_linear)),
+                angular,
+                sig(r.sleep_time)
+            );
+        }
+        s
+    }
+
     /// One compact table per scene (first error measure, with the cost) and
     /// its plot.
     fn trade_section(&self) -> Result<String, Box<dyn std::error::Error>> {
@@ -510,6 +625,40 @@ impl Report {
         if !self.joints.is_empty() {
             fs::write(data.join("perf_joints.csv"), joints)?;
         }
+        let mut sleep = String::from(
+            "scene,engine,sleeping,dynamic_bodies,awake_median_step_ms,settled_median_step_ms,\
+             asleep_at_end,all_asleep_from_step,idle_speed,sleep_time,length_unit,\
+             rapier_normalized_linear_threshold,rapier_angular_threshold_min,\
+             rapier_angular_threshold_max\n",
+        );
+        for r in &self.sleep {
+            for (engine, on, e) in [
+                ("tamias2d", true, &r.tamias),
+                ("rapier", true, &r.rapier),
+                ("tamias2d", false, &r.tamias_off),
+            ] {
+                let _ = writeln!(
+                    sleep,
+                    "{},{engine},{},{},{},{},{},{},{},{},{},{},{},{}",
+                    r.name,
+                    if on { "on" } else { "off" },
+                    r.dynamic,
+                    e.awake * 1e3,
+                    e.settled * 1e3,
+                    e.asleep,
+                    e.all_asleep_from.map_or(String::new(), |k| k.to_string()),
+                    r.idle_speed,
+                    r.sleep_time,
+                    r.length_unit,
+                    r.rapier_linear,
+                    r.rapier_angular.0,
+                    r.rapier_angular.1
+                );
+            }
+        }
+        if !self.sleep.is_empty() {
+            fs::write(data.join("perf_sleeping.csv"), sleep)?;
+        }
         Ok(())
     }
 
@@ -520,6 +669,7 @@ impl Report {
         side: bool,
         sweep: bool,
         joints: bool,
+        sleep: bool,
     ) -> Result<PathBuf, Box<dyn std::error::Error>> {
         fs::create_dir_all(&self.out)?;
         self.write_csv()?;
@@ -544,6 +694,9 @@ impl Report {
                     .collect();
                 plot::ratios(&images.join("perf_ratio.svg"), &rows)?;
             }
+        }
+        if sleep {
+            sections.push(("sleeping", self.sleep_section()));
         }
         if sweep {
             sections.push(("trade", self.trade_section()?));

@@ -27,13 +27,14 @@ pub mod rapier_world;
 
 use crate::{self as scenes, SceneDesc, Section};
 use tamias2d::math::Real;
+use tamias2d::space::{DEFAULT_IDLE_SPEED_THRESHOLD, DEFAULT_SLEEP_TIME_THRESHOLD};
 
 #[allow(unused_imports)]
 pub use joints::JointError;
 #[allow(unused_imports)] // each user takes a different part
 pub use measure::{BodyState, Engine, Penetration, TamiasRun};
 #[allow(unused_imports)]
-pub use rapier_world::{RapierRun, JOINT_MAPPING};
+pub use rapier_world::{RapierRun, RapierSleep, JOINT_MAPPING};
 
 /// Sections A and B (terrain, stacking), the sizes that stand for their
 /// family: the quick set.
@@ -137,6 +138,38 @@ pub fn scene_with(name: &str, config: Config) -> SceneDesc {
     // Sleeping off, as in the Rapier world (`can_sleep(false)`): the
     // side-by-side compares the work of awake bodies.
     desc.settings.sleep_time_threshold = tamias2d::space::SLEEP_NEVER;
+    desc
+}
+
+/// Sleeping as the sleeping table of the report sets it in both engines:
+/// the engine's default idle speed, 0.05 m/s, scaled by the scene's
+/// [`length_unit`] (so 0.5 units/s in the pixel-unit scenes of section A,
+/// as their collision slop is scaled), and the default 0.5 s sleep time.
+/// Returns `(idle_speed_threshold, sleep_time_threshold)`.
+pub fn sleep_settings(name: &str) -> (Real, Real) {
+    let unit = Real::from_int(length_unit(name) as i32);
+    (
+        DEFAULT_IDLE_SPEED_THRESHOLD.mul_const(unit),
+        DEFAULT_SLEEP_TIME_THRESHOLD,
+    )
+}
+
+/// [`sleep_settings`] for the Rapier world ([`RapierSleep`] maps them).
+pub fn rapier_sleep(name: &str) -> RapierSleep {
+    let (idle, time) = sleep_settings(name);
+    RapierSleep {
+        idle_speed: idle.to_f32(),
+        time: time.to_f32(),
+    }
+}
+
+/// [`scene_with`] with sleeping on as [`sleep_settings`] says (instead of
+/// off).
+pub fn scene_sleeping(name: &str, config: Config) -> SceneDesc {
+    let mut desc = scene_with(name, config);
+    let (idle, time) = sleep_settings(name);
+    desc.settings.idle_speed_threshold = idle;
+    desc.settings.sleep_time_threshold = time;
     desc
 }
 

@@ -89,6 +89,8 @@ pub trait Engine {
     fn body(&self, index: usize) -> BodyState;
     /// Penetration of the pairs overlapping now.
     fn penetration(&self) -> Penetration;
+    /// Dynamic bodies asleep now.
+    fn sleeping_bodies(&self) -> usize;
 
     /// States of every body, in creation order.
     fn states(&self) -> Vec<BodyState> {
@@ -154,6 +156,10 @@ impl Engine for TamiasRun {
             energy: b.kinetic_energy().to_f64(),
             dynamic: b.body_type() == BodyType::Dynamic,
         }
+    }
+
+    fn sleeping_bodies(&self) -> usize {
+        self.scene.space.sleeping_bodies()
     }
 
     fn penetration(&self) -> Penetration {

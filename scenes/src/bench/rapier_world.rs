@@ -25,7 +25,9 @@
 //! Rapier settings: `num_solver_iterations` = our iterations (in Rapier
 //! these are sub-steps, each with one PGS and one stabilisation pass),
 //! `dt`, gravity and `length_unit` (10 for the pixel-unit scenes of section
-//! A, 1 otherwise) as given; sleeping off (we have none); the velocity cap
+//! A, 1 otherwise) as given; sleeping off (as in the Tamias2D scenes of the
+//! side-by-side; [`RapierRun::with_sleep`] turns it on, see [`RapierSleep`]
+//! for how our idle test maps to Rapier's); the velocity cap
 //! (`normalized_max_linear_velocity`, 400 m/s) off, because
 //! `projectile_45` starts at 1200 m/s; everything else at Rapier's defaults
 //! (soft contacts, speculative contacts, contact recycling, CCD of fast
@@ -65,6 +67,42 @@ pub struct RapierRun {
     /// Constraints of the scene that have no Rapier counterpart and were
     /// left out (their kinds, in scene order).
     pub left_out: Vec<JointType>,
+    /// Sleeping of the dynamic bodies (`None`: they never sleep).
+    sleep: Option<RapierSleep>,
+    length_unit: f32,
+}
+
+/// Sleeping in Rapier set to match ours (`Settings::idle_speed_threshold`
+/// and `sleep_time_threshold`), body by body.
+///
+/// Ours: a body is idle while `|v|² + (I/m)·ω² ≤ idle²` (its speed with the
+/// rotation counted at the radius of gyration `r_g = √(I/m)`), and an island
+/// sleeps once every body of it has been idle for `time`. Rapier 0.36
+/// (`RigidBodyActivation::update_energy`) counts a body with colliders as
+/// still while `½·(|Δx| + 2·sin(|Δθ|/2)·R) < normalized_linear_threshold ·
+/// length_unit · dt`, where `Δx`, `Δθ` are its actual pose change over the
+/// step and `R` its farthest collider point from the centre of mass
+/// (`max_extent`), i.e. roughly `|v| + |ω|·R < 2 · threshold`; its
+/// `angular_threshold` only applies to bodies without colliders (with
+/// colliders it only gates at ω < π/2 rad/s). So:
+///
+/// * `normalized_linear_threshold = idle / (2 · length_unit)`: a body that
+///   only translates is idle below the same speed in both engines;
+/// * `angular_threshold = idle / r_g` of that body (what ours allows for a
+///   pure rotation; unused by Rapier for bodies with colliders);
+/// * `time_until_sleep = time`.
+///
+/// What stays different: for rotation Rapier counts the farthest point
+/// (`R ≥ r_g`, e.g. 1.6 `r_g` for our rounded boxes) and adds the two parts
+/// where we add their squares, so its test is the stricter one; and it
+/// measures the pose change (position corrections included) where we
+/// measure velocities.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RapierSleep {
+    /// Our `idle_speed_threshold`, in the scene's length units per second.
+    pub idle_speed: f32,
+    /// Our `sleep_time_threshold` (s).
+    pub time: f32,
 }
 
 fn v2(v: Vect) -> Vector {
@@ -80,6 +118,17 @@ impl RapierRun {
     /// The world for `desc` (made by [`scene_with`](super::scene_with) for
     /// `config`), with Rapier's length unit `length_unit`.
     pub fn new(desc: &SceneDesc, config: Config, length_unit: f32) -> RapierRun {
+        RapierRun::with_sleep(desc, config, length_unit, None)
+    }
+
+    /// As [`new`](Self::new), with the dynamic bodies (spawned ones
+    /// included) allowed to sleep as `sleep` says (`None`: never).
+    pub fn with_sleep(
+        desc: &SceneDesc,
+        config: Config,
+        length_unit: f32,
+        sleep: Option<RapierSleep>,
+    ) -> RapierRun {
         let mut world = PhysicsWorld::new();
         world.gravity = v2(desc.settings.gravity);
         let substeps = config.substeps.max(1);
@@ -101,6 +150,8 @@ impl RapierRun {
             damping: 0.0,
             joints: 0,
             left_out: Vec::new(),
+            sleep,
+            length_unit,
         };
         let damping = desc.settings.damping.to_f64();
         if damping > 0.0 && damping < 1.0 {
@@ -139,26 +190,44 @@ impl RapierRun {
             .angvel(f(desc.angular_velocity))
             .linear_damping(self.damping)
             .angular_damping(self.damping)
-            .can_sleep(false)
+            .can_sleep(self.sleep.is_some())
             .ccd_enabled(desc.bullet);
         let explicit = match desc.mass {
             MassDesc::Explicit { mass, moment } if desc.kind == BodyKind::Dynamic => {
-                builder = builder.additional_mass_properties(MassProperties::new(
-                    Vector::ZERO,
-                    f(mass),
-                    f(moment),
-                ));
-                true
+                Some(MassProperties::new(Vector::ZERO, f(mass), f(moment)))
             }
-            _ => false,
+            _ => None,
         };
+        if let Some(props) = explicit {
+            builder = builder.additional_mass_properties(props);
+        }
         let h = self.world.bodies.insert(builder);
-        let massive = desc.kind == BodyKind::Dynamic && !explicit;
+        let massive = desc.kind == BodyKind::Dynamic && explicit.is_none();
+        // The body's mass properties as Rapier will sum them (for the
+        // angular sleep threshold).
+        let mut mass_props = explicit.unwrap_or_default();
         for shape in &desc.shapes {
             let collider = collider(shape, massive);
+            mass_props += collider.mass_properties().transform_by(collider.position());
             self.world
                 .colliders
                 .insert_with_parent(collider, h, &mut self.world.bodies);
+        }
+        if let (Some(sleep), BodyKind::Dynamic) = (self.sleep, desc.kind) {
+            let mass = mass_props.mass();
+            let r_g = if mass > 0.0 {
+                (mass_props.principal_inertia() / mass).sqrt()
+            } else {
+                0.0
+            };
+            let a = self.world.bodies[h].activation_mut();
+            a.normalized_linear_threshold = sleep.idle_speed / (2.0 * self.length_unit);
+            a.angular_threshold = if r_g > 0.0 {
+                sleep.idle_speed / r_g
+            } else {
+                sleep.idle_speed
+            };
+            a.time_until_sleep = sleep.time;
         }
         self.handles.push(h);
     }
@@ -545,6 +614,14 @@ impl Engine for RapierRun {
             },
             dynamic,
         }
+    }
+
+    fn sleeping_bodies(&self) -> usize {
+        self.handles
+            .iter()
+            .filter_map(|h| self.world.bodies.get(*h))
+            .filter(|rb| rb.is_dynamic() && rb.is_sleeping())
+            .count()
     }
 
     fn penetration(&self) -> Penetration {
