@@ -1191,13 +1191,14 @@ fn random_joint_scripts_never_panic_and_keep_the_world_valid() {
     // joints of every kind (bad parameters included) between random bodies
     // (static, kinematic, dynamic; the same body twice), removals of bodies
     // and joints, parameter changes, steps, and fast bullets swept against
-    // the static and kinematic circles. The step validates the world
+    // the static and kinematic circles, and sleeping (on, as by default;
+    // islands put to sleep and woken on request). The step validates the world
     // after itself (the tests' `validate` feature); so does each operation
     // here. Nothing may panic.
-    let (mut added, mut steps) = (0u32, 0u32);
+    let (mut added, mut steps, mut slept) = (0u32, 0u32, 0u32);
     for seed in 0..16u64 {
         let mut rng = tamias2d_scenes::rng::SplitMix64::new(seed);
-        let mut w = awake_space();
+        let mut w = Space::new();
         w.set_gravity(Vect::from_ints(0, -10));
         for i in 0..6 {
             let mut b = match i % 3 {
@@ -1213,7 +1214,7 @@ fn random_joint_scripts_never_panic_and_keep_the_world_valid() {
             let bodies: Vec<_> = w.bodies().map(|(h, _)| h).collect();
             let joints: Vec<_> = w.constraints().map(|(h, _)| h).collect();
             let pick = |n: usize, x: u64| (n > 0).then(|| (x % n as u64) as usize);
-            let op = rng.next_u64() % 8;
+            let op = rng.next_u64() % 10;
             let (x, y) = (rng.next_u64(), rng.next_u64());
             match op {
                 0..=2 => {
@@ -1252,6 +1253,20 @@ fn random_joint_scripts_never_panic_and_keep_the_world_valid() {
                         }
                     }
                 }
+                8 => {
+                    if let Some(i) = pick(bodies.len(), x) {
+                        // Refused for non-dynamic bodies and islands that
+                        // touch a moving kinematic body: errors, not panics.
+                        if w.sleep_body(bodies[i]).is_ok() {
+                            slept += 1;
+                        }
+                    }
+                }
+                9 => {
+                    if let Some(i) = pick(bodies.len(), x) {
+                        ok(w.activate_body(bodies[i]));
+                    }
+                }
                 5 if bodies.len() > 3 => {
                     if let Some(i) = pick(bodies.len(), x) {
                         ok(w.remove_body(bodies[i]));
@@ -1286,8 +1301,9 @@ fn random_joint_scripts_never_panic_and_keep_the_world_valid() {
         }
     }
     // The script did exercise the joints: hundreds added, hundreds of steps.
-    println!("random scripts: {added} joints added, {steps} steps");
+    println!("random scripts: {added} joints added, {steps} steps, {slept} islands put to sleep");
     assert!(added > 300 && steps > 300, "{added} joints, {steps} steps");
+    assert!(slept > 20, "{slept} islands put to sleep");
 }
 
 #[test]

@@ -1,6 +1,6 @@
 //! Arbitrary operation scripts on a world (add/remove bodies (bullets
 //! among them), shapes and joints of every kind, joint parameters, impulses, steps, queries,
-//! clone/restore): never panics, and the world's invariants hold after
+//! sleeping and waking, sleep settings, clone/restore): never panics, and the world's invariants hold after
 //! every operation.
 #![no_main]
 use arbitrary::Arbitrary;
@@ -75,6 +75,21 @@ enum Op {
     },
     RemoveJoint {
         joint: u8,
+    },
+    /// `sleep_body`, or `sleep_body_with_group` with `group` (errors when
+    /// the rules refuse), or `activate_body`.
+    Sleep {
+        body: u8,
+        group: u8,
+        how: u8,
+    },
+    /// Sleep thresholds (any value: negative ones are errors) and a body's
+    /// permission to sleep.
+    SleepSettings {
+        time: i16,
+        idle: i16,
+        body: u8,
+        allowed: bool,
     },
     /// `max_force`, `max_bias`, `error_bias` (any sign: errors) and
     /// `collide_bodies` of a joint.
@@ -240,6 +255,29 @@ fuzz_target!(|ops: Vec<Op>| {
                     let _ = c.set_max_bias(real(*bias, 8));
                     let _ = c.set_error_bias(real(*error_bias, 0));
                     c.set_collide_bodies(*collide);
+                }
+            }
+            Op::Sleep { body, group, how } => {
+                if let (Some(b), Some(g)) = (pick_body(*body), pick_body(*group)) {
+                    let _ = match how % 3 {
+                        0 => space.sleep_body(b),
+                        1 => space.sleep_body_with_group(b, g),
+                        _ => space.activate_body(b),
+                    };
+                }
+            }
+            Op::SleepSettings {
+                time,
+                idle,
+                body,
+                allowed,
+            } => {
+                let mut s = space.settings().clone();
+                s.sleep_time_threshold = real(i32::from(*time), 24);
+                s.idle_speed_threshold = real(i32::from(*idle), 24);
+                let _ = space.set_settings(s);
+                if let Some(b) = pick_body(*body).and_then(|b| space.body_mut(b)) {
+                    b.set_sleep_allowed(*allowed);
                 }
             }
             Op::CloneRestore => {
