@@ -226,6 +226,8 @@ pub struct StepStats {
     /// or angular velocity at `Real::MIN` or `Real::MAX`: saturated, i.e.
     /// outside the representable range (see the safe envelope in
     /// `docs/numerics.md`). Zero for every scene inside the envelope.
+    /// Sleeping bodies are not counted: they do not move, and were
+    /// counted in the steps before they fell asleep.
     pub saturated_bodies: u32,
     /// Dynamic bodies with infinite mass (no explicit mass and no shape
     /// with mass or density): gravity moves them but no contact can stop

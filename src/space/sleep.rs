@@ -105,14 +105,20 @@ impl Space {
         let (threshold, idle_speed) =
             (settings.sleep_time_threshold, settings.idle_speed_threshold);
         let bodies = &mut self.state.bodies;
+        let mut awake = 0usize;
         for (_, b) in bodies.iter_mut() {
             if awake_dynamic(b) {
+                awake = awake.saturating_add(1);
                 b.sleep.idle_time = if b.sleep.allowed && b.is_idle(idle_speed) {
                     b.sleep.idle_time + dt
                 } else {
                     Real::ZERO
                 };
             }
+        }
+        // Everything asleep (a settled world): no island to build.
+        if awake == 0 {
+            return;
         }
         let mut islands = Islands::new(bodies.capacity_slots());
         let mut restless: Vec<u32> = Vec::new();

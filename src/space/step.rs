@@ -727,7 +727,7 @@ impl Space {
         }
     }
 
-    /// Stage 12, diagnostics ([`StepStats::saturated_bodies`]): bodies whose
+    /// Stage 12, diagnostics ([`StepStats::saturated_bodies`]): awake bodies whose
     /// position, velocity or angular velocity saturated. Runs after the
     /// solver, so it sees this step's positions and final velocities; five
     /// comparisons per body, no arithmetic.
@@ -736,6 +736,7 @@ impl Space {
             .state
             .bodies
             .iter()
+            .filter(|(_, b)| !b.is_sleeping())
             .filter(|(_, b)| b.p.is_saturated() || b.v.is_saturated() || b.w.is_saturated())
             .count();
         self.caches.step.stats.saturated_bodies = u32::try_from(saturated).unwrap_or(u32::MAX);
