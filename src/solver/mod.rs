@@ -68,6 +68,7 @@ use core::fmt;
 pub mod block;
 
 use crate::arbiter::ManifoldPoint;
+use crate::constraint::kernel::{self, neg};
 use crate::math::{FixedArith, Real, Saturating, Unsaturated, Vect};
 use block::ManifoldBlock;
 
@@ -318,58 +319,51 @@ impl ContactConstraint {
     /// terms (and no tangent effective mass, a division), without
     /// restitution no bounce, without bias no bias target, without warm
     /// starting no cached impulses.
+    ///
+    /// Runs on the solver's fast path (see [`prepare`](Self::prepare)).
     pub fn new(
         c: &ManifoldPoint,
         bodies: &[SolverBody],
         pair: &PairParams,
         params: &ContactParams,
     ) -> ContactConstraint {
+        let (mut sc, k_t) = ContactConstraint::prepare(c, bodies, pair, params);
+        sc.t_mass = effective_mass(k_t);
+        sc
+    }
+
+    /// [`new`](Self::new) without the tangent effective mass: the row with
+    /// `t_mass` left at zero, and the tangent `k(t)` (zero without
+    /// friction) whose [`effective_mass`] it is. The space's pre-step
+    /// computes that division only for a row solved on its own: a row of a
+    /// block uses the block's face friction instead
+    /// ([`ManifoldBlock`]), never its own `t_mass`.
+    ///
+    /// The arithmetic runs first in [`Unsaturated`] arithmetic (plain wide
+    /// integer operations and one overflow flag, as the iterations);
+    /// only if the flag is raised is it recomputed in saturating [`Real`]
+    /// arithmetic by the same generic code, so the row is the saturating
+    /// one bit for bit and an ordinary contact pays for no saturation
+    /// check. The divisions come after, on the chosen `k`: they are exact
+    /// (rounded to nearest as [`Real::recip`]) and the same in both modes.
+    #[inline]
+    pub fn prepare(
+        c: &ManifoldPoint,
+        bodies: &[SolverBody],
+        pair: &PairParams,
+        params: &ContactParams,
+    ) -> (ContactConstraint, Real) {
         let zero = SolverBody::default();
         let a = bodies.get(pair.a as usize).unwrap_or(&zero);
         let b = bodies.get(pair.b as usize).unwrap_or(&zero);
-        let f = params.features;
-        let n = pair.n;
-        let (rn_a, rn_b) = (c.r1.cross(n), c.r2.cross(n));
+        let mut fast = Unsaturated::new();
+        let (mut sc, mut k) = pre_step_terms(c, a, b, pair, params, &mut fast);
+        if fast.overflowed() {
+            (sc, k) = pre_step_saturating(c, a, b, pair, params);
+        }
         // A zero k (two infinite masses) gives mass 0: the contact applies no impulse.
-        let n_mass = k_scalar(a, b, c.r1, c.r2, n).map_or(Real::ZERO, Real::recip);
-        let mut sc = ContactConstraint {
-            a: pair.a,
-            b: pair.b,
-            n,
-            rn_a,
-            rn_b,
-            kn_a: a.i_inv * rn_a,
-            kn_b: b.i_inv * rn_b,
-            m_inv_a: a.m_inv,
-            m_inv_b: b.m_inv,
-            n_mass,
-            ..ContactConstraint::default()
-        };
-        if f.friction {
-            let t = n.perp();
-            let (rt_a, rt_b) = (c.r1.cross(t), c.r2.cross(t));
-            sc.rt_a = rt_a;
-            sc.rt_b = rt_b;
-            sc.kt_a = a.i_inv * rt_a;
-            sc.kt_b = b.i_inv * rt_b;
-            sc.t_mass = k_scalar(a, b, c.r1, c.r2, t).map_or(Real::ZERO, Real::recip);
-            sc.friction = pair.friction;
-            sc.surface_t = pair.surface_vr.dot(t);
-        }
-        if f.bias_impulses {
-            let overlap = (c.dist + params.slop).min(Real::ZERO);
-            sc.bias_target = (-params.bias_coef * overlap * params.dt_inv).min(params.max_bias);
-        }
-        if f.restitution {
-            sc.bounce = normal_relative_velocity(a, b, c.r1, c.r2, n) * pair.e;
-        }
-        if f.warm_starting {
-            sc.jn_acc = c.jn_acc;
-            if f.friction {
-                sc.jt_acc = c.jt_acc;
-            }
-        }
-        sc
+        sc.n_mass = effective_mass(k[0]);
+        (sc, k[1])
     }
 
     /// Applies the impulse `n·jn + t·jt` to the velocities (−a, +b).
@@ -600,6 +594,123 @@ impl ContactConstraint {
             self.apply_normal(a, b, jn, ar, Velocity::Real);
         }
     }
+}
+
+/// `1/k` for `k > 0`, else 0: the effective mass of a direction (0 when
+/// both bodies have infinite mass along it, so the row applies nothing).
+///
+/// The same bits as [`Real::recip`] (round to nearest, ties away from
+/// zero, saturated) with one 64-bit division instead of a 128-bit one:
+/// `2^64 + ⌊k/2⌋ = q·k + (r + 1 + ⌊k/2⌋)` with `q, r` the quotient and
+/// remainder of `(2^64 − 1) / k`, and the last term is below `2k`, so the
+/// rounded quotient is `q` or `q + 1`.
+#[inline(always)]
+pub(crate) fn effective_mass(k: Real) -> Real {
+    let Ok(d) = u64::try_from(k.to_bits()) else {
+        return Real::ZERO;
+    };
+    // 1/k ≥ 2^63 ulps for k ≤ 2 ulps: saturated (and 0 for k = 0).
+    if d <= 2 {
+        return if d == 0 { Real::ZERO } else { Real::MAX };
+    }
+    let q = u64::MAX.checked_div(d).unwrap_or(0);
+    let r = u64::MAX.checked_rem(d).unwrap_or(0);
+    // r < d ≤ 2^63 − 1: the sum stays below 2^64; q < 2^63 (d ≥ 3), so
+    // q + 1 is a valid `i64`.
+    let rest = r.wrapping_add(1).wrapping_add(d >> 1);
+    let q = q.wrapping_add(u64::from(rest >= d));
+    Real::from_bits(q as i64)
+}
+
+/// The pre-step arithmetic of one row in the arithmetic `ar`: the row
+/// without its effective masses, and `[k(n), k(t)]` (`k(t)` is zero
+/// without friction). The same operations, in the same order of rounding,
+/// as the saturating code it replaced (`k_scalar`,
+/// `normal_relative_velocity`, `Vect::cross`, …).
+#[inline(always)]
+fn pre_step_terms<A: FixedArith>(
+    c: &ManifoldPoint,
+    a: &SolverBody,
+    b: &SolverBody,
+    pair: &PairParams,
+    params: &ContactParams,
+    ar: &mut A,
+) -> (ContactConstraint, [Real; 2]) {
+    let f = params.features;
+    let n = pair.n;
+    let (r1, r2) = (c.r1, c.r2);
+    // k along d: (m_a + (I_a⁻¹·(r1 × d))·(r1 × d)) + (m_b + …), as `k_scalar`.
+    let k_of = |ra: Real, rb: Real, ka: Real, kb: Real, ar: &mut A| {
+        let ta = ar.mul(ka, ra);
+        let tb = ar.mul(kb, rb);
+        let sa = ar.add(a.m_inv, ta);
+        let sb = ar.add(b.m_inv, tb);
+        ar.add(sa, sb)
+    };
+    let rn_a = ar.mul_sub2(r1.x, n.y, r1.y, n.x);
+    let rn_b = ar.mul_sub2(r2.x, n.y, r2.y, n.x);
+    let kn_a = ar.mul(a.i_inv, rn_a);
+    let kn_b = ar.mul(b.i_inv, rn_b);
+    let k_n = k_of(rn_a, rn_b, kn_a, kn_b, ar);
+    let mut sc = ContactConstraint {
+        a: pair.a,
+        b: pair.b,
+        n,
+        rn_a,
+        rn_b,
+        kn_a,
+        kn_b,
+        m_inv_a: a.m_inv,
+        m_inv_b: b.m_inv,
+        ..ContactConstraint::default()
+    };
+    let mut k_t = Real::ZERO;
+    if f.friction {
+        // t = perp(n) = (−n.y, n.x).
+        let t = Vect::new(neg(n.y, ar), n.x);
+        let rt_a = ar.mul_sub2(r1.x, t.y, r1.y, t.x);
+        let rt_b = ar.mul_sub2(r2.x, t.y, r2.y, t.x);
+        sc.rt_a = rt_a;
+        sc.rt_b = rt_b;
+        sc.kt_a = ar.mul(a.i_inv, rt_a);
+        sc.kt_b = ar.mul(b.i_inv, rt_b);
+        k_t = k_of(rt_a, rt_b, sc.kt_a, sc.kt_b, ar);
+        sc.friction = pair.friction;
+        sc.surface_t = ar.mul_add2(pair.surface_vr.x, t.x, pair.surface_vr.y, t.y);
+    }
+    if f.bias_impulses {
+        let overlap = ar.add(c.dist, params.slop).min(Real::ZERO);
+        let coef = neg(params.bias_coef, ar);
+        let v = ar.mul(coef, overlap);
+        sc.bias_target = ar.mul(v, params.dt_inv).min(params.max_bias);
+    }
+    // `x·0` is 0 for every x, saturated or not: no elasticity, no velocity
+    // to compute (the usual case).
+    if f.restitution && !pair.e.is_zero() {
+        let vn = kernel::normal_relative_velocity(a, b, r1, r2, n, ar);
+        sc.bounce = ar.mul(vn, pair.e);
+    }
+    if f.warm_starting {
+        sc.jn_acc = c.jn_acc;
+        if f.friction {
+            sc.jt_acc = c.jt_acc;
+        }
+    }
+    (sc, [k_n, k_t])
+}
+
+/// The reference path of [`ContactConstraint::prepare`], out of line: it
+/// runs only when something saturates.
+#[cold]
+#[inline(never)]
+fn pre_step_saturating(
+    c: &ManifoldPoint,
+    a: &SolverBody,
+    b: &SolverBody,
+    pair: &PairParams,
+    params: &ContactParams,
+) -> (ContactConstraint, [Real; 2]) {
+    pre_step_terms(c, a, b, pair, params, &mut Saturating)
 }
 
 /// Which velocity an impulse changes: the real one or the bias
