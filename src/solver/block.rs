@@ -493,3 +493,230 @@ fn complementarity<A: FixedArith>(
     let d2 = ar.mul(e2, masses[1]);
     [x1, ar.sub(old[1], d2).max(Real::ZERO)]
 }
+
+#[cfg(test)]
+mod tests {
+    //! The block's pre-step against the one it replaced, kept here verbatim
+    //! as the oracle (saturating operators, 256-bit divisions).
+    use super::*;
+    use crate::constraint::kernel::tests::{any_real, moderate};
+    use crate::math::wide::int::I256;
+    use proptest::prelude::*;
+
+    /// `ManifoldBlock::new` as it was.
+    fn new_reference(
+        c1: &ContactConstraint,
+        c2: &ContactConstraint,
+        bodies: &[SolverBody],
+        friction: bool,
+    ) -> Option<ManifoldBlock> {
+        let zero = SolverBody::default();
+        let a = bodies.get(c1.a as usize).unwrap_or(&zero);
+        let b = bodies.get(c1.b as usize).unwrap_or(&zero);
+        let m = c1.m_inv_a + c1.m_inv_b;
+        let k_row =
+            |c: &ContactConstraint| (c.m_inv_a + c.kn_a * c.rn_a) + (c.m_inv_b + c.kn_b * c.rn_b);
+        let (k11, k22) = (k_row(c1), k_row(c2));
+        let k12 = m + Real::mul_add2(a.i_inv, c1.rn_a * c2.rn_a, b.i_inv, c1.rn_b * c2.rn_b);
+        if !k11.is_positive() || !k22.is_positive() {
+            return None;
+        }
+        let det = wide_mul(k11.to_bits(), k22.to_bits())
+            .checked_sub(wide_mul(k12.to_bits(), k12.to_bits()))?;
+        let kmax = k11.max(k22).to_bits();
+        if det <= 0 || wide_mul(kmax, kmax) >= det.saturating_mul(MAX_CONDITION) {
+            return None;
+        }
+        let normal = NormalBlock {
+            k11,
+            k12,
+            k22,
+            inv11: ratio_reference(k22, det),
+            inv12: ratio_reference(-k12, det),
+            inv22: ratio_reference(k11, det),
+        };
+        let mut block = ManifoldBlock {
+            normal,
+            ..ManifoldBlock::default()
+        };
+        if friction {
+            let t = c1.n.perp();
+            let (st_a, st_b) = (c1.rt_a + c2.rt_a, c1.rt_b + c2.rt_b);
+            let kc = m.mul_pow2(1)
+                + Real::mul_add2(a.i_inv, st_a.square(), b.i_inv, st_b.square()) * Real::HALF;
+            block.t2 = Vect::new(t.x.mul_pow2(1), t.y.mul_pow2(1));
+            block.st_a = st_a;
+            block.st_b = st_b;
+            block.kt_a = half_reference(a.i_inv, st_a);
+            block.kt_b = half_reference(b.i_inv, st_b);
+            block.t_mass = if kc.is_positive() {
+                kc.recip()
+            } else {
+                Real::ZERO
+            };
+        }
+        Some(block)
+    }
+
+    fn ratio_reference(num: Real, det: i128) -> Real {
+        let scaled = I256::from_i128(i128::from(num.to_bits())).shl(64);
+        saturate_to_real(scaled.ratio_round(I256::from_i128(det)))
+    }
+
+    fn half_reference(i_inv: Real, s: Real) -> Real {
+        saturate_to_real(I256::from_i128(wide_mul(i_inv.to_bits(), s.to_bits())).round_shr(33))
+    }
+
+    /// A row from free values (the fields the block reads).
+    fn row(v: &[Real], n: Vect) -> ContactConstraint {
+        let r = |i: usize| v.get(i).copied().unwrap_or(Real::ZERO);
+        ContactConstraint {
+            a: 0,
+            b: 1,
+            n,
+            rn_a: r(0),
+            rn_b: r(1),
+            rt_a: r(2),
+            rt_b: r(3),
+            kn_a: r(4),
+            kn_b: r(5),
+            m_inv_a: r(6).abs(),
+            m_inv_b: r(7).abs(),
+            ..ContactConstraint::default()
+        }
+    }
+
+    fn body(m_inv: Real, i_inv: Real) -> SolverBody {
+        SolverBody {
+            m_inv: m_inv.abs(),
+            i_inv: i_inv.abs(),
+            ..SolverBody::default()
+        }
+    }
+
+    /// `new` against the reference, with and without friction; returns
+    /// whether the arithmetic stayed on the fast path.
+    fn check(
+        c1: &ContactConstraint,
+        c2: &ContactConstraint,
+        bodies: &[SolverBody; 2],
+    ) -> Result<bool, TestCaseError> {
+        let mut fast = true;
+        for friction in [true, false] {
+            let want = new_reference(c1, c2, bodies, friction);
+            prop_assert_eq!(ManifoldBlock::new(c1, c2, bodies, friction), want);
+            let mut u = Unsaturated::new();
+            let _ = block_terms(c1, c2, &bodies[0], &bodies[1], friction, &mut u);
+            fast &= !u.overflowed();
+        }
+        Ok(fast)
+    }
+
+    /// Raw values of a wide determinant: small, around 2^64, up to 2^126.
+    fn any_det() -> impl Strategy<Value = i128> {
+        prop_oneof![
+            1i128..1000,
+            (any::<u64>(), 0u32..63).prop_map(|(v, s)| i128::from(v >> s).max(1)),
+            (any::<i64>(), 0u32..62).prop_map(|(v, s)| (i128::from(v.unsigned_abs()) << s).max(1)),
+            Just(1i128 << 64),
+            Just(i128::MAX),
+        ]
+    }
+
+    #[test]
+    fn exact_divisions_match_the_wide_ones_at_the_edges() {
+        let nums = [
+            Real::MIN,
+            -Real::MAX,
+            -Real::ONE,
+            -Real::DELTA,
+            Real::ZERO,
+            Real::DELTA,
+            Real::ONE,
+            Real::MAX,
+        ];
+        let dets = [
+            1,
+            2,
+            3,
+            (1i128 << 64) - 1,
+            1 << 64,
+            (1 << 64) + 1,
+            1 << 126,
+            i128::MAX,
+        ];
+        for num in nums {
+            for det in dets {
+                assert_eq!(
+                    ratio_by_det(num, det),
+                    ratio_reference(num, det),
+                    "{num:?} / {det}"
+                );
+            }
+            for s in nums {
+                assert_eq!(half_product(num.abs(), s), half_reference(num.abs(), s));
+                assert_eq!(half_product(num, s), half_reference(num, s));
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(3000))]
+        #[test]
+        fn exact_divisions_match_the_wide_ones(
+            num in any_real(), s in any_real(), det in any_det(),
+        ) {
+            prop_assert_eq!(ratio_by_det(num, det), ratio_reference(num, det));
+            prop_assert_eq!(half_product(num, s), half_reference(num, s));
+        }
+
+        /// The fast block pre-step is bit-identical to the saturating one
+        /// on any input, extremes and ties included.
+        #[test]
+        fn fast_block_pre_step_equals_the_saturating_one(
+            v1 in proptest::collection::vec(any_real(), 8),
+            v2 in proptest::collection::vec(any_real(), 8),
+            (nx, ny) in (any_real(), any_real()),
+            bv in proptest::array::uniform4(any_real()),
+        ) {
+            let n = Vect::new(nx, ny);
+            let bodies = [body(bv[0], bv[1]), body(bv[2], bv[3])];
+            check(&row(&v1, n), &row(&v2, n), &bodies)?;
+        }
+
+        /// The same on rows the pre-step builds from moderate bodies and
+        /// lever arms (within ±16; blocks accepted or refused), where it
+        /// must stay on the fast path.
+        #[test]
+        fn fast_block_pre_step_stays_fast_in_range(
+            r in proptest::array::uniform8(moderate()),
+            (nx, ny) in (moderate(), moderate()),
+            bv in proptest::array::uniform4(moderate()),
+        ) {
+            let bodies = [body(bv[0], bv[1]), body(bv[2], bv[3])];
+            let pair = super::super::PairParams {
+                a: 0,
+                b: 1,
+                n: Vect::new(nx, ny),
+                e: Real::ZERO,
+                friction: Real::HALF,
+                surface_vr: Vect::ZERO,
+            };
+            let params = super::super::ContactParams {
+                dt_inv: Real::from_int(60),
+                slop: Real::ZERO,
+                bias_coef: Real::ZERO,
+                max_bias: Real::MAX,
+                features: super::super::ContactFeatures::ALL,
+            };
+            let point = |i: usize| crate::arbiter::ManifoldPoint {
+                r1: Vect::new(r[i], r[i + 1]),
+                r2: Vect::new(r[i + 2], r[i + 3]),
+                ..crate::arbiter::ManifoldPoint::default()
+            };
+            let c1 = ContactConstraint::new(&point(0), &bodies, &pair, &params);
+            let c2 = ContactConstraint::new(&point(4), &bodies, &pair, &params);
+            prop_assert!(check(&c1, &c2, &bodies)?, "an in-range case left the fast path");
+        }
+    }
+}

@@ -589,8 +589,8 @@ impl Space {
             let mut k_t = [Real::ZERO; 2];
             for (slot, c) in arb.contacts().iter().enumerate() {
                 let (mut sc, k) = ContactConstraint::prepare(c, solver_bodies, &pair, &params);
-                if block {
-                    k_t[slot & 1] = k;
+                if let Some(slot_k) = k_t.get_mut(slot).filter(|_| block) {
+                    *slot_k = k;
                 } else {
                     sc.t_mass = effective_mass(k);
                 }
