@@ -295,7 +295,9 @@ pub struct ContactConstraint {
     /// Inverse masses.
     pub m_inv_a: Real,
     pub m_inv_b: Real,
-    /// `1/k(n)`, `1/k(t)`.
+    /// `1/k(n)`, `1/k(t)` (`effective_mass`). `t_mass` stays 0 on the
+    /// rows of a block: its face friction has its own, and the division
+    /// is not done for nothing.
     pub n_mass: Real,
     pub t_mass: Real,
     /// Bias row target velocity and restitution target.
@@ -334,7 +336,7 @@ impl ContactConstraint {
 
     /// [`new`](Self::new) without the tangent effective mass: the row with
     /// `t_mass` left at zero, and the tangent `k(t)` (zero without
-    /// friction) whose [`effective_mass`] it is. The space's pre-step
+    /// friction) whose `effective_mass` it is. The space's pre-step
     /// computes that division only for a row solved on its own: a row of a
     /// block uses the block's face friction instead
     /// ([`ManifoldBlock`]), never its own `t_mass`.
