@@ -290,7 +290,7 @@ pub(crate) mod tests {
 
     /// Raw values within ±16, ties among them: no kernel operation on
     /// these can leave the range.
-    fn moderate() -> impl Strategy<Value = Real> {
+    pub(crate) fn moderate() -> impl Strategy<Value = Real> {
         prop_oneof![
             (-(1i64 << 36)..(1i64 << 36)).prop_map(Real::from_bits),
             (-64i64..64).prop_map(Real::from_bits),

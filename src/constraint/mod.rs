@@ -67,7 +67,7 @@ mod damped_rotary_spring;
 mod damped_spring;
 mod gear;
 mod groove;
-mod kernel;
+pub(crate) mod kernel;
 mod pin;
 mod pivot;
 mod ratchet;

@@ -28,9 +28,12 @@
 //! arm: a corner on a corner), the block is not used and the two rows are
 //! solved sequentially as before; the condition guard is Box2D's
 //! `k_max² < 1000·det K`, evaluated exactly in 128-bit integers.
-use super::{load_pair, move_bodies, store_pair, ContactConstraint, SolverBody, Velocity};
+use super::{
+    effective_mass, load_pair, move_bodies, store_pair, ContactConstraint, SolverBody, Velocity,
+};
+use crate::constraint::kernel::neg;
 use crate::math::wide::exact::saturate_to_real;
-use crate::math::wide::int::{wide_mul, I256};
+use crate::math::wide::int::wide_mul;
 use crate::math::{FixedArith, Real, Saturating, Unsaturated, Vect};
 
 /// Largest accepted condition estimate `k_max² / det K` (Box2D v2's value):
@@ -75,6 +78,13 @@ pub struct ManifoldBlock {
 impl ManifoldBlock {
     /// The block of rows `c1`, `c2` (one manifold: same bodies, same
     /// normal), or `None` when `K` is singular or ill-conditioned.
+    ///
+    /// On the solver's fast path, as the rows' pre-step
+    /// ([`ContactConstraint::prepare`]): the rounded arithmetic runs in
+    /// [`Unsaturated`] arithmetic, recomputed in saturating [`Real`]
+    /// arithmetic only if the overflow flag is raised; the exact integer
+    /// part (the determinant, the condition guard and the divisions) comes
+    /// after, on the chosen terms, and is the same in both modes.
     pub fn new(
         c1: &ContactConstraint,
         c2: &ContactConstraint,
@@ -84,14 +94,104 @@ impl ManifoldBlock {
         let zero = SolverBody::default();
         let a = bodies.get(c1.a as usize).unwrap_or(&zero);
         let b = bodies.get(c1.b as usize).unwrap_or(&zero);
-        let m = c1.m_inv_a + c1.m_inv_b;
-        // The same expression (and roundings) as `k_scalar`, whose
-        // reciprocal is each row's `n_mass`.
-        let k_row =
-            |c: &ContactConstraint| (c.m_inv_a + c.kn_a * c.rn_a) + (c.m_inv_b + c.kn_b * c.rn_b);
-        let (k11, k22) = (k_row(c1), k_row(c2));
-        // Products of lever arms first: symmetric in the two contacts.
-        let k12 = m + Real::mul_add2(a.i_inv, c1.rn_a * c2.rn_a, b.i_inv, c1.rn_b * c2.rn_b);
+        let mut fast = Unsaturated::new();
+        let mut terms = block_terms(c1, c2, a, b, friction, &mut fast);
+        if fast.overflowed() {
+            terms = block_terms_saturating(c1, c2, a, b, friction);
+        }
+        terms.finish(a.i_inv, b.i_inv, friction)
+    }
+}
+
+/// The rounded arithmetic of a block ([`block_terms`]): `K`, and the face
+/// friction's direction, lever arms and `k`.
+#[derive(Clone, Copy)]
+struct BlockTerms {
+    k11: Real,
+    k12: Real,
+    k22: Real,
+    t2: Vect,
+    st_a: Real,
+    st_b: Real,
+    /// `d(vt₁ + vt₂)/dJ`, whose reciprocal is the block's `t_mass`.
+    kc: Real,
+}
+
+/// The block's terms in the arithmetic `ar`: the same operations, in the
+/// same order of rounding, as the saturating code they replaced. The
+/// friction terms are computed whether or not the block is then accepted
+/// (a refused block is rare: a corner on a corner).
+#[inline(always)]
+fn block_terms<A: FixedArith>(
+    c1: &ContactConstraint,
+    c2: &ContactConstraint,
+    a: &SolverBody,
+    b: &SolverBody,
+    friction: bool,
+    ar: &mut A,
+) -> BlockTerms {
+    let m = ar.add(c1.m_inv_a, c1.m_inv_b);
+    // The same expression (and roundings) as `k_scalar`, whose
+    // reciprocal is each row's `n_mass`.
+    let k_row = |c: &ContactConstraint, ar: &mut A| {
+        let ta = ar.mul(c.kn_a, c.rn_a);
+        let sa = ar.add(c.m_inv_a, ta);
+        let tb = ar.mul(c.kn_b, c.rn_b);
+        let sb = ar.add(c.m_inv_b, tb);
+        ar.add(sa, sb)
+    };
+    let k11 = k_row(c1, ar);
+    let k22 = k_row(c2, ar);
+    // Products of lever arms first: symmetric in the two contacts.
+    let pa = ar.mul(c1.rn_a, c2.rn_a);
+    let pb = ar.mul(c1.rn_b, c2.rn_b);
+    let coupling = ar.mul_add2(a.i_inv, pa, b.i_inv, pb);
+    let mut terms = BlockTerms {
+        k11,
+        k12: ar.add(m, coupling),
+        k22,
+        t2: Vect::ZERO,
+        st_a: Real::ZERO,
+        st_b: Real::ZERO,
+        kc: Real::ZERO,
+    };
+    if friction {
+        // 2·perp(n), perp(n) = (−n.y, n.x); doubling is `x + x`.
+        let tx = neg(c1.n.y, ar);
+        terms.t2 = Vect::new(ar.add(tx, tx), ar.add(c1.n.x, c1.n.x));
+        let st_a = ar.add(c1.rt_a, c2.rt_a);
+        let st_b = ar.add(c1.rt_b, c2.rt_b);
+        let sq_a = ar.mul(st_a, st_a);
+        let sq_b = ar.mul(st_b, st_b);
+        let angular = ar.mul_add2(a.i_inv, sq_a, b.i_inv, sq_b);
+        let half = ar.mul(angular, Real::HALF);
+        let m2 = ar.add(m, m);
+        terms.kc = ar.add(m2, half);
+        terms.st_a = st_a;
+        terms.st_b = st_b;
+    }
+    terms
+}
+
+/// The reference path of [`ManifoldBlock::new`]'s arithmetic, out of line.
+#[cold]
+#[inline(never)]
+fn block_terms_saturating(
+    c1: &ContactConstraint,
+    c2: &ContactConstraint,
+    a: &SolverBody,
+    b: &SolverBody,
+    friction: bool,
+) -> BlockTerms {
+    block_terms(c1, c2, a, b, friction, &mut Saturating)
+}
+
+impl BlockTerms {
+    /// The exact integer part: the condition guard, `K⁻¹` and the face
+    /// friction's angular terms and effective mass.
+    #[inline(always)]
+    fn finish(self, i_inv_a: Real, i_inv_b: Real, friction: bool) -> Option<ManifoldBlock> {
+        let BlockTerms { k11, k12, k22, .. } = self;
         if !k11.is_positive() || !k22.is_positive() {
             return None;
         }
@@ -103,45 +203,64 @@ impl ManifoldBlock {
         if det <= 0 || wide_mul(kmax, kmax) >= det.saturating_mul(MAX_CONDITION) {
             return None;
         }
-        let inv = |num: Real| {
-            let scaled = I256::from_i128(i128::from(num.to_bits())).shl(64);
-            saturate_to_real(scaled.ratio_round(I256::from_i128(det)))
-        };
         let normal = NormalBlock {
             k11,
             k12,
             k22,
-            inv11: inv(k22),
-            inv12: inv(-k12),
-            inv22: inv(k11),
+            inv11: ratio_by_det(k22, det),
+            inv12: ratio_by_det(-k12, det),
+            inv22: ratio_by_det(k11, det),
         };
         let mut block = ManifoldBlock {
             normal,
             ..ManifoldBlock::default()
         };
         if friction {
-            let t = c1.n.perp();
-            let (st_a, st_b) = (c1.rt_a + c2.rt_a, c1.rt_b + c2.rt_b);
-            let half_of = |i_inv: Real, s: Real| {
-                saturate_to_real(
-                    I256::from_i128(wide_mul(i_inv.to_bits(), s.to_bits())).round_shr(33),
-                )
-            };
-            let kc = m.mul_pow2(1)
-                + Real::mul_add2(a.i_inv, st_a.square(), b.i_inv, st_b.square()) * Real::HALF;
-            block.t2 = Vect::new(t.x.mul_pow2(1), t.y.mul_pow2(1));
-            block.st_a = st_a;
-            block.st_b = st_b;
-            block.kt_a = half_of(a.i_inv, st_a);
-            block.kt_b = half_of(b.i_inv, st_b);
-            block.t_mass = if kc.is_positive() {
-                kc.recip()
-            } else {
-                Real::ZERO
-            };
+            block.t2 = self.t2;
+            block.st_a = self.st_a;
+            block.st_b = self.st_b;
+            block.kt_a = half_product(i_inv_a, self.st_a);
+            block.kt_b = half_product(i_inv_b, self.st_b);
+            block.t_mass = effective_mass(self.kc);
         }
         Some(block)
     }
+}
+
+/// `num / det` for `det > 0` in units of 2^-64 (an entry of `K⁻¹`),
+/// rounded to nearest (ties away from zero) and saturated: one native
+/// 128-bit division (`|num|·2^64 ≤ 2^127`) and a multiplication for the
+/// remainder, the same bits as the 256-bit `ratio_round` it replaced.
+#[inline(always)]
+fn ratio_by_det(num: Real, det: i128) -> Real {
+    let Ok(d) = u128::try_from(det) else {
+        return Real::ZERO;
+    };
+    let n = u128::from(num.to_bits().unsigned_abs()) << 64;
+    let q = n.checked_div(d).unwrap_or(0);
+    // q·d ≤ n: exact; d > r, so `d − r` does not wrap either.
+    let r = n.wrapping_sub(q.wrapping_mul(d));
+    let q = q.wrapping_add(u128::from(r >= d.wrapping_sub(r)));
+    let max = u128::from(i64::MAX.unsigned_abs());
+    let bits = match (num.is_negative(), u64::try_from(q)) {
+        // −2^63 is the one negative magnitude beyond `i64::MAX`.
+        (true, Ok(m)) if u128::from(m) <= max.wrapping_add(1) => 0i64.wrapping_sub_unsigned(m),
+        (true, _) => i64::MIN,
+        (false, Ok(m)) if u128::from(m) <= max => m as i64,
+        (false, _) => i64::MAX,
+    };
+    Real::from_bits(bits)
+}
+
+/// `i_inv·s/2` rounded to nearest (ties away from zero), saturated: the
+/// angular velocity per unit face impulse, half of it at each contact.
+/// One rounding of the exact product (`|i_inv·s| ≤ 2^126`).
+#[inline(always)]
+fn half_product(i_inv: Real, s: Real) -> Real {
+    let p = wide_mul(i_inv.to_bits(), s.to_bits());
+    // |p| ≤ 2^126: adding 2^32 cannot overflow; the quotient is ≤ 2^93.
+    let q = (p.unsigned_abs().wrapping_add(1 << 32) >> 33) as i128;
+    saturate_to_real(if p < 0 { q.wrapping_neg() } else { q })
 }
 
 /// One block iteration of rows `c1`, `c2` (the two-contact
@@ -373,4 +492,231 @@ fn complementarity<A: FixedArith>(
     let e2 = ar.add(w[1], coupled);
     let d2 = ar.mul(e2, masses[1]);
     [x1, ar.sub(old[1], d2).max(Real::ZERO)]
+}
+
+#[cfg(test)]
+mod tests {
+    //! The block's pre-step against the one it replaced, kept here verbatim
+    //! as the oracle (saturating operators, 256-bit divisions).
+    use super::*;
+    use crate::constraint::kernel::tests::{any_real, moderate};
+    use crate::math::wide::int::I256;
+    use proptest::prelude::*;
+
+    /// `ManifoldBlock::new` as it was.
+    fn new_reference(
+        c1: &ContactConstraint,
+        c2: &ContactConstraint,
+        bodies: &[SolverBody],
+        friction: bool,
+    ) -> Option<ManifoldBlock> {
+        let zero = SolverBody::default();
+        let a = bodies.get(c1.a as usize).unwrap_or(&zero);
+        let b = bodies.get(c1.b as usize).unwrap_or(&zero);
+        let m = c1.m_inv_a + c1.m_inv_b;
+        let k_row =
+            |c: &ContactConstraint| (c.m_inv_a + c.kn_a * c.rn_a) + (c.m_inv_b + c.kn_b * c.rn_b);
+        let (k11, k22) = (k_row(c1), k_row(c2));
+        let k12 = m + Real::mul_add2(a.i_inv, c1.rn_a * c2.rn_a, b.i_inv, c1.rn_b * c2.rn_b);
+        if !k11.is_positive() || !k22.is_positive() {
+            return None;
+        }
+        let det = wide_mul(k11.to_bits(), k22.to_bits())
+            .checked_sub(wide_mul(k12.to_bits(), k12.to_bits()))?;
+        let kmax = k11.max(k22).to_bits();
+        if det <= 0 || wide_mul(kmax, kmax) >= det.saturating_mul(MAX_CONDITION) {
+            return None;
+        }
+        let normal = NormalBlock {
+            k11,
+            k12,
+            k22,
+            inv11: ratio_reference(k22, det),
+            inv12: ratio_reference(-k12, det),
+            inv22: ratio_reference(k11, det),
+        };
+        let mut block = ManifoldBlock {
+            normal,
+            ..ManifoldBlock::default()
+        };
+        if friction {
+            let t = c1.n.perp();
+            let (st_a, st_b) = (c1.rt_a + c2.rt_a, c1.rt_b + c2.rt_b);
+            let kc = m.mul_pow2(1)
+                + Real::mul_add2(a.i_inv, st_a.square(), b.i_inv, st_b.square()) * Real::HALF;
+            block.t2 = Vect::new(t.x.mul_pow2(1), t.y.mul_pow2(1));
+            block.st_a = st_a;
+            block.st_b = st_b;
+            block.kt_a = half_reference(a.i_inv, st_a);
+            block.kt_b = half_reference(b.i_inv, st_b);
+            block.t_mass = if kc.is_positive() {
+                kc.recip()
+            } else {
+                Real::ZERO
+            };
+        }
+        Some(block)
+    }
+
+    fn ratio_reference(num: Real, det: i128) -> Real {
+        let scaled = I256::from_i128(i128::from(num.to_bits())).shl(64);
+        saturate_to_real(scaled.ratio_round(I256::from_i128(det)))
+    }
+
+    fn half_reference(i_inv: Real, s: Real) -> Real {
+        saturate_to_real(I256::from_i128(wide_mul(i_inv.to_bits(), s.to_bits())).round_shr(33))
+    }
+
+    /// A row from free values (the fields the block reads).
+    fn row(v: &[Real], n: Vect) -> ContactConstraint {
+        let r = |i: usize| v.get(i).copied().unwrap_or(Real::ZERO);
+        ContactConstraint {
+            a: 0,
+            b: 1,
+            n,
+            rn_a: r(0),
+            rn_b: r(1),
+            rt_a: r(2),
+            rt_b: r(3),
+            kn_a: r(4),
+            kn_b: r(5),
+            m_inv_a: r(6).abs(),
+            m_inv_b: r(7).abs(),
+            ..ContactConstraint::default()
+        }
+    }
+
+    fn body(m_inv: Real, i_inv: Real) -> SolverBody {
+        SolverBody {
+            m_inv: m_inv.abs(),
+            i_inv: i_inv.abs(),
+            ..SolverBody::default()
+        }
+    }
+
+    /// `new` against the reference, with and without friction; returns
+    /// whether the arithmetic stayed on the fast path.
+    fn check(
+        c1: &ContactConstraint,
+        c2: &ContactConstraint,
+        bodies: &[SolverBody; 2],
+    ) -> Result<bool, TestCaseError> {
+        let mut fast = true;
+        for friction in [true, false] {
+            let want = new_reference(c1, c2, bodies, friction);
+            prop_assert_eq!(ManifoldBlock::new(c1, c2, bodies, friction), want);
+            let mut u = Unsaturated::new();
+            let _ = block_terms(c1, c2, &bodies[0], &bodies[1], friction, &mut u);
+            fast &= !u.overflowed();
+        }
+        Ok(fast)
+    }
+
+    /// Raw values of a wide determinant: small, around 2^64, up to 2^126.
+    fn any_det() -> impl Strategy<Value = i128> {
+        prop_oneof![
+            1i128..1000,
+            (any::<u64>(), 0u32..63).prop_map(|(v, s)| i128::from(v >> s).max(1)),
+            (any::<i64>(), 0u32..62).prop_map(|(v, s)| (i128::from(v.unsigned_abs()) << s).max(1)),
+            Just(1i128 << 64),
+            Just(i128::MAX),
+        ]
+    }
+
+    #[test]
+    fn exact_divisions_match_the_wide_ones_at_the_edges() {
+        let nums = [
+            Real::MIN,
+            -Real::MAX,
+            -Real::ONE,
+            -Real::DELTA,
+            Real::ZERO,
+            Real::DELTA,
+            Real::ONE,
+            Real::MAX,
+        ];
+        let dets = [
+            1,
+            2,
+            3,
+            (1i128 << 64) - 1,
+            1 << 64,
+            (1 << 64) + 1,
+            1 << 126,
+            i128::MAX,
+        ];
+        for num in nums {
+            for det in dets {
+                assert_eq!(
+                    ratio_by_det(num, det),
+                    ratio_reference(num, det),
+                    "{num:?} / {det}"
+                );
+            }
+            for s in nums {
+                assert_eq!(half_product(num.abs(), s), half_reference(num.abs(), s));
+                assert_eq!(half_product(num, s), half_reference(num, s));
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(3000))]
+        #[test]
+        fn exact_divisions_match_the_wide_ones(
+            num in any_real(), s in any_real(), det in any_det(),
+        ) {
+            prop_assert_eq!(ratio_by_det(num, det), ratio_reference(num, det));
+            prop_assert_eq!(half_product(num, s), half_reference(num, s));
+        }
+
+        /// The fast block pre-step is bit-identical to the saturating one
+        /// on any input, extremes and ties included.
+        #[test]
+        fn fast_block_pre_step_equals_the_saturating_one(
+            v1 in proptest::collection::vec(any_real(), 8),
+            v2 in proptest::collection::vec(any_real(), 8),
+            (nx, ny) in (any_real(), any_real()),
+            bv in proptest::array::uniform4(any_real()),
+        ) {
+            let n = Vect::new(nx, ny);
+            let bodies = [body(bv[0], bv[1]), body(bv[2], bv[3])];
+            check(&row(&v1, n), &row(&v2, n), &bodies)?;
+        }
+
+        /// The same on rows the pre-step builds from moderate bodies and
+        /// lever arms (within ±16; blocks accepted or refused), where it
+        /// must stay on the fast path.
+        #[test]
+        fn fast_block_pre_step_stays_fast_in_range(
+            r in proptest::array::uniform8(moderate()),
+            (nx, ny) in (moderate(), moderate()),
+            bv in proptest::array::uniform4(moderate()),
+        ) {
+            let bodies = [body(bv[0], bv[1]), body(bv[2], bv[3])];
+            let pair = super::super::PairParams {
+                a: 0,
+                b: 1,
+                n: Vect::new(nx, ny),
+                e: Real::ZERO,
+                friction: Real::HALF,
+                surface_vr: Vect::ZERO,
+            };
+            let params = super::super::ContactParams {
+                dt_inv: Real::from_int(60),
+                slop: Real::ZERO,
+                bias_coef: Real::ZERO,
+                max_bias: Real::MAX,
+                features: super::super::ContactFeatures::ALL,
+            };
+            let point = |i: usize| crate::arbiter::ManifoldPoint {
+                r1: Vect::new(r[i], r[i + 1]),
+                r2: Vect::new(r[i + 2], r[i + 3]),
+                ..crate::arbiter::ManifoldPoint::default()
+            };
+            let c1 = ContactConstraint::new(&point(0), &bodies, &pair, &params);
+            let c2 = ContactConstraint::new(&point(4), &bodies, &pair, &params);
+            prop_assert!(check(&c1, &c2, &bodies)?, "an in-range case left the fast path");
+        }
+    }
 }

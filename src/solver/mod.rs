@@ -68,6 +68,7 @@ use core::fmt;
 pub mod block;
 
 use crate::arbiter::ManifoldPoint;
+use crate::constraint::kernel::{self, neg};
 use crate::math::{FixedArith, Real, Saturating, Unsaturated, Vect};
 use block::ManifoldBlock;
 
@@ -294,7 +295,9 @@ pub struct ContactConstraint {
     /// Inverse masses.
     pub m_inv_a: Real,
     pub m_inv_b: Real,
-    /// `1/k(n)`, `1/k(t)`.
+    /// `1/k(n)`, `1/k(t)` (`effective_mass`). `t_mass` stays 0 on the
+    /// rows of a block: its face friction has its own, and the division
+    /// is not done for nothing.
     pub n_mass: Real,
     pub t_mass: Real,
     /// Bias row target velocity and restitution target.
@@ -318,58 +321,51 @@ impl ContactConstraint {
     /// terms (and no tangent effective mass, a division), without
     /// restitution no bounce, without bias no bias target, without warm
     /// starting no cached impulses.
+    ///
+    /// Runs on the solver's fast path (see [`prepare`](Self::prepare)).
     pub fn new(
         c: &ManifoldPoint,
         bodies: &[SolverBody],
         pair: &PairParams,
         params: &ContactParams,
     ) -> ContactConstraint {
+        let (mut sc, k_t) = ContactConstraint::prepare(c, bodies, pair, params);
+        sc.t_mass = effective_mass(k_t);
+        sc
+    }
+
+    /// [`new`](Self::new) without the tangent effective mass: the row with
+    /// `t_mass` left at zero, and the tangent `k(t)` (zero without
+    /// friction) whose `effective_mass` it is. The space's pre-step
+    /// computes that division only for a row solved on its own: a row of a
+    /// block uses the block's face friction instead
+    /// ([`ManifoldBlock`]), never its own `t_mass`.
+    ///
+    /// The arithmetic runs first in [`Unsaturated`] arithmetic (plain wide
+    /// integer operations and one overflow flag, as the iterations);
+    /// only if the flag is raised is it recomputed in saturating [`Real`]
+    /// arithmetic by the same generic code, so the row is the saturating
+    /// one bit for bit and an ordinary contact pays for no saturation
+    /// check. The divisions come after, on the chosen `k`: they are exact
+    /// (rounded to nearest as [`Real::recip`]) and the same in both modes.
+    #[inline]
+    pub fn prepare(
+        c: &ManifoldPoint,
+        bodies: &[SolverBody],
+        pair: &PairParams,
+        params: &ContactParams,
+    ) -> (ContactConstraint, Real) {
         let zero = SolverBody::default();
         let a = bodies.get(pair.a as usize).unwrap_or(&zero);
         let b = bodies.get(pair.b as usize).unwrap_or(&zero);
-        let f = params.features;
-        let n = pair.n;
-        let (rn_a, rn_b) = (c.r1.cross(n), c.r2.cross(n));
+        let mut fast = Unsaturated::new();
+        let (mut sc, mut k) = pre_step_terms(c, a, b, pair, params, &mut fast);
+        if fast.overflowed() {
+            (sc, k) = pre_step_saturating(c, a, b, pair, params);
+        }
         // A zero k (two infinite masses) gives mass 0: the contact applies no impulse.
-        let n_mass = k_scalar(a, b, c.r1, c.r2, n).map_or(Real::ZERO, Real::recip);
-        let mut sc = ContactConstraint {
-            a: pair.a,
-            b: pair.b,
-            n,
-            rn_a,
-            rn_b,
-            kn_a: a.i_inv * rn_a,
-            kn_b: b.i_inv * rn_b,
-            m_inv_a: a.m_inv,
-            m_inv_b: b.m_inv,
-            n_mass,
-            ..ContactConstraint::default()
-        };
-        if f.friction {
-            let t = n.perp();
-            let (rt_a, rt_b) = (c.r1.cross(t), c.r2.cross(t));
-            sc.rt_a = rt_a;
-            sc.rt_b = rt_b;
-            sc.kt_a = a.i_inv * rt_a;
-            sc.kt_b = b.i_inv * rt_b;
-            sc.t_mass = k_scalar(a, b, c.r1, c.r2, t).map_or(Real::ZERO, Real::recip);
-            sc.friction = pair.friction;
-            sc.surface_t = pair.surface_vr.dot(t);
-        }
-        if f.bias_impulses {
-            let overlap = (c.dist + params.slop).min(Real::ZERO);
-            sc.bias_target = (-params.bias_coef * overlap * params.dt_inv).min(params.max_bias);
-        }
-        if f.restitution {
-            sc.bounce = normal_relative_velocity(a, b, c.r1, c.r2, n) * pair.e;
-        }
-        if f.warm_starting {
-            sc.jn_acc = c.jn_acc;
-            if f.friction {
-                sc.jt_acc = c.jt_acc;
-            }
-        }
-        sc
+        sc.n_mass = effective_mass(k[0]);
+        (sc, k[1])
     }
 
     /// Applies the impulse `n·jn + t·jt` to the velocities (−a, +b).
@@ -600,6 +596,123 @@ impl ContactConstraint {
             self.apply_normal(a, b, jn, ar, Velocity::Real);
         }
     }
+}
+
+/// `1/k` for `k > 0`, else 0: the effective mass of a direction (0 when
+/// both bodies have infinite mass along it, so the row applies nothing).
+///
+/// The same bits as [`Real::recip`] (round to nearest, ties away from
+/// zero, saturated) with one 64-bit division instead of a 128-bit one:
+/// `2^64 + ⌊k/2⌋ = q·k + (r + 1 + ⌊k/2⌋)` with `q, r` the quotient and
+/// remainder of `(2^64 − 1) / k`, and the last term is below `2k`, so the
+/// rounded quotient is `q` or `q + 1`.
+#[inline(always)]
+pub(crate) fn effective_mass(k: Real) -> Real {
+    let Ok(d) = u64::try_from(k.to_bits()) else {
+        return Real::ZERO;
+    };
+    // 1/k ≥ 2^63 ulps for k ≤ 2 ulps: saturated (and 0 for k = 0).
+    if d <= 2 {
+        return if d == 0 { Real::ZERO } else { Real::MAX };
+    }
+    let q = u64::MAX.checked_div(d).unwrap_or(0);
+    let r = u64::MAX.checked_rem(d).unwrap_or(0);
+    // r < d ≤ 2^63 − 1: the sum stays below 2^64; q < 2^63 (d ≥ 3), so
+    // q + 1 is a valid `i64`.
+    let rest = r.wrapping_add(1).wrapping_add(d >> 1);
+    let q = q.wrapping_add(u64::from(rest >= d));
+    Real::from_bits(q as i64)
+}
+
+/// The pre-step arithmetic of one row in the arithmetic `ar`: the row
+/// without its effective masses, and `[k(n), k(t)]` (`k(t)` is zero
+/// without friction). The same operations, in the same order of rounding,
+/// as the saturating code it replaced (`k_scalar`,
+/// `normal_relative_velocity`, `Vect::cross`, …).
+#[inline(always)]
+fn pre_step_terms<A: FixedArith>(
+    c: &ManifoldPoint,
+    a: &SolverBody,
+    b: &SolverBody,
+    pair: &PairParams,
+    params: &ContactParams,
+    ar: &mut A,
+) -> (ContactConstraint, [Real; 2]) {
+    let f = params.features;
+    let n = pair.n;
+    let (r1, r2) = (c.r1, c.r2);
+    // k along d: (m_a + (I_a⁻¹·(r1 × d))·(r1 × d)) + (m_b + …), as `k_scalar`.
+    let k_of = |ra: Real, rb: Real, ka: Real, kb: Real, ar: &mut A| {
+        let ta = ar.mul(ka, ra);
+        let tb = ar.mul(kb, rb);
+        let sa = ar.add(a.m_inv, ta);
+        let sb = ar.add(b.m_inv, tb);
+        ar.add(sa, sb)
+    };
+    let rn_a = ar.mul_sub2(r1.x, n.y, r1.y, n.x);
+    let rn_b = ar.mul_sub2(r2.x, n.y, r2.y, n.x);
+    let kn_a = ar.mul(a.i_inv, rn_a);
+    let kn_b = ar.mul(b.i_inv, rn_b);
+    let k_n = k_of(rn_a, rn_b, kn_a, kn_b, ar);
+    let mut sc = ContactConstraint {
+        a: pair.a,
+        b: pair.b,
+        n,
+        rn_a,
+        rn_b,
+        kn_a,
+        kn_b,
+        m_inv_a: a.m_inv,
+        m_inv_b: b.m_inv,
+        ..ContactConstraint::default()
+    };
+    let mut k_t = Real::ZERO;
+    if f.friction {
+        // t = perp(n) = (−n.y, n.x).
+        let t = Vect::new(neg(n.y, ar), n.x);
+        let rt_a = ar.mul_sub2(r1.x, t.y, r1.y, t.x);
+        let rt_b = ar.mul_sub2(r2.x, t.y, r2.y, t.x);
+        sc.rt_a = rt_a;
+        sc.rt_b = rt_b;
+        sc.kt_a = ar.mul(a.i_inv, rt_a);
+        sc.kt_b = ar.mul(b.i_inv, rt_b);
+        k_t = k_of(rt_a, rt_b, sc.kt_a, sc.kt_b, ar);
+        sc.friction = pair.friction;
+        sc.surface_t = ar.mul_add2(pair.surface_vr.x, t.x, pair.surface_vr.y, t.y);
+    }
+    if f.bias_impulses {
+        let overlap = ar.add(c.dist, params.slop).min(Real::ZERO);
+        let coef = neg(params.bias_coef, ar);
+        let v = ar.mul(coef, overlap);
+        sc.bias_target = ar.mul(v, params.dt_inv).min(params.max_bias);
+    }
+    // `x·0` is 0 for every x, saturated or not: no elasticity, no velocity
+    // to compute (the usual case).
+    if f.restitution && !pair.e.is_zero() {
+        let vn = kernel::normal_relative_velocity(a, b, r1, r2, n, ar);
+        sc.bounce = ar.mul(vn, pair.e);
+    }
+    if f.warm_starting {
+        sc.jn_acc = c.jn_acc;
+        if f.friction {
+            sc.jt_acc = c.jt_acc;
+        }
+    }
+    (sc, [k_n, k_t])
+}
+
+/// The reference path of [`ContactConstraint::prepare`], out of line: it
+/// runs only when something saturates.
+#[cold]
+#[inline(never)]
+fn pre_step_saturating(
+    c: &ManifoldPoint,
+    a: &SolverBody,
+    b: &SolverBody,
+    pair: &PairParams,
+    params: &ContactParams,
+) -> (ContactConstraint, [Real; 2]) {
+    pre_step_terms(c, a, b, pair, params, &mut Saturating)
 }
 
 /// Which velocity an impulse changes: the real one or the bias
@@ -1086,6 +1199,208 @@ mod tests {
             check_fast_path::<true, false>(c, a, b)?;
             check_fast_path::<false, true>(c, a, b)?;
             check_fast_path::<false, false>(c, a, b)?;
+        }
+    }
+}
+
+#[cfg(test)]
+mod pre_step_tests {
+    //! The pre-step's fast path against the saturating pre-step it
+    //! replaced, kept here verbatim as the oracle: bit for bit on free
+    //! inputs (the fields need not be consistent), extremes and rounding
+    //! ties included, and on the fast path (no fallback) in range.
+    use super::*;
+    use crate::constraint::kernel::tests::{any_real, moderate};
+    use proptest::prelude::*;
+
+    /// `ContactConstraint::new` as it was (saturating `Real` and `Vect`
+    /// operators, `Real::recip`).
+    fn new_reference(
+        c: &ManifoldPoint,
+        bodies: &[SolverBody],
+        pair: &PairParams,
+        params: &ContactParams,
+    ) -> ContactConstraint {
+        let zero = SolverBody::default();
+        let a = bodies.get(pair.a as usize).unwrap_or(&zero);
+        let b = bodies.get(pair.b as usize).unwrap_or(&zero);
+        let f = params.features;
+        let n = pair.n;
+        let (rn_a, rn_b) = (c.r1.cross(n), c.r2.cross(n));
+        let n_mass = k_scalar(a, b, c.r1, c.r2, n).map_or(Real::ZERO, Real::recip);
+        let mut sc = ContactConstraint {
+            a: pair.a,
+            b: pair.b,
+            n,
+            rn_a,
+            rn_b,
+            kn_a: a.i_inv * rn_a,
+            kn_b: b.i_inv * rn_b,
+            m_inv_a: a.m_inv,
+            m_inv_b: b.m_inv,
+            n_mass,
+            ..ContactConstraint::default()
+        };
+        if f.friction {
+            let t = n.perp();
+            let (rt_a, rt_b) = (c.r1.cross(t), c.r2.cross(t));
+            sc.rt_a = rt_a;
+            sc.rt_b = rt_b;
+            sc.kt_a = a.i_inv * rt_a;
+            sc.kt_b = b.i_inv * rt_b;
+            sc.t_mass = k_scalar(a, b, c.r1, c.r2, t).map_or(Real::ZERO, Real::recip);
+            sc.friction = pair.friction;
+            sc.surface_t = pair.surface_vr.dot(t);
+        }
+        if f.bias_impulses {
+            let overlap = (c.dist + params.slop).min(Real::ZERO);
+            sc.bias_target = (-params.bias_coef * overlap * params.dt_inv).min(params.max_bias);
+        }
+        if f.restitution {
+            sc.bounce = normal_relative_velocity(a, b, c.r1, c.r2, n) * pair.e;
+        }
+        if f.warm_starting {
+            sc.jn_acc = c.jn_acc;
+            if f.friction {
+                sc.jt_acc = c.jt_acc;
+            }
+        }
+        sc
+    }
+
+    fn solver_body(v: [Real; 8]) -> SolverBody {
+        SolverBody {
+            v: Vect::new(v[0], v[1]),
+            w: v[2],
+            v_bias: Vect::new(v[3], v[4]),
+            w_bias: v[5],
+            m_inv: v[6].abs(),
+            i_inv: v[7].abs(),
+        }
+    }
+
+    /// One pre-step case from free values: the manifold point, the pair,
+    /// the step's parameters (`v` has 19 values), the feature switches.
+    fn case(v: &[Real], f: [bool; 4]) -> (ManifoldPoint, PairParams, ContactParams) {
+        let r = |i: usize| v.get(i).copied().unwrap_or(Real::ZERO);
+        let point = ManifoldPoint {
+            r1: Vect::new(r(0), r(1)),
+            r2: Vect::new(r(2), r(3)),
+            dist: r(4),
+            feature_id: 0,
+            jn_acc: r(5),
+            jt_acc: r(6),
+        };
+        let pair = PairParams {
+            a: 0,
+            b: 1,
+            n: Vect::new(r(7), r(8)),
+            e: r(9),
+            friction: r(10),
+            surface_vr: Vect::new(r(11), r(12)),
+        };
+        let params = ContactParams {
+            dt_inv: r(13),
+            slop: r(14),
+            bias_coef: r(15),
+            max_bias: r(16),
+            features: ContactFeatures {
+                warm_starting: f[0],
+                friction: f[1],
+                restitution: f[2],
+                bias_impulses: f[3],
+            },
+        };
+        (point, pair, params)
+    }
+
+    /// `new` and `prepare` against the reference; returns whether the
+    /// arithmetic stayed on the fast path.
+    fn check(
+        v: &[Real],
+        f: [bool; 4],
+        av: [Real; 8],
+        bv: [Real; 8],
+    ) -> Result<bool, TestCaseError> {
+        let (point, pair, params) = case(v, f);
+        let bodies = [solver_body(av), solver_body(bv)];
+        let want = new_reference(&point, &bodies, &pair, &params);
+        prop_assert_eq!(
+            ContactConstraint::new(&point, &bodies, &pair, &params),
+            want
+        );
+        // `prepare` is `new` with the tangent mass left to the caller.
+        let (mut row, k_t) = ContactConstraint::prepare(&point, &bodies, &pair, &params);
+        prop_assert_eq!(row.t_mass, Real::ZERO);
+        row.t_mass = effective_mass(k_t);
+        prop_assert_eq!(row, want);
+        let mut u = Unsaturated::new();
+        let _ = pre_step_terms(&point, &bodies[0], &bodies[1], &pair, &params, &mut u);
+        Ok(!u.overflowed())
+    }
+
+    #[test]
+    fn effective_mass_is_the_rounded_reciprocal() {
+        let edges = [
+            i64::MIN,
+            -1,
+            0,
+            1,
+            2,
+            3,
+            4,
+            5,
+            7,
+            1 << 31,
+            (1 << 32) - 1,
+            1 << 32,
+            (1 << 32) + 1,
+            3 << 31,
+            i64::MAX - 1,
+            i64::MAX,
+        ];
+        for bits in edges {
+            let k = Real::from_bits(bits);
+            let want = if k.is_positive() {
+                k.recip()
+            } else {
+                Real::ZERO
+            };
+            assert_eq!(effective_mass(k), want, "{bits}");
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(3000))]
+        #[test]
+        fn effective_mass_equals_recip(k in any_real()) {
+            let want = if k.is_positive() { k.recip() } else { Real::ZERO };
+            prop_assert_eq!(effective_mass(k), want);
+        }
+
+        /// The fast pre-step is bit-identical to the saturating one on any
+        /// input, extremes and ties included, every feature combination.
+        #[test]
+        fn fast_pre_step_equals_the_saturating_one(
+            v in proptest::collection::vec(any_real(), 17),
+            f in proptest::array::uniform4(any::<bool>()),
+            av in proptest::array::uniform8(any_real()),
+            bv in proptest::array::uniform8(any_real()),
+        ) {
+            check(&v, f, av, bv)?;
+        }
+
+        /// The same on moderate inputs (within ±16), where the pre-step
+        /// must stay on the fast path: the first test alone could pass
+        /// with a fallback that always runs.
+        #[test]
+        fn fast_pre_step_stays_fast_in_range(
+            v in proptest::collection::vec(moderate(), 17),
+            f in proptest::array::uniform4(any::<bool>()),
+            av in proptest::array::uniform8(moderate()),
+            bv in proptest::array::uniform8(moderate()),
+        ) {
+            prop_assert!(check(&v, f, av, bv)?, "an in-range case left the fast path");
         }
     }
 }

@@ -47,7 +47,8 @@ use crate::collision::collide;
 use crate::math::{Real, Vect};
 use crate::solver::block::ManifoldBlock;
 use crate::solver::{
-    self, ContactConstraint, ContactFeatures, ContactParams, PairParams, SolverBody, SolverScratch,
+    self, effective_mass, ContactConstraint, ContactFeatures, ContactParams, PairParams,
+    SolverBody, SolverScratch,
 };
 
 use crate::math::exp;
@@ -582,18 +583,28 @@ impl Space {
                 friction: arb.friction,
                 surface_vr: arb.surface_velocity,
             };
+            // A two-contact manifold's rows get their tangent effective
+            // mass (a division) only if they are not solved as a block.
+            let block = use_blocks && arb.contacts().len() == 2;
+            let mut k_t = [Real::ZERO; 2];
             for (slot, c) in arb.contacts().iter().enumerate() {
-                let mut sc = ContactConstraint::new(c, solver_bodies, &pair, &params);
+                let (mut sc, k) = ContactConstraint::prepare(c, solver_bodies, &pair, &params);
+                if let Some(slot_k) = k_t.get_mut(slot).filter(|_| block) {
+                    *slot_k = k;
+                } else {
+                    sc.t_mass = effective_mass(k);
+                }
                 sc.arbiter = i;
                 sc.slot = slot as u32;
                 contact_constraints.push(sc);
             }
-            if use_blocks && arb.contacts().len() == 2 {
+            if block {
                 add_block(
                     contact_constraints,
                     blocks,
                     solver_bodies,
                     features.friction,
+                    k_t,
                 );
             }
         }
@@ -791,12 +802,15 @@ fn take_if(
 
 /// Marks the last two rows of `rows` (one two-contact manifold) as a block
 /// for the block solver when its normal matrix is well conditioned
-/// ([`ManifoldBlock::new`]); otherwise they stay sequential rows.
+/// ([`ManifoldBlock::new`]); otherwise they stay sequential rows and get
+/// their tangent effective masses `1/k_t[i]` (a block's rows never read
+/// theirs: its face friction has its own).
 fn add_block(
     rows: &mut [ContactConstraint],
     blocks: &mut Vec<ManifoldBlock>,
     bodies: &[SolverBody],
     friction: bool,
+    k_t: [Real; 2],
 ) {
     let Some([c1, c2]) = rows.last_chunk_mut::<2>() else {
         return;
@@ -805,5 +819,8 @@ fn add_block(
         blocks.push(block);
         // At most one block per two rows, and rows are counted in u32.
         c1.block = u32::try_from(blocks.len()).unwrap_or(0);
+    } else {
+        c1.t_mass = effective_mass(k_t[0]);
+        c2.t_mass = effective_mass(k_t[1]);
     }
 }
