@@ -368,3 +368,47 @@ fn the_sleep_wake_scene_sleeps_wakes_one_island_and_sleeps_again() {
         "the ball rests on the column, asleep with it"
     );
 }
+
+/// Found by the `world_ops` fuzz target: with a sleep time threshold of 0,
+/// an island with a body that may not sleep fell asleep (its idle time 0
+/// reached the threshold 0). Such a body, or one touching a moving
+/// kinematic body, keeps its island awake at any threshold.
+#[test]
+fn a_zero_threshold_still_keeps_restless_islands_awake() {
+    let (mut space, left, right) = world();
+    let settings = Settings {
+        sleep_time_threshold: Real::ZERO,
+        ..space.settings().clone()
+    };
+    space.set_settings(settings).unwrap();
+    space.body_mut(left[2]).unwrap().set_sleep_allowed(false);
+    for _ in 0..120 {
+        space.step(DT).unwrap();
+        space.validate().unwrap();
+    }
+    assert!(awake(&space, &left));
+    assert!(asleep(&space, &right));
+    // A kinematic conveyor under a third column keeps it awake too.
+    let belt = space.add_body(Body::new_kinematic()).unwrap();
+    space
+        .add_shape(Shape::box_shape_new(belt, Real::from_int(4), Real::ONE, Real::ZERO).unwrap())
+        .unwrap();
+    space
+        .body_mut(belt)
+        .unwrap()
+        .set_position(Vect::from_ints(20, -5));
+    space
+        .body_mut(belt)
+        .unwrap()
+        .set_angular_velocity(Real::ONE);
+    let on_belt = column(&mut space, 20, 1);
+    space
+        .body_mut(on_belt[0])
+        .unwrap()
+        .set_position(Vect::new(Real::from_int(20), Real::lit("-4.0")));
+    for _ in 0..60 {
+        space.step(DT).unwrap();
+        space.validate().unwrap();
+    }
+    assert!(awake(&space, &on_belt));
+}

@@ -142,19 +142,37 @@ impl Space {
                 link(a, c.a.index(), b, c.b.index());
             }
         }
+        let slots = bodies.capacity_slots();
+        // Bodies that keep their island awake whatever the threshold (even
+        // 0): those touching a moving kinematic body, and those that may
+        // not sleep.
+        let mut restless_slot = vec![false; slots];
         for i in restless {
             if let Some((_, b)) = bodies.get_by_index_mut(i) {
                 b.sleep.idle_time = Real::ZERO;
             }
+            if let Some(r) = restless_slot.get_mut(i as usize) {
+                *r = true;
+            }
         }
-        // The least idle time of each island, at its root.
-        let slots = bodies.capacity_slots();
+        // The least idle time of each island, at its root (`Real::MIN`, below
+        // any threshold, for an island with a restless body).
         let mut least: Vec<Option<Real>> = vec![None; slots];
         for (h, b) in bodies.iter() {
             if awake_dynamic(b) {
+                let restless = !b.sleep.allowed
+                    || restless_slot
+                        .get(h.index() as usize)
+                        .copied()
+                        .unwrap_or(false);
+                let idle = if restless {
+                    Real::MIN
+                } else {
+                    b.sleep.idle_time
+                };
                 let root = islands.find(h.index());
                 if let Some(l) = least.get_mut(root as usize) {
-                    *l = Some(l.map_or(b.sleep.idle_time, |t| t.min(b.sleep.idle_time)));
+                    *l = Some(l.map_or(idle, |t| t.min(idle)));
                 }
             }
         }
