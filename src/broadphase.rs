@@ -407,6 +407,10 @@ pub(crate) struct BroadphaseCache {
     pub(crate) sleepers_dirty: bool,
     /// The sleeping shapes' boxes of this step (filled when dirty).
     pub(crate) sleepers: Vec<Proxy>,
+    /// How many bodies sleep, once counted (`None`: unknown since the
+    /// sleeping set changed or a state was loaded). Lets the API skip
+    /// sleep checks while a level is built.
+    pub(crate) sleeping_count: Option<usize>,
 }
 
 impl BroadphaseCache {

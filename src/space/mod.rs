@@ -381,6 +381,7 @@ impl Space {
         adopt_handles(&mut self.state, self.origin);
         self.caches.broadphase.statics_dirty = true;
         self.caches.broadphase.sleepers_dirty = true;
+        self.caches.broadphase.sleeping_count = None;
         self.caches.body_shapes.invalidate();
         self.caches.step.dt_constants = [None, None];
     }
@@ -548,7 +549,13 @@ impl Space {
         if body_type != BodyType::Dynamic {
             // A new piece of level (or of a kinematic body) may overlap a
             // sleeping pile, which no moving shape would wake.
-            self.wake_overlapping(bh);
+            let bb = self
+                .state
+                .shapes
+                .get(h)
+                .zip(self.state.bodies.get(bh))
+                .map(|(s, b)| s.geometry.to_world(b.position(), b.rotation()).bb());
+            self.wake_overlapping(bb.as_slice());
         }
         Ok(h.with_origin(self.origin))
     }
@@ -690,7 +697,13 @@ impl Space {
         self.mark_statics_if_static(body);
         self.update_mass_from_shapes(body);
         if self.state.bodies.get(body).is_some_and(|b| !b.is_dynamic()) {
-            self.wake_overlapping(body);
+            let bb = self
+                .state
+                .shapes
+                .get(h)
+                .zip(self.state.bodies.get(body))
+                .map(|(s, b)| s.geometry.to_world(b.position(), b.rotation()).bb());
+            self.wake_overlapping(bb.as_slice());
         }
         Ok(out)
     }

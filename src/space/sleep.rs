@@ -218,6 +218,7 @@ impl Space {
         let dormant = core::mem::take(&mut self.state.dormant_arbiters);
         self.state.dormant_arbiters = merge_by_key(dormant, going);
         self.caches.broadphase.sleepers_dirty = true;
+        self.caches.broadphase.sleeping_count = None;
     }
 
     /// Wakes the islands whose roots are in `roots` (sorted, unique):
@@ -251,6 +252,7 @@ impl Space {
         let live = core::mem::take(&mut self.state.arbiters);
         self.state.arbiters = merge_by_key(live, back);
         self.caches.broadphase.sleepers_dirty = true;
+        self.caches.broadphase.sleeping_count = None;
     }
 
     /// The island roots that body slot `i` being changed must wake: its own
@@ -384,7 +386,8 @@ impl Space {
         }
         self.wake_touching(h);
         if self.state.bodies.get(h).is_some_and(|b| !b.is_dynamic()) {
-            self.wake_overlapping(h);
+            let boxes = self.shape_boxes_of(h);
+            self.wake_overlapping(&boxes);
         }
         if let Some(b) = self.state.bodies.get_mut(h) {
             b.sleep.idle_time = Real::ZERO;
@@ -392,21 +395,40 @@ impl Space {
         Ok(())
     }
 
-    /// Wakes the islands with a shape whose box overlaps a box of a shape
-    /// of body `h`, from the state alone (the shapes' world boxes are
+    /// Wakes the islands with a shape whose box overlaps one of `boxes`,
+    /// from the state alone (the sleeping shapes' world boxes are
     /// recomputed): what a static shape added or reshaped, or a static or
-    /// kinematic body moved by hand, may now touch. Costs the sleeping
-    /// shapes times `h`'s shapes; API calls only.
-    pub(super) fn wake_overlapping(&mut self, h: BodyHandle) {
-        let roots = self.roots_overlapping(h);
+    /// kinematic body moved by hand, may now touch. Nothing to do, and O(1)
+    /// once known, when no body sleeps (a level being built); otherwise it
+    /// costs the sleeping shapes times `boxes`. API calls only.
+    pub(super) fn wake_overlapping(&mut self, boxes: &[crate::math::BB]) {
+        let roots = self.roots_overlapping(boxes);
         self.wake_islands(&roots, self.state.stamp);
+    }
+
+    /// The world boxes of body `h`'s shapes (through the per-body shape
+    /// lists: no scan of the world's shapes).
+    pub(super) fn shape_boxes_of(&mut self, h: BodyHandle) -> Vec<crate::math::BB> {
+        let Some(body) = self.state.bodies.get(h) else {
+            return Vec::new();
+        };
+        let (p, rot) = (body.position(), body.rotation());
+        self.caches
+            .body_shapes
+            .of(&self.state.shapes, h)
+            .into_iter()
+            .filter_map(|i| self.state.shapes.get_by_index(i))
+            .filter(|(_, s)| s.body == h)
+            .map(|(_, s)| s.geometry.to_world(p, rot).bb())
+            .collect()
     }
 
     /// Stage 1's part: a static or kinematic body that a custom position
     /// integrator moved wakes what touched it and what it now overlaps.
     pub(super) fn wake_for_moved(&mut self, h: BodyHandle) {
         let mut roots = self.roots_touching(h.index());
-        roots.extend(self.roots_overlapping(h));
+        let boxes = self.shape_boxes_of(h);
+        roots.extend(self.roots_overlapping(&boxes));
         roots.sort_unstable();
         roots.dedup();
         // Inside the sub-step, whose stamp is already counted.
@@ -414,30 +436,34 @@ impl Space {
         self.wake_islands(&roots, last);
     }
 
+    /// Whether some body sleeps: counted once after the sleeping set
+    /// changed (or a state was loaded), then remembered.
+    fn any_body_sleeps(&mut self) -> bool {
+        let bodies = &self.state.bodies;
+        let n = *self
+            .caches
+            .broadphase
+            .sleeping_count
+            .get_or_insert_with(|| bodies.iter().filter(|(_, b)| b.is_sleeping()).count());
+        n > 0
+    }
+
     /// The roots of the islands [`wake_overlapping`](Self::wake_overlapping) wakes.
-    fn roots_overlapping(&self, h: BodyHandle) -> Vec<u32> {
-        // No body sleeps (the tree is current unless flagged): nothing to do.
-        let bp = &self.caches.broadphase;
-        if !bp.sleepers_dirty && bp.sleeping_tree.is_empty() {
+    fn roots_overlapping(&mut self, boxes: &[crate::math::BB]) -> Vec<u32> {
+        if boxes.is_empty() || !self.any_body_sleeps() {
             return Vec::new();
         }
         let state = &self.state;
-        let world_bb = |s: &crate::shape::Shape| {
-            let b = state.bodies.get(s.body)?;
-            Some(s.geometry.to_world(b.position(), b.rotation()).bb())
-        };
-        let mine: Vec<crate::math::BB> = state
-            .shapes
-            .iter()
-            .filter(|(_, s)| s.body == h)
-            .filter_map(|(_, s)| world_bb(s))
-            .collect();
         let mut roots: Vec<u32> = Vec::new();
         for (_, s) in state.shapes.iter() {
-            let Some(root) = state.bodies.get(s.body).and_then(|b| b.sleep.island) else {
+            let Some(b) = state.bodies.get(s.body) else {
                 continue;
             };
-            if world_bb(s).is_some_and(|bb| mine.iter().any(|m| m.intersects(&bb))) {
+            let Some(root) = b.sleep.island else {
+                continue;
+            };
+            let bb = s.geometry.to_world(b.position(), b.rotation()).bb();
+            if boxes.iter().any(|m| m.intersects(&bb)) {
                 roots.push(root);
             }
         }
