@@ -17,7 +17,7 @@ use tamias2d::real;
 use crate::desc::SceneDesc;
 use crate::{accuracy, bullets, joints, stacking, terrain};
 
-/// The three groups of standard scenes (see `scenes/README.md`).
+/// The groups (sections A to E) of standard scenes (see `scenes/README.md`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Section {
     /// A: bodies poured into static terrain (a segment bowl), and movers
