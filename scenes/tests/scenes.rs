@@ -76,6 +76,14 @@ fn builtin_every_listed_scene_builds_with_documented_body_count() {
             total,
             "{name}: bodies in the description"
         );
+        // A debug build of the 30,000-segment level costs about a minute (the
+        // engine's `add_shape` to a static body scans every shape before the
+        // first step: quadratic in the level's size). `level_300` is built
+        // here in every build and `level_30000` in release (`cargo test
+        // --release`, CI), by the same builder.
+        if cfg!(debug_assertions) && desc.total_shapes() > 10_000 {
+            continue;
+        }
         let scene = desc.build().unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(
             scene.space.bodies().count(),
