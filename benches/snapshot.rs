@@ -1,7 +1,9 @@
 //! Snapshot benchmarks: byte snapshots (`save`, `load`, `load_snapshot`),
 //! the in-memory path (`Space::clone`, `state().clone()`,
 //! `restore_state`) and `checksum` on resting piles of about 100, 1,000
-//! and 5,000 bodies, plus an 8-frame rollback of a resting 500-box pile.
+//! and 5,000 bodies, plus the rollback budget (`rollback`: the figures of
+//! `tamias bench --rollback`, with an 8-frame rollback) of `bowl_boxes_500`,
+//! `pyramid_100` and `level_30000`.
 //!
 //! Piles: `bowl_boxes_100` and `bowl_boxes_1000` after 600 steps (10 s:
 //! dropped, landed and at rest), and `pyramid_100` (5,050 unit boxes,
@@ -18,7 +20,7 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use tamias2d::snapshot;
-use tamias2d::space::Space;
+use tamias2d::space::{Space, SLEEP_NEVER};
 use tamias2d::Real;
 use tamias2d_scenes as scenes;
 
@@ -102,51 +104,96 @@ fn piles(c: &mut Criterion) {
     }
 }
 
-/// Rollback of 8 frames on a resting 500-box pile: load the snapshot of
-/// the confirmed frame, then re-simulate 8 frames, saving each (what a
-/// rollback netcode does when a late input arrives). Also the in-memory
-/// form (restore_state, and a state copy per frame into a ring buffer).
+/// The rollback budget (`tamias bench --rollback` prints the same figures,
+/// `docs/performance.md`, "Rollback budget"): for `bowl_boxes_500` after
+/// 300 steps, `pyramid_100` after 120 and `level_30000` (30,000 static
+/// segments in 300 pieces, 10 movers) after 60, as defined (sleeping on),
+/// `save_into`, `load_snapshot`, `checksum`, one step, one step of the same
+/// scene with sleeping off, and an 8-frame rollback: load the snapshot of
+/// the confirmed frame, then re-simulate 8 frames, saving and checksumming
+/// each (what a rollback netcode does when a late input arrives); also its
+/// in-memory form (`restore_state`, and a state copy per frame into a ring
+/// buffer) and the 8 steps alone.
+const ROLLBACK_SCENES: &[(&str, u32)] = &[
+    ("bowl_boxes_500", 300),
+    ("pyramid_100", 120),
+    ("level_30000", 60),
+];
+
 fn rollback(c: &mut Criterion) {
-    let name = "bowl_boxes_500";
-    let (space, dt) = resting(name, 600);
-    report(name, &space);
-    let confirmed = snapshot::save(&space);
-    let state = space.state().clone();
-    let mut group = c.benchmark_group("rollback_8_frames");
+    for &(name, warmup) in ROLLBACK_SCENES {
+        let (space, dt) = resting(name, warmup);
+        report(name, &space);
+        eprintln!("{name}: {} bodies asleep", space.sleeping_bodies());
+        let bodies = space.bodies().count();
+        let label = format!("{name} ({bodies} bodies)");
+        let confirmed = snapshot::save(&space);
+        let state = space.state().clone();
+        let mut group = c.benchmark_group("rollback_budget");
+        let id = |what: &str| BenchmarkId::new(what, &label);
 
-    let mut live = space.clone();
-    let mut frames: Vec<Vec<u8>> = vec![Vec::new(); 8];
-    group.bench_function(BenchmarkId::new("bytes", name), |b| {
-        b.iter(|| {
-            live.load_snapshot(black_box(&confirmed))
-                .unwrap_or_else(|e| panic!("{e}"));
-            for frame in &mut frames {
-                live.step(dt).unwrap_or_else(|e| panic!("{e}"));
-                snapshot::save_into(&live, frame);
-            }
-        })
-    });
+        let mut buf = Vec::new();
+        group.bench_function(id("save_into"), |b| {
+            b.iter(|| snapshot::save_into(black_box(&space), &mut buf))
+        });
+        let mut live = space.clone();
+        group.bench_function(id("load_snapshot"), |b| {
+            b.iter(|| {
+                live.load_snapshot(black_box(&confirmed))
+                    .unwrap_or_else(|e| panic!("{e}"))
+            })
+        });
+        group.bench_function(id("checksum"), |b| b.iter(|| black_box(&space).checksum()));
 
-    let mut ring: Vec<_> = vec![state.clone(); 8];
-    group.bench_function(BenchmarkId::new("in_memory", name), |b| {
-        b.iter(|| {
-            live.restore_state(black_box(&state));
-            for frame in &mut ring {
-                live.step(dt).unwrap_or_else(|e| panic!("{e}"));
-                frame.clone_from(live.state());
-            }
-        })
-    });
+        let mut stepper = space.clone();
+        group.bench_function(id("step"), |b| {
+            b.iter(|| stepper.step(dt).unwrap_or_else(|e| panic!("{e}")))
+        });
+        let mut off = scenes::builtin(name).unwrap_or_else(|| panic!("scene {name} is listed"));
+        off.settings.sleep_time_threshold = SLEEP_NEVER;
+        let mut awake = off.build().unwrap_or_else(|e| panic!("{name}: {e}"));
+        awake
+            .step_n(warmup)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        group.bench_function(id("step_sleep_off"), |b| {
+            b.iter(|| awake.space.step(dt).unwrap_or_else(|e| panic!("{e}")))
+        });
 
-    group.bench_function(BenchmarkId::new("steps_only", name), |b| {
-        b.iter(|| {
-            live.restore_state(black_box(&state));
-            for _ in 0..8 {
-                live.step(dt).unwrap_or_else(|e| panic!("{e}"));
-            }
-        })
-    });
-    group.finish();
+        let mut frames: Vec<Vec<u8>> = vec![Vec::new(); 8];
+        group.bench_function(id("rollback_8_frames"), |b| {
+            b.iter(|| {
+                live.load_snapshot(black_box(&confirmed))
+                    .unwrap_or_else(|e| panic!("{e}"));
+                for frame in &mut frames {
+                    live.step(dt).unwrap_or_else(|e| panic!("{e}"));
+                    snapshot::save_into(&live, frame);
+                    black_box(live.checksum());
+                }
+            })
+        });
+
+        let mut ring: Vec<_> = vec![state.clone(); 8];
+        group.bench_function(id("rollback_8_frames_in_memory"), |b| {
+            b.iter(|| {
+                live.restore_state(black_box(&state));
+                for frame in &mut ring {
+                    live.step(dt).unwrap_or_else(|e| panic!("{e}"));
+                    frame.clone_from(live.state());
+                    black_box(live.checksum());
+                }
+            })
+        });
+
+        group.bench_function(id("steps_only_8_frames"), |b| {
+            b.iter(|| {
+                live.restore_state(black_box(&state));
+                for _ in 0..8 {
+                    live.step(dt).unwrap_or_else(|e| panic!("{e}"));
+                }
+            })
+        });
+        group.finish();
+    }
 }
 
 criterion_group! {

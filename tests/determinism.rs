@@ -123,6 +123,11 @@ fn section_d_joint_scenes_step_in_lockstep() {
     check_section(Section::Joints);
 }
 
+#[test]
+fn section_e_level_scenes_step_in_lockstep() {
+    check_section(Section::Level);
+}
+
 /// Steps both scenes `steps` times and requires equal states after each.
 fn continue_in_lockstep(a: &mut ScriptedWorld, b: &mut ScriptedWorld, steps: u32, what: &str) {
     for n in 1..=steps {

@@ -12,6 +12,7 @@ use clap::Args;
 use tamias2d_scenes as scenes;
 
 use crate::progress::Progress;
+use crate::rollback;
 use crate::run::median;
 use crate::source;
 
@@ -44,13 +45,20 @@ impl Plan {
 #[derive(Args)]
 pub struct BenchArgs {
     /// Small scenes and short runs (under 30 s in release).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "rollback")]
     quick: bool,
+    /// The rollback budget instead of the step table: per scene, snapshot
+    /// size, save, load and checksum per 1000 bodies, a step, and an
+    /// 8-frame rollback (load + 8 x (step + save + checksum)), one line
+    /// each [default scenes: bowl_boxes_500, pyramid_100, level_30000].
+    #[arg(long)]
+    rollback: bool,
     /// Only this scene (repeatable) [default: all section A and B scenes,
     /// or the quick set].
     #[arg(long = "scene", value_name = "NAME")]
     scenes: Vec<String>,
-    /// Warm-up steps before timing [default: 300, quick 100].
+    /// Warm-up steps before timing [default: 300, quick 100; rollback:
+    /// bowl scenes 300, pyramids 120, others 60].
     #[arg(long, value_name = "N")]
     warmup: Option<u32>,
     /// Timed samples [default: 20, quick 10; at least 10].
@@ -69,6 +77,9 @@ struct Row {
 
 /// `tamias bench`.
 pub fn bench(args: &BenchArgs) -> Result<(), String> {
+    if args.rollback {
+        return rollback::rollback(&args.scenes, args.warmup, args.samples.unwrap_or(20));
+    }
     let base = if args.quick { QUICK_PLAN } else { FULL_PLAN };
     let plan = Plan {
         warmup: args.warmup.unwrap_or(base.warmup),

@@ -17,6 +17,7 @@ mod bench;
 mod files;
 mod progress;
 mod render;
+mod rollback;
 mod run;
 mod source;
 
@@ -57,7 +58,8 @@ enum Command {
     /// Record a run's per-frame checksums; verify them.
     #[command(subcommand)]
     Replay(ReplayCommand),
-    /// Times the benchmark scenes: median ms per step over ≥ 10 samples.
+    /// Times the benchmark scenes: median ms per step over ≥ 10 samples
+    /// (`--rollback`: the rollback budget, snapshot and rollback figures).
     Bench(bench::BenchArgs),
 }
 

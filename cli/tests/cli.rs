@@ -478,6 +478,52 @@ fn bench_prints_a_table() {
 }
 
 #[test]
+fn bench_rollback_prints_one_line_per_figure() {
+    let out = ok(&[
+        "bench",
+        "--rollback",
+        "--scene",
+        "stack_10",
+        "--warmup",
+        "5",
+        "--samples",
+        "10",
+    ]);
+    // A figure's value: the number after `name: `.
+    let figure = |name: &str| -> f64 {
+        let line = out
+            .lines()
+            .find_map(|l| l.trim().strip_prefix(name))
+            .unwrap_or_else(|| panic!("no {name:?} line in {out}"));
+        let value = line.split_whitespace().next().expect("a value");
+        value.parse().unwrap_or_else(|_| panic!("{name}{line}"))
+    };
+    assert!(figure("snapshot bytes: ") > 0.0);
+    assert!(out.contains("(11 bodies)"), "{out}");
+    for name in [
+        "save ms per 1000 bodies: ",
+        "load ms per 1000 bodies: ",
+        "checksum ms per 1000 bodies: ",
+        "step ms: ",
+        "step ms, sleeping off: ",
+        "rollback 8 frames ms: ",
+        "rollback 8 frames in memory ms: ",
+        "restore + 8 steps ms: ",
+    ] {
+        assert!(figure(name) > 0.0, "{name}");
+    }
+    assert!(
+        out.contains("stack_10 (warm-up 5 steps): 11 bodies (10 moving, 0 asleep)"),
+        "{out}"
+    );
+    fails(
+        &["bench", "--rollback", "--scene", "nope"],
+        "unknown scene \"nope\"",
+    );
+    fails(&["bench", "--rollback", "--quick"], "--quick");
+}
+
+#[test]
 fn demo_writes_picture_animation_and_scene() {
     let dir = scratch("demo");
     let out = ok(&[

@@ -17,7 +17,7 @@ use tamias2d::real;
 use crate::desc::SceneDesc;
 use crate::{accuracy, bullets, joints, stacking, terrain};
 
-/// The three groups of standard scenes (see `scenes/README.md`).
+/// The groups (sections A to E) of standard scenes (see `scenes/README.md`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Section {
     /// A: bodies poured into static terrain (a segment bowl), and movers
@@ -31,26 +31,32 @@ pub enum Section {
     /// D: joints (constraints): a pendulum, a hanging chain, machines
     /// (windmill, gears, springs, a ratchet, a bridge, ragdolls, a car).
     Joints,
+    /// E: large static levels with a few movers, the world of a rollback
+    /// game (`tamias bench --rollback`); not in the speed tables of A and B.
+    Level,
 }
 
 impl Section {
-    /// The section's letter: `A`, `B` or `C`.
+    /// The section's letter: `A` to `E`.
     pub fn letter(self) -> char {
         match self {
             Section::Terrain => 'A',
             Section::Stacking => 'B',
             Section::Accuracy => 'C',
             Section::Joints => 'D',
+            Section::Level => 'E',
         }
     }
 
-    /// The section's name: `terrain`, `stacking` or `accuracy`.
+    /// The section's name: `terrain`, `stacking`, `accuracy`, `joints` or
+    /// `level`.
     pub fn name(self) -> &'static str {
         match self {
             Section::Terrain => "terrain",
             Section::Stacking => "stacking",
             Section::Accuracy => "accuracy",
             Section::Joints => "joints",
+            Section::Level => "level",
         }
     }
 }
@@ -136,7 +142,7 @@ macro_rules! scene {
     };
 }
 
-/// Every standard scene, in section order (A, B, C), each family smallest
+/// Every standard scene, in section order (A to E), each family smallest
 /// size first.
 pub const REGISTRY: &[SceneInfo] = &[
     // A: terrain
@@ -266,6 +272,13 @@ pub const REGISTRY: &[SceneInfo] = &[
     scene!("car", Joints, "a chassis on groove joints and damped springs, wheels driven by simple motors over bumps",
         bodies 4, steps 600, None, golden(600, 0x0344396a4735ed60), None,
         || Some(joints::car())),
+    // E: level
+    scene!("level_300", Level, "10 bodies rolling over a static level of 300 terrain segments",
+        bodies 13, steps 1000, None, golden(60, 0x738debef7b9100c5), None,
+        || terrain::level(300)),
+    scene!("level_30000", Level, "10 bodies rolling over a static level of 30000 terrain segments",
+        bodies 310, steps 1000, Some("level_300"), None, None,
+        || terrain::level(30_000)),
 ];
 
 /// The registry entry called `name`.

@@ -220,3 +220,67 @@ fn next_index(i: usize, n: usize) -> usize {
         _ => 0,
     }
 }
+
+/// Segments per static body of a [`level`] (a level built in pieces, as a
+/// game's level of tiles or rooms is).
+pub const LEVEL_PIECE: u32 = 100;
+/// Moving bodies of a [`level`] scene.
+pub const LEVEL_MOVERS: i32 = 10;
+
+/// `level_{n}` (registered: `level_300`, `level_30000`): a large static
+/// level with a few bodies moving on it, the shape of a rollback game's
+/// world (what the rollback budget measures: the level never moves, the
+/// movers are the per-frame state).
+///
+/// An open chain of `n` segments (radius 0, friction 1, elasticity 0, no
+/// neighbours) in static bodies of [`LEVEL_PIECE`] (100) consecutive
+/// segments each (the last may hold fewer): vertex `i` (0 ≤ i ≤ n) at
+/// `x = 4·i − 2·n`, `y = |(i mod 24) − 12| + (i mod 3)`, a bumpy ground of
+/// 12-unit hills every 96 units with a 2-unit jag, `4·n` units long,
+/// centred on x = 0. Ten bodies (mass 1, friction 0.9, elasticity 0),
+/// body `k` at `(60·k − 270, 40)` moving at `(40 + 10·k, 0)`: even `k` a
+/// circle of radius 5 (disc moment), odd `k` a 10×10 box made as an 8×8
+/// box with rounding radius 1 (moment of a 10×10 box). They land within a
+/// second and roll and tumble over the hills. Section A settings; `⌈n/100⌉`
+/// static bodies and 10 dynamic ones; everything from integers. `None` for
+/// `n` = 0 or above 1,000,000.
+// n ≤ 1,000,000 and k < 10: every product and sum is small.
+#[allow(clippy::arithmetic_side_effects)]
+pub fn level(n: u32) -> Option<SceneDesc> {
+    if n == 0 || n > 1_000_000 {
+        return None;
+    }
+    let mut desc = scene(format!("level_{n}"), Vect::from_ints(0, -100));
+    let half = 2 * n as i32;
+    let vert = |i: i32| Vect::from_ints(4 * i - half, ((i % 24) - 12).abs() + i % 3);
+    let mut piece = BodyDesc::static_body().labeled("level");
+    for i in 0..n as i32 {
+        let shape = ShapeDesc::segment(vert(i), vert(i + 1), Real::ZERO);
+        piece = piece.with_shape(shape.material(Real::ONE, Real::ZERO));
+        if piece.shapes.len() == LEVEL_PIECE as usize {
+            desc.bodies.push(piece);
+            piece = BodyDesc::static_body();
+        }
+    }
+    if !piece.shapes.is_empty() {
+        desc.bodies.push(piece);
+    }
+    let r = Real::from_int(5);
+    let disc = moment_for_circle(Real::ONE, Real::ZERO, r, Vect::ZERO);
+    let square = moment_for_box(Real::ONE, Real::from_int(10), Real::from_int(10));
+    for k in 0..LEVEL_MOVERS {
+        let p = Vect::from_ints(60 * k - 270, 40);
+        let (shape, moment) = if k % 2 == 0 {
+            (ShapeDesc::circle(r), disc)
+        } else {
+            let b = ShapeDesc::box_shape(Real::from_int(8), Real::from_int(8), Real::ONE);
+            (b, square)
+        };
+        desc.bodies.push(
+            BodyDesc::dynamic(p, Real::ONE, moment)
+                .moving(Vect::from_ints(40 + 10 * k, 0))
+                .with_shape(shape.material(FRICTION, Real::ZERO)),
+        );
+    }
+    Some(desc)
+}

@@ -141,8 +141,11 @@ fn round_trip(name: &str, steps: u32, forks: &[u32]) {
     assert_eq!(reference.space.steps(), u64::from(steps));
 }
 
-/// The section D (joints) scenes at the end of [`ROUND_TRIPS`].
+/// The section D (joints) scenes before the section E (level) scenes at
+/// the end of [`ROUND_TRIPS`].
 const JOINT_SCENES: usize = 9;
+/// The section E (level) scenes at the end of [`ROUND_TRIPS`].
+const LEVEL_SCENES: usize = 1;
 
 /// Smallest size of every scene family, with steps and fork points sized
 /// for debug builds (step + save of the big ones cost tens of ms there).
@@ -179,6 +182,7 @@ const ROUND_TRIPS: &[(&str, u32, &[u32])] = &[
     ("rope_bridge", 200, &[0, 119, 120, 150]),
     ("ragdolls_20", 60, &[0, 25, 50]),
     ("car", 120, &[0, 1, 40, 100]),
+    ("level_300", 60, &[0, 25, 50]),
 ];
 
 #[test]
@@ -210,14 +214,22 @@ fn round_trip_stacking_scenes_continue_identically() {
 
 #[test]
 fn round_trip_accuracy_scenes_continue_identically() {
-    for &(name, steps, forks) in &ROUND_TRIPS[9..ROUND_TRIPS.len() - JOINT_SCENES] {
+    for &(name, steps, forks) in &ROUND_TRIPS[9..ROUND_TRIPS.len() - JOINT_SCENES - LEVEL_SCENES] {
         round_trip(name, steps, forks);
     }
 }
 
 #[test]
 fn round_trip_joint_scenes_continue_identically() {
-    for &(name, steps, forks) in &ROUND_TRIPS[ROUND_TRIPS.len() - JOINT_SCENES..] {
+    let joints = ROUND_TRIPS.len() - JOINT_SCENES - LEVEL_SCENES;
+    for &(name, steps, forks) in &ROUND_TRIPS[joints..ROUND_TRIPS.len() - LEVEL_SCENES] {
+        round_trip(name, steps, forks);
+    }
+}
+
+#[test]
+fn round_trip_level_scenes_continue_identically() {
+    for &(name, steps, forks) in &ROUND_TRIPS[ROUND_TRIPS.len() - LEVEL_SCENES..] {
         round_trip(name, steps, forks);
     }
 }
