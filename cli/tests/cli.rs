@@ -510,7 +510,11 @@ fn bench_rollback_prints_one_line_per_figure() {
         "rollback 8 frames in memory ms: ",
         "restore + 8 steps ms: ",
     ] {
-        assert!(figure(name) > 0.0, "{name}");
+        // A time, printed to 3 decimals: a release build steps stack_10
+        // faster than 0.0005 ms, so only its presence and form are checked
+        // (timings are benches' business, not tests').
+        let v = figure(name);
+        assert!(v.is_finite() && v >= 0.0, "{name}{v}");
     }
     assert!(
         out.contains("stack_10 (warm-up 5 steps): 11 bodies (10 moving, 0 asleep)"),
