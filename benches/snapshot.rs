@@ -20,7 +20,7 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use tamias2d::snapshot;
-use tamias2d::space::{Space, SLEEP_NEVER};
+use tamias2d::space::{FrameState, Space, SLEEP_NEVER};
 use tamias2d::Real;
 use tamias2d_scenes as scenes;
 
@@ -107,16 +107,20 @@ fn piles(c: &mut Criterion) {
 /// The rollback budget (`tamias bench --rollback` prints the same figures,
 /// `docs/performance.md`, "Rollback budget"): for `bowl_boxes_500` after
 /// 300 steps, `pyramid_100` after 120 and `level_30000` (30,000 static
-/// segments in 300 pieces, 10 movers) after 60, as defined (sleeping on),
-/// `save_into`, `load_snapshot`, `checksum`, one step, one step of the same
-/// scene with sleeping off, and an 8-frame rollback: load the snapshot of
-/// the confirmed frame, then re-simulate 8 frames, saving and checksumming
-/// each (what a rollback netcode does when a late input arrives); also its
-/// in-memory form (`restore_state`, and a state copy per frame into a ring
-/// buffer) and the 8 steps alone.
+/// segments in 300 pieces, 10 movers) after 60 (and `level_300`, the same
+/// movers on a level 100 times smaller), as defined (sleeping on):
+/// `save_frame_into`, `load_frame_snapshot`, the full snapshot's
+/// `save_into` and `load_snapshot`, `checksum`, one step, one step of the
+/// same scene with sleeping off, and an 8-frame rollback: load the frame
+/// snapshot of the confirmed frame, then re-simulate 8 frames, saving and
+/// checksumming each (what a rollback netcode does when a late input
+/// arrives); also its in-memory form (`restore_frame`, and `save_frame`
+/// per frame into a ring), the same through full snapshots, and the 8
+/// steps alone.
 const ROLLBACK_SCENES: &[(&str, u32)] = &[
     ("bowl_boxes_500", 300),
     ("pyramid_100", 120),
+    ("level_300", 60),
     ("level_30000", 60),
 ];
 
@@ -127,19 +131,30 @@ fn rollback(c: &mut Criterion) {
         eprintln!("{name}: {} bodies asleep", space.sleeping_bodies());
         let bodies = space.bodies().count();
         let label = format!("{name} ({bodies} bodies)");
-        let confirmed = snapshot::save(&space);
-        let state = space.state().clone();
+        let confirmed = snapshot::save_frame(&space);
+        let full = snapshot::save(&space);
+        let mut saved = FrameState::default();
+        space.save_frame(&mut saved);
         let mut group = c.benchmark_group("rollback_budget");
         let id = |what: &str| BenchmarkId::new(what, &label);
 
         let mut buf = Vec::new();
-        group.bench_function(id("save_into"), |b| {
-            b.iter(|| snapshot::save_into(black_box(&space), &mut buf))
+        group.bench_function(id("save_frame_into"), |b| {
+            b.iter(|| snapshot::save_frame_into(black_box(&space), &mut buf))
         });
         let mut live = space.clone();
-        group.bench_function(id("load_snapshot"), |b| {
+        group.bench_function(id("load_frame_snapshot"), |b| {
             b.iter(|| {
-                live.load_snapshot(black_box(&confirmed))
+                live.load_frame_snapshot(black_box(&confirmed))
+                    .unwrap_or_else(|e| panic!("{e}"))
+            })
+        });
+        group.bench_function(id("save_into_full"), |b| {
+            b.iter(|| snapshot::save_into(black_box(&space), &mut buf))
+        });
+        group.bench_function(id("load_snapshot_full"), |b| {
+            b.iter(|| {
+                live.load_snapshot(black_box(&full))
                     .unwrap_or_else(|e| panic!("{e}"))
             })
         });
@@ -162,7 +177,32 @@ fn rollback(c: &mut Criterion) {
         let mut frames: Vec<Vec<u8>> = vec![Vec::new(); 8];
         group.bench_function(id("rollback_8_frames"), |b| {
             b.iter(|| {
-                live.load_snapshot(black_box(&confirmed))
+                live.load_frame_snapshot(black_box(&confirmed))
+                    .unwrap_or_else(|e| panic!("{e}"));
+                for frame in &mut frames {
+                    live.step(dt).unwrap_or_else(|e| panic!("{e}"));
+                    snapshot::save_frame_into(&live, frame);
+                    black_box(live.checksum());
+                }
+            })
+        });
+
+        let mut ring: Vec<_> = vec![saved.clone(); 8];
+        group.bench_function(id("rollback_8_frames_in_memory"), |b| {
+            b.iter(|| {
+                live.restore_frame(black_box(&saved))
+                    .unwrap_or_else(|e| panic!("{e}"));
+                for frame in &mut ring {
+                    live.step(dt).unwrap_or_else(|e| panic!("{e}"));
+                    live.save_frame(frame);
+                    black_box(live.checksum());
+                }
+            })
+        });
+
+        group.bench_function(id("rollback_8_frames_full_snapshots"), |b| {
+            b.iter(|| {
+                live.load_snapshot(black_box(&full))
                     .unwrap_or_else(|e| panic!("{e}"));
                 for frame in &mut frames {
                     live.step(dt).unwrap_or_else(|e| panic!("{e}"));
@@ -172,21 +212,10 @@ fn rollback(c: &mut Criterion) {
             })
         });
 
-        let mut ring: Vec<_> = vec![state.clone(); 8];
-        group.bench_function(id("rollback_8_frames_in_memory"), |b| {
-            b.iter(|| {
-                live.restore_state(black_box(&state));
-                for frame in &mut ring {
-                    live.step(dt).unwrap_or_else(|e| panic!("{e}"));
-                    frame.clone_from(live.state());
-                    black_box(live.checksum());
-                }
-            })
-        });
-
         group.bench_function(id("steps_only_8_frames"), |b| {
             b.iter(|| {
-                live.restore_state(black_box(&state));
+                live.restore_frame(black_box(&saved))
+                    .unwrap_or_else(|e| panic!("{e}"));
                 for _ in 0..8 {
                     live.step(dt).unwrap_or_else(|e| panic!("{e}"));
                 }

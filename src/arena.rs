@@ -137,7 +137,7 @@ pub enum ArenaError {
 /// it, and lookups (`get`, `remove`, …) treat a handle of another origin as
 /// stale. Like the handle's, the arena's tag is not simulation state: it is
 /// not serialized, compared or hashed (0: unknown, accepts every handle).
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Arena<T> {
     slots: Vec<Slot<T>>,
     /// Free slot indices; the last one is reused first.
@@ -145,6 +145,32 @@ pub struct Arena<T> {
     len: u32,
     #[serde(skip)]
     origin: u32,
+}
+
+/// `clone_from` reuses the buffers (a per-frame copy into a kept arena
+/// allocates nothing once grown; the derive's would allocate anew).
+impl<T: Clone> Clone for Arena<T> {
+    fn clone(&self) -> Self {
+        Arena {
+            slots: self.slots.clone(),
+            free: self.free.clone(),
+            len: self.len,
+            origin: self.origin,
+        }
+    }
+    fn clone_from(&mut self, o: &Self) {
+        // Every field named: a new one must be copied too.
+        let Arena {
+            slots,
+            free,
+            len,
+            origin,
+        } = self;
+        slots.clone_from(&o.slots);
+        free.clone_from(&o.free);
+        *len = o.len;
+        *origin = o.origin;
+    }
 }
 
 /// Compares the contents; the origin tag is not state.
@@ -504,6 +530,43 @@ impl<T> ArenaPart<T> {
         for ((i, _), want) in self.slots.iter().zip(outside_runs(runs, self.slot_count)) {
             if *i != want {
                 return Err(format!("slot {i} held where slot {want} was expected"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks the arena bookkeeping the part carries, given that the level
+    /// fills `level_len` slots, all live: the length counts the live held
+    /// slots plus the level's, and the free list names each empty held slot
+    /// exactly once and nothing else. With [`check_against`](Self::check_against)
+    /// this is what [`Arena::validate`] checks of the arena the part makes,
+    /// at the cost of the part.
+    pub(crate) fn check_bookkeeping(&self, level_len: u64) -> Result<(), String> {
+        let live = self.slots.iter().filter(|(_, s)| s.value.is_some()).count() as u64;
+        if live.saturating_add(level_len) != u64::from(self.len) {
+            return Err(format!(
+                "arena length {} but {live} live slots besides the level's {level_len}",
+                self.len
+            ));
+        }
+        let empty = (self.slots.len() as u64).saturating_sub(live);
+        if self.free.len() as u64 != empty {
+            return Err(format!(
+                "{empty} empty slots but {} on the free list",
+                self.free.len()
+            ));
+        }
+        let mut seen = vec![false; self.slots.len()];
+        for &i in &self.free {
+            let Ok(pos) = self.slots.binary_search_by_key(&i, |(j, _)| *j) else {
+                return Err(format!("free list names slot {i}, not an empty slot"));
+            };
+            if self.slots.get(pos).is_some_and(|(_, s)| s.value.is_some()) {
+                return Err(format!("free list names live slot {i}"));
+            }
+            match seen.get_mut(pos) {
+                Some(flag) if !*flag => *flag = true,
+                _ => return Err(format!("free list names slot {i} twice")),
             }
         }
         Ok(())

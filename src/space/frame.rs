@@ -37,7 +37,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::arbiter::Arbiter;
-use crate::arena::{Arena, ArenaPart};
+use crate::arena::{runs_len, Arena, ArenaPart};
 use crate::body::Body;
 use crate::checksum::WordHasher;
 use crate::constraint::Constraint;
@@ -203,8 +203,16 @@ impl Space {
         if self.caches.level_suspects.is_empty() {
             return;
         }
+        let before = self.caches.level.take();
+        self.caches.level.set(before.clone());
         let level = self.with_level(|l| l.clone());
         self.caches.level_suspects.clear();
+        if before.is_some_and(|b| b.digest != level.digest) {
+            // A body turned static in place: its shapes' cache entries and
+            // the static tree must be redone (stage 2 walks the level's
+            // slots only when statics are clean).
+            self.caches.broadphase.statics_dirty = true;
+        }
         self.caches.level.set(Some(level));
     }
 
@@ -323,6 +331,20 @@ impl Space {
         let Some(level) = self.caches.level.take() else {
             return Err(SpaceError::FrameMismatch("level index missing".into()));
         };
+        let bookkeeping = frame
+            .bodies
+            .check_bookkeeping(runs_len(&level.body_runs))
+            .map_err(|e| format!("bodies: {e}"))
+            .and_then(|()| {
+                frame
+                    .shapes
+                    .check_bookkeeping(runs_len(&level.shape_runs))
+                    .map_err(|e| format!("shapes: {e}"))
+            });
+        if let Err(e) = bookkeeping {
+            self.caches.level.set(Some(level));
+            return Err(SpaceError::InvalidState(e));
+        }
         let origin = self.origin;
         for s in frame.shapes.values_mut() {
             s.body = s.body.with_origin(origin);
@@ -334,7 +356,7 @@ impl Space {
             &mut frame.constraints,
         );
         swap_frame(&mut self.state, &level, &mut frame);
-        let checked = super::validate_state_trusting_level(&self.state);
+        let checked = super::validate_state_trusting_level(&self.state, &level);
         if checked.is_err() {
             swap_frame(&mut self.state, &level, &mut frame);
         }

@@ -285,6 +285,8 @@ pub(crate) struct Caches {
     pub(crate) body_shapes: body_shapes::BodyShapes,
     /// Stage 2b: the bullets' sweep (`space/ccd.rs`).
     pub(crate) ccd: ccd::CcdCache,
+    /// Stage 13b's buffers (`space/sleep.rs`).
+    pub(crate) sleep: sleep::SleepScratch,
     /// The level's digest and slot runs (`space/level.rs`), computed on
     /// first use; `None` after a change to the level.
     pub(crate) level: core::cell::Cell<Option<level::LevelIndex>>,
@@ -975,6 +977,22 @@ impl Space {
                     "the cached level index is not the state's".into(),
                 ));
             }
+            // Stage 2 skips the level's slots while statics are clean: each
+            // must hold its static entry.
+            if !self.caches.broadphase.statics_dirty {
+                for i in fresh.shape_runs.iter().flat_map(|&(a, b)| a..b) {
+                    let ok = self
+                        .caches
+                        .shapes
+                        .get(i as usize)
+                        .is_some_and(|e| e.as_ref().is_some_and(|e| e.is_static));
+                    if !ok {
+                        return Err(SpaceError::InvalidState(format!(
+                            "level shape slot {i} has no static cache entry"
+                        )));
+                    }
+                }
+            }
         }
         Ok(())
     }
@@ -1021,45 +1039,71 @@ fn adopt_handles(state: &mut WorldState, origin: u32) {
 /// checks nothing, is listed in the field ledger (`space/ledger.rs`), which
 /// the compiler keeps complete.
 pub fn validate_state(state: &WorldState) -> Result<(), String> {
-    validate_state_with(state, false)
+    validate_state_with(state, None)
 }
 
 /// [`validate_state`] for a world whose level (static bodies and their
-/// shapes) is known valid: a frame installed around this world's own
-/// level. The level objects' own checks are skipped; everything that
-/// refers to them is checked as usual.
-pub(crate) fn validate_state_trusting_level(state: &WorldState) -> Result<(), String> {
-    validate_state_with(state, true)
+/// shapes, in `level`'s slots) is known valid: a frame installed around
+/// this world's own level. The level objects' own checks and the arenas'
+/// free lists (checked on the frame's parts before installing,
+/// `ArenaPart::check_bookkeeping`) are skipped; a static body or a static
+/// body's shape outside the level's slots is an error; everything that
+/// refers to the level is checked as usual.
+pub(crate) fn validate_state_trusting_level(
+    state: &WorldState,
+    level: &level::LevelIndex,
+) -> Result<(), String> {
+    validate_state_with(state, Some(level))
 }
 
-fn validate_state_with(state: &WorldState, trust_level: bool) -> Result<(), String> {
-    let in_level = |b: &Body| trust_level && b.body_type() == BodyType::Static;
+fn validate_state_with(
+    state: &WorldState,
+    level: Option<&level::LevelIndex>,
+) -> Result<(), String> {
     state
         .settings
         .validate()
         .map_err(|e| format!("settings: {e}"))?;
     validate_counters(state)?;
-    state
-        .bodies
-        .validate()
-        .map_err(|e| format!("bodies: {e}"))?;
-    state
-        .shapes
-        .validate()
-        .map_err(|e| format!("shapes: {e}"))?;
-    for (h, b) in state.bodies.iter().filter(|(_, b)| !in_level(b)) {
+    if level.is_none() {
+        state
+            .bodies
+            .validate()
+            .map_err(|e| format!("bodies: {e}"))?;
+        state
+            .shapes
+            .validate()
+            .map_err(|e| format!("shapes: {e}"))?;
+    }
+    // With a trusted level, its slots are skipped, and a frame slot may not
+    // add to the level (its digest would no longer be the world's).
+    let (body_runs, shape_runs) = level.map_or((&[][..], &[][..]), |l| {
+        (l.body_runs.as_slice(), l.shape_runs.as_slice())
+    });
+    let bodies = crate::arena::outside_runs(body_runs, state.bodies.capacity_slots() as u32)
+        .filter_map(|i| state.bodies.get_by_index(i));
+    for (h, b) in bodies {
+        if level.is_some() && b.body_type() == BodyType::Static {
+            return Err(format!(
+                "body {h:?}: a frame holds no static body (static bodies are the level)"
+            ));
+        }
         b.validate_derived()
             .map_err(|e| format!("body {h:?}: {e}"))?;
     }
     // Piles repeat one local geometry; checking each distinct run once
     // spares the polygon checks' square roots (exact either way).
     let mut checked: Option<&Geometry> = None;
-    for (h, s) in state.shapes.iter() {
+    let shapes = crate::arena::outside_runs(shape_runs, state.shapes.capacity_slots() as u32)
+        .filter_map(|i| state.shapes.get_by_index(i));
+    for (h, s) in shapes {
         let Some(body) = state.bodies.get(s.body) else {
             return Err(format!("shape {h:?} names missing body {:?}", s.body));
         };
-        if in_level(body) {
-            continue;
+        if level.is_some() && body.body_type() == BodyType::Static {
+            return Err(format!(
+                "shape {h:?}: a frame holds no shape of a static body (they are the level)"
+            ));
         }
         if checked != Some(&s.geometry) {
             s.geometry

@@ -46,17 +46,28 @@ use crate::body::{Body, BodyHandle, BodyType};
 use crate::collision::collide;
 use crate::math::Real;
 
-/// Union–find over body slots with the lowest slot as the representative
-/// (so an island's root is its lowest slot, whatever the union order).
-struct Islands {
+/// Buffers of stage 13b, kept between steps so that a step allocates
+/// nothing once they have grown (contents are rewritten every step).
+#[derive(Default)]
+pub(crate) struct SleepScratch {
     parent: Vec<u32>,
+    restless: Vec<u32>,
+    restless_slot: Vec<bool>,
+    least: Vec<Option<Real>>,
 }
 
-impl Islands {
-    fn new(n: usize) -> Islands {
-        Islands {
-            parent: (0..n as u32).collect(),
-        }
+/// Union–find over body slots with the lowest slot as the representative
+/// (so an island's root is its lowest slot, whatever the union order).
+struct Islands<'a> {
+    parent: &'a mut Vec<u32>,
+}
+
+impl<'a> Islands<'a> {
+    /// `n` singletons, in `parent`'s storage.
+    fn new(parent: &'a mut Vec<u32>, n: usize) -> Islands<'a> {
+        parent.clear();
+        parent.extend(0..n as u32);
+        Islands { parent }
     }
 
     fn find(&mut self, mut i: u32) -> u32 {
@@ -120,8 +131,15 @@ impl Space {
         if awake == 0 {
             return;
         }
-        let mut islands = Islands::new(bodies.capacity_slots());
-        let mut restless: Vec<u32> = Vec::new();
+        let mut scratch = core::mem::take(&mut self.caches.sleep);
+        let SleepScratch {
+            parent,
+            restless,
+            restless_slot,
+            least,
+        } = &mut scratch;
+        let mut islands = Islands::new(parent, bodies.capacity_slots());
+        restless.clear();
         let mut link =
             |a: &Body, ia: u32, b: &Body, ib: u32| match (awake_dynamic(a), awake_dynamic(b)) {
                 (true, true) => islands.union(ia, ib),
@@ -146,8 +164,9 @@ impl Space {
         // Bodies that keep their island awake whatever the threshold (even
         // 0): those touching a moving kinematic body, and those that may
         // not sleep.
-        let mut restless_slot = vec![false; slots];
-        for i in restless {
+        restless_slot.clear();
+        restless_slot.resize(slots, false);
+        for &i in restless.iter() {
             if let Some((_, b)) = bodies.get_by_index_mut(i) {
                 b.sleep.idle_time = Real::ZERO;
             }
@@ -157,7 +176,8 @@ impl Space {
         }
         // The least idle time of each island, at its root (`Real::MIN`, below
         // any threshold, for an island with a restless body).
-        let mut least: Vec<Option<Real>> = vec![None; slots];
+        least.clear();
+        least.resize(slots, None);
         for (h, b) in bodies.iter() {
             if awake_dynamic(b) {
                 let restless = !b.sleep.allowed
@@ -192,6 +212,7 @@ impl Space {
                 fell_asleep = true;
             }
         }
+        self.caches.sleep = scratch;
         if fell_asleep {
             self.park_arbiters();
         }
@@ -516,7 +537,9 @@ impl Space {
         // contacts (live, touching in the last step, not sensors or
         // ignored) and constraints between awake dynamic bodies.
         let bodies = &self.state.bodies;
-        let mut islands = Islands::new(bodies.capacity_slots());
+        // An API call, not per step: its own buffer.
+        let mut parent = Vec::new();
+        let mut islands = Islands::new(&mut parent, bodies.capacity_slots());
         let stamp = self.state.stamp;
         let mut pairs: Vec<(u32, u32, bool)> = Vec::new();
         for a in &self.state.arbiters {

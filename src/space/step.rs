@@ -252,6 +252,7 @@ impl Space {
     fn integrate_positions(&mut self, dt: Real) {
         let custom = &mut self.integrators.position;
         let mut moved_static = false;
+        let mut level_touched = false;
         let mut moved_by_hand = Vec::new();
         for (h, body) in self.state.bodies.iter_mut() {
             if body.is_sleeping() {
@@ -267,8 +268,17 @@ impl Space {
                     }
                     f(body, dt)
                 }
-                None => body.update_position(dt),
+                None => {
+                    // Clearing a static body's bias velocities (set through
+                    // the API) changes the level (`space::level`).
+                    level_touched |= body.body_type() == BodyType::Static
+                        && (body.v_bias != crate::math::Vect::ZERO || !body.w_bias.is_zero());
+                    body.update_position(dt)
+                }
             }
+        }
+        if level_touched {
+            self.forget_level();
         }
         if moved_static {
             self.caches.broadphase.statics_dirty = true;
@@ -302,7 +312,26 @@ impl Space {
         let slots = shapes.capacity_slots();
         caches.resize(slots, None);
         bp.proxies.clear();
-        for (i, entry) in caches.iter_mut().enumerate() {
+        // While the statics are clean, every level slot holds its static
+        // entry already: walk the other slots only, so a big level costs
+        // nothing here (`space::level`; a change to the level flags the
+        // statics, and the walk is then complete).
+        let level = if rewrite_statics {
+            None
+        } else {
+            Some(
+                self.caches
+                    .level
+                    .take()
+                    .unwrap_or_else(|| super::level::LevelIndex::of(&self.state)),
+            )
+        };
+        let skip: &[(u32, u32)] = level.as_ref().map_or(&[], |l| &l.shape_runs);
+        for i in crate::arena::outside_runs(skip, slots as u32) {
+            let Some(entry) = caches.get_mut(i as usize) else {
+                continue;
+            };
+            let i = i as usize;
             let Some((s, body)) = shapes
                 .get_by_index(i as u32)
                 .and_then(|(_, s)| Some((s, bodies.get(s.body)?)))
@@ -344,6 +373,8 @@ impl Space {
             bp.statics_dirty = true;
             // Also a body made static in place (`body_mut`): the level changed.
             self.caches.level.set(None);
+        } else if let Some(level) = level {
+            self.caches.level.set(Some(level));
         }
     }
 
@@ -619,11 +650,18 @@ impl Space {
     fn integrate_velocities(&mut self, dtc: &DtConstants) {
         let g = self.state.settings.gravity;
         let custom = &mut self.integrators.velocity;
+        let mut level_touched = false;
         for (h, body) in self.state.bodies.iter_mut() {
             if body.is_sleeping() {
                 continue;
             }
-            match custom.get_mut(&h) {
+            // A static body is part of the level (`space::level`): a custom
+            // integrator on it, or clearing a force or torque the game set
+            // on it, changes the level.
+            let custom_fn = custom.get_mut(&h);
+            level_touched |= body.body_type() == BodyType::Static
+                && (custom_fn.is_some() || body.f != crate::math::Vect::ZERO || !body.t.is_zero());
+            match custom_fn {
                 Some(f) => f(body, g, dtc.damping, dtc.dt),
                 None => body.update_velocity(g, dtc.damping, dtc.dt),
             }
@@ -631,6 +669,9 @@ impl Space {
                 slot.v = body.velocity();
                 slot.w = body.angular_velocity();
             }
+        }
+        if level_touched {
+            self.forget_level();
         }
     }
 

@@ -149,7 +149,9 @@ proptest! {
                     return Ok(());
                 }
                 for _ in 0..3 {
-                    prop_assert!(w.step(dt()).is_ok());
+                    if let Err(e) = w.step(dt()) {
+                        return Err(TestCaseError::fail(format!("step: {e}")));
+                    }
                 }
                 if let Err(e) = w.validate() {
                     return Err(TestCaseError::fail(format!("valid world stepped into: {e}")));
