@@ -152,6 +152,7 @@
 //! `Shape::body()`, `Arbiter::shapes()`/`bodies()`, handler contexts), or
 //! build them with `Handle::from_raw_parts` (origin 0: accepted by every
 //! space).
+pub(crate) mod compact;
 pub mod diff;
 
 use core::fmt;
@@ -175,7 +176,7 @@ pub const MAGIC: [u8; 8] = *b"TAMIAS2D";
 /// with its sleep record (`sleep`: idle time, optional island root, allowed)
 /// and `bullet` (one byte, [`Body::set_bullet`](crate::body::Body::set_bullet));
 /// the state ends with the dormant arbiters of sleeping islands.
-pub const FORMAT_VERSION: u32 = 5;
+pub const FORMAT_VERSION: u32 = 6;
 
 /// Bytes before the bincode payload: magic, version, checksum (the frame
 /// every Tamias file shares, see [`crate::framing`]).

@@ -1,0 +1,166 @@
+//! The compact binary form of the per-object state (format version 6).
+//!
+//! [`Body`](crate::body::Body), [`Shape`](crate::shape::Shape),
+//! [`Geometry`](crate::shape::Geometry) and
+//! [`Arbiter`](crate::arbiter::Arbiter) have hand-written serde impls with
+//! two forms:
+//! * for a **binary** serializer (`is_human_readable() == false`: bincode,
+//!   so every snapshot, and any other container that encodes these types
+//!   with the snapshot's configuration), a compact tuple: a 32-bit head of
+//!   flags and a *presence mask*, a few fixed integers, then only the `Real`
+//!   words that are not zero, as raw little-endian `i64`s. Fields that are a
+//!   pure function of the stored ones (inverse mass and moment, polygon and
+//!   segment normals, unused polygon vertices, contact slots past the count)
+//!   are not written and are recomputed on decode, exactly as the engine
+//!   computes them;
+//! * for a **human-readable** one (JSON), the plain field-by-field form of
+//!   a serde derive, derived fields included (tests and tools edit that
+//!   form; validation checks the derived fields there as everywhere).
+//!
+//! The encoding is canonical: a word whose mask bit is set must not be
+//! zero, and head bits with no meaning must be clear; the decoder rejects
+//! anything else ([`SnapshotError::Decode`](super::SnapshotError::Decode)),
+//! so one state has one encoding. Decoding never panics and allocates
+//! nothing per object; what it builds is then validated like any state.
+use core::marker::PhantomData;
+
+use serde::de::{self, Deserialize, Deserializer, SeqAccess, Visitor};
+use serde::ser::{SerializeTuple, Serializer};
+
+use crate::math::Real;
+
+/// `1 << i` for `i < 32`; 0 past the top (never asked for).
+#[inline]
+pub(crate) const fn bit(i: usize) -> u32 {
+    match 1u32.checked_shl(i as u32) {
+        Some(b) if i < 32 => b,
+        _ => 0,
+    }
+}
+
+/// The presence mask of `words`: bit `i` set when `words[i]` is not zero
+/// (at most 32 words).
+#[inline]
+pub(crate) fn mask_of(words: &[Real]) -> u32 {
+    words
+        .iter()
+        .enumerate()
+        .fold(0, |m, (i, w)| if w.is_zero() { m } else { m | bit(i) })
+}
+
+/// Number of elements the `mask`ed words take.
+#[inline]
+pub(crate) fn count(mask: u32) -> usize {
+    mask.count_ones() as usize
+}
+
+/// Writes the words of `words` whose bit is set in `mask`, in order.
+#[inline]
+pub(crate) fn write_words<T: SerializeTuple>(
+    t: &mut T,
+    words: &[Real],
+    mask: u32,
+) -> Result<(), T::Error> {
+    for (i, w) in words.iter().enumerate() {
+        if mask & bit(i) != 0 {
+            t.serialize_element(&w.to_bits())?;
+        }
+    }
+    Ok(())
+}
+
+/// A type with a compact binary form, read from a tuple's elements.
+pub(crate) trait Compact: Sized {
+    /// What the decoder expected, for error messages.
+    const EXPECTING: &'static str;
+    /// The most tuple elements the form can take.
+    const MAX_ELEMENTS: usize;
+    /// Reads the value from its elements (the head first).
+    fn read<'de, A: SeqAccess<'de>>(r: &mut Reader<'de, A>) -> Result<Self, A::Error>;
+}
+
+/// The compact form of `T` from a binary deserializer.
+pub(crate) fn deserialize<'de, T: Compact, D: Deserializer<'de>>(d: D) -> Result<T, D::Error> {
+    d.deserialize_tuple(T::MAX_ELEMENTS, Visit::<T>(PhantomData))
+}
+
+struct Visit<T>(PhantomData<fn() -> T>);
+
+impl<'de, T: Compact> Visitor<'de> for Visit<T> {
+    type Value = T;
+
+    fn expecting(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(T::EXPECTING)
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<T, A::Error> {
+        let mut r = Reader {
+            seq,
+            at: 0,
+            expecting: T::EXPECTING,
+            _de: PhantomData,
+        };
+        T::read(&mut r)
+    }
+}
+
+/// The elements of one compact tuple, read in order.
+pub(crate) struct Reader<'de, A> {
+    seq: A,
+    at: usize,
+    expecting: &'static str,
+    _de: PhantomData<&'de ()>,
+}
+
+impl<'de, A: SeqAccess<'de>> Reader<'de, A> {
+    /// The next element.
+    #[inline]
+    pub(crate) fn next<T: Deserialize<'de>>(&mut self) -> Result<T, A::Error> {
+        match self.seq.next_element()? {
+            Some(v) => {
+                self.at = self.at.saturating_add(1);
+                Ok(v)
+            }
+            None => Err(de::Error::invalid_length(self.at, &self.expecting)),
+        }
+    }
+
+    /// A decode error naming the type being read.
+    pub(crate) fn error(&self, what: &str) -> A::Error {
+        de::Error::custom(format_args!("{}: {what}", self.expecting))
+    }
+
+    /// Checks that `head` has no bit outside `allowed`.
+    #[inline]
+    pub(crate) fn check_head(&self, head: u32, allowed: u32) -> Result<(), A::Error> {
+        if head & !allowed == 0 {
+            Ok(())
+        } else {
+            Err(self.error("unknown bits set in the head"))
+        }
+    }
+
+    /// Fills `out`: word `i` is read when bit `i` of `mask` is set (and
+    /// must not be zero: canonical form), zero otherwise.
+    #[inline]
+    pub(crate) fn words(&mut self, mask: u32, out: &mut [Real]) -> Result<(), A::Error> {
+        for (i, w) in out.iter_mut().enumerate() {
+            *w = if mask & bit(i) != 0 {
+                let raw: i64 = self.next()?;
+                if raw == 0 {
+                    return Err(self.error("a word marked present is zero"));
+                }
+                Real::from_bits(raw)
+            } else {
+                Real::ZERO
+            };
+        }
+        Ok(())
+    }
+}
+
+/// Starts the compact tuple of `len` elements.
+#[inline]
+pub(crate) fn tuple<S: Serializer>(s: S, len: usize) -> Result<S::SerializeTuple, S::Error> {
+    s.serialize_tuple(len)
+}
