@@ -114,6 +114,20 @@ fn neg_exact(v: Real) -> Option<Real> {
     v.to_bits().checked_neg().map(Real::from_bits)
 }
 
+/// The form a polygon is written in, with its rectangle when it has one:
+/// centred rectangle when `l = −r` and `b = −t`, else rectangle, else
+/// general. Decoding checks that the polygon it builds has the form it was
+/// read in (one encoding per polygon).
+fn poly_form(p: &Poly) -> (u32, [Real; 4]) {
+    match rect_of(p) {
+        Some([l, b, r, t]) if neg_exact(r) == Some(l) && neg_exact(t) == Some(b) => {
+            (FORM_CENTRED_RECT, [l, b, r, t])
+        }
+        Some(ltrb) => (FORM_RECT, ltrb),
+        None => (FORM_GENERAL, [Real::ZERO; 4]),
+    }
+}
+
 /// Binary (snapshot format 6): a tuple of a `u32` head (see
 /// `GEOM_POLY_COUNT_SHIFT` and around) and the kind's non-zero words as raw
 /// `i64`:
@@ -171,24 +185,19 @@ impl Serialize for Geometry {
                 // A stored count past 15 (only a corrupted in-memory state)
                 // is written as 15, which the decoder rejects.
                 let kind = 2 | u32::from(p.count.min(15)) << GEOM_POLY_COUNT_SHIFT;
-                match rect_of(p) {
-                    Some([l, b, r, t]) if neg_exact(r) == Some(l) && neg_exact(t) == Some(b) => {
-                        [r, t, p.radius].into_iter().for_each(put);
-                        (kind, FORM_CENTRED_RECT)
-                    }
-                    Some([l, b, r, t]) => {
-                        [l, b, r, t, p.radius].into_iter().for_each(put);
-                        (kind, FORM_RECT)
-                    }
-                    None => {
+                let (form, [l, b, r, t]) = poly_form(p);
+                match form {
+                    FORM_CENTRED_RECT => [r, t, p.radius].into_iter().for_each(put),
+                    FORM_RECT => [l, b, r, t, p.radius].into_iter().for_each(put),
+                    _ => {
                         for v in p.verts() {
                             put(v.x);
                             put(v.y);
                         }
                         put(p.radius);
-                        (kind, FORM_GENERAL)
                     }
                 }
+                (kind, form)
             }
         };
         let words = words.get(..n).unwrap_or(&[]);
@@ -242,7 +251,7 @@ impl compact::Compact for Geometry {
         r.words(mask, w.get_mut(..n).unwrap_or(&mut []))?;
         let v = |x: Real, y: Real| Vect::new(x, y);
         let [w0, w1, w2, w3, w4, w5, w6, w7, w8, ..] = w;
-        Ok(match (kind, form) {
+        let geometry = match (kind, form) {
             (0, _) => Geometry::Circle(Circle {
                 offset: v(w0, w1),
                 radius: w2,
@@ -283,7 +292,13 @@ impl compact::Compact for Geometry {
                 let verts = [v(rr, b), v(rr, t), v(l, t), v(l, b)];
                 Geometry::Poly(Poly::from_ccw_unchecked(&verts, w2))
             }
-        })
+        };
+        if let Geometry::Poly(p) = &geometry {
+            if poly_form(p).0 != form {
+                return Err(r.error("a polygon not in its own form"));
+            }
+        }
+        Ok(geometry)
     }
 }
 

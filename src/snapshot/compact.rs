@@ -164,3 +164,96 @@ impl<'de, A: SeqAccess<'de>> Reader<'de, A> {
 pub(crate) fn tuple<S: Serializer>(s: S, len: usize) -> Result<S::SerializeTuple, S::Error> {
     s.serialize_tuple(len)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::CONFIG;
+    use crate::body::Body;
+    use crate::math::{Real, Vect, BB};
+    use crate::shape::{Geometry, Poly, Segment};
+
+    fn encode<T: serde::Serialize>(v: &T) -> Vec<u8> {
+        bincode::serde::encode_to_vec(v, CONFIG).unwrap()
+    }
+
+    fn decode<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> Result<T, String> {
+        match bincode::serde::decode_from_slice::<T, _>(bytes, CONFIG) {
+            Ok((v, n)) if n == bytes.len() => Ok(v),
+            Ok((_, n)) => Err(format!("{n} of {} bytes read", bytes.len())),
+            Err(e) => Err(e.to_string()),
+        }
+    }
+
+    fn v(x: i32, y: i32) -> Vect {
+        Vect::from_ints(x, y)
+    }
+
+    #[test]
+    fn geometry_of_every_form_round_trips_with_its_derived_fields() {
+        let pentagon = Poly::from_ccw(&[v(0, 0), v(2, 0), v(3, 1), v(1, 3), v(-1, 1)], Real::ONE);
+        let cases = [
+            (
+                Geometry::Poly(Poly::new_box(v(3, 0).x, v(1, 0).x, Real::ZERO).unwrap()),
+                4 + 16,
+            ),
+            (
+                Geometry::Poly(
+                    Poly::from_bb(
+                        BB::new(v(1, 0).x, v(2, 0).x, v(4, 0).x, v(3, 0).x),
+                        Real::ONE,
+                    )
+                    .unwrap(),
+                ),
+                4 + 5 * 8,
+            ),
+            // 11 words, three of them zero.
+            (Geometry::Poly(pentagon.unwrap()), 4 + 8 * 8),
+            (
+                Geometry::Segment(
+                    Segment::new(v(1, 2), v(-3, 4), Real::ONE).with_neighbors(v(0, 0), v(5, 5)),
+                ),
+                4 + 9 * 8,
+            ),
+        ];
+        for (g, len) in cases {
+            let bytes = encode(&g);
+            assert_eq!(bytes.len(), len, "{g:?}");
+            assert_eq!(decode::<Geometry>(&bytes), Ok(g));
+            // The derived fields came back: the geometry is valid as stored.
+            assert_eq!(g.validate(), Ok(()));
+        }
+    }
+
+    #[test]
+    fn non_canonical_bytes_do_not_decode() {
+        // A static body at the origin: head, then rot.c (word 11).
+        let body = Body::new_static();
+        let bytes = encode(&body);
+        assert_eq!(bytes.len(), 4 + 8);
+        assert_eq!(decode::<Body>(&bytes), Ok(body));
+        let head = u32::from_le_bytes(bytes[..4].try_into().unwrap());
+        // Word 0 (mass) marked present but zero.
+        let mut zero = (head | 1).to_le_bytes().to_vec();
+        zero.extend_from_slice(&0i64.to_le_bytes());
+        zero.extend_from_slice(&bytes[4..]);
+        assert!(decode::<Body>(&zero).unwrap_err().contains("zero"));
+        // A head bit without a meaning; body type 3.
+        for bad in [head | 1 << 20, head | 3 << 24] {
+            let mut b = bytes.clone();
+            b[..4].copy_from_slice(&bad.to_le_bytes());
+            assert!(decode::<Body>(&b).is_err(), "{bad:#x}");
+        }
+        // A rectangle written in the general form.
+        let bx = Geometry::Poly(Poly::new_box(Real::ONE, Real::ONE, Real::ZERO).unwrap());
+        let half = Real::HALF.to_bits();
+        let mut general = (2u32 | 4 << 2 | 0xff << 8).to_le_bytes().to_vec();
+        for w in [half, -half, half, half, -half, half, -half, -half] {
+            general.extend_from_slice(&w.to_le_bytes());
+        }
+        assert!(decode::<Geometry>(&general).unwrap_err().contains("form"));
+        assert_eq!(decode::<Geometry>(&encode(&bx)), Ok(bx));
+        // A polygon of 9 vertices.
+        let nine = (2u32 | 9 << 2).to_le_bytes();
+        assert!(decode::<Geometry>(&nine).is_err());
+    }
+}
