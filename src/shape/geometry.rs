@@ -340,7 +340,7 @@ impl Segment {
         Segment {
             a,
             b,
-            normal: (b - a).rperp().normalize(),
+            normal: edge_normal((b - a).rperp()),
             radius,
             a_tangent: Vect::ZERO,
             b_tangent: Vect::ZERO,
@@ -383,6 +383,23 @@ pub(crate) fn next_index(i: usize, n: usize) -> usize {
     }
 }
 
+/// `d.normalize()`, bit for bit, without the square root when `d` is
+/// axis-aligned (every rectangle's edges; decoding a snapshot rebuilds the
+/// normals of each polygon): `normalize` scales `(x, 0)` so that the root
+/// of `x²` is exactly `|x|`, and the rounded quotient `x·2^32 / |x|` is
+/// exactly ±1 (±0 for 0), whatever `x`, `i64::MIN` included (a unit test
+/// compares both on the extremes).
+#[inline]
+fn edge_normal(d: Vect) -> Vect {
+    if d.y.is_zero() {
+        Vect::new(d.x.signum(), Real::ZERO)
+    } else if d.x.is_zero() {
+        Vect::new(Real::ZERO, d.y.signum())
+    } else {
+        d.normalize()
+    }
+}
+
 impl Poly {
     /// Builds a polygon from vertices that are already convex and
     /// counter-clockwise, without checks. Callers in this crate validate
@@ -409,7 +426,7 @@ impl Poly {
             let a = self.vert(i);
             let b = self.vert(next_index(i, n));
             if let Some(slot) = self.normals.get_mut(i) {
-                *slot = (b - a).rperp().normalize();
+                *slot = edge_normal((b - a).rperp());
             }
         }
     }
@@ -589,4 +606,37 @@ fn extent_fits(points: &[Vect], radius: Real) -> bool {
         lo >= min && hi <= max && hi.saturating_sub(lo) <= max
     };
     axis(|p| p.x) && axis(|p| p.y)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn edge_normal_is_normalize_bit_for_bit() {
+        let raws = [
+            0,
+            1,
+            -1,
+            2,
+            3,
+            1 << 20,
+            (1 << 32) + 7,
+            1 << 32,
+            -(1 << 40) - 3,
+            i64::MAX,
+            i64::MAX - 1,
+            i64::MIN,
+            i64::MIN + 1,
+            0x5555_5555_5555_5555,
+        ];
+        for raw in raws {
+            let r = Real::from_bits(raw);
+            for d in [Vect::new(r, Real::ZERO), Vect::new(Real::ZERO, r)] {
+                assert_eq!(edge_normal(d), d.normalize(), "{raw}");
+            }
+            let skew = Vect::new(r, Real::from_bits(3));
+            assert_eq!(edge_normal(skew), skew.normalize(), "{raw}");
+        }
+    }
 }

@@ -162,7 +162,7 @@ fn largest_sizes(w: &Space) -> [usize; 3] {
     let base = WorldState::default();
     let empty = snapshot::save_state(&base).len();
     let mut json = ok(serde_json::to_value(w.state()));
-    let mut one = |arena: &str,
+    let one = |arena: &str,
                    pick: &dyn Fn(&serde_json::Value) -> bool,
                    edit: &dyn Fn(&mut serde_json::Value)| {
         let mut slot = json[arena]["slots"]
