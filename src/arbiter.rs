@@ -154,15 +154,21 @@ const ARB_MAX_WORDS: usize = ARB_WORDS + CONTACT_WORDS * MAX_CONTACTS_PER_ARBITE
 const ARB_STATE_SHIFT: u32 = 2;
 const ARB_SENSOR: u32 = 1 << 4;
 const ARB_MASK_SHIFT: u32 = 5;
+/// Head bit 30: a narrow mask follows (bits 25–29 are clear).
+const ARB_NARROW: u32 = 1 << 30;
 
 /// Binary (snapshot format 6): a tuple of
 /// * a `u32` head: bits 0–1 the contact count, 2–3 the state (0
 ///   `FirstCollision`, 1 `Normal`, 2 `Ignore`, 3 `Cached`), bit 4
-///   `sensor`, bits 5.. the presence mask of the words below;
+///   `sensor`, bits 5..25 the presence mask of the words below, bit 30
+///   "narrow mask follows";
+/// * the narrow mask (`u32`, not zero) when bit 30 is set: the present
+///   words whose raw value fits an `i32`;
 /// * shape a, shape b, body a, body b (handles: two `u32` each),
 ///   `warm_start_id` (`u32`), `stamp` (`u64`);
 /// * the feature id (`u32`) of each used contact;
-/// * the non-zero words as raw `i64`: normal (x, y), restitution, friction,
+/// * the non-zero words, raw, as `i32` when narrow and `i64` otherwise:
+///   normal (x, y), restitution, friction,
 ///   surface velocity (x, y), then per used contact r1, r2, dist, jn_acc,
 ///   jt_acc.
 ///
@@ -203,6 +209,7 @@ impl Serialize for Arbiter {
         }
         let words = words.get(..n).unwrap_or(&[]);
         let mask = compact::mask_of(words);
+        let narrow = compact::narrow_of(words, mask);
         let state: u32 = match self.state {
             ArbiterState::FirstCollision => 0,
             ArbiterState::Normal => 1,
@@ -214,12 +221,17 @@ impl Serialize for Arbiter {
         let head = u32::from(self.count.min(3))
             | state << ARB_STATE_SHIFT
             | if self.sensor { ARB_SENSOR } else { 0 }
-            | mask << ARB_MASK_SHIFT;
+            | mask << ARB_MASK_SHIFT
+            | if narrow != 0 { ARB_NARROW } else { 0 };
         let len = compact::count(mask)
             .saturating_add(used.len())
+            .saturating_add(usize::from(narrow != 0))
             .saturating_add(7);
         let mut t = compact::tuple(s, len)?;
         t.serialize_element(&head)?;
+        if narrow != 0 {
+            t.serialize_element(&narrow)?;
+        }
         t.serialize_element(&self.shape_a)?;
         t.serialize_element(&self.shape_b)?;
         t.serialize_element(&self.body_a)?;
@@ -229,7 +241,7 @@ impl Serialize for Arbiter {
         for c in used {
             t.serialize_element(&c.feature_id)?;
         }
-        compact::write_words(&mut t, words, mask)?;
+        compact::write_words(&mut t, words, mask, narrow)?;
         t.end()
     }
 }
@@ -246,7 +258,7 @@ impl<'de> Deserialize<'de> for Arbiter {
 
 impl compact::Compact for Arbiter {
     const EXPECTING: &'static str = "a compact arbiter";
-    const MAX_ELEMENTS: usize = 7 + MAX_CONTACTS_PER_ARBITER + ARB_MAX_WORDS;
+    const MAX_ELEMENTS: usize = 8 + MAX_CONTACTS_PER_ARBITER + ARB_MAX_WORDS;
 
     fn read<'de, A: serde::de::SeqAccess<'de>>(
         r: &mut compact::Reader<'de, A>,
@@ -266,10 +278,19 @@ impl compact::Compact for Arbiter {
         let n = CONTACT_WORDS
             .saturating_mul(count)
             .saturating_add(ARB_WORDS);
-        let mask = head >> ARB_MASK_SHIFT;
+        let mask = (head & !ARB_NARROW) >> ARB_MASK_SHIFT;
         if mask & !compact::bit(n).saturating_sub(1) != 0 {
             return Err(r.error("presence bits past the last word"));
         }
+        let narrow = if head & ARB_NARROW != 0 {
+            let m: u32 = r.next()?;
+            if m == 0 {
+                return Err(r.error("an empty narrow mask"));
+            }
+            m
+        } else {
+            0
+        };
         let shape_a: ShapeHandle = r.next()?;
         let shape_b: ShapeHandle = r.next()?;
         let body_a: BodyHandle = r.next()?;
@@ -281,7 +302,7 @@ impl compact::Compact for Arbiter {
             c.feature_id = r.next()?;
         }
         let mut w = [Real::ZERO; ARB_MAX_WORDS];
-        r.words(mask, w.get_mut(..n).unwrap_or(&mut []))?;
+        r.words(mask, Some(narrow), w.get_mut(..n).unwrap_or(&mut []))?;
         let (head_words, contact_words) = w.split_at(ARB_WORDS);
         let [nx, ny, restitution, friction, sv_x, sv_y] =
             <[Real; ARB_WORDS]>::try_from(head_words).unwrap_or([Real::ZERO; ARB_WORDS]);

@@ -132,20 +132,26 @@ const BODY_EXPLICIT_MASS: u32 = 1 << 26;
 const BODY_SLEEP_ALLOWED: u32 = 1 << 27;
 const BODY_BULLET: u32 = 1 << 28;
 const BODY_ASLEEP: u32 = 1 << 29;
+const BODY_NARROW: u32 = 1 << 30;
 const BODY_HEAD: u32 = ((1 << BODY_WORDS) - 1)
     | (3 << BODY_TYPE_SHIFT)
     | BODY_EXPLICIT_MASS
     | BODY_SLEEP_ALLOWED
     | BODY_BULLET
-    | BODY_ASLEEP;
+    | BODY_ASLEEP
+    | BODY_NARROW;
 
 /// Binary (snapshot format 6): a tuple of
 /// * a `u32` head: bits 0..19 the presence mask of the 19 words below,
 ///   bits 24–25 the body type (0 dynamic, 1 kinematic, 2 static), bit 26
-///   `explicit_mass`, 27 sleep allowed, 28 `bullet`, 29 asleep;
+///   `explicit_mass`, 27 sleep allowed, 28 `bullet`, 29 asleep, 30 "narrow
+///   mask follows";
+/// * the narrow mask (`u32`, not zero) when bit 30 is set: the present
+///   words whose raw value fits an `i32`;
 /// * the island root (`u32`) when asleep;
-/// * the non-zero words as raw `i64`: mass, moment, cog (x, y), p, v, f,
-///   a, rot (c, s), w, t, v_bias, w_bias, idle time.
+/// * the non-zero words, raw, as `i32` when narrow and `i64` otherwise:
+///   mass, moment, cog (x, y), p, v, f, a, rot (c, s), w, t, v_bias,
+///   w_bias, idle time.
 ///
 /// Not stored: `mass_inv` and `moment_inv`, pure functions of the body
 /// type, mass and moment, recomputed on decode: for a dynamic body `recip`,
@@ -181,6 +187,7 @@ impl Serialize for Body {
             self.sleep.idle_time,
         ];
         let mask = compact::mask_of(&words);
+        let narrow = compact::narrow_of(&words, mask);
         let kind: u32 = match self.body_type {
             BodyType::Dynamic => 0,
             BodyType::Kinematic => 1,
@@ -192,19 +199,24 @@ impl Serialize for Body {
             | flag(self.explicit_mass, BODY_EXPLICIT_MASS)
             | flag(self.sleep.allowed, BODY_SLEEP_ALLOWED)
             | flag(self.bullet, BODY_BULLET)
-            | flag(self.sleep.island.is_some(), BODY_ASLEEP);
+            | flag(self.sleep.island.is_some(), BODY_ASLEEP)
+            | flag(narrow != 0, BODY_NARROW);
         let island = usize::from(self.sleep.island.is_some());
         let mut t = compact::tuple(
             s,
             compact::count(mask)
                 .saturating_add(island)
+                .saturating_add(usize::from(narrow != 0))
                 .saturating_add(1),
         )?;
         t.serialize_element(&head)?;
+        if narrow != 0 {
+            t.serialize_element(&narrow)?;
+        }
         if let Some(root) = self.sleep.island {
             t.serialize_element(&root)?;
         }
-        compact::write_words(&mut t, &words, mask)?;
+        compact::write_words(&mut t, &words, mask, narrow)?;
         t.end()
     }
 }
@@ -221,7 +233,7 @@ impl<'de> Deserialize<'de> for Body {
 
 impl compact::Compact for Body {
     const EXPECTING: &'static str = "a compact body";
-    const MAX_ELEMENTS: usize = 2 + BODY_WORDS;
+    const MAX_ELEMENTS: usize = 3 + BODY_WORDS;
 
     fn read<'de, A: serde::de::SeqAccess<'de>>(
         r: &mut compact::Reader<'de, A>,
@@ -234,13 +246,22 @@ impl compact::Compact for Body {
             2 => BodyType::Static,
             _ => return Err(r.error("unknown body type")),
         };
+        let narrow = if head & BODY_NARROW != 0 {
+            let n: u32 = r.next()?;
+            if n == 0 {
+                return Err(r.error("an empty narrow mask"));
+            }
+            n
+        } else {
+            0
+        };
         let island = if head & BODY_ASLEEP != 0 {
             Some(r.next::<u32>()?)
         } else {
             None
         };
         let mut w = [Real::ZERO; BODY_WORDS];
-        r.words(head, &mut w)?;
+        r.words(head & ((1 << BODY_WORDS) - 1), Some(narrow), &mut w)?;
         let [mass, moment, cog_x, cog_y, p_x, p_y, v_x, v_y, f_x, f_y, a, rot_c, rot_s, ang_v, torque, vb_x, vb_y, w_bias, idle_time] =
             w;
         // Derived, see the `Serialize` impl (a kinematic or static body

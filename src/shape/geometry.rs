@@ -205,7 +205,7 @@ impl Serialize for Geometry {
         let head = kind | form << GEOM_FORM_SHIFT | mask << GEOM_MASK_SHIFT;
         let mut t = compact::tuple(s, compact::count(mask).saturating_add(1))?;
         t.serialize_element(&head)?;
-        compact::write_words(&mut t, words, mask)?;
+        compact::write_words(&mut t, words, mask, 0)?;
         t.end()
     }
 }
@@ -248,7 +248,7 @@ impl compact::Compact for Geometry {
             return Err(r.error("presence bits past the last word"));
         }
         let mut w = [Real::ZERO; GEOM_MAX_WORDS];
-        r.words(mask, w.get_mut(..n).unwrap_or(&mut []))?;
+        r.words(mask, None, w.get_mut(..n).unwrap_or(&mut []))?;
         let v = |x: Real, y: Real| Vect::new(x, y);
         let [w0, w1, w2, w3, w4, w5, w6, w7, w8, ..] = w;
         let geometry = match (kind, form) {

@@ -316,7 +316,7 @@ impl Serialize for Shape {
         if collision_type {
             t.serialize_element(&self.collision_type)?;
         }
-        compact::write_words(&mut t, &words, mask)?;
+        compact::write_words(&mut t, &words, mask, 0)?;
         t.serialize_element(&self.geometry)?;
         t.end()
     }
@@ -361,7 +361,7 @@ impl compact::Compact for Shape {
             0
         };
         let mut w = [Real::ZERO; SHAPE_WORDS];
-        r.words(head, &mut w)?;
+        r.words(head, None, &mut w)?;
         let [friction, elasticity, sv_x, sv_y, spec] = w;
         let mass_spec = match (head >> SHAPE_MASS_SHIFT) & 3 {
             0 if spec.is_zero() => MassSpec::None,

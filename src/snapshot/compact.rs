@@ -8,7 +8,9 @@
 //!   so every snapshot, and any other container that encodes these types
 //!   with the snapshot's configuration), a compact tuple: a 32-bit head of
 //!   flags and a *presence mask*, a few fixed integers, then only the `Real`
-//!   words that are not zero, as raw little-endian `i64`s. Fields that are a
+//!   words that are not zero, as raw little-endian integers: 4 bytes when
+//!   the raw value fits an `i32` (|x| < 0.5; bodies and arbiters, with a
+//!   *narrow mask*), 8 otherwise. Fields that are a
 //!   pure function of the stored ones (inverse mass and moment, polygon and
 //!   segment normals, unused polygon vertices, contact slots past the count)
 //!   are not written and are recomputed on decode, exactly as the engine
@@ -18,7 +20,8 @@
 //!   form; validation checks the derived fields there as everywhere).
 //!
 //! The encoding is canonical: a word whose mask bit is set must not be
-//! zero, and head bits with no meaning must be clear; the decoder rejects
+//! zero, a word written in 8 bytes must not fit 4 (where the type has a
+//! narrow mask), and head bits with no meaning must be clear; the decoder rejects
 //! anything else ([`SnapshotError::Decode`](super::SnapshotError::Decode)),
 //! so one state has one encoding. Decoding never panics and allocates
 //! nothing per object; what it builds is then validated like any state.
@@ -54,16 +57,36 @@ pub(crate) fn count(mask: u32) -> usize {
     mask.count_ones() as usize
 }
 
-/// Writes the words of `words` whose bit is set in `mask`, in order.
+/// The narrow mask of `words` within `mask`: bit `i` set when word `i` is
+/// present and its raw value fits an `i32` (written in 4 bytes).
+#[inline]
+pub(crate) fn narrow_of(words: &[Real], mask: u32) -> u32 {
+    words.iter().enumerate().fold(0, |m, (i, w)| {
+        if mask & bit(i) != 0 && i32::try_from(w.to_bits()).is_ok() {
+            m | bit(i)
+        } else {
+            m
+        }
+    })
+}
+
+/// Writes the words of `words` whose bit is set in `mask`, in order: as an
+/// `i32` when their bit is set in `narrow`, as an `i64` otherwise.
 #[inline]
 pub(crate) fn write_words<T: SerializeTuple>(
     t: &mut T,
     words: &[Real],
     mask: u32,
+    narrow: u32,
 ) -> Result<(), T::Error> {
     for (i, w) in words.iter().enumerate() {
-        if mask & bit(i) != 0 {
-            t.serialize_element(&w.to_bits())?;
+        if mask & bit(i) == 0 {
+            continue;
+        }
+        let raw = w.to_bits();
+        match i32::try_from(raw) {
+            Ok(small) if narrow & bit(i) != 0 => t.serialize_element(&small)?,
+            _ => t.serialize_element(&raw)?,
         }
     }
     Ok(())
@@ -140,19 +163,42 @@ impl<'de, A: SeqAccess<'de>> Reader<'de, A> {
         }
     }
 
-    /// Fills `out`: word `i` is read when bit `i` of `mask` is set (and
-    /// must not be zero: canonical form), zero otherwise.
+    /// Fills `out`: word `i` is read when bit `i` of `mask` is set, zero
+    /// otherwise. With a narrow mask (`Some`: bodies, arbiters) a word is
+    /// an `i32` when its bit is set there and an `i64` otherwise; without
+    /// one (`None`: shapes, geometry) always an `i64`. Canonical form: a
+    /// present word is not zero; with a narrow mask, a wide word does not
+    /// fit an `i32` and the narrow mask has no bit outside `mask`.
     #[inline]
-    pub(crate) fn words(&mut self, mask: u32, out: &mut [Real]) -> Result<(), A::Error> {
+    pub(crate) fn words(
+        &mut self,
+        mask: u32,
+        narrow: Option<u32>,
+        out: &mut [Real],
+    ) -> Result<(), A::Error> {
+        let narrowing = narrow.is_some();
+        let narrow = narrow.unwrap_or(0);
+        if narrow & !mask != 0 {
+            return Err(self.error("a narrow word that is not present"));
+        }
         for (i, w) in out.iter_mut().enumerate() {
-            *w = if mask & bit(i) != 0 {
+            *w = if mask & bit(i) == 0 {
+                Real::ZERO
+            } else if narrow & bit(i) != 0 {
+                let raw: i32 = self.next()?;
+                if raw == 0 {
+                    return Err(self.error("a word marked present is zero"));
+                }
+                Real::from_bits(i64::from(raw))
+            } else {
                 let raw: i64 = self.next()?;
                 if raw == 0 {
                     return Err(self.error("a word marked present is zero"));
                 }
+                if narrowing && i32::try_from(raw).is_ok() {
+                    return Err(self.error("a wide word that fits 4 bytes"));
+                }
                 Real::from_bits(raw)
-            } else {
-                Real::ZERO
             };
         }
         Ok(())
@@ -215,6 +261,14 @@ mod tests {
                 4 + 9 * 8,
             ),
         ];
+        // Small words (they fit 4 bytes) are still written in 8: geometry
+        // has no narrow mask.
+        let quarter = Real::from_bits(1 << 30);
+        let small = Geometry::Circle(crate::shape::Circle::new(
+            quarter,
+            Vect::new(-quarter, Real::from_bits(3)),
+        ));
+        let cases = cases.into_iter().chain([(small, 4 + 3 * 8)]);
         for (g, len) in cases {
             let bytes = encode(&g);
             assert_eq!(bytes.len(), len, "{g:?}");
@@ -252,6 +306,35 @@ mod tests {
         }
         assert!(decode::<Geometry>(&general).unwrap_err().contains("form"));
         assert_eq!(decode::<Geometry>(&encode(&bx)), Ok(bx));
+        // Narrow words: a body at rest near the origin with a small spin.
+        let mut moving = Body::new(Real::ONE, Real::ONE).unwrap();
+        moving.set_velocity(Vect::new(Real::from_bits(-5), Real::from_bits(1 << 31)));
+        moving.set_angular_velocity(Real::from_bits(i64::from(i32::MIN)));
+        let bytes = encode(&moving);
+        // head, narrow mask, mass, moment, rot.c (wide), v.x, w (narrow),
+        // v.y (2^31: wide).
+        assert_eq!(bytes.len(), 4 + 4 + 3 * 8 + 2 * 4 + 8);
+        assert_eq!(decode::<Body>(&bytes), Ok(moving.clone()));
+        // The same body with v.x written wide: not canonical.
+        let head = u32::from_le_bytes(bytes[..4].try_into().unwrap());
+        let narrow = u32::from_le_bytes(bytes[4..8].try_into().unwrap());
+        let v_x = 1 << 6;
+        assert_ne!(narrow & v_x, 0);
+        let mut wide = bytes[..4].to_vec();
+        wide.extend_from_slice(&(narrow & !v_x).to_le_bytes());
+        wide.extend_from_slice(&bytes[8..24]); // mass, moment
+        wide.extend_from_slice(&(-5i64).to_le_bytes());
+        wide.extend_from_slice(&bytes[28..]); // v.y, rot.c, w
+        assert!(
+            decode::<Body>(&wide).unwrap_err().contains("fits"),
+            "{head:#x}"
+        );
+        // A narrow bit for an absent word; an empty narrow mask.
+        for bad in [narrow | 1 << 2, 0] {
+            let mut b = bytes.clone();
+            b[4..8].copy_from_slice(&bad.to_le_bytes());
+            assert!(decode::<Body>(&b).is_err(), "{bad:#x}");
+        }
         // A polygon of 9 vertices.
         let nine = (2u32 | 9 << 2).to_le_bytes();
         assert!(decode::<Geometry>(&nine).is_err());

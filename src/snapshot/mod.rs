@@ -45,10 +45,14 @@
 //! configuration gets it too): a tuple of a `u32` head, holding the
 //! object's flags and small enums and a *presence mask* with one bit per
 //! `Real` word, a few fixed integers, then only the words that are not
-//! zero, as raw `i64`:
+//! zero, raw; a body's or an arbiter's head may announce a *narrow mask*
+//! (`u32`) of the present words whose raw value fits an `i32` (|x| < 0.5:
+//! velocities, small angles, depths, impulses), written in 4 bytes, the
+//! others in 8 (shape and geometry words always in 8):
 //! ```text
 //! body     head (mask of 19 words; type, explicit mass, sleep allowed,
-//!          bullet, asleep), [island root u32], words: mass, moment, cog,
+//!          bullet, asleep, narrow), [narrow mask u32], [island root
+//!          u32], words: mass, moment, cog,
 //!          p, v, f, a, rot, w, t, v_bias, w_bias, idle time
 //! shape    head (mask of 5 words; mass spec kind, sensor, filter and
 //!          collision type stored), body handle, [filter 3×u32],
@@ -58,8 +62,8 @@
 //!          offset, radius | segment a, b, radius, tangents | polygon
 //!          the used vertices, radius (a rectangle: l, b, r, t, radius;
 //!          a centred one: r, t, radius)
-//! arbiter  head (count, state, sensor, mask of 6 + 7 per contact words),
-//!          shapes, bodies (4 handles), warm-start id u32, stamp u64, a
+//! arbiter  head (count, state, sensor, mask of 6 + 7 per contact words,
+//!          narrow), [narrow mask u32], shapes, bodies (4 handles), warm-start id u32, stamp u64, a
 //!          feature id u32 per contact, words: normal, restitution,
 //!          friction, surface velocity, then r1, r2, dist, jn_acc, jt_acc
 //!          per contact
@@ -69,7 +73,9 @@
 //! unused vertex slots, an arbiter's contact slots past its count. Decoding
 //! recomputes them exactly as the engine does (`recip` or 0; the
 //! constructors' normals; zeros). The encoding is canonical: a word marked
-//! present must not be zero, head bits without a meaning must be clear, a
+//! present must not be zero, a body's or arbiter's word written in 8 bytes
+//! must not fit 4, a narrow mask must not be empty or name an absent word,
+//! head bits without a meaning must be clear, a
 //! polygon has at most 8 vertices and an arbiter at most 2 contacts;
 //! anything else is a [`SnapshotError::Decode`]. Human-readable
 //! serializers (JSON) get every field instead, as a serde derive would
@@ -220,7 +226,8 @@ pub const MAGIC: [u8; 8] = *b"TAMIAS2D";
 /// the state ends with the dormant arbiters of sleeping islands. Version
 /// 6: bodies, shapes (with their geometry) and arbiters in their compact
 /// form (see "Format" in the module docs): a head of flags and a presence
-/// mask, only the non-zero words; no inverse mass or moment, no normals,
+/// mask, only the non-zero words (a body's or arbiter's in 4 bytes when
+/// they fit); no inverse mass or moment, no normals,
 /// no unused polygon vertices or contact slots (recomputed on decode).
 pub const FORMAT_VERSION: u32 = 6;
 
