@@ -33,6 +33,7 @@ use crate::body::BodyHandle;
 use crate::collision::{CollisionInfo, WarmStartId, MAX_CONTACTS_PER_ARBITER};
 use crate::math::{Real, Vect};
 use crate::shape::{Shape, ShapeHandle};
+use crate::snapshot::compact;
 
 /// One point of an arbiter's contact manifold: the **persistent** state of
 /// one contact, kept in the arbiter from step to step (and serialized in
@@ -90,7 +91,12 @@ pub enum ArbiterState {
 }
 
 /// The persistent contact state of a shape pair (Chipmunk `cpArbiter`).
-#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+///
+/// Serde: a binary serializer (snapshots) gets the compact form of
+/// [`snapshot`](crate::snapshot) format version 6 (only the used contacts,
+/// zero words left out; see the `Serialize` impl); a human-readable one
+/// every field, as a derive would.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Arbiter {
     pub(crate) shape_a: ShapeHandle,
     pub(crate) shape_b: ShapeHandle,
@@ -114,6 +120,223 @@ pub struct Arbiter {
     pub(crate) state: ArbiterState,
     /// True while the pair involves a sensor (callbacks only, no solving).
     pub(crate) sensor: bool,
+}
+
+/// The field-by-field serde form of [`Arbiter`] (a derive's), used for
+/// human-readable formats.
+#[derive(Serialize, Deserialize)]
+#[serde(remote = "Arbiter", rename = "Arbiter")]
+struct ArbiterFields {
+    shape_a: ShapeHandle,
+    shape_b: ShapeHandle,
+    body_a: BodyHandle,
+    body_b: BodyHandle,
+    normal: Vect,
+    count: u8,
+    contacts: [ManifoldPoint; MAX_CONTACTS_PER_ARBITER],
+    restitution: Real,
+    friction: Real,
+    surface_velocity: Vect,
+    warm_start_id: WarmStartId,
+    stamp: u64,
+    state: ArbiterState,
+    sensor: bool,
+}
+
+/// Words of the compact form before the contacts: normal (x, y),
+/// restitution, friction, surface velocity (x, y).
+const ARB_WORDS: usize = 6;
+/// Words per used contact: r1 (x, y), r2 (x, y), dist, jn_acc, jt_acc.
+const CONTACT_WORDS: usize = 7;
+const ARB_MAX_WORDS: usize = ARB_WORDS + CONTACT_WORDS * MAX_CONTACTS_PER_ARBITER;
+/// Head: the contact count (bits 0–1), the state (bits 2–3), `sensor`
+/// (bit 4), then the presence mask of the words from bit 5.
+const ARB_STATE_SHIFT: u32 = 2;
+const ARB_SENSOR: u32 = 1 << 4;
+const ARB_MASK_SHIFT: u32 = 5;
+/// Head bit 30: a narrow mask follows (bits 25–29 are clear).
+const ARB_NARROW: u32 = 1 << 30;
+
+/// Binary (snapshot format 6): a tuple of
+/// * a `u32` head: bits 0–1 the contact count, 2–3 the state (0
+///   `FirstCollision`, 1 `Normal`, 2 `Ignore`, 3 `Cached`), bit 4
+///   `sensor`, bits 5..25 the presence mask of the words below, bit 30
+///   "narrow mask follows";
+/// * the narrow mask (`u32`, not zero) when bit 30 is set: the present
+///   words whose raw value fits an `i32`;
+/// * shape a, shape b, body a, body b (handles: two `u32` each),
+///   `warm_start_id` (`u32`), `stamp` (`u64`);
+/// * the feature id (`u32`) of each used contact;
+/// * the non-zero words, raw, as `i32` when narrow and `i64` otherwise:
+///   normal (x, y), restitution, friction,
+///   surface velocity (x, y), then per used contact r1, r2, dist, jn_acc,
+///   jt_acc.
+///
+/// Not stored: the contact slots past the count, which the narrowphase
+/// clears (`Arbiter::update`; validation demands it) and decoding leaves at
+/// their default. The bodies are copies of the shapes' bodies (validation
+/// checks that) but are stored: the shapes are not at hand when one
+/// arbiter is decoded. Human-readable: the derive's form.
+impl Serialize for Arbiter {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeTuple;
+        if s.is_human_readable() {
+            return ArbiterFields::serialize(self, s);
+        }
+        let used = self.contacts();
+        let mut words = [Real::ZERO; ARB_MAX_WORDS];
+        let mut n = 0usize;
+        let mut put = |w: Real| {
+            if let Some(slot) = words.get_mut(n) {
+                *slot = w;
+                n = n.saturating_add(1);
+            }
+        };
+        [
+            self.normal.x,
+            self.normal.y,
+            self.restitution,
+            self.friction,
+            self.surface_velocity.x,
+            self.surface_velocity.y,
+        ]
+        .into_iter()
+        .for_each(&mut put);
+        for c in used {
+            [c.r1.x, c.r1.y, c.r2.x, c.r2.y, c.dist, c.jn_acc, c.jt_acc]
+                .into_iter()
+                .for_each(&mut put);
+        }
+        let words = words.get(..n).unwrap_or(&[]);
+        let mask = compact::mask_of(words);
+        let narrow = compact::narrow_of(words, mask);
+        let state: u32 = match self.state {
+            ArbiterState::FirstCollision => 0,
+            ArbiterState::Normal => 1,
+            ArbiterState::Ignore => 2,
+            ArbiterState::Cached => 3,
+        };
+        // A count past 3 (only a corrupted in-memory state) is written as
+        // 3, which the decoder rejects.
+        let head = u32::from(self.count.min(3))
+            | state << ARB_STATE_SHIFT
+            | if self.sensor { ARB_SENSOR } else { 0 }
+            | mask << ARB_MASK_SHIFT
+            | if narrow != 0 { ARB_NARROW } else { 0 };
+        let len = compact::count(mask)
+            .saturating_add(used.len())
+            .saturating_add(usize::from(narrow != 0))
+            .saturating_add(7);
+        let mut t = compact::tuple(s, len)?;
+        t.serialize_element(&head)?;
+        if narrow != 0 {
+            t.serialize_element(&narrow)?;
+        }
+        t.serialize_element(&self.shape_a)?;
+        t.serialize_element(&self.shape_b)?;
+        t.serialize_element(&self.body_a)?;
+        t.serialize_element(&self.body_b)?;
+        t.serialize_element(&self.warm_start_id)?;
+        t.serialize_element(&self.stamp)?;
+        for c in used {
+            t.serialize_element(&c.feature_id)?;
+        }
+        compact::write_words(&mut t, words, mask, narrow)?;
+        t.end()
+    }
+}
+
+impl<'de> Deserialize<'de> for Arbiter {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Arbiter, D::Error> {
+        if d.is_human_readable() {
+            ArbiterFields::deserialize(d)
+        } else {
+            compact::deserialize(d)
+        }
+    }
+}
+
+impl compact::Compact for Arbiter {
+    const EXPECTING: &'static str = "a compact arbiter";
+    const MAX_ELEMENTS: usize = 8 + MAX_CONTACTS_PER_ARBITER + ARB_MAX_WORDS;
+
+    fn read<'de, A: serde::de::SeqAccess<'de>>(
+        r: &mut compact::Reader<'de, A>,
+    ) -> Result<Arbiter, A::Error> {
+        let head: u32 = r.next()?;
+        let count = (head & 3) as usize;
+        if count > MAX_CONTACTS_PER_ARBITER {
+            return Err(r.error("too many contacts"));
+        }
+        let state = match (head >> ARB_STATE_SHIFT) & 3 {
+            0 => ArbiterState::FirstCollision,
+            1 => ArbiterState::Normal,
+            2 => ArbiterState::Ignore,
+            _ => ArbiterState::Cached,
+        };
+        // count ≤ 2: at most 6 + 14 words.
+        let n = CONTACT_WORDS
+            .saturating_mul(count)
+            .saturating_add(ARB_WORDS);
+        let mask = (head & !ARB_NARROW) >> ARB_MASK_SHIFT;
+        if mask & !compact::bit(n).saturating_sub(1) != 0 {
+            return Err(r.error("presence bits past the last word"));
+        }
+        let narrow = if head & ARB_NARROW != 0 {
+            let m: u32 = r.next()?;
+            if m == 0 {
+                return Err(r.error("an empty narrow mask"));
+            }
+            m
+        } else {
+            0
+        };
+        let shape_a: ShapeHandle = r.next()?;
+        let shape_b: ShapeHandle = r.next()?;
+        let body_a: BodyHandle = r.next()?;
+        let body_b: BodyHandle = r.next()?;
+        let warm_start_id: WarmStartId = r.next()?;
+        let stamp: u64 = r.next()?;
+        let mut contacts = [ManifoldPoint::default(); MAX_CONTACTS_PER_ARBITER];
+        for c in contacts.iter_mut().take(count) {
+            c.feature_id = r.next()?;
+        }
+        let mut w = [Real::ZERO; ARB_MAX_WORDS];
+        r.words(mask, Some(narrow), w.get_mut(..n).unwrap_or(&mut []))?;
+        let (head_words, contact_words) = w.split_at(ARB_WORDS);
+        let [nx, ny, restitution, friction, sv_x, sv_y] =
+            <[Real; ARB_WORDS]>::try_from(head_words).unwrap_or([Real::ZERO; ARB_WORDS]);
+        for (c, cw) in contacts
+            .iter_mut()
+            .zip(contact_words.chunks_exact(CONTACT_WORDS))
+            .take(count)
+        {
+            if let [r1x, r1y, r2x, r2y, dist, jn, jt] = *cw {
+                c.r1 = Vect::new(r1x, r1y);
+                c.r2 = Vect::new(r2x, r2y);
+                c.dist = dist;
+                c.jn_acc = jn;
+                c.jt_acc = jt;
+            }
+        }
+        Ok(Arbiter {
+            shape_a,
+            shape_b,
+            body_a,
+            body_b,
+            normal: Vect::new(nx, ny),
+            // count ≤ 2 (checked above).
+            count: count as u8,
+            contacts,
+            restitution,
+            friction,
+            surface_velocity: Vect::new(sv_x, sv_y),
+            warm_start_id,
+            stamp,
+            state,
+            sensor: head & ARB_SENSOR != 0,
+        })
+    }
 }
 
 impl Arbiter {

@@ -25,6 +25,7 @@ use crate::arena::Handle;
 use crate::math::real::FRAC_BITS;
 use crate::math::wide::{saturate_to_real, wide_mul, I256};
 use crate::math::{Real, Rot, Vect};
+use crate::snapshot::compact;
 
 /// Handle of a body in a [`Space`](crate::space::Space).
 pub type BodyHandle = Handle<Body>;
@@ -58,7 +59,12 @@ impl fmt::Display for BodyError {
 impl std::error::Error for BodyError {}
 
 /// A rigid body.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+///
+/// Serde: a binary serializer (snapshots) gets the compact form of
+/// [`snapshot`](crate::snapshot) format version 6 (inverse mass and moment
+/// not stored but recomputed, zero words left out); a human-readable one
+/// every field (see `Body`'s `Serialize` impl).
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Body {
     pub(crate) body_type: BodyType,
     pub(crate) mass: Real,
@@ -88,6 +94,211 @@ pub struct Body {
     /// Continuous collision ([`Body::set_bullet`]): the step sweeps this
     /// body's shapes against static and kinematic shapes.
     pub(crate) bullet: bool,
+}
+
+/// The field-by-field serde form of [`Body`] (a derive's), used for
+/// human-readable formats.
+#[derive(Serialize, Deserialize)]
+#[serde(remote = "Body", rename = "Body")]
+struct BodyFields {
+    body_type: BodyType,
+    mass: Real,
+    mass_inv: Real,
+    moment: Real,
+    moment_inv: Real,
+    explicit_mass: bool,
+    cog: Vect,
+    p: Vect,
+    v: Vect,
+    f: Vect,
+    a: Real,
+    rot: Rot,
+    w: Real,
+    t: Real,
+    v_bias: Vect,
+    w_bias: Real,
+    sleep: SleepState,
+    bullet: bool,
+}
+
+/// Words of the compact form, in order (bit `i` of the presence mask is
+/// word `i`): mass, moment, cog, p, v, f, a, rot (c, s), w, t, v_bias,
+/// w_bias, idle time.
+const BODY_WORDS: usize = 19;
+/// Head bits above the presence mask: the body type (2 bits: dynamic,
+/// kinematic, static), then one bit each.
+const BODY_TYPE_SHIFT: u32 = 24;
+const BODY_EXPLICIT_MASS: u32 = 1 << 26;
+const BODY_SLEEP_ALLOWED: u32 = 1 << 27;
+const BODY_BULLET: u32 = 1 << 28;
+const BODY_ASLEEP: u32 = 1 << 29;
+const BODY_NARROW: u32 = 1 << 30;
+const BODY_HEAD: u32 = ((1 << BODY_WORDS) - 1)
+    | (3 << BODY_TYPE_SHIFT)
+    | BODY_EXPLICIT_MASS
+    | BODY_SLEEP_ALLOWED
+    | BODY_BULLET
+    | BODY_ASLEEP
+    | BODY_NARROW;
+
+/// Binary (snapshot format 6): a tuple of
+/// * a `u32` head: bits 0..19 the presence mask of the 19 words below,
+///   bits 24–25 the body type (0 dynamic, 1 kinematic, 2 static), bit 26
+///   `explicit_mass`, 27 sleep allowed, 28 `bullet`, 29 asleep, 30 "narrow
+///   mask follows";
+/// * the narrow mask (`u32`, not zero) when bit 30 is set: the present
+///   words whose raw value fits an `i32`;
+/// * the island root (`u32`) when asleep;
+/// * the non-zero words, raw, as `i32` when narrow and `i64` otherwise:
+///   mass, moment, cog (x, y), p, v, f, a, rot (c, s), w, t, v_bias,
+///   w_bias, idle time.
+///
+/// Not stored: `mass_inv` and `moment_inv`, pure functions of the body
+/// type, mass and moment, recomputed on decode: for a dynamic body `recip`,
+/// 0 for 0 (`Body::set_mass_properties`, `Body::set_mass` and
+/// `Body::set_moment`, the only writers, compute exactly that), for a
+/// kinematic or static body 0 (set by its constructor, never written
+/// again; validation demands it). Human-readable: every field, as a derive would.
+impl Serialize for Body {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeTuple;
+        if s.is_human_readable() {
+            return BodyFields::serialize(self, s);
+        }
+        let words = [
+            self.mass,
+            self.moment,
+            self.cog.x,
+            self.cog.y,
+            self.p.x,
+            self.p.y,
+            self.v.x,
+            self.v.y,
+            self.f.x,
+            self.f.y,
+            self.a,
+            self.rot.c,
+            self.rot.s,
+            self.w,
+            self.t,
+            self.v_bias.x,
+            self.v_bias.y,
+            self.w_bias,
+            self.sleep.idle_time,
+        ];
+        let mask = compact::mask_of(&words);
+        let narrow = compact::narrow_of(&words, mask);
+        let kind: u32 = match self.body_type {
+            BodyType::Dynamic => 0,
+            BodyType::Kinematic => 1,
+            BodyType::Static => 2,
+        };
+        let flag = |on: bool, bit: u32| if on { bit } else { 0 };
+        let head = mask
+            | kind << BODY_TYPE_SHIFT
+            | flag(self.explicit_mass, BODY_EXPLICIT_MASS)
+            | flag(self.sleep.allowed, BODY_SLEEP_ALLOWED)
+            | flag(self.bullet, BODY_BULLET)
+            | flag(self.sleep.island.is_some(), BODY_ASLEEP)
+            | flag(narrow != 0, BODY_NARROW);
+        let island = usize::from(self.sleep.island.is_some());
+        let mut t = compact::tuple(
+            s,
+            compact::count(mask)
+                .saturating_add(island)
+                .saturating_add(usize::from(narrow != 0))
+                .saturating_add(1),
+        )?;
+        t.serialize_element(&head)?;
+        if narrow != 0 {
+            t.serialize_element(&narrow)?;
+        }
+        if let Some(root) = self.sleep.island {
+            t.serialize_element(&root)?;
+        }
+        compact::write_words(&mut t, &words, mask, narrow)?;
+        t.end()
+    }
+}
+
+impl<'de> Deserialize<'de> for Body {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Body, D::Error> {
+        if d.is_human_readable() {
+            BodyFields::deserialize(d)
+        } else {
+            compact::deserialize(d)
+        }
+    }
+}
+
+impl compact::Compact for Body {
+    const EXPECTING: &'static str = "a compact body";
+    const MAX_ELEMENTS: usize = 3 + BODY_WORDS;
+
+    fn read<'de, A: serde::de::SeqAccess<'de>>(
+        r: &mut compact::Reader<'de, A>,
+    ) -> Result<Body, A::Error> {
+        let head: u32 = r.next()?;
+        r.check_head(head, BODY_HEAD)?;
+        let body_type = match (head >> BODY_TYPE_SHIFT) & 3 {
+            0 => BodyType::Dynamic,
+            1 => BodyType::Kinematic,
+            2 => BodyType::Static,
+            _ => return Err(r.error("unknown body type")),
+        };
+        let narrow = if head & BODY_NARROW != 0 {
+            let n: u32 = r.next()?;
+            if n == 0 {
+                return Err(r.error("an empty narrow mask"));
+            }
+            n
+        } else {
+            0
+        };
+        let island = if head & BODY_ASLEEP != 0 {
+            Some(r.next::<u32>()?)
+        } else {
+            None
+        };
+        let mut w = [Real::ZERO; BODY_WORDS];
+        r.words(head & ((1 << BODY_WORDS) - 1), Some(narrow), &mut w)?;
+        let [mass, moment, cog_x, cog_y, p_x, p_y, v_x, v_y, f_x, f_y, a, rot_c, rot_s, ang_v, torque, vb_x, vb_y, w_bias, idle_time] =
+            w;
+        // Derived, see the `Serialize` impl (a kinematic or static body
+        // with a mass is left to validation to name).
+        let dynamic = body_type == BodyType::Dynamic;
+        let derive = |v: Real| {
+            if dynamic {
+                inverse_or_zero(v)
+            } else {
+                Real::ZERO
+            }
+        };
+        Ok(Body {
+            body_type,
+            mass,
+            mass_inv: derive(mass),
+            moment,
+            moment_inv: derive(moment),
+            explicit_mass: head & BODY_EXPLICIT_MASS != 0,
+            cog: Vect::new(cog_x, cog_y),
+            p: Vect::new(p_x, p_y),
+            v: Vect::new(v_x, v_y),
+            f: Vect::new(f_x, f_y),
+            a,
+            rot: Rot { c: rot_c, s: rot_s },
+            w: ang_v,
+            t: torque,
+            v_bias: Vect::new(vb_x, vb_y),
+            w_bias,
+            sleep: SleepState {
+                idle_time,
+                island,
+                allowed: head & BODY_SLEEP_ALLOWED != 0,
+            },
+            bullet: head & BODY_BULLET != 0,
+        })
+    }
 }
 
 /// A body's part in sleeping (Chipmunk's `sleeping` record, Box2D's

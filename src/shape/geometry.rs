@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use super::ShapeError;
 use crate::math::{Real, Rot, Vect, BB};
+use crate::snapshot::compact;
 
 /// The most vertices a polygon may have (Box2D uses the same bound). Inline
 /// storage keeps geometry `Copy` and the per-step world-space update free of
@@ -57,7 +58,12 @@ pub struct Poly {
 }
 
 /// The geometry of one shape.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+///
+/// Serde: a binary serializer (snapshots) gets the compact form of
+/// [`snapshot`](crate::snapshot) format version 6 (no normals, only the
+/// used polygon vertices, zero words left out; see the `Serialize` impl);
+/// a human-readable one every field, as a derive would.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Geometry {
     /// A circle.
     Circle(Circle),
@@ -65,6 +71,235 @@ pub enum Geometry {
     Segment(Segment),
     /// A convex polygon.
     Poly(Poly),
+}
+
+/// The variant-by-variant serde form of [`Geometry`] (a derive's), used
+/// for human-readable formats.
+#[derive(Serialize, Deserialize)]
+#[serde(remote = "Geometry", rename = "Geometry")]
+enum GeometryFields {
+    Circle(Circle),
+    Segment(Segment),
+    Poly(Poly),
+}
+
+/// Head of the compact form: the kind (bits 0–1: circle, segment,
+/// polygon), a polygon's vertex count (bits 2–5) and form (bits 6–7:
+/// general, axis-aligned rectangle, centred axis-aligned rectangle), then
+/// the presence mask of the kind's words from bit 8.
+const GEOM_POLY_COUNT_SHIFT: u32 = 2;
+const GEOM_FORM_SHIFT: u32 = 6;
+const GEOM_MASK_SHIFT: u32 = 8;
+/// Polygon forms.
+const FORM_GENERAL: u32 = 0;
+const FORM_RECT: u32 = 1;
+const FORM_CENTRED_RECT: u32 = 2;
+/// Most words of one geometry: a polygon's 8 vertices and its radius.
+const GEOM_MAX_WORDS: usize = 2 * MAX_POLY_VERTICES + 1;
+
+/// `(l, b, r, t)` when `p` is the rectangle [`Poly::from_bb`] builds
+/// (4 vertices `(r, b), (r, t), (l, t), (l, b)`): then those four values
+/// give every vertex back exactly.
+fn rect_of(p: &Poly) -> Option<[Real; 4]> {
+    match p.verts() {
+        [v0, v1, v2, v3] if v0.x == v1.x && v1.y == v2.y && v2.x == v3.x && v3.y == v0.y => {
+            Some([v2.x, v0.y, v0.x, v1.y])
+        }
+        _ => None,
+    }
+}
+
+/// `-v`, exactly, or `None` for the one raw value without a negation.
+fn neg_exact(v: Real) -> Option<Real> {
+    v.to_bits().checked_neg().map(Real::from_bits)
+}
+
+/// The form a polygon is written in, with its rectangle when it has one:
+/// centred rectangle when `l = −r` and `b = −t`, else rectangle, else
+/// general. Decoding checks that the polygon it builds has the form it was
+/// read in (one encoding per polygon).
+fn poly_form(p: &Poly) -> (u32, [Real; 4]) {
+    match rect_of(p) {
+        Some([l, b, r, t]) if neg_exact(r) == Some(l) && neg_exact(t) == Some(b) => {
+            (FORM_CENTRED_RECT, [l, b, r, t])
+        }
+        Some(ltrb) => (FORM_RECT, ltrb),
+        None => (FORM_GENERAL, [Real::ZERO; 4]),
+    }
+}
+
+/// Binary (snapshot format 6): a tuple of a `u32` head (see
+/// `GEOM_POLY_COUNT_SHIFT` and around) and the kind's non-zero words as raw
+/// `i64`:
+/// * circle: offset (x, y), radius;
+/// * segment: a, b, radius, a_tangent, b_tangent — not the normal, a pure
+///   function of a and b (`Segment::new`, the only way a segment's
+///   endpoints are set, computes it; validation demands exactly that one);
+/// * polygon, general form: the `count` used vertices, radius; rectangle
+///   form (the 4 vertices of [`Poly::from_bb`]): l, b, r, t, radius;
+///   centred rectangle (l = −r, b = −t: [`Poly::new_box`]): r, t, radius.
+///   Never the normals (pure functions of the vertices,
+///   `Poly::from_ccw_unchecked` computes them for every polygon the API
+///   makes) nor the unused vertex and normal slots (zero).
+///
+/// Decoding rebuilds the polygon with `Poly::from_ccw_unchecked` (normals
+/// exactly as the constructor computes them, zeros past the count) and the
+/// segment with `Segment::new`'s normal; validation then checks convexity,
+/// counts and ranges as before. Human-readable: the derive's form.
+impl Serialize for Geometry {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeTuple;
+        if s.is_human_readable() {
+            return GeometryFields::serialize(self, s);
+        }
+        let mut words = [Real::ZERO; GEOM_MAX_WORDS];
+        let mut n = 0usize;
+        let mut put = |w: Real| {
+            if let Some(slot) = words.get_mut(n) {
+                *slot = w;
+                n = n.saturating_add(1);
+            }
+        };
+        let (kind, form): (u32, u32) = match self {
+            Geometry::Circle(c) => {
+                [c.offset.x, c.offset.y, c.radius].into_iter().for_each(put);
+                (0, 0)
+            }
+            Geometry::Segment(g) => {
+                [
+                    g.a.x,
+                    g.a.y,
+                    g.b.x,
+                    g.b.y,
+                    g.radius,
+                    g.a_tangent.x,
+                    g.a_tangent.y,
+                    g.b_tangent.x,
+                    g.b_tangent.y,
+                ]
+                .into_iter()
+                .for_each(put);
+                (1, 0)
+            }
+            Geometry::Poly(p) => {
+                // A stored count past 15 (only a corrupted in-memory state)
+                // is written as 15, which the decoder rejects.
+                let kind = 2 | u32::from(p.count.min(15)) << GEOM_POLY_COUNT_SHIFT;
+                let (form, [l, b, r, t]) = poly_form(p);
+                match form {
+                    FORM_CENTRED_RECT => [r, t, p.radius].into_iter().for_each(put),
+                    FORM_RECT => [l, b, r, t, p.radius].into_iter().for_each(put),
+                    _ => {
+                        for v in p.verts() {
+                            put(v.x);
+                            put(v.y);
+                        }
+                        put(p.radius);
+                    }
+                }
+                (kind, form)
+            }
+        };
+        let words = words.get(..n).unwrap_or(&[]);
+        let mask = compact::mask_of(words);
+        let head = kind | form << GEOM_FORM_SHIFT | mask << GEOM_MASK_SHIFT;
+        let mut t = compact::tuple(s, compact::count(mask).saturating_add(1))?;
+        t.serialize_element(&head)?;
+        compact::write_words(&mut t, words, mask, 0)?;
+        t.end()
+    }
+}
+
+impl<'de> Deserialize<'de> for Geometry {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Geometry, D::Error> {
+        if d.is_human_readable() {
+            GeometryFields::deserialize(d)
+        } else {
+            compact::deserialize(d)
+        }
+    }
+}
+
+impl compact::Compact for Geometry {
+    const EXPECTING: &'static str = "a compact geometry";
+    const MAX_ELEMENTS: usize = 1 + GEOM_MAX_WORDS;
+
+    fn read<'de, A: serde::de::SeqAccess<'de>>(
+        r: &mut compact::Reader<'de, A>,
+    ) -> Result<Geometry, A::Error> {
+        let head: u32 = r.next()?;
+        let kind = head & 3;
+        let count = (head >> GEOM_POLY_COUNT_SHIFT) & 15;
+        let form = (head >> GEOM_FORM_SHIFT) & 3;
+        let mask = head >> GEOM_MASK_SHIFT;
+        // Words of this kind, count and form (the mask may use no more).
+        let n: usize = match (kind, form) {
+            (0, 0) if count == 0 => 3,
+            (1, 0) if count == 0 => 9,
+            // At most 2·8 + 1: no overflow.
+            (2, FORM_GENERAL) if count as usize <= MAX_POLY_VERTICES => {
+                (count as usize).saturating_mul(2).saturating_add(1)
+            }
+            (2, FORM_RECT) if count == 4 => 5,
+            (2, FORM_CENTRED_RECT) if count == 4 => 3,
+            _ => return Err(r.error("unknown kind, count or form")),
+        };
+        if mask & !compact::bit(n).saturating_sub(1) != 0 {
+            return Err(r.error("presence bits past the last word"));
+        }
+        let mut w = [Real::ZERO; GEOM_MAX_WORDS];
+        r.words(mask, None, w.get_mut(..n).unwrap_or(&mut []))?;
+        let v = |x: Real, y: Real| Vect::new(x, y);
+        let [w0, w1, w2, w3, w4, w5, w6, w7, w8, ..] = w;
+        let geometry = match (kind, form) {
+            (0, _) => Geometry::Circle(Circle {
+                offset: v(w0, w1),
+                radius: w2,
+            }),
+            (1, _) => Geometry::Segment(Segment {
+                a_tangent: v(w5, w6),
+                b_tangent: v(w7, w8),
+                // The normal is derived, see the `Serialize` impl.
+                ..Segment::new(v(w0, w1), v(w2, w3), w4)
+            }),
+            (_, FORM_GENERAL) => {
+                // `count` ≤ MAX_POLY_VERTICES (checked above).
+                let count = count as usize;
+                let mut verts = [Vect::ZERO; MAX_POLY_VERTICES];
+                for (vert, pair) in verts.iter_mut().zip(w.chunks_exact(2)).take(count) {
+                    if let [x, y] = pair {
+                        *vert = v(*x, *y);
+                    }
+                }
+                let radius = w.get(n.saturating_sub(1)).copied().unwrap_or(Real::ZERO);
+                // Normals derived, see the `Serialize` impl; validation
+                // checks the vertices (3..=8, strictly convex, ccw).
+                Geometry::Poly(Poly::from_ccw_unchecked(
+                    verts.get(..count).unwrap_or(&[]),
+                    radius,
+                ))
+            }
+            (_, FORM_RECT) => {
+                let (l, b, rr, t) = (w0, w1, w2, w3);
+                let verts = [v(rr, b), v(rr, t), v(l, t), v(l, b)];
+                Geometry::Poly(Poly::from_ccw_unchecked(&verts, w4))
+            }
+            _ => {
+                let (rr, t) = (w0, w1);
+                let (Some(l), Some(b)) = (neg_exact(rr), neg_exact(t)) else {
+                    return Err(r.error("a centred rectangle's half size has no negation"));
+                };
+                let verts = [v(rr, b), v(rr, t), v(l, t), v(l, b)];
+                Geometry::Poly(Poly::from_ccw_unchecked(&verts, w2))
+            }
+        };
+        if let Geometry::Poly(p) = &geometry {
+            if poly_form(p).0 != form {
+                return Err(r.error("a polygon not in its own form"));
+            }
+        }
+        Ok(geometry)
+    }
 }
 
 /// Which kind of geometry; also the collision-table order (circle < segment < poly).
@@ -105,7 +340,7 @@ impl Segment {
         Segment {
             a,
             b,
-            normal: (b - a).rperp().normalize(),
+            normal: edge_normal((b - a).rperp()),
             radius,
             a_tangent: Vect::ZERO,
             b_tangent: Vect::ZERO,
@@ -148,6 +383,23 @@ pub(crate) fn next_index(i: usize, n: usize) -> usize {
     }
 }
 
+/// `d.normalize()`, bit for bit, without the square root when `d` is
+/// axis-aligned (every rectangle's edges; decoding a snapshot rebuilds the
+/// normals of each polygon): `normalize` scales `(x, 0)` so that the root
+/// of `x²` is exactly `|x|`, and the rounded quotient `x·2^32 / |x|` is
+/// exactly ±1 (±0 for 0), whatever `x`, `i64::MIN` included (a unit test
+/// compares both on the extremes).
+#[inline]
+fn edge_normal(d: Vect) -> Vect {
+    if d.y.is_zero() {
+        Vect::new(d.x.signum(), Real::ZERO)
+    } else if d.x.is_zero() {
+        Vect::new(Real::ZERO, d.y.signum())
+    } else {
+        d.normalize()
+    }
+}
+
 impl Poly {
     /// Builds a polygon from vertices that are already convex and
     /// counter-clockwise, without checks. Callers in this crate validate
@@ -174,7 +426,7 @@ impl Poly {
             let a = self.vert(i);
             let b = self.vert(next_index(i, n));
             if let Some(slot) = self.normals.get_mut(i) {
-                *slot = (b - a).rperp().normalize();
+                *slot = edge_normal((b - a).rperp());
             }
         }
     }
@@ -354,4 +606,37 @@ fn extent_fits(points: &[Vect], radius: Real) -> bool {
         lo >= min && hi <= max && hi.saturating_sub(lo) <= max
     };
     axis(|p| p.x) && axis(|p| p.y)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn edge_normal_is_normalize_bit_for_bit() {
+        let raws = [
+            0,
+            1,
+            -1,
+            2,
+            3,
+            1 << 20,
+            (1 << 32) + 7,
+            1 << 32,
+            -(1 << 40) - 3,
+            i64::MAX,
+            i64::MAX - 1,
+            i64::MIN,
+            i64::MIN + 1,
+            0x5555_5555_5555_5555,
+        ];
+        for raw in raws {
+            let r = Real::from_bits(raw);
+            for d in [Vect::new(r, Real::ZERO), Vect::new(Real::ZERO, r)] {
+                assert_eq!(edge_normal(d), d.normalize(), "{raw}");
+            }
+            let skew = Vect::new(r, Real::from_bits(3));
+            assert_eq!(edge_normal(skew), skew.normalize(), "{raw}");
+        }
+    }
 }

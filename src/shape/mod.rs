@@ -26,6 +26,7 @@ pub use geometry::{Circle, Geometry, Poly, Segment, ShapeKind, MAX_POLY_VERTICES
 use crate::arena::Handle;
 use crate::body::BodyHandle;
 use crate::math::{Real, Vect, BB};
+use crate::snapshot::compact;
 
 /// A collision type: selects collision handlers (MIS `CollisionType`).
 pub type CollisionType = u32;
@@ -212,7 +213,11 @@ impl fmt::Display for ShapeError {
 impl std::error::Error for ShapeError {}
 
 /// A collision shape attached to a body.
-#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+///
+/// Serde: a binary serializer (snapshots) gets the compact form of
+/// [`snapshot`](crate::snapshot) format version 6 (see the `Serialize`
+/// impl); a human-readable one every field, as a derive would.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Shape {
     pub(crate) body: BodyHandle,
     pub(crate) geometry: Geometry,
@@ -225,6 +230,160 @@ pub struct Shape {
     /// Sensors report contacts to handlers but never push bodies apart.
     pub sensor: bool,
     pub(crate) mass_spec: MassSpec,
+}
+
+/// The field-by-field serde form of [`Shape`] (a derive's), used for
+/// human-readable formats.
+#[derive(Serialize, Deserialize)]
+#[serde(remote = "Shape", rename = "Shape")]
+struct ShapeFields {
+    body: BodyHandle,
+    geometry: Geometry,
+    material: Material,
+    filter: ShapeFilter,
+    collision_type: CollisionType,
+    sensor: bool,
+    mass_spec: MassSpec,
+}
+
+/// Words of the compact form (bit `i` of the head is word `i`): friction,
+/// elasticity, surface velocity (x, y), the mass or density.
+const SHAPE_WORDS: usize = 5;
+/// Head bits above the presence mask: the mass specification's kind (2
+/// bits: none, mass, density), then one bit each.
+const SHAPE_MASS_SHIFT: u32 = 8;
+const SHAPE_SENSOR: u32 = 1 << 10;
+const SHAPE_FILTER: u32 = 1 << 11;
+const SHAPE_COLLISION_TYPE: u32 = 1 << 12;
+const SHAPE_HEAD: u32 = ((1 << SHAPE_WORDS) - 1)
+    | (3 << SHAPE_MASS_SHIFT)
+    | SHAPE_SENSOR
+    | SHAPE_FILTER
+    | SHAPE_COLLISION_TYPE;
+
+/// Binary (snapshot format 6): a tuple of
+/// * a `u32` head: bits 0..5 the presence mask of the words below, bits
+///   8–9 the mass specification (0 none, 1 mass, 2 density), bit 10
+///   `sensor`, bit 11 "filter stored", bit 12 "collision type stored";
+/// * the body handle (slot, generation: two `u32`);
+/// * the filter (group, categories, mask: three `u32`) unless it is
+///   [`ShapeFilter::ALL`], and the collision type (`u32`) unless it is 0;
+/// * the non-zero words as raw `i64`: friction, elasticity, surface
+///   velocity (x, y), the mass or density (never present without one);
+/// * the geometry in its compact form ([`Geometry`]'s `Serialize`).
+///
+/// A shape caches nothing: every field is stored (the defaults, left out,
+/// come back as the values they stand for). Human-readable: the derive's
+/// form.
+impl Serialize for Shape {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeTuple;
+        if s.is_human_readable() {
+            return ShapeFields::serialize(self, s);
+        }
+        let (kind, spec): (u32, Real) = match self.mass_spec {
+            MassSpec::None => (0, Real::ZERO),
+            MassSpec::Mass(m) => (1, m),
+            MassSpec::Density(d) => (2, d),
+        };
+        let m = &self.material;
+        let words = [
+            m.friction,
+            m.elasticity,
+            m.surface_velocity.x,
+            m.surface_velocity.y,
+            spec,
+        ];
+        let mask = compact::mask_of(&words);
+        let filter = self.filter != ShapeFilter::ALL;
+        let collision_type = self.collision_type != 0;
+        let flag = |on: bool, bit: u32| if on { bit } else { 0 };
+        let head = mask
+            | kind << SHAPE_MASS_SHIFT
+            | flag(self.sensor, SHAPE_SENSOR)
+            | flag(filter, SHAPE_FILTER)
+            | flag(collision_type, SHAPE_COLLISION_TYPE);
+        let len = compact::count(mask)
+            .saturating_add(usize::from(filter))
+            .saturating_add(usize::from(collision_type))
+            .saturating_add(3);
+        let mut t = compact::tuple(s, len)?;
+        t.serialize_element(&head)?;
+        t.serialize_element(&self.body)?;
+        if filter {
+            t.serialize_element(&self.filter)?;
+        }
+        if collision_type {
+            t.serialize_element(&self.collision_type)?;
+        }
+        compact::write_words(&mut t, &words, mask, 0)?;
+        t.serialize_element(&self.geometry)?;
+        t.end()
+    }
+}
+
+impl<'de> Deserialize<'de> for Shape {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Shape, D::Error> {
+        if d.is_human_readable() {
+            ShapeFields::deserialize(d)
+        } else {
+            compact::deserialize(d)
+        }
+    }
+}
+
+impl compact::Compact for Shape {
+    const EXPECTING: &'static str = "a compact shape";
+    const MAX_ELEMENTS: usize = 5 + SHAPE_WORDS;
+
+    fn read<'de, A: serde::de::SeqAccess<'de>>(
+        r: &mut compact::Reader<'de, A>,
+    ) -> Result<Shape, A::Error> {
+        let head: u32 = r.next()?;
+        r.check_head(head, SHAPE_HEAD)?;
+        let body: BodyHandle = r.next()?;
+        let filter = if head & SHAPE_FILTER != 0 {
+            let f: ShapeFilter = r.next()?;
+            if f == ShapeFilter::ALL {
+                return Err(r.error("the default filter stored"));
+            }
+            f
+        } else {
+            ShapeFilter::ALL
+        };
+        let collision_type = if head & SHAPE_COLLISION_TYPE != 0 {
+            let c: CollisionType = r.next()?;
+            if c == 0 {
+                return Err(r.error("collision type 0 stored"));
+            }
+            c
+        } else {
+            0
+        };
+        let mut w = [Real::ZERO; SHAPE_WORDS];
+        r.words(head, None, &mut w)?;
+        let [friction, elasticity, sv_x, sv_y, spec] = w;
+        let mass_spec = match (head >> SHAPE_MASS_SHIFT) & 3 {
+            0 if spec.is_zero() => MassSpec::None,
+            1 => MassSpec::Mass(spec),
+            2 => MassSpec::Density(spec),
+            _ => return Err(r.error("bad mass specification")),
+        };
+        let geometry: Geometry = r.next()?;
+        Ok(Shape {
+            body,
+            geometry,
+            material: Material {
+                friction,
+                elasticity,
+                surface_velocity: Vect::new(sv_x, sv_y),
+            },
+            filter,
+            collision_type,
+            sensor: head & SHAPE_SENSOR != 0,
+            mass_spec,
+        })
+    }
 }
 
 impl Shape {

@@ -31,15 +31,60 @@
 //!               Real as its 8 raw bytes, lengths as u64, enum tags as u32
 //! ```
 //! The payload must end exactly at the end of the buffer. Its layout is
-//! serde's derive of [`WorldState`] field by field (settings, body arena,
+//! serde's form of [`WorldState`] field by field (settings, body arena,
 //! shape arena, arbiters, stamp, current and previous `dt`, constraint
-//! arena, dormant arbiters of sleeping islands); each arena is its slots (generation, optional value), its free
-//! list and its length. A constraint is its two body handles, `max_force`,
-//! `error_bias`, `max_bias`, `collide_bodies` (one byte) and its kind (a
-//! u32 tag, then the kind's parameters and accumulated impulse). Any
-//! change of that layout changes the bytes and must bump [`FORMAT_VERSION`];
-//! a test pins the empty world's bytes field by field and the encoded size
-//! of each kind of object, so that the change cannot go unnoticed.
+//! arena, dormant arbiters of sleeping islands); each arena is its slots
+//! (generation, optional value), its free list and its length. A
+//! constraint is its two body handles, `max_force`, `error_bias`,
+//! `max_bias`, `collide_bodies` (one byte) and its kind (a u32 tag, then
+//! the kind's parameters and accumulated impulse).
+//!
+//! Bodies, shapes (and their geometry) and arbiters have a **compact
+//! form** (since version 6; their `Serialize` impls give it to every
+//! binary serializer, so any container encoding them with this
+//! configuration gets it too): a tuple of a `u32` head, holding the
+//! object's flags and small enums and a *presence mask* with one bit per
+//! `Real` word, a few fixed integers, then only the words that are not
+//! zero, raw; a body's or an arbiter's head may announce a *narrow mask*
+//! (`u32`) of the present words whose raw value fits an `i32` (|x| < 0.5:
+//! velocities, small angles, depths, impulses), written in 4 bytes, the
+//! others in 8 (shape and geometry words always in 8):
+//! ```text
+//! body     head (mask of 19 words; type, explicit mass, sleep allowed,
+//!          bullet, asleep, narrow), [narrow mask u32], [island root
+//!          u32], words: mass, moment, cog,
+//!          p, v, f, a, rot, w, t, v_bias, w_bias, idle time
+//! shape    head (mask of 5 words; mass spec kind, sensor, filter and
+//!          collision type stored), body handle, [filter 3×u32],
+//!          [collision type u32], words: friction, elasticity, surface
+//!          velocity, mass or density; then the geometry:
+//!          head (kind, polygon count and form, mask), words: circle
+//!          offset, radius | segment a, b, radius, tangents | polygon
+//!          the used vertices, radius (a rectangle: l, b, r, t, radius;
+//!          a centred one: r, t, radius)
+//! arbiter  head (count, state, sensor, mask of 6 + 7 per contact words,
+//!          narrow), [narrow mask u32], shapes, bodies (4 handles), warm-start id u32, stamp u64, a
+//!          feature id u32 per contact, words: normal, restitution,
+//!          friction, surface velocity, then r1, r2, dist, jn_acc, jt_acc
+//!          per contact
+//! ```
+//! Not stored, because each is a pure function of what is: a body's
+//! inverse mass and moment, a segment's normal, a polygon's normals and
+//! unused vertex slots, an arbiter's contact slots past its count. Decoding
+//! recomputes them exactly as the engine does (`recip` or 0; the
+//! constructors' normals; zeros). The encoding is canonical: a word marked
+//! present must not be zero, a body's or arbiter's word written in 8 bytes
+//! must not fit 4, a narrow mask must not be empty or name an absent word,
+//! head bits without a meaning must be clear, a
+//! polygon has at most 8 vertices and an arbiter at most 2 contacts;
+//! anything else is a [`SnapshotError::Decode`]. Human-readable
+//! serializers (JSON) get every field instead, as a serde derive would
+//! (tests and tools edit that form).
+//!
+//! Any change of the layout changes the bytes and must bump
+//! [`FORMAT_VERSION`]; a test pins the empty world's bytes field by field
+//! and the encoded size of each kind of object, so that the change cannot
+//! go unnoticed.
 //!
 //! The header checksum covers the payload *bytes*: it catches corruption
 //! that still decodes to a valid world (a flipped bit in a velocity) —
@@ -61,17 +106,20 @@
 //! * both arenas: the free list names each empty slot exactly once and no
 //!   live slot, and the length counts the live ones;
 //! * bodies: mass and moment ≥ 0, inverse mass and moment exactly what the
-//!   engine computes (`recip`, 0 for 0), kinematic and static bodies
+//!   engine computes (`recip`, 0 for 0: true by construction for a decoded
+//!   body, which does not store them), kinematic and static bodies
 //!   massless, rotation of unit length within 2^-20;
 //! * shapes: the body handle names a live body (generation included);
 //!   radii ≥ 0; segment normals exactly those of the endpoints; polygons of
 //!   3..=8 vertices, strictly convex and counter-clockwise, with exactly the
-//!   normals the constructor computes; mass and density ≥ 0; friction
-//!   ≥ 0 and elasticity in [0, 1];
+//!   normals the constructor computes (normals: by construction when
+//!   decoded); mass and density ≥ 0; friction ≥ 0 and elasticity in
+//!   [0, 1];
 //! * arbiters: strictly increasing `(shape a, shape b)` slot order, both
 //!   shapes live, the bodies those of the shapes (two different bodies, one
 //!   of them dynamic), 1..=2 contacts with non-negative accumulated normal
-//!   impulse and cleared slots past them, stamp in `1..=world stamp`, and a
+//!   impulse and cleared slots past them (by construction when decoded),
+//!   stamp in `1..=world stamp`, and a
 //!   state that fits the stamp
 //!   (`Cached` exactly when the pair did not touch in the last step, never
 //!   `FirstCollision`, which only exists inside a step);
@@ -168,6 +216,7 @@
 //! `Shape::body()`, `Arbiter::shapes()`/`bodies()`, handler contexts), or
 //! build them with `Handle::from_raw_parts` (origin 0: accepted by every
 //! space).
+pub(crate) mod compact;
 pub mod diff;
 pub mod frame;
 
@@ -192,8 +241,13 @@ pub const MAGIC: [u8; 8] = *b"TAMIAS2D";
 /// ends with the constraint arena (`constraints`). Version 5: a body ends
 /// with its sleep record (`sleep`: idle time, optional island root, allowed)
 /// and `bullet` (one byte, [`Body::set_bullet`](crate::body::Body::set_bullet));
-/// the state ends with the dormant arbiters of sleeping islands.
-pub const FORMAT_VERSION: u32 = 5;
+/// the state ends with the dormant arbiters of sleeping islands. Version
+/// 6: bodies, shapes (with their geometry) and arbiters in their compact
+/// form (see "Format" in the module docs): a head of flags and a presence
+/// mask, only the non-zero words (a body's or arbiter's in 4 bytes when
+/// they fit); no inverse mass or moment, no normals,
+/// no unused polygon vertices or contact slots (recomputed on decode).
+pub const FORMAT_VERSION: u32 = 6;
 
 /// Bytes before the bincode payload: magic, version, checksum (the frame
 /// every Tamias file shares, see [`crate::framing`]).
@@ -362,12 +416,12 @@ pub fn payload_checksum(payload: &[u8]) -> u64 {
     z ^ (z >> 31)
 }
 
-/// A capacity guess for a first `save` (upper estimate of the encoded sizes
-/// of slots and arbiters), so the output grows at most once or twice.
+/// A capacity guess for a first `save` (the largest encoded sizes of slots
+/// and arbiters: every word non-zero), so the output grows at most once.
 fn size_hint(state: &WorldState) -> usize {
-    const BODY_SLOT: usize = 176;
-    const SHAPE_SLOT: usize = 352;
-    const ARBITER: usize = 224;
+    const BODY_SLOT: usize = 168;
+    const SHAPE_SLOT: usize = 216;
+    const ARBITER: usize = 216;
     const CONSTRAINT_SLOT: usize = 128;
     (HEADER_LEN + 128)
         .saturating_add(state.bodies.capacity_slots().saturating_mul(BODY_SLOT))

@@ -11,6 +11,14 @@
 //! API can produce) and the step is safe with each of them (saturating
 //! arithmetic, see `docs/numerics.md`).
 //!
+//! "Derived" marks a field that snapshots (format 6) do not store: a pure
+//! function of stored fields, recomputed on decode exactly as the engine
+//! computes it (see the `Serialize` impl of its type). Validation still
+//! checks it, with the same strictness, for states that never went through
+//! bytes (`Space::validate`, the `validate` feature's check after every
+//! step, a state deserialized from a human-readable form, which carries
+//! every field); for a decoded state the check holds by construction.
+//!
 //! Arena internals (slots, free list, length) are placed by
 //! [`Arena::validate`](crate::arena::Arena::validate), which destructures
 //! its own type the same way.
@@ -135,9 +143,9 @@ const _BODY: fn(&Body) = |b| {
     let Body {
         body_type: _,     // any; decides the mass checks below
         mass: _,          // ≥ 0; 0 unless dynamic
-        mass_inv: _,      // exactly the engine's inverse of mass (0 for 0); 0 unless dynamic
+        mass_inv: _,      // derived: the engine's inverse of mass (0 for 0); 0 unless dynamic
         moment: _,        // ≥ 0; 0 unless dynamic
-        moment_inv: _,    // exactly the engine's inverse of moment; 0 unless dynamic
+        moment_inv: _,    // derived: the engine's inverse of moment; 0 unless dynamic
         explicit_mass: _, // false unless dynamic; for a dynamic body any value (the
         // mass is not cross-checked against the shapes' mass specifications)
         cog: _,    // any value
@@ -208,15 +216,15 @@ const _GEOMETRY: fn(&Geometry) = |g| match g {
     Geometry::Segment(Segment {
         a: _,         // any value
         b: _,         // any value
-        normal: _,    // exactly what Segment::new computes from a and b
+        normal: _,    // derived: exactly what Segment::new computes from a and b
         radius: _,    // ≥ 0
         a_tangent: _, // any value (zero: no neighbour)
         b_tangent: _, // any value
     }) => {}
     Geometry::Poly(Poly {
         count: _,   // 3..=MAX_POLY_VERTICES
-        verts: _,   // strictly convex, counter-clockwise; zero past count
-        normals: _, // exactly what Poly::from_ccw computes; zero past count
+        verts: _,   // strictly convex, counter-clockwise; zero past count (derived)
+        normals: _, // derived: exactly what Poly::from_ccw computes; zero past count
         radius: _,  // ≥ 0
     }) => {}
 };
@@ -229,7 +237,7 @@ const _ARBITER: fn(&Arbiter) = |a| {
         body_b: _,           // shape_b's body
         normal: _,           // any value
         count: _,            // 1..=MAX_CONTACTS_PER_ARBITER
-        contacts: _,         // see _CONTACT; entries past count equal the default
+        contacts: _,         // see _CONTACT; past count the default (derived)
         restitution: _,      // any value (handlers may set it)
         friction: _,         // any value (handlers may set it)
         surface_velocity: _, // any value (handlers may set it)

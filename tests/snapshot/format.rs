@@ -11,7 +11,7 @@ fn format_layout_is_pinned() {
     assert_eq!(&empty[8..12], &FORMAT_VERSION.to_le_bytes());
     let sum = snapshot::payload_checksum(&empty[HEADER_LEN..]);
     assert_eq!(&empty[12..20], &sum.to_le_bytes());
-    assert_eq!(FORMAT_VERSION, 5);
+    assert_eq!(FORMAT_VERSION, 6);
     // The empty world, field by field (little-endian, fixed-width ints,
     // every Real as its raw i64, lengths as u64, enum tags as u32).
     let expected = [
@@ -76,21 +76,50 @@ fn format_layout_is_pinned() {
     ok(w.remove_body(b));
     grow(&w);
     let per_object: Vec<usize> = sizes.windows(2).map(|p| p[1].wrapping_sub(p[0])).collect();
-    // A slot is its generation (4) and option tag (1) before the value:
-    // body 176 (10 of them its sleep record while awake, 14 asleep; the
-    // last byte is `bullet`); shape 65 + geometry (circle 24, segment 88,
-    // polygon 265: 8 inline vertices and normals). Removing the body and
-    // its 3 shapes leaves 4 empty slots (5 bytes each) and 4 free-list
-    // entries (u32).
-    assert_eq!(per_object[..4], [181, 94, 158, 335]);
-    let removed = [181, 94, 158, 335].iter().map(|n| n - 5 - 4).sum::<usize>();
+    // Format 6 stores only the non-zero words of an object, so a size is
+    // that of these objects. A slot is its generation (4) and option tag
+    // (1) before the value. The static body at the origin: its head (4)
+    // and one word (rot.c = 1; no inverse mass or moment, ever). A shape:
+    // head (4), body handle (8), no material word (all zero), then its
+    // geometry's head (4) and words: the unit circle its radius; the
+    // segment (0,0)–(1,0) only b.x (no normal, ever); the 1 × 1 box, a
+    // centred rectangle, r and t (no normals, no unused vertex slots).
+    // Removing the body and its 3 shapes leaves 4 empty slots (5 bytes
+    // each) and 4 free-list entries (u32).
+    assert_eq!(
+        per_object[..4],
+        [5 + 4 + 8, 5 + 16 + 8, 5 + 16 + 8, 5 + 16 + 16]
+    );
+    let removed = [17, 29, 29, 37].iter().map(|n| n - 5 - 4).sum::<usize>();
     assert_eq!(per_object[4], 0usize.wrapping_sub(removed));
+    // The arbiters of a stepped world: head (4), the narrow mask (4) when
+    // some word fits 4 bytes, 4 handles (32), warm-start id (4), stamp (8),
+    // a feature id (4) per contact, then the non-zero words, 4 or 8 bytes
+    // each (normal, restitution, friction and surface velocity, 7 per
+    // contact: r1, r2, dist, jn_acc, jt_acc).
     let stepped = small_world();
     let mut state = stepped.state().clone();
-    let n = state.arbiters.len();
-    state.arbiters.clear();
-    let per_arbiter = (save(&stepped).len() - snapshot::save_state(&state).len()) / n;
-    assert_eq!(per_arbiter, 218, "bytes per arbiter");
+    let all = std::mem::take(&mut state.arbiters);
+    let empty = snapshot::save_state(&state).len();
+    let sizes: Vec<(usize, usize)> = all
+        .iter()
+        .map(|a| {
+            state.arbiters = vec![a.clone()];
+            (a.count(), snapshot::save_state(&state).len() - empty)
+        })
+        .collect();
+    assert_eq!(sizes, ARBITER_SIZES, "bytes per arbiter (contacts, bytes)");
+    // The largest forms: every word non-zero and 8 bytes wide (and the body
+    // asleep, the filter and collision type not the defaults, an 8-vertex
+    // polygon, two contacts).
+    assert_eq!(
+        largest_sizes(&stepped),
+        [
+            5 + 4 + 4 + 19 * 8,
+            5 + 4 + 8 + 12 + 4 + 5 * 8 + 4 + 17 * 8,
+            4 + 32 + 4 + 8 + 2 * 4 + 20 * 8
+        ]
+    );
     // A constraint slot: generation (4), option tag (1), bodies (2 × 8),
     // max_force, error_bias, max_bias (3 × 8), collide_bodies (1), the kind
     // tag (4) and the kind: a pin joint's two anchors, distance and
@@ -104,6 +133,70 @@ fn format_layout_is_pinned() {
     let pin = ok(PinJoint::new(Vect::ZERO, Vect::ZERO, Real::ONE));
     ok(w.add_constraint(ok(Constraint::new(bodies[0], bodies[1], pin))));
     assert_eq!(save(&w).len() - before, 4 + 1 + 16 + 24 + 1 + 4 + 48);
+}
+
+/// `(contacts, bytes)` of each arbiter of `small_world`.
+const ARBITER_SIZES: &[(usize, usize)] = &[(1, 100), (2, 132)];
+
+/// Encoded sizes (slot included for the body and the shape) of a body, a
+/// shape and an arbiter of `w` with every number set to a non-zero value
+/// (through the human-readable form, which has every field).
+fn largest_sizes(w: &Space) -> [usize; 3] {
+    // Every number becomes 2^40 (a `Real` of 256 that needs 8 bytes), but
+    // integer fields narrower than 64 bits become 1; handles keep naming
+    // their objects and counts are set below.
+    fn ones(v: &mut serde_json::Value) {
+        match v {
+            serde_json::Value::Number(_) | serde_json::Value::Null => {
+                *v = serde_json::json!(1i64 << 40)
+            }
+            serde_json::Value::Array(a) => a.iter_mut().for_each(ones),
+            serde_json::Value::Object(o) => {
+                for (k, v) in o.iter_mut() {
+                    match k.as_str() {
+                        "body" | "shape_a" | "shape_b" | "body_a" | "body_b" | "count" => {}
+                        "island" | "feature_id" | "warm_start_id" | "group" | "categories"
+                        | "mask" | "collision_type" => *v = serde_json::json!(1),
+                        _ => ones(v),
+                    }
+                }
+            }
+            serde_json::Value::Bool(_) | serde_json::Value::String(_) => {}
+        }
+    }
+    let base = WorldState::default();
+    let empty = snapshot::save_state(&base).len();
+    let mut json = ok(serde_json::to_value(w.state()));
+    let one = |arena: &str,
+               pick: &dyn Fn(&serde_json::Value) -> bool,
+               edit: &dyn Fn(&mut serde_json::Value)| {
+        let mut slot = json[arena]["slots"]
+            .as_array()
+            .and_then(|s| {
+                s.iter()
+                    .find(|s| !s["value"].is_null() && pick(&s["value"]))
+            })
+            .cloned()
+            .unwrap_or_else(|| panic!("no such {arena} slot"));
+        ones(&mut slot["value"]);
+        edit(&mut slot["value"]);
+        let mut state = ok(serde_json::to_value(&base));
+        state[arena]["slots"] = serde_json::json!([slot]);
+        state[arena]["len"] = serde_json::json!(1);
+        let state: WorldState = ok(serde_json::from_value(state));
+        snapshot::save_state(&state).len() - empty
+    };
+    let body = one("bodies", &|b| b["body_type"] == "Dynamic", &|_| {});
+    let shape = one("shapes", &|s| s["geometry"].get("Poly").is_some(), &|s| {
+        s["geometry"]["Poly"]["count"] = serde_json::json!(8);
+    });
+    let mut arbiter = json["arbiters"][0].clone();
+    ones(&mut arbiter);
+    arbiter["count"] = serde_json::json!(2);
+    json = ok(serde_json::to_value(&base));
+    json["arbiters"] = serde_json::json!([arbiter]);
+    let state: WorldState = ok(serde_json::from_value(json));
+    [body, shape, snapshot::save_state(&state).len() - empty]
 }
 
 fn hex(bytes: &[u8]) -> String {
