@@ -469,14 +469,16 @@ pub(crate) fn outside_runs(runs: &Runs, slot_count: u32) -> impl Iterator<Item =
 /// Part of an arena: every slot outside some runs (the level's), with the
 /// arena's free list, length and slot count. A world's per-frame state
 /// holds its arenas this way, so that saving, restoring and hashing a
-/// frame cost what the frame holds, not what the level holds.
+/// frame cost what the frame holds, not what the level holds. The held
+/// slots carry no index: they are the slots outside the runs, in order
+/// (which [`check_against`](Self::check_against) makes sure of).
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(bound(serialize = "T: Serialize", deserialize = "T: Deserialize<'de>"))]
 pub struct ArenaPart<T> {
     /// Slots of the whole arena (those left out included).
     slot_count: u32,
-    /// `(index, slot)` of every slot outside the runs, by increasing index.
-    slots: Vec<(u32, Slot<T>)>,
+    /// Every slot outside the runs, by increasing index.
+    slots: Vec<Slot<T>>,
     /// The arena's free list (free slots are never in the runs).
     free: Vec<u32>,
     /// The arena's number of live objects (those left out included).
@@ -502,15 +504,13 @@ impl<T> ArenaPart<T> {
 
     /// The held objects, mutably.
     pub(crate) fn values_mut(&mut self) -> impl Iterator<Item = &mut T> {
-        self.slots.iter_mut().filter_map(|(_, s)| s.value.as_mut())
+        self.slots.iter_mut().filter_map(|s| s.value.as_mut())
     }
 
-    /// Checks that the part and `runs` tile `0..slot_count` exactly: held
-    /// indices increasing, below `slot_count`, outside the runs, and as
-    /// many as the slots the runs do not cover; every run inside
-    /// `0..slot_count`. What installing needs to be exact; the arena's own
-    /// invariants (free list, length) are checked after installing, by
-    /// [`Arena::validate`].
+    /// Checks that the part and `runs` tile `0..slot_count` exactly: every
+    /// run inside `0..slot_count`, and as many held slots as the runs leave.
+    /// What installing needs to be exact; the bookkeeping is
+    /// [`check_bookkeeping`](Self::check_bookkeeping)'s.
     pub(crate) fn check_against(&self, runs: &Runs) -> Result<(), String> {
         if runs.iter().any(|&(_, b)| b > self.slot_count) {
             return Err(format!(
@@ -525,24 +525,18 @@ impl<T> ArenaPart<T> {
                 self.slots.len()
             ));
         }
-        // Equal counts, and each held index is the next index outside the
-        // runs: the held indices are exactly those.
-        for ((i, _), want) in self.slots.iter().zip(outside_runs(runs, self.slot_count)) {
-            if *i != want {
-                return Err(format!("slot {i} held where slot {want} was expected"));
-            }
-        }
         Ok(())
     }
 
-    /// Checks the arena bookkeeping the part carries, given that the level
-    /// fills `level_len` slots, all live: the length counts the live held
-    /// slots plus the level's, and the free list names each empty held slot
-    /// exactly once and nothing else. With [`check_against`](Self::check_against)
-    /// this is what [`Arena::validate`] checks of the arena the part makes,
-    /// at the cost of the part.
-    pub(crate) fn check_bookkeeping(&self, level_len: u64) -> Result<(), String> {
-        let live = self.slots.iter().filter(|(_, s)| s.value.is_some()).count() as u64;
+    /// Checks the arena bookkeeping the part carries, for a part that
+    /// [`check_against`](Self::check_against) accepted for `runs` (the
+    /// level's slots, all live): the length counts the live held slots plus
+    /// the level's, and the free list names each empty held slot exactly
+    /// once and nothing else. What [`Arena::validate`] checks of the arena
+    /// the part makes, at the cost of the part.
+    pub(crate) fn check_bookkeeping(&self, runs: &Runs) -> Result<(), String> {
+        let level_len = runs_len(runs);
+        let live = self.slots.iter().filter(|s| s.value.is_some()).count() as u64;
         if live.saturating_add(level_len) != u64::from(self.len) {
             return Err(format!(
                 "arena length {} but {live} live slots besides the level's {level_len}",
@@ -556,12 +550,13 @@ impl<T> ArenaPart<T> {
                 self.free.len()
             ));
         }
+        let held: Vec<u32> = outside_runs(runs, self.slot_count).collect();
         let mut seen = vec![false; self.slots.len()];
         for &i in &self.free {
-            let Ok(pos) = self.slots.binary_search_by_key(&i, |(j, _)| *j) else {
+            let Ok(pos) = held.binary_search(&i) else {
                 return Err(format!("free list names slot {i}, not an empty slot"));
             };
-            if self.slots.get(pos).is_some_and(|(_, s)| s.value.is_some()) {
+            if self.slots.get(pos).is_some_and(|s| s.value.is_some()) {
                 return Err(format!("free list names live slot {i}"));
             }
             match seen.get_mut(pos) {
@@ -584,13 +579,7 @@ impl<T> ArenaPart<T> {
             free,
             len,
         } = self;
-        hash_part_words(
-            h,
-            *slot_count,
-            slots.iter().map(|(i, s)| (*i, s)),
-            free,
-            *len,
-        );
+        hash_part_words(h, *slot_count, slots.iter(), free, *len);
     }
 }
 
@@ -599,13 +588,12 @@ impl<T> ArenaPart<T> {
 fn hash_part_words<'a, T: core::hash::Hash + 'a, H: core::hash::Hasher>(
     h: &mut H,
     slot_count: u32,
-    slots: impl Iterator<Item = (u32, &'a Slot<T>)>,
+    slots: impl Iterator<Item = &'a Slot<T>>,
     free: &[u32],
     len: u32,
 ) {
     h.write_u32(slot_count);
-    for (i, slot) in slots {
-        h.write_u32(i);
+    for slot in slots {
         core::hash::Hash::hash(slot, h);
     }
     h.write_u64(free.len() as u64);
@@ -622,22 +610,27 @@ impl<T: Clone> Arena<T> {
         out.slot_count = self.slots.len() as u32;
         out.slots.clear();
         out.slots.extend(
-            outside_runs(runs, out.slot_count)
-                .filter_map(|i| self.slots.get(i as usize).map(|s| (i, s.clone()))),
+            outside_runs(runs, out.slot_count).filter_map(|i| self.slots.get(i as usize).cloned()),
         );
         out.free.clone_from(&self.free);
         out.len = self.len;
     }
 
-    /// Installs a part that [`ArenaPart::check_against`] accepted for the
-    /// runs of this arena's kept slots: the slots outside the runs, the free
-    /// list and the length become the part's; the slots in the runs stay.
-    /// `adopt` fixes each installed object (its handles' origin).
-    pub(crate) fn restore_part(&mut self, part: &ArenaPart<T>, mut adopt: impl FnMut(&mut T)) {
+    /// Installs a part that [`ArenaPart::check_against`] accepted for
+    /// `runs`, the runs of this arena's kept slots: the slots outside the
+    /// runs, the free list and the length become the part's; the slots in
+    /// the runs stay. `adopt` fixes each installed object (its handles'
+    /// origin).
+    pub(crate) fn restore_part(
+        &mut self,
+        runs: &Runs,
+        part: &ArenaPart<T>,
+        mut adopt: impl FnMut(&mut T),
+    ) {
         self.slots
             .resize_with(part.slot_count as usize, Slot::empty);
-        for (i, slot) in &part.slots {
-            if let Some(dst) = self.slots.get_mut(*i as usize) {
+        for (i, slot) in outside_runs(runs, part.slot_count).zip(&part.slots) {
+            if let Some(dst) = self.slots.get_mut(i as usize) {
                 dst.clone_from(slot);
                 if let Some(v) = dst.value.as_mut() {
                     adopt(v);
@@ -659,12 +652,12 @@ impl<T> Arena<T> {
         let mut taken = Vec::with_capacity(part.slots.len());
         for i in outside_runs(runs, mine) {
             if let Some(s) = self.slots.get_mut(i as usize) {
-                taken.push((i, core::mem::replace(s, Slot::empty())));
+                taken.push(core::mem::replace(s, Slot::empty()));
             }
         }
         self.slots
             .resize_with(part.slot_count as usize, Slot::empty);
-        for (i, slot) in part.slots.drain(..) {
+        for (i, slot) in outside_runs(runs, part.slot_count).zip(part.slots.drain(..)) {
             if let Some(dst) = self.slots.get_mut(i as usize) {
                 *dst = slot;
             }
@@ -685,15 +678,15 @@ impl<T> Arena<T> {
         hash_part_words(
             h,
             count,
-            outside_runs(runs, count).filter_map(|i| self.slots.get(i as usize).map(|s| (i, s))),
+            outside_runs(runs, count).filter_map(|i| self.slots.get(i as usize)),
             &self.free,
             self.len,
         );
     }
 
     /// Serializes the slots outside `runs` exactly as the [`ArenaPart`]
-    /// saved from this arena would serialize (same fields, same order), without
-    /// copying them.
+    /// saved from this arena would serialize (same fields, same order),
+    /// without copying them.
     pub(crate) fn serialize_part<S: serde::Serializer>(
         &self,
         runs: &Runs,
@@ -712,7 +705,7 @@ impl<T> Arena<T> {
                 let mut seq = s.serialize_seq(Some(usize::try_from(n).unwrap_or(usize::MAX)))?;
                 for i in outside_runs(runs, count) {
                     if let Some(slot) = arena.slots.get(i as usize) {
-                        seq.serialize_element(&(i, slot))?;
+                        seq.serialize_element(slot)?;
                     }
                 }
                 seq.end()

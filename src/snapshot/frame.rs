@@ -17,9 +17,10 @@
 //!     12     8  payload_checksum of the payload bytes, u64 LE
 //!     20     …  the FrameState, bincode 2 (serde), the configuration of
 //!               full snapshots: level digest (u64), settings, the body
-//!               and shape arena parts (slot count u32, then each slot
-//!               outside the level as (index u32, slot), free list, length
-//!               u32), arbiters, stamp, steps, current and previous dt,
+//!               and shape arena parts (slot count u32, then the slots
+//!               outside the level in slot order — their indices are
+//!               implied by the level's slots —, free list, length u32),
+//!               arbiters, stamp, steps, current and previous dt,
 //!               constraint arena, dormant arbiters
 //! ```
 //! Objects are encoded exactly as in a full snapshot (their serde form).

@@ -37,7 +37,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::arbiter::Arbiter;
-use crate::arena::{runs_len, Arena, ArenaPart};
+use crate::arena::{Arena, ArenaPart};
 use crate::body::Body;
 use crate::checksum::WordHasher;
 use crate::constraint::Constraint;
@@ -197,23 +197,24 @@ impl Space {
         self.caches.level.set(None);
     }
 
-    /// Settles the suspects of `body_mut` (start of a step): the level is
-    /// recomputed if one became static, and the list is cleared.
+    /// Settles the suspects of `body_mut` (start of a step, frame
+    /// install): one that is static now was not when it was handed out, so
+    /// the level changed: the level cache is dropped and the statics
+    /// flagged (its shapes' cache entries and the static tree must be
+    /// redone; stage 2 walks the level's slots only when statics are
+    /// clean). The list is cleared.
     pub(crate) fn settle_level_suspects(&mut self) {
-        if self.caches.level_suspects.is_empty() {
-            return;
-        }
-        let before = self.caches.level.take();
-        self.caches.level.set(before.clone());
-        let level = self.with_level(|l| l.clone());
+        let bodies = &self.state.bodies;
+        let turned_static = self.caches.level_suspects.iter().any(|&i| {
+            bodies
+                .get_by_index(i)
+                .is_some_and(|(_, b)| b.body_type() == crate::body::BodyType::Static)
+        });
         self.caches.level_suspects.clear();
-        if before.is_some_and(|b| b.digest != level.digest) {
-            // A body turned static in place: its shapes' cache entries and
-            // the static tree must be redone (stage 2 walks the level's
-            // slots only when statics are clean).
+        if turned_static {
             self.caches.broadphase.statics_dirty = true;
+            self.forget_level();
         }
-        self.caches.level.set(Some(level));
     }
 
     /// Digest of the level: the static bodies and their shapes, with their
@@ -287,6 +288,7 @@ impl Space {
     /// another level; [`SpaceError::FrameMismatch`] for a frame whose slots
     /// do not fit around this level.
     pub fn restore_frame(&mut self, frame: &FrameState) -> Result<(), SpaceError> {
+        self.settle_level_suspects();
         self.check_frame_fits(frame)?;
         let origin = self.origin;
         let Some(level) = self.caches.level.take() else {
@@ -295,10 +297,14 @@ impl Space {
         };
         let state = &mut self.state;
         state.settings.clone_from(&frame.settings);
-        state.bodies.restore_part(&frame.bodies, |_| {});
+        state
+            .bodies
+            .restore_part(&level.body_runs, &frame.bodies, |_| {});
         state
             .shapes
-            .restore_part(&frame.shapes, |s| s.body = s.body.with_origin(origin));
+            .restore_part(&level.shape_runs, &frame.shapes, |s| {
+                s.body = s.body.with_origin(origin)
+            });
         state.arbiters.clone_from(&frame.arbiters);
         state.stamp = frame.stamp;
         state.steps = frame.steps;
@@ -327,18 +333,19 @@ impl Space {
         &mut self,
         mut frame: FrameState,
     ) -> Result<(), SpaceError> {
+        self.settle_level_suspects();
         self.check_frame_fits(&frame)?;
         let Some(level) = self.caches.level.take() else {
             return Err(SpaceError::FrameMismatch("level index missing".into()));
         };
         let bookkeeping = frame
             .bodies
-            .check_bookkeeping(runs_len(&level.body_runs))
+            .check_bookkeeping(&level.body_runs)
             .map_err(|e| format!("bodies: {e}"))
             .and_then(|()| {
                 frame
                     .shapes
-                    .check_bookkeeping(runs_len(&level.shape_runs))
+                    .check_bookkeeping(&level.shape_runs)
                     .map_err(|e| format!("shapes: {e}"))
             });
         if let Err(e) = bookkeeping {
@@ -373,7 +380,6 @@ impl Space {
         self.caches.broadphase.sleeping_count = None;
         self.caches.body_shapes.invalidate();
         self.caches.step.dt_constants = [None, None];
-        self.caches.level_suspects.clear();
     }
 }
 

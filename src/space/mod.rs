@@ -689,7 +689,9 @@ impl Space {
             self.forget_level();
         } else {
             // The game may replace it by a static body (see `space::level`).
-            self.caches.level_suspects.push(h.index());
+            if !self.caches.level_suspects.contains(&h.index()) {
+                self.caches.level_suspects.push(h.index());
+            }
         }
         self.state.bodies.get_mut(h)
     }
