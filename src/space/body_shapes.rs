@@ -26,6 +26,32 @@ impl BodyShapes {
         self.lists = None;
     }
 
+    /// Brings built lists up to date after a frame was installed around an
+    /// unchanged level (`space::frame`): the lists of the level's bodies
+    /// (whose shapes are all level shapes) stay; every other body's list is
+    /// rebuilt from the shapes outside the level. Costs the frame, not the
+    /// level, and keeps queries on the broadphase after a rollback.
+    pub(crate) fn refresh_frame(
+        &mut self,
+        shapes: &Arena<Shape>,
+        body_runs: &[(u32, u32)],
+        shape_runs: &[(u32, u32)],
+    ) {
+        let Some(lists) = self.lists.as_mut() else {
+            return;
+        };
+        for i in crate::arena::outside_runs(body_runs, lists.len() as u32) {
+            if let Some(list) = lists.get_mut(i as usize) {
+                list.clear();
+            }
+        }
+        for i in crate::arena::outside_runs(shape_runs, shapes.capacity_slots() as u32) {
+            if let Some((_, s)) = shapes.get_by_index(i) {
+                push_sorted(lists, s.body.index(), i);
+            }
+        }
+    }
+
     /// The lists, built from `shapes` if they are not.
     fn lists(&mut self, shapes: &Arena<Shape>) -> &mut Vec<Vec<u32>> {
         self.lists.get_or_insert_with(|| {

@@ -318,8 +318,8 @@ impl Space {
             &mut state.dormant_arbiters,
             &mut state.constraints,
         );
+        self.after_frame_install(&level);
         self.caches.level.set(Some(level));
-        self.after_frame_install();
         Ok(())
     }
 
@@ -367,18 +367,25 @@ impl Space {
         if checked.is_err() {
             swap_frame(&mut self.state, &level, &mut frame);
         }
+        if let Err(e) = checked {
+            self.caches.level.set(Some(level));
+            return Err(SpaceError::InvalidState(e));
+        }
+        self.after_frame_install(&level);
         self.caches.level.set(Some(level));
-        checked.map_err(SpaceError::InvalidState)?;
-        self.after_frame_install();
         Ok(())
     }
 
     /// The caches a new frame invalidates; the level's stay.
-    fn after_frame_install(&mut self) {
+    fn after_frame_install(&mut self, level: &LevelIndex) {
         self.post_step.clear();
         self.caches.broadphase.sleepers_dirty = true;
         self.caches.broadphase.sleeping_count = None;
-        self.caches.body_shapes.invalidate();
+        self.caches.body_shapes.refresh_frame(
+            &self.state.shapes,
+            &level.body_runs,
+            &level.shape_runs,
+        );
         self.caches.step.dt_constants = [None, None];
     }
 }

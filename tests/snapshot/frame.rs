@@ -221,3 +221,70 @@ fn damaged_frames_are_errors_or_valid_worlds_and_never_touch_the_world_on_error(
         "{refused} refused, {accepted} accepted"
     );
 }
+
+#[test]
+fn queries_stay_on_the_broadphase_and_agree_after_a_frame_restore() {
+    let mut w = level_world(50);
+    let extra = ok(w.add_body(ok(Body::new(Real::ZERO, Real::ZERO))));
+    ok(w.body_mut(extra).ok_or("extra")).set_position(Vect::from_ints(2, 3));
+    let mut circle = ok(ok(Shape::circle_shape_new(extra, Real::HALF, Vect::ZERO))
+        .with_material(Real::ONE, Real::ZERO));
+    ok(circle.set_density(Real::ONE));
+    ok(w.add_shape(circle));
+    ok(w.step(dt()));
+    let mut f = FrameState::default();
+    w.save_frame(&mut f);
+    let bytes = snapshot::save_frame(&w);
+    let reference = save(&w);
+    // Diverge: the extra body goes, another comes.
+    ok(w.remove_body(extra));
+    let other = ok(w.add_body(ok(Body::new(Real::ONE, Real::ONE))));
+    ok(w.add_shape(ok(Shape::circle_shape_new(other, Real::ONE, Vect::ZERO))));
+    ok(w.step(dt()));
+    for path in 0..2 {
+        if path == 0 {
+            ok(w.restore_frame(&f));
+        } else {
+            ok(w.load_frame_snapshot(&bytes));
+        }
+        assert!(save(&w) == reference);
+        assert!(
+            w.queries_use_broadphase(),
+            "path {path}: queries scan everything"
+        );
+        // The same answers as a scan of every shape (a fresh space scans).
+        let scan = Space::from_state(w.state().clone());
+        assert!(!scan.queries_use_broadphase());
+        for x in -5..5 {
+            let (a, b) = (Vect::from_ints(x, 5), Vect::from_ints(x + 1, -1));
+            let got: Vec<_> = w
+                .segment_query(a, b, Real::ZERO, tamias2d::shape::ShapeFilter::ALL)
+                .into_iter()
+                .map(|(h, info)| (h, info.alpha))
+                .collect();
+            let want: Vec<_> = scan
+                .segment_query(a, b, Real::ZERO, tamias2d::shape::ShapeFilter::ALL)
+                .into_iter()
+                .map(|(h, info)| (h, info.alpha))
+                .collect();
+            assert_eq!(got, want, "path {path}, ray at x = {x}");
+        }
+        // The per-body shape lists are right: a shape added now sums the
+        // body's mass from both of its shapes.
+        let mut v = w.clone();
+        let mut s = ok(Shape::circle_shape_new(
+            extra,
+            Real::HALF,
+            Vect::from_ints(1, 0),
+        ));
+        ok(s.set_density(Real::ONE));
+        ok(w.add_shape(s.clone()));
+        ok(v.add_shape(s));
+        let (m1, m2) = (
+            ok(w.body(extra).ok_or("extra")).mass(),
+            ok(v.body(extra).ok_or("extra")).mass(),
+        );
+        assert_eq!(m1, m2);
+        ok(w.restore_frame(&f));
+    }
+}
