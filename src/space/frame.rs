@@ -34,6 +34,11 @@
 //! is a function of the level's contents, slots and generations, so the
 //! level as it was gives the digest it had (a removed and re-added shape
 //! has a new generation, hence another digest).
+//!
+//! The level is static bodies *as the state holds them*: a force, torque
+//! or bias velocity set on a static body (the step clears them), or a
+//! custom integrator on one, changes the level at the next step. A body
+//! the game moves every frame belongs in the frame: make it kinematic.
 use serde::{Deserialize, Serialize};
 
 use crate::arbiter::Arbiter;
