@@ -90,7 +90,7 @@ pub enum ArbiterState {
 }
 
 /// The persistent contact state of a shape pair (Chipmunk `cpArbiter`).
-#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Arbiter {
     pub(crate) shape_a: ShapeHandle,
     pub(crate) shape_b: ShapeHandle,
@@ -114,6 +114,76 @@ pub struct Arbiter {
     pub(crate) state: ArbiterState,
     /// True while the pair involves a sensor (callbacks only, no solving).
     pub(crate) sensor: bool,
+}
+
+/// Every field, the small ones packed into one word (count, state, sensor
+/// flag, warm-start id), then the numbers and the used contacts; the
+/// contacts past the count, zero in every valid arbiter (the narrowphase
+/// clears them, validation checks it), are folded into one word by
+/// exclusive or, so a change of any one of their fields still changes the
+/// checksum without costing a word each.
+impl core::hash::Hash for Arbiter {
+    #[inline]
+    fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
+        // Every field named: a new one is a compile error until hashed.
+        let Arbiter {
+            shape_a,
+            shape_b,
+            body_a,
+            body_b,
+            normal,
+            count,
+            contacts,
+            restitution,
+            friction,
+            surface_velocity,
+            warm_start_id,
+            stamp,
+            state,
+            sensor,
+        } = self;
+        let state: u64 = match state {
+            ArbiterState::FirstCollision => 0,
+            ArbiterState::Normal => 1,
+            ArbiterState::Ignore => 2,
+            ArbiterState::Cached => 3,
+        };
+        shape_a.hash(h);
+        shape_b.hash(h);
+        body_a.hash(h);
+        body_b.hash(h);
+        h.write_u64(
+            u64::from(*count) | state << 8 | u64::from(*sensor) << 10 | u64::from(*warm_start_id) << 32,
+        );
+        stamp.hash(h);
+        normal.hash(h);
+        restitution.hash(h);
+        friction.hash(h);
+        surface_velocity.hash(h);
+        let (used, unused) = contacts.split_at(usize::from(*count).min(MAX_CONTACTS_PER_ARBITER));
+        for c in used {
+            c.hash(h);
+        }
+        let unused = unused.iter().fold(0, |z, c| {
+            let ManifoldPoint {
+                r1,
+                r2,
+                dist,
+                feature_id,
+                jn_acc,
+                jt_acc,
+            } = c;
+            z ^ r1.x.to_bits()
+                ^ r1.y.to_bits()
+                ^ r2.x.to_bits()
+                ^ r2.y.to_bits()
+                ^ dist.to_bits()
+                ^ i64::from(*feature_id)
+                ^ jn_acc.to_bits()
+                ^ jt_acc.to_bits()
+        });
+        h.write_i64(unused);
+    }
 }
 
 impl Arbiter {

@@ -106,8 +106,8 @@ impl<T> core::hash::Hash for Handle<T> {
             origin: _, // not state
             _marker,
         } = self;
-        index.hash(h);
-        generation.hash(h);
+        // One word: the checksum's per-word cost is what counts.
+        h.write_u64(u64::from(*index) | u64::from(*generation) << 32);
     }
 }
 impl<T> core::fmt::Debug for Handle<T> {
@@ -175,7 +175,12 @@ impl<T: core::hash::Hash> core::hash::Hash for Arena<T> {
         } = self;
         h.write_u64(slots.len() as u64);
         for slot in slots {
-            slot.hash(h);
+            let Slot { generation, value } = slot;
+            // Generation and occupancy in one word, then the value.
+            h.write_u64(u64::from(*generation) << 1 | u64::from(value.is_some()));
+            if let Some(value) = value {
+                value.hash(h);
+            }
         }
         h.write_u64(free.len() as u64);
         for &i in free {

@@ -24,34 +24,62 @@
 //! the checksum changes.
 use core::hash::{Hash, Hasher};
 
-/// Deterministic word-at-a-time hasher (see the module docs).
+/// Number of lanes (independent multiply chains).
+const LANES: usize = 4;
+
+/// The multiplier of the lane step (2^64 / φ, odd).
+const K: u64 = 0x9E37_79B9_7F4A_7C15;
+
+/// One step of a lane: injective in the word for a fixed lane, a
+/// bijection of the lane for a fixed word.
+#[inline(always)]
+fn mix(lane: u64, w: u64) -> u64 {
+    // Multiplication modulo 2^64 is the mix itself: `wrapping_mul` here
+    // (and in `finish`) is the intended semantics, not an overflow.
+    let x = (lane ^ w).wrapping_mul(K);
+    x ^ (x >> 29)
+}
+
+/// Deterministic word-at-a-time hasher with independent lanes (see the
+/// module docs).
 #[derive(Clone, Copy, Debug)]
 pub struct WordHasher {
-    state: u64,
+    /// `lanes[0]` takes the next word; the lanes then rotate.
+    lanes: [u64; LANES],
 }
 
 impl Default for WordHasher {
     fn default() -> Self {
+        // π's fraction bits (as the snapshot's payload checksum): any
+        // distinct seeds work.
         WordHasher {
-            state: 0x243F_6A88_85A3_08D3,
-        } // π's fraction bits: any odd seed works
+            lanes: [
+                0x243F_6A88_85A3_08D3,
+                0x1319_8A2E_0370_7344,
+                0xA409_3822_299F_31D0,
+                0x082E_FA98_EC4E_6C89,
+            ],
+        }
     }
 }
 
 impl WordHasher {
+    /// Mixes `w` into the first lane and rotates the lanes, so word `k` of
+    /// the stream goes to lane `k mod LANES`. The rotation is free once the
+    /// lanes are in registers (the compiler renames them).
     #[inline(always)]
     fn word(&mut self, w: u64) {
-        // Multiplication modulo 2^64 is the mix itself: `wrapping_mul` here
-        // (and in `finish`) is the intended semantics, not an overflow.
-        let x = (self.state ^ w).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-        self.state = x ^ (x >> 29);
+        let [a, b, c, d] = self.lanes;
+        self.lanes = [b, c, d, mix(a, w)];
     }
 }
 
 impl Hasher for WordHasher {
     fn finish(&self) -> u64 {
-        // Final avalanche (SplitMix64's finaliser).
-        let mut z = self.state;
+        // The lanes folded into one word (each fold step is a bijection of
+        // the lane folded in), then SplitMix64's finaliser.
+        let [a, b, c, d] = self.lanes;
+        let mut z = mix(mix(mix(a, b), c), d);
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         z ^ (z >> 31)

@@ -4,6 +4,8 @@
 //! Geometry is a small `Copy` value with inline vertex storage (at most
 //! [`MAX_POLY_VERTICES`]): moving shapes into world space each step allocates
 //! nothing, and snapshots hold plain values.
+use core::hash::Hash;
+
 use serde::{Deserialize, Serialize};
 
 use super::ShapeError;
@@ -44,7 +46,7 @@ pub struct Segment {
 }
 
 /// A convex polygon with counter-clockwise vertices and a rounding radius.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Poly {
     /// Number of used entries of `verts`/`normals` (3..=MAX_POLY_VERTICES).
     pub(crate) count: u8,
@@ -57,7 +59,7 @@ pub struct Poly {
 }
 
 /// The geometry of one shape.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Geometry {
     /// A circle.
     Circle(Circle),
@@ -65,6 +67,63 @@ pub enum Geometry {
     Segment(Segment),
     /// A convex polygon.
     Poly(Poly),
+}
+
+/// The kind (and a polygon's vertex count) in one word, then the fields.
+impl Hash for Geometry {
+    #[inline]
+    fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
+        match self {
+            Geometry::Circle(c) => {
+                h.write_u64(0);
+                c.hash(h);
+            }
+            Geometry::Segment(s) => {
+                h.write_u64(1);
+                s.hash(h);
+            }
+            Geometry::Poly(p) => p.hash_after_tag(h, 2),
+        }
+    }
+}
+
+/// The vertex count, the radius and the used vertices and normals; the
+/// entries past the count, zero in every valid polygon (validation rebuilds
+/// the polygon from its vertices and compares), are folded into one word
+/// by exclusive or, so a change of any one of them still changes the
+/// checksum without costing a word each.
+impl Hash for Poly {
+    #[inline]
+    fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
+        self.hash_after_tag(h, 0);
+    }
+}
+
+impl Poly {
+    /// [`Hash`](core::hash::Hash) with `tag` (below 256) in the first word.
+    #[inline]
+    fn hash_after_tag<H: core::hash::Hasher>(&self, h: &mut H, tag: u64) {
+        // Every field named: a new one is a compile error until hashed.
+        let Poly {
+            count,
+            verts,
+            normals,
+            radius,
+        } = self;
+        h.write_u64(tag | u64::from(*count) << 8);
+        radius.hash(h);
+        let n = usize::from(*count);
+        let (used_v, unused_v) = verts.split_at(n.min(MAX_POLY_VERTICES));
+        let (used_n, unused_n) = normals.split_at(n.min(MAX_POLY_VERTICES));
+        for v in used_v.iter().chain(used_n) {
+            v.hash(h);
+        }
+        let unused = unused_v
+            .iter()
+            .chain(unused_n)
+            .fold(0, |z, v| z ^ v.x.to_bits() ^ v.y.to_bits());
+        h.write_i64(unused);
+    }
 }
 
 /// Which kind of geometry; also the collision-table order (circle < segment < poly).

@@ -212,7 +212,7 @@ impl fmt::Display for ShapeError {
 impl std::error::Error for ShapeError {}
 
 /// A collision shape attached to a body.
-#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Shape {
     pub(crate) body: BodyHandle,
     pub(crate) geometry: Geometry,
@@ -225,6 +225,49 @@ pub struct Shape {
     /// Sensors report contacts to handlers but never push bodies apart.
     pub sensor: bool,
     pub(crate) mass_spec: MassSpec,
+}
+
+/// Every field, the small ones packed into words (sensor flag and mass
+/// kind; filter and collision type), then the numbers: the checksum costs
+/// per word, and a shape is hashed every frame.
+impl core::hash::Hash for Shape {
+    #[inline]
+    fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
+        // Every field named: a new one is a compile error until hashed.
+        let Shape {
+            body,
+            geometry,
+            material:
+                Material {
+                    friction,
+                    elasticity,
+                    surface_velocity,
+                },
+            filter:
+                ShapeFilter {
+                    group,
+                    categories,
+                    mask,
+                },
+            collision_type,
+            sensor,
+            mass_spec,
+        } = self;
+        let (mass_kind, mass_value): (u64, Real) = match mass_spec {
+            MassSpec::None => (0, Real::ZERO),
+            MassSpec::Mass(m) => (1, *m),
+            MassSpec::Density(d) => (2, *d),
+        };
+        body.hash(h);
+        h.write_u64(mass_kind | u64::from(*sensor) << 2);
+        mass_value.hash(h);
+        h.write_u64(u64::from(*group) | u64::from(*categories) << 32);
+        h.write_u64(u64::from(*mask) | u64::from(*collision_type) << 32);
+        friction.hash(h);
+        elasticity.hash(h);
+        surface_velocity.hash(h);
+        geometry.hash(h);
+    }
 }
 
 impl Shape {
