@@ -36,8 +36,7 @@ const K: u64 = 0x9E37_79B9_7F4A_7C15;
 fn mix(lane: u64, w: u64) -> u64 {
     // Multiplication modulo 2^64 is the mix itself: `wrapping_mul` here
     // (and in `finish`) is the intended semantics, not an overflow.
-    let x = (lane ^ w).wrapping_mul(K);
-    x ^ (x >> 29)
+    (lane ^ w).wrapping_mul(K).rotate_left(29)
 }
 
 /// Deterministic word-at-a-time hasher with independent lanes (see the
