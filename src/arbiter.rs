@@ -117,11 +117,8 @@ pub struct Arbiter {
 }
 
 /// Every field, the small ones packed into one word (count, state, sensor
-/// flag, warm-start id), then the numbers and the used contacts; the
-/// contacts past the count, zero in every valid arbiter (the narrowphase
-/// clears them, validation checks it), are folded into one word by
-/// exclusive or, so a change of any one of their fields still changes the
-/// checksum without costing a word each.
+/// flag, warm-start id), then the numbers and the contact slots: the
+/// checksum costs per word, and arbiters are hashed every frame.
 impl core::hash::Hash for Arbiter {
     #[inline]
     fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
@@ -160,29 +157,11 @@ impl core::hash::Hash for Arbiter {
         restitution.hash(h);
         friction.hash(h);
         surface_velocity.hash(h);
-        let (used, unused) = contacts.split_at(usize::from(*count).min(MAX_CONTACTS_PER_ARBITER));
-        for c in used {
+        // Both slots, fixed length: straight-line code (the slots past the
+        // count are zero in every valid arbiter).
+        for c in contacts {
             c.hash(h);
         }
-        let unused = unused.iter().fold(0, |z, c| {
-            let ManifoldPoint {
-                r1,
-                r2,
-                dist,
-                feature_id,
-                jn_acc,
-                jt_acc,
-            } = c;
-            z ^ r1.x.to_bits()
-                ^ r1.y.to_bits()
-                ^ r2.x.to_bits()
-                ^ r2.y.to_bits()
-                ^ dist.to_bits()
-                ^ i64::from(*feature_id)
-                ^ jn_acc.to_bits()
-                ^ jt_acc.to_bits()
-        });
-        h.write_i64(unused);
     }
 }
 

@@ -25,7 +25,7 @@
 use core::hash::{Hash, Hasher};
 
 /// Number of lanes (independent multiply chains).
-const LANES: usize = 4;
+const LANES: usize = 8;
 
 /// The multiplier of the lane step (2^64 / φ, odd).
 const K: u64 = 0x9E37_79B9_7F4A_7C15;
@@ -57,6 +57,10 @@ impl Default for WordHasher {
                 0x1319_8A2E_0370_7344,
                 0xA409_3822_299F_31D0,
                 0x082E_FA98_EC4E_6C89,
+                0x4528_21E6_38D0_1377,
+                0xBE54_66CF_34E9_0C6C,
+                0xC0AC_29B7_C97C_50DD,
+                0x3F84_D5B5_B547_0917,
             ],
         }
     }
@@ -68,8 +72,8 @@ impl WordHasher {
     /// lanes are in registers (the compiler renames them).
     #[inline(always)]
     fn word(&mut self, w: u64) {
-        let [a, b, c, d] = self.lanes;
-        self.lanes = [b, c, d, mix(a, w)];
+        let [a, b, c, d, e, f, g, i] = self.lanes;
+        self.lanes = [b, c, d, e, f, g, i, mix(a, w)];
     }
 }
 
@@ -77,8 +81,8 @@ impl Hasher for WordHasher {
     fn finish(&self) -> u64 {
         // The lanes folded into one word (each fold step is a bijection of
         // the lane folded in), then SplitMix64's finaliser.
-        let [a, b, c, d] = self.lanes;
-        let mut z = mix(mix(mix(a, b), c), d);
+        let [a, b, c, d, e, f, g, i] = self.lanes;
+        let mut z = mix(mix(mix(mix(mix(mix(mix(a, b), c), d), e), f), g), i);
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         z ^ (z >> 31)

@@ -73,67 +73,69 @@ pub enum Geometry {
 impl Hash for Geometry {
     #[inline]
     fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
+        self.hash_with_tag(h, 0);
+    }
+}
+
+impl Geometry {
+    /// [`Hash`]: one word holding `bits` (below 2^8: a caller's own small
+    /// fields, see `Shape`'s hash), the kind and a polygon's vertex count,
+    /// then the fields.
+    #[inline]
+    pub(crate) fn hash_with_tag<H: core::hash::Hasher>(&self, h: &mut H, bits: u64) {
         match self {
             Geometry::Circle(c) => {
-                h.write_u64(0);
+                h.write_u64(bits);
                 c.hash(h);
             }
             Geometry::Segment(s) => {
-                h.write_u64(1);
+                h.write_u64(bits | 1 << 8);
                 s.hash(h);
             }
-            Geometry::Poly(p) => p.hash_after_tag(h, 2),
+            Geometry::Poly(p) => {
+                h.write_u64(bits | 2 << 8 | u64::from(p.count) << 16);
+                p.hash_fields(h);
+            }
         }
     }
 }
 
-/// The vertex count, the radius and the used vertices, mixed; the normals
-/// and the entries past the count are folded into one word by exclusive
-/// or. In every valid polygon (validation rebuilds the polygon from its
-/// vertices and compares) the normals follow from the vertices and the
-/// unused entries are zero, so they carry no information of their own; a
-/// change of any one of them still changes the fold, hence the checksum,
+/// The vertex count, the radius and every vertex slot (the slots past the
+/// count are zero in every valid polygon), mixed; the normals are folded
+/// into one word by exclusive or. In every valid polygon (validation
+/// rebuilds the polygon from its vertices and compares) the normals follow
+/// from the vertices, so they carry no information of their own; a change
+/// of any one of their numbers still changes the fold, hence the checksum,
 /// at a fraction of the cost of a word each (a polygon is hashed every
 /// frame).
 impl Hash for Poly {
     #[inline]
     fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
-        self.hash_after_tag(h, 0);
+        h.write_u8(self.count);
+        self.hash_fields(h);
     }
 }
 
 impl Poly {
-    /// [`Hash`](core::hash::Hash) with `tag` (below 256) in the first word.
+    /// [`Hash`] but the count: the radius, the vertex slots, the normals'
+    /// fold.
     #[inline]
-    fn hash_after_tag<H: core::hash::Hasher>(&self, h: &mut H, tag: u64) {
+    fn hash_fields<H: core::hash::Hasher>(&self, h: &mut H) {
         // Every field named: a new one is a compile error until hashed.
         let Poly {
-            count,
+            count: _, // hashed by the caller
             verts,
             normals,
             radius,
         } = self;
-        h.write_u64(tag | u64::from(*count) << 8);
         radius.hash(h);
-        let n = usize::from(*count);
-        let (used, _) = verts.split_at(n.min(MAX_POLY_VERTICES));
-        // Two vertices at a time: four words, one per lane.
-        let mut pairs = used.chunks_exact(2);
-        for pair in &mut pairs {
-            if let [a, b] = pair {
-                a.hash(h);
-                b.hash(h);
-            }
-        }
-        for v in pairs.remainder() {
+        // Fixed length, no branch: straight-line code.
+        for v in verts {
             v.hash(h);
         }
-        // Branch-free over the whole arrays (fixed length: unrolled).
-        let mut fold = 0;
-        for (i, (v, normal)) in verts.iter().zip(normals).enumerate() {
-            let unused = if i < n { 0 } else { v.x.to_bits() ^ v.y.to_bits().rotate_left(32) };
-            fold ^= unused ^ normal.x.to_bits() ^ normal.y.to_bits().rotate_left(32);
-        }
+        let fold = normals
+            .iter()
+            .fold(0, |z, n| z ^ n.x.to_bits() ^ n.y.to_bits().rotate_left(32));
         h.write_i64(fold);
     }
 }

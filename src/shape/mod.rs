@@ -227,9 +227,9 @@ pub struct Shape {
     pub(crate) mass_spec: MassSpec,
 }
 
-/// Every field, the small ones packed into words (sensor flag and mass
-/// kind; filter and collision type), then the numbers: the checksum costs
-/// per word, and a shape is hashed every frame.
+/// Every field, the small ones packed into words (filter and collision
+/// type; sensor flag and mass kind with the geometry's kind), then the
+/// numbers: the checksum costs per word, and a shape is hashed every frame.
 impl core::hash::Hash for Shape {
     #[inline]
     fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
@@ -259,14 +259,13 @@ impl core::hash::Hash for Shape {
             MassSpec::Density(d) => (2, *d),
         };
         body.hash(h);
-        h.write_u64(mass_kind | u64::from(*sensor) << 2);
         mass_value.hash(h);
         h.write_u64(u64::from(*group) | u64::from(*categories) << 32);
         h.write_u64(u64::from(*mask) | u64::from(*collision_type) << 32);
         friction.hash(h);
         elasticity.hash(h);
         surface_velocity.hash(h);
-        geometry.hash(h);
+        geometry.hash_with_tag(h, mass_kind | u64::from(*sensor) << 2);
     }
 }
 
