@@ -81,7 +81,7 @@ impl Geometry {
     /// [`Hash`]: one word holding `bits` (below 2^8: a caller's own small
     /// fields, see `Shape`'s hash), the kind and a polygon's vertex count,
     /// then the fields.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn hash_with_tag<H: core::hash::Hasher>(&self, h: &mut H, bits: u64) {
         match self {
             Geometry::Circle(c) => {
@@ -119,7 +119,7 @@ impl Hash for Poly {
 impl Poly {
     /// [`Hash`] but the count: the radius, the vertex slots, the normals'
     /// fold.
-    #[inline]
+    #[inline(always)]
     fn hash_fields<H: core::hash::Hasher>(&self, h: &mut H) {
         // Every field named: a new one is a compile error until hashed.
         let Poly {

@@ -231,7 +231,7 @@ pub struct Shape {
 /// type; sensor flag and mass kind with the geometry's kind), then the
 /// numbers: the checksum costs per word, and a shape is hashed every frame.
 impl core::hash::Hash for Shape {
-    #[inline]
+    #[inline(always)]
     fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
         // Every field named: a new one is a compile error until hashed.
         let Shape {
