@@ -150,7 +150,10 @@ impl core::hash::Hash for Arbiter {
         body_a.hash(h);
         body_b.hash(h);
         h.write_u64(
-            u64::from(*count) | state << 8 | u64::from(*sensor) << 10 | u64::from(*warm_start_id) << 32,
+            u64::from(*count)
+                | state << 8
+                | u64::from(*sensor) << 10
+                | u64::from(*warm_start_id) << 32,
         );
         stamp.hash(h);
         normal.hash(h);
