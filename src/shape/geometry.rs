@@ -135,7 +135,7 @@ impl Poly {
         }
         let fold = normals
             .iter()
-            .fold(0, |z, n| z ^ n.x.to_bits() ^ n.y.to_bits().rotate_left(32));
+            .fold(0, |z, n| z ^ n.x.to_bits() ^ n.y.to_bits());
         h.write_i64(fold);
     }
 }
