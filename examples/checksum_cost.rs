@@ -6,9 +6,9 @@
 //! there; then loads it and prints the checksum, the median time per
 //! checksum over 15 rounds of `calls` calls, and the state's size. Run it
 //! once to write the file, then under
-//! `valgrind --tool=callgrind --toggle-collect='*checksum_of*'` with
-//! `calls` 1 for the instructions of one checksum (the load and the
-//! warm-up are not counted).
+//! `valgrind --tool=callgrind --toggle-collect='tamias2d::space::Space::checksum'`
+//! with `calls` 1: the count covers 16 checksums (the printed one and 15
+//! rounds of one), not the load or the warm-up; divide by 16.
 use std::hint::black_box;
 use std::time::Instant;
 
