@@ -1,6 +1,6 @@
 //! GGRS `SyncTestSession` on a two-player physics game: every frame is
 //! simulated, then the last 7 frames are rolled back (restore of the saved
-//! `WorldState`) and re-simulated, and GGRS compares the checksums of both
+//! `FrameState`: the world minus its static level) and re-simulated, and GGRS compares the checksums of both
 //! runs. Any difference is an error; the example also checks the final
 //! state against a straight run without GGRS.
 //!

@@ -5,9 +5,13 @@
 //! restores the state of that frame and re-simulates up to the present.
 //! The result must equal a straight run with all inputs known in time.
 //!
-//! Two ways to save and restore are compared: an in-memory clone of the
-//! `WorldState` (`restore_state`), and snapshot bytes (`snapshot::save_into`
-//! and `Space::load_snapshot`, which validates what it loads).
+//! Four ways to save and restore are compared: the frame (everything but
+//! the static level, which is named by its digest) in memory
+//! (`save_frame` / `restore_frame`) and as bytes
+//! (`snapshot::save_frame_into` / `Space::load_frame_snapshot`, which
+//! validates what it loads), and the whole world in memory (a clone of the
+//! `WorldState`, `restore_state`) and as bytes (`snapshot::save_into` /
+//! `Space::load_snapshot`).
 //!
 //! ```text
 //! cargo run --release --example rollback
@@ -21,7 +25,7 @@ use std::time::{Duration, Instant};
 
 use ggrs_game::{run_straight, scripted_buttons, Game};
 use tamias2d::snapshot;
-use tamias2d::space::WorldState;
+use tamias2d::space::{FrameState, WorldState};
 
 /// Frames simulated.
 const FRAMES: u64 = 600;
@@ -34,6 +38,10 @@ const RING: usize = LATENCY as usize + 1;
 
 /// How frames are saved.
 enum Saves {
+    /// `space.save_frame` per frame (buffers reused).
+    Frames(Vec<FrameState>),
+    /// Frame snapshot bytes per frame (buffers reused).
+    FrameBytes(Vec<Vec<u8>>),
     /// `space.state().clone()` per frame.
     Memory(Vec<WorldState>),
     /// Snapshot bytes per frame (buffers reused).
@@ -44,6 +52,10 @@ impl Saves {
     fn save(&mut self, game: &Game, frame: u64) {
         let slot = (frame % RING as u64) as usize;
         match self {
+            Saves::Frames(frames) => game.space.save_frame(&mut frames[slot]),
+            Saves::FrameBytes(buffers) => {
+                snapshot::save_frame_into(&game.space, &mut buffers[slot]);
+            }
             Saves::Memory(states) => states[slot].clone_from(game.space.state()),
             Saves::Bytes(buffers) => {
                 snapshot::save_into(&game.space, &mut buffers[slot]);
@@ -54,6 +66,14 @@ impl Saves {
     fn load(&self, game: &mut Game, frame: u64) {
         let slot = (frame % RING as u64) as usize;
         match self {
+            Saves::Frames(frames) => game
+                .space
+                .restore_frame(&frames[slot])
+                .expect("a frame of this level"),
+            Saves::FrameBytes(buffers) => game
+                .space
+                .load_frame_snapshot(&buffers[slot])
+                .expect("our own frame"),
             Saves::Memory(states) => game.space.restore_state(&states[slot]),
             Saves::Bytes(buffers) => game
                 .space
@@ -140,6 +160,14 @@ fn main() -> ExitCode {
     println!("straight run: {FRAMES} frames, checksum {straight:#018x}");
     let mut ok = true;
     let runs = [
+        (
+            "in-memory frames",
+            Saves::Frames(vec![FrameState::default(); RING]),
+        ),
+        (
+            "frame snapshot bytes",
+            Saves::FrameBytes(vec![Vec::new(); RING]),
+        ),
         (
             "in-memory state clones",
             Saves::Memory(vec![WorldState::default(); RING]),

@@ -175,18 +175,25 @@ impl<T: core::hash::Hash> core::hash::Hash for Arena<T> {
         } = self;
         h.write_u64(slots.len() as u64);
         for slot in slots {
-            let Slot { generation, value } = slot;
-            // Generation and occupancy in one word, then the value.
-            h.write_u64(u64::from(*generation) << 1 | u64::from(value.is_some()));
-            if let Some(value) = value {
-                value.hash(h);
-            }
+            hash_slot(slot, h);
         }
         h.write_u64(free.len() as u64);
         for &i in free {
             h.write_u32(i);
         }
         h.write_u32(*len);
+    }
+}
+
+/// A slot as the checksum sees it: generation and occupancy in one word,
+/// then the value (the derive's `Hash` of [`Slot`] spends a word on each).
+#[inline(always)]
+fn hash_slot<T: core::hash::Hash, H: core::hash::Hasher>(slot: &Slot<T>, h: &mut H) {
+    // Every field named: a new one is a compile error until it is hashed.
+    let Slot { generation, value } = slot;
+    h.write_u64(u64::from(*generation) << 1 | u64::from(value.is_some()));
+    if let Some(value) = value {
+        value.hash(h);
     }
 }
 
@@ -406,6 +413,289 @@ impl<T> Arena<T> {
             ));
         }
         Ok(())
+    }
+}
+
+/// Sorted, disjoint, half-open slot ranges `start..end`: the slots an
+/// [`ArenaPart`] leaves out (a world's level, see `space::level`).
+pub(crate) type Runs = [(u32, u32)];
+
+/// Number of slots the runs cover.
+pub(crate) fn runs_len(runs: &Runs) -> u64 {
+    runs.iter()
+        .map(|&(a, b)| u64::from(b.saturating_sub(a)))
+        .sum()
+}
+
+/// The indices `0..slot_count` outside `runs`, increasing (the runs must
+/// be sorted and disjoint; indices past `slot_count` are ignored).
+pub(crate) fn outside_runs(runs: &Runs, slot_count: u32) -> impl Iterator<Item = u32> + '_ {
+    let mut next_run = 0usize;
+    let mut i = 0u32;
+    core::iter::from_fn(move || loop {
+        if i >= slot_count {
+            return None;
+        }
+        match runs.get(next_run) {
+            Some(&(a, b)) if i >= a => {
+                if i < b {
+                    i = b;
+                }
+                next_run = next_run.saturating_add(1);
+            }
+            _ => {
+                let out = i;
+                i = i.saturating_add(1);
+                return Some(out);
+            }
+        }
+    })
+}
+
+/// Part of an arena: every slot outside some runs (the level's), with the
+/// arena's free list, length and slot count. A world's per-frame state
+/// holds its arenas this way, so that saving, restoring and hashing a
+/// frame cost what the frame holds, not what the level holds.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(bound(serialize = "T: Serialize", deserialize = "T: Deserialize<'de>"))]
+pub struct ArenaPart<T> {
+    /// Slots of the whole arena (those left out included).
+    slot_count: u32,
+    /// `(index, slot)` of every slot outside the runs, by increasing index.
+    slots: Vec<(u32, Slot<T>)>,
+    /// The arena's free list (free slots are never in the runs).
+    free: Vec<u32>,
+    /// The arena's number of live objects (those left out included).
+    len: u32,
+}
+
+impl<T> Default for ArenaPart<T> {
+    fn default() -> Self {
+        ArenaPart {
+            slot_count: 0,
+            slots: Vec::new(),
+            free: Vec::new(),
+            len: 0,
+        }
+    }
+}
+
+impl<T> ArenaPart<T> {
+    /// Number of slots held.
+    pub(crate) fn held(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// The held objects, mutably.
+    pub(crate) fn values_mut(&mut self) -> impl Iterator<Item = &mut T> {
+        self.slots.iter_mut().filter_map(|(_, s)| s.value.as_mut())
+    }
+
+    /// Checks that the part and `runs` tile `0..slot_count` exactly: held
+    /// indices increasing, below `slot_count`, outside the runs, and as
+    /// many as the slots the runs do not cover; every run inside
+    /// `0..slot_count`. What installing needs to be exact; the arena's own
+    /// invariants (free list, length) are checked after installing, by
+    /// [`Arena::validate`].
+    pub(crate) fn check_against(&self, runs: &Runs) -> Result<(), String> {
+        if runs.iter().any(|&(_, b)| b > self.slot_count) {
+            return Err(format!(
+                "the level has slots past the part's {} slots",
+                self.slot_count
+            ));
+        }
+        let expected = u64::from(self.slot_count).saturating_sub(runs_len(runs));
+        if self.slots.len() as u64 != expected {
+            return Err(format!(
+                "{} slots held, the level leaves {expected}",
+                self.slots.len()
+            ));
+        }
+        // Equal counts, and each held index is the next index outside the
+        // runs: the held indices are exactly those.
+        for ((i, _), want) in self.slots.iter().zip(outside_runs(runs, self.slot_count)) {
+            if *i != want {
+                return Err(format!("slot {i} held where slot {want} was expected"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Hashes the part exactly as [`Arena::hash_part`] hashes the arena it
+    /// was saved from.
+    pub(crate) fn hash_into<H: core::hash::Hasher>(&self, h: &mut H)
+    where
+        T: core::hash::Hash,
+    {
+        let ArenaPart {
+            slot_count,
+            slots,
+            free,
+            len,
+        } = self;
+        hash_part_words(
+            h,
+            *slot_count,
+            slots.iter().map(|(i, s)| (*i, s)),
+            free,
+            *len,
+        );
+    }
+}
+
+/// The one hashing sequence of an arena part, shared by the arena (walking
+/// its slots outside the runs) and a saved [`ArenaPart`].
+fn hash_part_words<'a, T: core::hash::Hash + 'a, H: core::hash::Hasher>(
+    h: &mut H,
+    slot_count: u32,
+    slots: impl Iterator<Item = (u32, &'a Slot<T>)>,
+    free: &[u32],
+    len: u32,
+) {
+    h.write_u32(slot_count);
+    for (i, slot) in slots {
+        h.write_u32(i);
+        hash_slot(slot, h);
+    }
+    h.write_u64(free.len() as u64);
+    for &i in free {
+        h.write_u32(i);
+    }
+    h.write_u32(len);
+}
+
+impl<T: Clone> Arena<T> {
+    /// Copies the slots outside `runs` (and the bookkeeping) into `out`,
+    /// reusing its buffer: no allocation once it has grown.
+    pub(crate) fn save_part(&self, runs: &Runs, out: &mut ArenaPart<T>) {
+        out.slot_count = self.slots.len() as u32;
+        out.slots.clear();
+        out.slots.extend(
+            outside_runs(runs, out.slot_count)
+                .filter_map(|i| self.slots.get(i as usize).map(|s| (i, s.clone()))),
+        );
+        out.free.clone_from(&self.free);
+        out.len = self.len;
+    }
+
+    /// Installs a part that [`ArenaPart::check_against`] accepted for the
+    /// runs of this arena's kept slots: the slots outside the runs, the free
+    /// list and the length become the part's; the slots in the runs stay.
+    /// `adopt` fixes each installed object (its handles' origin).
+    pub(crate) fn restore_part(&mut self, part: &ArenaPart<T>, mut adopt: impl FnMut(&mut T)) {
+        self.slots
+            .resize_with(part.slot_count as usize, Slot::empty);
+        for (i, slot) in &part.slots {
+            if let Some(dst) = self.slots.get_mut(*i as usize) {
+                dst.clone_from(slot);
+                if let Some(v) = dst.value.as_mut() {
+                    adopt(v);
+                }
+            }
+        }
+        self.free.clone_from(&part.free);
+        self.len = part.len;
+    }
+}
+
+impl<T> Arena<T> {
+    /// Exchanges the slots outside `runs` (and the bookkeeping) with those of
+    /// `part`, which [`ArenaPart::check_against`] accepted for `runs`
+    /// (and so did this arena, as it holds them): installing and undoing
+    /// are the same call, exact both ways, without cloning an object.
+    pub(crate) fn swap_part(&mut self, runs: &Runs, part: &mut ArenaPart<T>) {
+        let mine = self.slots.len() as u32;
+        let mut taken = Vec::with_capacity(part.slots.len());
+        for i in outside_runs(runs, mine) {
+            if let Some(s) = self.slots.get_mut(i as usize) {
+                taken.push((i, core::mem::replace(s, Slot::empty())));
+            }
+        }
+        self.slots
+            .resize_with(part.slot_count as usize, Slot::empty);
+        for (i, slot) in part.slots.drain(..) {
+            if let Some(dst) = self.slots.get_mut(i as usize) {
+                *dst = slot;
+            }
+        }
+        part.slots = taken;
+        part.slot_count = mine;
+        core::mem::swap(&mut self.free, &mut part.free);
+        core::mem::swap(&mut self.len, &mut part.len);
+    }
+
+    /// Hashes the slots outside `runs` and the bookkeeping, as the saved
+    /// part would hash ([`ArenaPart::hash_into`]).
+    pub(crate) fn hash_part<H: core::hash::Hasher>(&self, runs: &Runs, h: &mut H)
+    where
+        T: core::hash::Hash,
+    {
+        let count = self.slots.len() as u32;
+        hash_part_words(
+            h,
+            count,
+            outside_runs(runs, count).filter_map(|i| self.slots.get(i as usize).map(|s| (i, s))),
+            &self.free,
+            self.len,
+        );
+    }
+
+    /// Serializes the slots outside `runs` exactly as the [`ArenaPart`]
+    /// saved from this arena would serialize (same fields, same order), without
+    /// copying them.
+    pub(crate) fn serialize_part<S: serde::Serializer>(
+        &self,
+        runs: &Runs,
+        serializer: S,
+    ) -> Result<S::Ok, S::Error>
+    where
+        T: Serialize,
+    {
+        use serde::ser::{SerializeSeq, SerializeStruct};
+        struct Held<'a, T>(&'a Arena<T>, &'a Runs);
+        impl<T: Serialize> Serialize for Held<'_, T> {
+            fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+                let Held(arena, runs) = self;
+                let count = arena.slots.len() as u32;
+                let n = u64::from(count).saturating_sub(runs_len(runs));
+                let mut seq = s.serialize_seq(Some(usize::try_from(n).unwrap_or(usize::MAX)))?;
+                for i in outside_runs(runs, count) {
+                    if let Some(slot) = arena.slots.get(i as usize) {
+                        seq.serialize_element(&(i, slot))?;
+                    }
+                }
+                seq.end()
+            }
+        }
+        let mut st = serializer.serialize_struct("ArenaPart", 4)?;
+        st.serialize_field("slot_count", &(self.slots.len() as u32))?;
+        st.serialize_field("slots", &Held(self, runs))?;
+        st.serialize_field("free", &self.free)?;
+        st.serialize_field("len", &self.len)?;
+        st.end()
+    }
+
+    /// Every slot, in order, with its index: for computing runs.
+    pub(crate) fn raw_slots(&self) -> impl Iterator<Item = (u32, Option<&T>)> {
+        self.slots
+            .iter()
+            .enumerate()
+            .map(|(i, s)| (i as u32, s.value.as_ref()))
+    }
+
+    /// The slot's generation and value (for hashing a level).
+    pub(crate) fn slot(&self, index: u32) -> Option<&Slot<T>> {
+        self.slots.get(index as usize)
+    }
+}
+
+impl<T> Slot<T> {
+    /// A free slot of generation 0.
+    fn empty() -> Slot<T> {
+        Slot {
+            generation: 0,
+            value: None,
+        }
     }
 }
 

@@ -7,18 +7,24 @@
 //! up as defined (sleeping on, so a settled pile may be asleep: the count
 //! is printed), this prints the median over the samples of:
 //!
-//! * `snapshot bytes`: `snapshot::save` of the warm world, and its bodies;
-//! * `save`: `snapshot::save_into` a reused buffer; `load`:
-//!   `Space::load_snapshot` (decoding and validating) into a live world;
-//!   `checksum`: `Space::checksum`; each also per 1,000 bodies;
+//! * `snapshot bytes`: the frame snapshot (`snapshot::save_frame`: what a
+//!   step can change, the static level named by its digest) of the warm
+//!   world, and its bodies;
+//! * `save`: `snapshot::save_frame_into` a reused buffer; `load`:
+//!   `Space::load_frame_snapshot` (decoding and validating) into a live
+//!   world; `checksum`: `Space::checksum`; each also per 1,000 bodies;
+//!   then the full, self-contained snapshot's size, save and load
+//!   (`snapshot::save_into`, `Space::load_snapshot`) for comparison;
 //! * `step ms`: one step as defined, then one step of the same scene
 //!   built with sleeping off and warmed up the same way;
-//! * `rollback 8 frames ms`: `load_snapshot` + 8 × (step + `save_into` +
-//!   `checksum`), always from the same confirmed frame; the in-memory
-//!   form: `restore_state` + 8 × (step + a copy of the state into a ring of
-//!   8 + `checksum`); and `restore_state` + 8 steps alone (the part of a
-//!   rollback that is stepping: a step right after a restore may cost
-//!   more than `step ms`, which continues a running world).
+//! * `rollback 8 frames ms`: `load_frame_snapshot` + 8 × (step +
+//!   `save_frame_into` + `checksum`), always from the same confirmed frame;
+//!   the in-memory form: `restore_frame` + 8 × (step + `save_frame` into a
+//!   ring of 8 + `checksum`); the same through full snapshots
+//!   (`load_snapshot`, `save_into`); and `restore_frame` + 8 steps alone
+//!   (the part of a rollback that is stepping: a step right after a
+//!   restore may cost more than `step ms`, which continues a running
+//!   world).
 //!
 //! Wall-clock time of one process (`benches/snapshot.rs` measures the same
 //! figures under criterion).
@@ -26,7 +32,7 @@ use std::time::Instant;
 
 use tamias2d::body::BodyType;
 use tamias2d::snapshot;
-use tamias2d::space::{Space, SLEEP_NEVER};
+use tamias2d::space::{FrameState, Space, SLEEP_NEVER};
 use tamias2d::Real;
 use tamias2d_scenes as scenes;
 
@@ -34,7 +40,9 @@ use crate::run::median;
 use crate::source;
 
 /// The scenes of `tamias bench --rollback` without `--scene`.
-pub const DEFAULT_SCENES: &[&str] = &["bowl_boxes_500", "pyramid_100", "level_30000"];
+/// `level_300` is there to compare with `level_30000`: the same 10 movers
+/// on a level 100 times smaller.
+pub const DEFAULT_SCENES: &[&str] = &["bowl_boxes_500", "pyramid_100", "level_300", "level_30000"];
 
 /// Frames re-simulated by one rollback.
 const FRAMES: usize = 8;
@@ -131,20 +139,28 @@ fn measure(desc: &scenes::SceneDesc, warmup: u32, samples: u32) -> Result<(), St
         space.arbiters().len()
     );
 
-    let confirmed = snapshot::save(&space);
+    // The per-frame path of a rollback game: frame snapshots (the level
+    // named by its digest, see `tamias2d::space::FrameState`).
+    let confirmed = snapshot::save_frame(&space);
+    let full = snapshot::save(&space);
     let mut buf = Vec::new();
     let save = median_ms(samples, || {
-        snapshot::save_into(&space, &mut buf);
+        snapshot::save_frame_into(&space, &mut buf);
         Ok(())
     })?;
     let mut live = space.clone();
     let load = median_ms(samples, || {
-        live.load_snapshot(&confirmed).map_err(|e| err(&e))
+        live.load_frame_snapshot(&confirmed).map_err(|e| err(&e))
     })?;
     let checksum = median_ms(samples, || {
         std::hint::black_box(space.checksum());
         Ok(())
     })?;
+    let full_save = median_ms(samples, || {
+        snapshot::save_into(&space, &mut buf);
+        Ok(())
+    })?;
+    let full_load = median_ms(samples, || live.load_snapshot(&full).map_err(|e| err(&e)))?;
 
     let mut stepper = space.clone();
     let step = median_ms(samples, || stepper.step(dt).map_err(|e| err(&e)))?;
@@ -159,7 +175,28 @@ fn measure(desc: &scenes::SceneDesc, warmup: u32, samples: u32) -> Result<(), St
 
     let mut frames: Vec<Vec<u8>> = vec![Vec::new(); FRAMES];
     let rollback = median_ms(samples, || {
-        live.load_snapshot(&confirmed).map_err(|e| err(&e))?;
+        live.load_frame_snapshot(&confirmed).map_err(|e| err(&e))?;
+        for frame in &mut frames {
+            live.step(dt).map_err(|e| err(&e))?;
+            snapshot::save_frame_into(&live, frame);
+            std::hint::black_box(live.checksum());
+        }
+        Ok(())
+    })?;
+    let mut saved = FrameState::default();
+    space.save_frame(&mut saved);
+    let mut ring = vec![saved.clone(); FRAMES];
+    let in_memory = median_ms(samples, || {
+        live.restore_frame(&saved).map_err(|e| err(&e))?;
+        for frame in &mut ring {
+            live.step(dt).map_err(|e| err(&e))?;
+            live.save_frame(frame);
+            std::hint::black_box(live.checksum());
+        }
+        Ok(())
+    })?;
+    let full_rollback = median_ms(samples, || {
+        live.load_snapshot(&full).map_err(|e| err(&e))?;
         for frame in &mut frames {
             live.step(dt).map_err(|e| err(&e))?;
             snapshot::save_into(&live, frame);
@@ -167,20 +204,9 @@ fn measure(desc: &scenes::SceneDesc, warmup: u32, samples: u32) -> Result<(), St
         }
         Ok(())
     })?;
-    let state = space.state().clone();
-    let mut ring = vec![state.clone(); FRAMES];
-    let in_memory = median_ms(samples, || {
-        live.restore_state(&state);
-        for frame in &mut ring {
-            live.step(dt).map_err(|e| err(&e))?;
-            frame.clone_from(live.state());
-            std::hint::black_box(live.checksum());
-        }
-        Ok(())
-    })?;
 
     let steps_only = median_ms(samples, || {
-        live.restore_state(&state);
+        live.restore_frame(&saved).map_err(|e| err(&e))?;
         for _ in 0..FRAMES {
             live.step(dt).map_err(|e| err(&e))?;
         }
@@ -196,6 +222,8 @@ fn measure(desc: &scenes::SceneDesc, warmup: u32, samples: u32) -> Result<(), St
     println!("  load ms per 1000 bodies: {:.3}", per_k(load));
     println!("  checksum ms per 1000 bodies: {:.3}", per_k(checksum));
     println!("  save / load / checksum ms: {save:.3} / {load:.3} / {checksum:.3}");
+    println!("  full snapshot bytes: {}", full.len());
+    println!("  full snapshot save / load ms: {full_save:.3} / {full_load:.3}");
     println!(
         "  step ms: {step:.3} (asleep: {asleep} of {bodies} bodies at the start, \
          {asleep_after} after the {steps_timed} steps timed)"
@@ -203,6 +231,7 @@ fn measure(desc: &scenes::SceneDesc, warmup: u32, samples: u32) -> Result<(), St
     println!("  step ms, sleeping off: {step_off:.3}");
     println!("  rollback {FRAMES} frames ms: {rollback:.3}");
     println!("  rollback {FRAMES} frames in memory ms: {in_memory:.3}");
+    println!("  rollback {FRAMES} frames, full snapshots ms: {full_rollback:.3}");
     println!("  restore + {FRAMES} steps ms: {steps_only:.3}");
     Ok(())
 }

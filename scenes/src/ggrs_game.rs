@@ -5,9 +5,10 @@
 //! Buttons decode deterministically into [`replay::Input`]s
 //! ([`decode_buttons`]): left and right push with a force for one step,
 //! jump is an impulse at the centre of gravity, spin is a torque. The game
-//! state for rollback is the [`WorldState`] alone (the in-memory fast path:
-//! `state().clone()` to save, `restore_state` to load); the frame number is
-//! the space's step stamp.
+//! state for rollback is the world's [`FrameState`] alone (the in-memory
+//! fast path: `save_frame` to save, `restore_frame` to load; the static
+//! bowl is the level, never copied); the frame number is the space's step
+//! stamp.
 #![allow(
     dead_code, // each example uses a part
     clippy::float_arithmetic,
@@ -28,7 +29,7 @@ use ggrs::{
 };
 use tamias2d::body::BodyHandle;
 use tamias2d::replay::{self, Input};
-use tamias2d::space::{Space, WorldState};
+use tamias2d::space::{FrameState, Space};
 use tamias2d::{real, Real, Vect};
 
 /// Push left.
@@ -54,7 +55,7 @@ pub struct GgrsConfig;
 impl ggrs::Config for GgrsConfig {
     type Input = u8;
     type InputPredictor = PredictRepeatLast;
-    type State = WorldState;
+    type State = FrameState;
     type Address = SocketAddr;
 }
 
@@ -163,8 +164,8 @@ impl Game {
         self.advances += 1;
     }
 
-    /// Serves GGRS requests in order: save = clone of the state plus its
-    /// checksum (widened to u128), load = restore, advance = inputs + step.
+    /// Serves GGRS requests in order: save = the frame plus its checksum
+    /// (widened to u128), load = restore the frame, advance = inputs + step.
     pub fn fulfil(&mut self, requests: Vec<GgrsRequest<GgrsConfig>>) {
         for request in requests {
             match request {
@@ -174,15 +175,15 @@ impl Game {
                     let f = usize::try_from(frame).expect("frame ≥ 0");
                     self.checksums.truncate(f);
                     self.checksums.push(checksum);
-                    cell.save(
-                        frame,
-                        Some(self.space.state().clone()),
-                        Some(u128::from(checksum)),
-                    );
+                    let mut state = FrameState::default();
+                    self.space.save_frame(&mut state);
+                    cell.save(frame, Some(state), Some(u128::from(checksum)));
                 }
                 GgrsRequest::LoadGameState { cell, frame } => {
                     let state = cell.load().expect("a saved state");
-                    self.space.restore_state(&state);
+                    self.space
+                        .restore_frame(&state)
+                        .expect("a frame of this level");
                     assert_eq!(u64::try_from(frame).ok(), Some(self.frame()), "load frame");
                     self.loads += 1;
                 }

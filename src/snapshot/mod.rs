@@ -117,13 +117,29 @@
 //!   the state only. So a validated state stepped in a fresh space and in
 //!   the space it came from gives the same bits.
 //!
-//! # Two ways to roll back
-//! * In memory (fastest, no validation needed): keep `space.state().clone()`
+//! # Frames and full snapshots
+//! A rollback game saves every frame but never changes most of its world:
+//! the level (static bodies and their shapes). A **frame**
+//! ([`FrameState`](crate::space::FrameState), module [`frame`]) is the
+//! world minus its level, which it names by a 64-bit digest; it restores
+//! only into a world with the same level (an error otherwise, the world
+//! untouched), and costs what the moving part of the world holds, whatever
+//! the level's size. A **full snapshot** ([`save`]) is self-contained: for
+//! files, late joiners, and rolling back across a change of the level.
+//!
+//! # Ways to roll back
+//! * Frames in memory (fastest): [`Space::save_frame`] into a reused
+//!   `FrameState` per frame, [`Space::restore_frame`] to roll back (no
+//!   static tree rebuild, nothing of the level copied).
+//! * Frame bytes (the network, a checksum-verified copy):
+//!   [`save_frame_into`] per frame, [`Space::load_frame_snapshot`]
+//!   (validated) to roll back.
+//! * Whole states in memory: keep `space.state().clone()`
 //!   (or `space.clone()`) per frame, and roll back with
 //!   [`Space::restore_state`]. Clones share the handle origin of the
 //!   original, so the game's handles keep working.
-//! * Bytes (for the network, disk, or a checksum-verified copy): [`save`]
-//!   per frame, and [`Space::load_snapshot`] to roll back.
+//! * Full snapshot bytes: [`save`] per frame, and [`Space::load_snapshot`]
+//!   to roll back.
 //!
 //! # Handlers and integrators after loading
 //! Closures are never part of a snapshot. [`Space::load_snapshot`] keeps the
@@ -153,12 +169,14 @@
 //! build them with `Handle::from_raw_parts` (origin 0: accepted by every
 //! space).
 pub mod diff;
+pub mod frame;
 
 use core::fmt;
 
 use bincode::config::{Configuration, Fixint, Limit, LittleEndian};
 
 pub use diff::{checksum_parts, first_difference, ChecksumParts, Difference, Subject};
+pub use frame::{decode_frame, save_frame, save_frame_into, FRAME_FORMAT_VERSION, FRAME_MAGIC};
 
 use crate::framing::{self, FrameError};
 use crate::space::{validate_state, Space, WorldState};
@@ -219,6 +237,14 @@ pub enum SnapshotError {
     },
     /// The state decodes but breaks an invariant; names what is wrong.
     Invalid(String),
+    /// A frame snapshot of another level: its level digest is not the
+    /// world's (see [`Space::level_digest`]).
+    LevelMismatch {
+        /// Level digest stored in the frame.
+        frame: u64,
+        /// Level digest of the world it was loaded into.
+        world: u64,
+    },
 }
 
 impl fmt::Display for SnapshotError {
@@ -241,6 +267,11 @@ impl fmt::Display for SnapshotError {
                 "snapshot is corrupted: header checksum {stored:#018x}, payload checksum {computed:#018x}"
             ),
             SnapshotError::Invalid(why) => write!(f, "invalid snapshot: {why}"),
+            SnapshotError::LevelMismatch { frame, world } => write!(
+                f,
+                "frame snapshot of another level (level digest {frame:#018x}, this world's {world:#018x}): \
+                 the static bodies or their shapes differ"
+            ),
         }
     }
 }

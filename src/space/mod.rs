@@ -13,8 +13,10 @@
 mod body_shapes;
 mod ccd;
 mod constraints;
+mod frame;
 pub mod handlers;
 mod ledger;
+mod level;
 pub mod query;
 mod settings;
 mod sleep;
@@ -26,6 +28,7 @@ use serde::{Deserialize, Serialize};
 
 pub use ccd::MAX_TOI_ITERATIONS;
 pub use constraints::{ConstraintContext, ConstraintFn};
+pub use frame::FrameState;
 pub use handlers::{ArbiterContext, CollisionHandler, PostStepFn};
 pub use settings::{
     Settings, CHIPMUNK_COLLISION_SLOP, DEFAULT_COLLISION_BIAS, DEFAULT_COLLISION_SLOP,
@@ -83,6 +86,18 @@ pub enum SpaceError {
     MasslessDynamicBody(BodyHandle),
     /// A sleep request the rules refuse (see [`Space::sleep_body`]).
     Sleep(&'static str),
+    /// A frame ([`FrameState`]) of another level: its level digest is not
+    /// the world's (the static bodies or their shapes differ, see
+    /// [`Space::level_digest`]).
+    LevelMismatch {
+        /// Level digest stored in the frame.
+        frame: u64,
+        /// Level digest of this world.
+        world: u64,
+    },
+    /// A frame whose slots do not fit around this world's level (named in
+    /// the message): not saved from a world with this level.
+    FrameMismatch(String),
 }
 
 impl fmt::Display for SpaceError {
@@ -113,6 +128,14 @@ impl fmt::Display for SpaceError {
                 "dynamic body {h:?} has no mass: give it a mass or a shape with mass or density"
             ),
             SpaceError::Sleep(why) => write!(f, "cannot sleep: {why}"),
+            SpaceError::LevelMismatch { frame, world } => write!(
+                f,
+                "the frame belongs to another level (level digest {frame:#018x}, this world's {world:#018x}): \
+                 the static bodies or their shapes changed since it was saved"
+            ),
+            SpaceError::FrameMismatch(why) => {
+                write!(f, "the frame does not fit this world's level: {why}")
+            }
         }
     }
 }
@@ -262,6 +285,12 @@ pub(crate) struct Caches {
     pub(crate) body_shapes: body_shapes::BodyShapes,
     /// Stage 2b: the bullets' sweep (`space/ccd.rs`).
     pub(crate) ccd: ccd::CcdCache,
+    /// The level's digest and slot runs (`space/level.rs`), computed on
+    /// first use; `None` after a change to the level.
+    pub(crate) level: core::cell::Cell<Option<level::LevelIndex>>,
+    /// Body slots given out by `body_mut` while not static since the level
+    /// was last settled (one may have been made static).
+    pub(crate) level_suspects: Vec<u32>,
 }
 
 /// The world: bodies, shapes, arbiters, settings and handlers.
@@ -380,6 +409,7 @@ impl Space {
         self.state.clone_from(state);
         adopt_handles(&mut self.state, self.origin);
         self.caches.broadphase.statics_dirty = true;
+        self.forget_level();
         self.caches.broadphase.sleepers_dirty = true;
         self.caches.broadphase.sleeping_count = None;
         self.caches.body_shapes.invalidate();
@@ -466,6 +496,7 @@ impl Space {
             .map_err(|_| SpaceError::Full)?;
         if is_static {
             self.caches.broadphase.statics_dirty = true;
+            self.forget_level();
         }
         // A new body starts with the default integration, even under a
         // handle a rollback re-issued (integrators outlive their bodies).
@@ -506,6 +537,7 @@ impl Space {
         }
         if is_static {
             self.caches.broadphase.statics_dirty = true;
+            self.forget_level();
         }
         // The body's custom integrators stay, keyed by its handle: a
         // rollback to a state where it exists brings them back with it
@@ -541,6 +573,7 @@ impl Space {
         // Only static bodies' shapes are in the static tree.
         if body_type == BodyType::Static {
             self.caches.broadphase.statics_dirty = true;
+            self.forget_level();
         }
         self.caches
             .body_shapes
@@ -651,6 +684,10 @@ impl Space {
         // Kinematic bodies' shapes are swept each step, not in the tree.
         if body_type == BodyType::Static {
             self.caches.broadphase.statics_dirty = true;
+            self.forget_level();
+        } else {
+            // The game may replace it by a static body (see `space::level`).
+            self.caches.level_suspects.push(h.index());
         }
         self.state.bodies.get_mut(h)
     }
@@ -835,6 +872,7 @@ impl Space {
             .is_some_and(|b| b.body_type() == BodyType::Static)
         {
             self.caches.broadphase.statics_dirty = true;
+            self.forget_level();
         }
     }
 
@@ -893,8 +931,12 @@ impl Space {
     /// A portable 64-bit checksum of the whole simulation state (see
     /// [`checksum`](crate::checksum)); equal states give equal checksums on
     /// every platform.
+    ///
+    /// The static level enters as its digest ([`Space::level_digest`],
+    /// cached), so the cost is that of the frame ([`FrameState`]): a big
+    /// static level does not slow the per-frame checksum.
     pub fn checksum(&self) -> u64 {
-        crate::checksum::checksum_of(&self.state)
+        self.with_level(|level| frame::world_checksum(&self.state, level))
     }
 
     /// Checks the space's invariants: arenas, shape→body links, arbiter
@@ -920,7 +962,20 @@ impl Space {
     #[inline(always)]
     pub(crate) fn check_step_invariants(&self) -> Result<(), SpaceError> {
         #[cfg(all(feature = "validate", debug_assertions))]
-        validate_state(&self.state).map_err(SpaceError::InvalidState)?;
+        {
+            validate_state(&self.state).map_err(SpaceError::InvalidState)?;
+            // The cached level must be the state's (a missed change to the
+            // level would let a stale frame restore).
+            let cached = self.caches.level.take();
+            let fresh = level::LevelIndex::of(&self.state);
+            let stale = cached.as_ref().is_some_and(|c| *c != fresh);
+            self.caches.level.set(cached);
+            if stale && self.caches.level_suspects.is_empty() {
+                return Err(SpaceError::InvalidState(
+                    "the cached level index is not the state's".into(),
+                ));
+            }
+        }
         Ok(())
     }
 }
@@ -966,6 +1021,19 @@ fn adopt_handles(state: &mut WorldState, origin: u32) {
 /// checks nothing, is listed in the field ledger (`space/ledger.rs`), which
 /// the compiler keeps complete.
 pub fn validate_state(state: &WorldState) -> Result<(), String> {
+    validate_state_with(state, false)
+}
+
+/// [`validate_state`] for a world whose level (static bodies and their
+/// shapes) is known valid: a frame installed around this world's own
+/// level. The level objects' own checks are skipped; everything that
+/// refers to them is checked as usual.
+pub(crate) fn validate_state_trusting_level(state: &WorldState) -> Result<(), String> {
+    validate_state_with(state, true)
+}
+
+fn validate_state_with(state: &WorldState, trust_level: bool) -> Result<(), String> {
+    let in_level = |b: &Body| trust_level && b.body_type() == BodyType::Static;
     state
         .settings
         .validate()
@@ -979,7 +1047,7 @@ pub fn validate_state(state: &WorldState) -> Result<(), String> {
         .shapes
         .validate()
         .map_err(|e| format!("shapes: {e}"))?;
-    for (h, b) in state.bodies.iter() {
+    for (h, b) in state.bodies.iter().filter(|(_, b)| !in_level(b)) {
         b.validate_derived()
             .map_err(|e| format!("body {h:?}: {e}"))?;
     }
@@ -987,8 +1055,11 @@ pub fn validate_state(state: &WorldState) -> Result<(), String> {
     // spares the polygon checks' square roots (exact either way).
     let mut checked: Option<&Geometry> = None;
     for (h, s) in state.shapes.iter() {
-        if !state.bodies.contains(s.body) {
+        let Some(body) = state.bodies.get(s.body) else {
             return Err(format!("shape {h:?} names missing body {:?}", s.body));
+        };
+        if in_level(body) {
+            continue;
         }
         if checked != Some(&s.geometry) {
             s.geometry

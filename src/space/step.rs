@@ -126,6 +126,7 @@ impl Space {
             return Ok(());
         }
         self.check_unlocked()?;
+        self.settle_level_suspects();
         // A body's mass is summed from shapes added after it, so the first
         // point where a missing mass is known for sure is the step.
         if let Some((h, _)) = self
@@ -271,6 +272,7 @@ impl Space {
         }
         if moved_static {
             self.caches.broadphase.statics_dirty = true;
+            self.forget_level();
         }
         // Sleeping piles do not see a static or kinematic body that an
         // integrator teleports (only velocities are noticed): wake them.
@@ -340,6 +342,8 @@ impl Space {
         }
         if statics_changed {
             bp.statics_dirty = true;
+            // Also a body made static in place (`body_mut`): the level changed.
+            self.caches.level.set(None);
         }
     }
 

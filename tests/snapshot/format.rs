@@ -218,3 +218,66 @@ fn fuzz_seeds_are_current_snapshots() {
         }
     }
 }
+
+/// The `frame_load` fuzz target's world (`fuzz/frame_world.snap`, a full
+/// snapshot of `small_world`) and its seeds (`fuzz/seeds/frame_load/`:
+/// frames of that world after 0, 1 and 20 more steps, and after a body was
+/// added) are current: the world loads and every seed loads into it.
+/// `TAMIAS_WRITE_FUZZ_SEEDS=1 cargo test --test snapshot fuzz_seeds`
+/// rewrites them.
+#[test]
+fn frame_fuzz_seeds_are_current_frames() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz");
+    let world_path = root.join("frame_world.snap");
+    let dir = root.join("seeds/frame_load");
+    if std::env::var_os("TAMIAS_WRITE_FUZZ_SEEDS").is_some() {
+        let w = small_world();
+        ok(std::fs::write(&world_path, save(&w)));
+        ok(std::fs::create_dir_all(&dir));
+        let mut v = w.clone();
+        for (file, steps) in [("seed0", 0), ("seed1", 1), ("seed2", 20)] {
+            for _ in 0..steps {
+                ok(v.step(dt()));
+            }
+            ok(std::fs::write(dir.join(file), snapshot::save_frame(&v)));
+            v = w.clone();
+        }
+        let extra = ok(v.add_body(ok(Body::new(Real::ONE, Real::ONE))));
+        ok(v.add_shape(ok(Shape::circle_shape_new(extra, Real::HALF, Vect::ZERO))));
+        ok(std::fs::write(dir.join("seed3"), snapshot::save_frame(&v)));
+    }
+    let world = ok(snapshot::load(&ok(std::fs::read(&world_path))));
+    for file in ["seed0", "seed1", "seed2", "seed3"] {
+        let bytes = ok(std::fs::read(dir.join(file)));
+        let mut w = world.clone();
+        if let Err(e) = w.load_frame_snapshot(&bytes) {
+            panic!("{file}: {e} (regenerate: TAMIAS_WRITE_FUZZ_SEEDS=1)");
+        }
+    }
+}
+
+#[test]
+fn frame_layout_is_pinned() {
+    // The empty world's frame: header, level digest, then the settings as
+    // in a full snapshot, and empty arena parts, lists and counters.
+    let full = save(&Space::new());
+    let frame = snapshot::save_frame(&Space::new());
+    assert_eq!(&frame[..8], b"TAMIASFR");
+    assert_eq!(&frame[8..12], &FORMAT_VERSION.to_le_bytes());
+    assert_eq!(
+        &frame[HEADER_LEN..HEADER_LEN + 8],
+        &Space::new().level_digest().to_le_bytes()
+    );
+    // Full payload: settings, body arena (3 × 8: slots, free, len as u64 +
+    // u64 + u32 = 20 bytes), shape arena (20), arbiters (8), stamp, steps,
+    // dts (32), constraints (20), dormant (8). Frame payload: digest (8),
+    // settings, body part (4 + 8 + 8 + 4 = 24), shape part (24), then the
+    // same 8 + 32 + 20 + 8.
+    assert_eq!(frame.len(), full.len() + 8 + 2 * (24 - 20));
+    let settings_len = full.len() - HEADER_LEN - (20 + 20 + 8 + 32 + 20 + 8);
+    assert_eq!(
+        &frame[HEADER_LEN + 8..HEADER_LEN + 8 + settings_len],
+        &full[HEADER_LEN..HEADER_LEN + settings_len],
+        "settings encoded as in a full snapshot"
+    );
+}

@@ -14,7 +14,7 @@ use tamias2d::body::{Body, BodyHandle};
 use tamias2d::constraint::{Constraint, PinJoint};
 use tamias2d::shape::Shape;
 use tamias2d::snapshot::{self, SnapshotError, Subject, FORMAT_VERSION, HEADER_LEN, MAGIC};
-use tamias2d::space::{ShapeHandle, Space, SpaceError, WorldState};
+use tamias2d::space::{FrameState, ShapeHandle, Space, SpaceError, WorldState};
 use tamias2d::{Real, Transform, Vect};
 use tamias2d_scenes::{self as scenes, ScriptedWorld};
 
@@ -72,10 +72,12 @@ fn diverge(space: &mut Space, dt: Real) {
 
 /// The round trip of one scene. A reference scene runs `steps` steps. At
 /// each fork step `k`:
-/// * an in-place fork — a second scene built alongside, so its script
-///   (forces, spawns, counters) is at the same step — diverges and is
-///   rolled back to the reference by `load_snapshot` (even forks) or
-///   `restore_state` (odd forks), then keeps stepping as a scene;
+/// * two in-place forks — scenes built alongside, so their scripts
+///   (forces, spawns, counters) are at the same step — diverge and are
+///   rolled back to the reference: the first by `load_snapshot` (even
+///   forks) or `restore_state` (odd forks), the second by the frame paths
+///   `load_frame_snapshot` (even) or `restore_frame` (odd); then they keep
+///   stepping as scenes;
 /// * `load(save(reference))` and `reference.clone()` start and step with
 ///   `Space::step` (no script: a fresh space is not a scene's space).
 ///
@@ -83,7 +85,12 @@ fn diverge(space: &mut Space, dt: Real) {
 fn round_trip(name: &str, steps: u32, forks: &[u32]) {
     let mut reference = build(name);
     let dt = reference.dt;
-    let mut in_place: Vec<(u32, ScriptedWorld)> = forks.iter().map(|&k| (k, build(name))).collect();
+    let mut in_place: Vec<(u32, ScriptedWorld)> = forks
+        .iter()
+        .flat_map(|&k| [(k, build(name)), (k, build(name))])
+        .collect();
+    let mut frame = FrameState::default();
+    let mut frame_bytes = Vec::new();
     let mut raw: Vec<(u32, Space, Space)> = Vec::new();
     for t in 0..=steps {
         if t > 0 {
@@ -97,23 +104,28 @@ fn round_trip(name: &str, steps: u32, forks: &[u32]) {
             }
         }
         let bytes = save(&reference.space);
+        reference.space.save_frame(&mut frame);
+        snapshot::save_frame_into(&reference.space, &mut frame_bytes);
         for (i, (k, f)) in in_place.iter_mut().enumerate() {
+            // i = 2·fork + (0: full state, 1: frame); fork parity picks bytes or memory.
+            let path = match (i % 2, (i / 2) % 2) {
+                (0, 0) => "load_snapshot",
+                (0, _) => "restore_state",
+                (_, 0) => "load_frame_snapshot",
+                _ => "restore_frame",
+            };
             if t == *k {
                 diverge(&mut f.space, dt);
                 assert!(save(&f.space) != bytes, "{name}: diverge changed nothing");
-                if i % 2 == 0 {
-                    ok(f.space.load_snapshot(&bytes));
-                } else {
-                    f.space.restore_state(reference.space.state());
+                match path {
+                    "load_snapshot" => ok(f.space.load_snapshot(&bytes)),
+                    "restore_state" => f.space.restore_state(reference.space.state()),
+                    "load_frame_snapshot" => ok(f.space.load_frame_snapshot(&frame_bytes)),
+                    _ => ok(f.space.restore_frame(&frame)),
                 }
                 ok(f.space.validate());
             }
             if t >= *k {
-                let path = if i % 2 == 0 {
-                    "load_snapshot"
-                } else {
-                    "restore_state"
-                };
                 assert_same(
                     &reference.space,
                     &f.space,
@@ -129,6 +141,12 @@ fn round_trip(name: &str, steps: u32, forks: &[u32]) {
             );
         }
         if forks.contains(&t) {
+            // The frame's two forms and its checksum agree with the world.
+            assert_eq!(frame.checksum(), reference.space.checksum(), "{name}");
+            assert!(
+                ok(snapshot::decode_frame(&frame_bytes)) == frame,
+                "{name}: the frame bytes decode to another frame"
+            );
             let loaded = ok(snapshot::load(&bytes));
             assert!(
                 save(&loaded) == bytes,
@@ -606,4 +624,5 @@ fn live_world() -> Space {
 
 mod diagnosis;
 mod format;
+mod frame;
 mod malformed;

@@ -1,0 +1,464 @@
+//! The frame: what a step can change, saved and restored every frame of a
+//! rollback game without touching the level.
+//!
+//! A [`FrameState`] is the [`WorldState`] minus the level (static bodies
+//! and their shapes, see `space::level`), plus the level's digest: the
+//! settings, every other body and shape slot (live or free) with the
+//! arenas' free lists and lengths, the arbiters live and dormant, the
+//! counters and the constraints. Constraints and arbiters may name level
+//! objects by handle: handles are slot and generation, which the digest
+//! covers.
+//!
+//! * [`Space::save_frame`] copies the frame into a reused `FrameState`
+//!   (no allocation once its buffers have grown): the cost is the frame's,
+//!   whatever the level's size.
+//! * [`Space::restore_frame`] puts it back. It refuses, with
+//!   [`SpaceError::LevelMismatch`], a frame whose level digest is not the
+//!   world's: a frame of another level (or of this level before a change)
+//!   would otherwise pair its contacts and joints with objects it never
+//!   saw. The level, its static tree and its shapes' cached geometry stay
+//!   as they are: nothing is rebuilt.
+//! * [`Space::checksum`] hashes the frame and the level digest, so it too
+//!   costs the frame's size; [`FrameState::checksum`] is the same value
+//!   computed from a saved frame.
+//! * Bytes: `snapshot::save_frame_into` / `Space::load_frame_snapshot`
+//!   (validated), see `snapshot::frame`.
+//!
+//! **Rolling back across a level change.** Changing the level (adding,
+//! removing, moving or reshaping a static body or a static body's shape)
+//! changes its digest, so frames saved before the change no longer restore
+//! (an error, the world untouched). A game that edits its level during play
+//! either makes the edit part of its inputs and keeps full snapshots
+//! (`Space::state` / `restore_state`, or `snapshot::save`) for the frames
+//! around it, or undoes the edit before restoring an older frame: the digest
+//! is a function of the level's contents, slots and generations, so the
+//! level as it was gives the digest it had (a removed and re-added shape
+//! has a new generation, hence another digest).
+use serde::{Deserialize, Serialize};
+
+use crate::arbiter::Arbiter;
+use crate::arena::{Arena, ArenaPart};
+use crate::body::Body;
+use crate::checksum::WordHasher;
+use crate::constraint::Constraint;
+use crate::math::Real;
+use crate::shape::Shape;
+use core::hash::{Hash, Hasher};
+
+use super::level::LevelIndex;
+use super::{Settings, Space, SpaceError, WorldState};
+
+/// The per-frame state of a world (see the module docs). Made by
+/// [`Space::save_frame`]; its fields are private: it is only ever a copy of
+/// a world's frame.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FrameState {
+    pub(crate) level_digest: u64,
+    pub(crate) settings: Settings,
+    pub(crate) bodies: ArenaPart<Body>,
+    pub(crate) shapes: ArenaPart<Shape>,
+    pub(crate) arbiters: Vec<Arbiter>,
+    pub(crate) stamp: u64,
+    pub(crate) steps: u64,
+    pub(crate) current_dt: Real,
+    pub(crate) prev_dt: Real,
+    pub(crate) constraints: Arena<Constraint>,
+    pub(crate) dormant_arbiters: Vec<Arbiter>,
+}
+
+impl FrameState {
+    /// Digest of the level this frame belongs to.
+    pub fn level_digest(&self) -> u64 {
+        self.level_digest
+    }
+
+    /// Number of [`Space::step`] calls of the world it was saved from.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// Number of body slots held (every body slot of the world outside
+    /// the level).
+    pub fn body_slots(&self) -> usize {
+        self.bodies.held()
+    }
+
+    /// [`Space::checksum`] of the world this frame was saved from (equal
+    /// by construction: one hashing sequence for both).
+    pub fn checksum(&self) -> u64 {
+        let mut h = WordHasher::default();
+        let FrameState {
+            level_digest,
+            settings,
+            bodies,
+            shapes,
+            arbiters,
+            stamp,
+            steps,
+            current_dt,
+            prev_dt,
+            constraints,
+            dormant_arbiters,
+        } = self;
+        h.write_u64(*level_digest);
+        settings.hash(&mut h);
+        bodies.hash_into(&mut h);
+        shapes.hash_into(&mut h);
+        hash_tail(
+            &mut h,
+            (arbiters, *stamp, *steps, *current_dt, *prev_dt),
+            constraints,
+            dormant_arbiters,
+        );
+        h.finish()
+    }
+}
+
+/// The fields after the arenas, hashed alike for a world and a frame.
+fn hash_tail(
+    h: &mut WordHasher,
+    (arbiters, stamp, steps, current_dt, prev_dt): (&Vec<Arbiter>, u64, u64, Real, Real),
+    constraints: &Arena<Constraint>,
+    dormant_arbiters: &Vec<Arbiter>,
+) {
+    arbiters.hash(h);
+    stamp.hash(h);
+    steps.hash(h);
+    current_dt.hash(h);
+    prev_dt.hash(h);
+    // A world that never had a constraint slot hashes none (as before
+    // joints existed).
+    if constraints.capacity_slots() > 0 {
+        constraints.hash(h);
+    }
+    dormant_arbiters.hash(h);
+}
+
+impl WorldState {
+    /// [`Space::checksum`] of a space holding this state (the level found
+    /// and hashed on the way: for a live space, `Space::checksum` is
+    /// cheaper, its level digest is cached).
+    pub fn checksum(&self) -> u64 {
+        world_checksum(self, &LevelIndex::of(self))
+    }
+}
+
+/// The world's checksum: the frame walk of [`FrameState::checksum`] over the
+/// live state.
+pub(crate) fn world_checksum(state: &WorldState, level: &LevelIndex) -> u64 {
+    let mut h = WordHasher::default();
+    let WorldState {
+        settings,
+        bodies,
+        shapes,
+        arbiters,
+        stamp,
+        steps,
+        current_dt,
+        prev_dt,
+        constraints,
+        dormant_arbiters,
+    } = state;
+    h.write_u64(level.digest);
+    settings.hash(&mut h);
+    bodies.hash_part(&level.body_runs, &mut h);
+    shapes.hash_part(&level.shape_runs, &mut h);
+    hash_tail(
+        &mut h,
+        (arbiters, *stamp, *steps, *current_dt, *prev_dt),
+        constraints,
+        dormant_arbiters,
+    );
+    h.finish()
+}
+
+impl Space {
+    /// Runs `f` on the level index, computing it first if the cache was
+    /// dropped or a suspect body (see `space::level`) became static.
+    pub(crate) fn with_level<R>(&self, f: impl FnOnce(&LevelIndex) -> R) -> R {
+        let cached = self.caches.level.take();
+        let suspects_changed = self.caches.level_suspects.iter().any(|&i| {
+            self.state
+                .bodies
+                .get_by_index(i)
+                .is_some_and(|(_, b)| b.body_type() == crate::body::BodyType::Static)
+        });
+        let level = match cached {
+            Some(level) if !suspects_changed => level,
+            _ => LevelIndex::of(&self.state),
+        };
+        let out = f(&level);
+        self.caches.level.set(Some(level));
+        out
+    }
+
+    /// Drops the level cache (the level may have changed).
+    pub(crate) fn forget_level(&mut self) {
+        self.caches.level.set(None);
+    }
+
+    /// Settles the suspects of `body_mut` (start of a step): the level is
+    /// recomputed if one became static, and the list is cleared.
+    pub(crate) fn settle_level_suspects(&mut self) {
+        if self.caches.level_suspects.is_empty() {
+            return;
+        }
+        let level = self.with_level(|l| l.clone());
+        self.caches.level_suspects.clear();
+        self.caches.level.set(Some(level));
+    }
+
+    /// Digest of the level: the static bodies and their shapes, with their
+    /// slots and generations (see [`FrameState`]). Cached; recomputed after
+    /// a change to the level.
+    pub fn level_digest(&self) -> u64 {
+        self.with_level(|l| l.digest)
+    }
+
+    /// Copies the frame (everything but the level) into `out`, reusing its
+    /// buffers.
+    pub fn save_frame(&self, out: &mut FrameState) {
+        self.with_level(|level| {
+            let WorldState {
+                settings,
+                bodies,
+                shapes,
+                arbiters,
+                stamp,
+                steps,
+                current_dt,
+                prev_dt,
+                constraints,
+                dormant_arbiters,
+            } = &self.state;
+            out.level_digest = level.digest;
+            out.settings.clone_from(settings);
+            bodies.save_part(&level.body_runs, &mut out.bodies);
+            shapes.save_part(&level.shape_runs, &mut out.shapes);
+            out.arbiters.clone_from(arbiters);
+            out.stamp = *stamp;
+            out.steps = *steps;
+            out.current_dt = *current_dt;
+            out.prev_dt = *prev_dt;
+            out.constraints.clone_from(constraints);
+            out.dormant_arbiters.clone_from(dormant_arbiters);
+        });
+    }
+
+    /// The level mismatch or tiling error of `frame` against this world's
+    /// level, if any (the checks that make installing it exact).
+    pub(crate) fn check_frame_fits(&self, frame: &FrameState) -> Result<(), SpaceError> {
+        self.with_level(|level| {
+            if frame.level_digest != level.digest {
+                return Err(SpaceError::LevelMismatch {
+                    frame: frame.level_digest,
+                    world: level.digest,
+                });
+            }
+            frame
+                .bodies
+                .check_against(&level.body_runs)
+                .map_err(|e| SpaceError::FrameMismatch(format!("bodies: {e}")))?;
+            frame
+                .shapes
+                .check_against(&level.shape_runs)
+                .map_err(|e| SpaceError::FrameMismatch(format!("shapes: {e}")))
+        })
+    }
+
+    /// Restores a frame saved by [`save_frame`](Self::save_frame) from this
+    /// world or from one with the same level (a clone, a peer). The level
+    /// and everything derived from it stay (no static tree rebuild).
+    /// Callbacks as with [`restore_state`](Self::restore_state): handlers
+    /// and integrators stay, pending post-step callbacks are discarded.
+    ///
+    /// Like `restore_state`, trusts the frame's contents (it came from
+    /// `save_frame`); bytes from elsewhere go through
+    /// `Space::load_frame_snapshot`, which validates them. Errors (the
+    /// world untouched): [`SpaceError::LevelMismatch`] for a frame of
+    /// another level; [`SpaceError::FrameMismatch`] for a frame whose slots
+    /// do not fit around this level.
+    pub fn restore_frame(&mut self, frame: &FrameState) -> Result<(), SpaceError> {
+        self.check_frame_fits(frame)?;
+        let origin = self.origin;
+        let Some(level) = self.caches.level.take() else {
+            // `check_frame_fits` just cached it.
+            return Err(SpaceError::FrameMismatch("level index missing".into()));
+        };
+        let state = &mut self.state;
+        state.settings.clone_from(&frame.settings);
+        state.bodies.restore_part(&frame.bodies, |_| {});
+        state
+            .shapes
+            .restore_part(&frame.shapes, |s| s.body = s.body.with_origin(origin));
+        state.arbiters.clone_from(&frame.arbiters);
+        state.stamp = frame.stamp;
+        state.steps = frame.steps;
+        state.current_dt = frame.current_dt;
+        state.prev_dt = frame.prev_dt;
+        state.constraints.clone_from(&frame.constraints);
+        state.dormant_arbiters.clone_from(&frame.dormant_arbiters);
+        adopt_shared(
+            origin,
+            &mut state.arbiters,
+            &mut state.dormant_arbiters,
+            &mut state.constraints,
+        );
+        self.caches.level.set(Some(level));
+        self.after_frame_install();
+        Ok(())
+    }
+
+    /// Installs a decoded, untrusted frame: checks that it fits the level,
+    /// swaps it in, validates the result (the level's own objects are
+    /// trusted: they are this world's, unchanged), and swaps back on any
+    /// error, leaving the world exactly as it was.
+    /// Errors: [`SpaceError::LevelMismatch`], [`SpaceError::FrameMismatch`],
+    /// or [`SpaceError::InvalidState`] naming the broken invariant.
+    pub(crate) fn install_frame_validated(
+        &mut self,
+        mut frame: FrameState,
+    ) -> Result<(), SpaceError> {
+        self.check_frame_fits(&frame)?;
+        let Some(level) = self.caches.level.take() else {
+            return Err(SpaceError::FrameMismatch("level index missing".into()));
+        };
+        let origin = self.origin;
+        for s in frame.shapes.values_mut() {
+            s.body = s.body.with_origin(origin);
+        }
+        adopt_shared(
+            origin,
+            &mut frame.arbiters,
+            &mut frame.dormant_arbiters,
+            &mut frame.constraints,
+        );
+        swap_frame(&mut self.state, &level, &mut frame);
+        let checked = super::validate_state_trusting_level(&self.state);
+        if checked.is_err() {
+            swap_frame(&mut self.state, &level, &mut frame);
+        }
+        self.caches.level.set(Some(level));
+        checked.map_err(SpaceError::InvalidState)?;
+        self.after_frame_install();
+        Ok(())
+    }
+
+    /// The caches a new frame invalidates; the level's stay.
+    fn after_frame_install(&mut self) {
+        self.post_step.clear();
+        self.caches.broadphase.sleepers_dirty = true;
+        self.caches.broadphase.sleeping_count = None;
+        self.caches.body_shapes.invalidate();
+        self.caches.step.dt_constants = [None, None];
+        self.caches.level_suspects.clear();
+    }
+}
+
+/// Puts the origin tag on the handles of the frame's arbiters and
+/// constraints (shapes are adopted as they are installed).
+fn adopt_shared(
+    origin: u32,
+    arbiters: &mut [Arbiter],
+    dormant: &mut [Arbiter],
+    constraints: &mut Arena<Constraint>,
+) {
+    for arb in arbiters.iter_mut().chain(dormant) {
+        arb.shape_a = arb.shape_a.with_origin(origin);
+        arb.shape_b = arb.shape_b.with_origin(origin);
+        arb.body_a = arb.body_a.with_origin(origin);
+        arb.body_b = arb.body_b.with_origin(origin);
+    }
+    if constraints.origin() != origin {
+        constraints.set_origin(origin);
+        for (_, c) in constraints.iter_mut() {
+            c.a = c.a.with_origin(origin);
+            c.b = c.b.with_origin(origin);
+        }
+    }
+}
+
+/// Exchanges the frame part of `state` with `frame` (its own inverse).
+fn swap_frame(state: &mut WorldState, level: &LevelIndex, frame: &mut FrameState) {
+    use core::mem::swap;
+    let FrameState {
+        level_digest: _, // equal to the world's (checked)
+        settings,
+        bodies,
+        shapes,
+        arbiters,
+        stamp,
+        steps,
+        current_dt,
+        prev_dt,
+        constraints,
+        dormant_arbiters,
+    } = frame;
+    swap(&mut state.settings, settings);
+    state.bodies.swap_part(&level.body_runs, bodies);
+    state.shapes.swap_part(&level.shape_runs, shapes);
+    swap(&mut state.arbiters, arbiters);
+    swap(&mut state.stamp, stamp);
+    swap(&mut state.steps, steps);
+    swap(&mut state.current_dt, current_dt);
+    swap(&mut state.prev_dt, prev_dt);
+    swap(&mut state.constraints, constraints);
+    swap(&mut state.dormant_arbiters, dormant_arbiters);
+}
+
+/// The frame of a live world, serialized in place: the same serde form as
+/// the [`FrameState`] that `save_frame` would copy out (a test holds the
+/// two to the same bytes), without the copy.
+pub(crate) struct FrameView<'a> {
+    state: &'a WorldState,
+    level: &'a LevelIndex,
+}
+
+impl Serialize for FrameView<'_> {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        struct Part<'a, T>(&'a Arena<T>, &'a [(u32, u32)]);
+        impl<T: Serialize> Serialize for Part<'_, T> {
+            fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+                self.0.serialize_part(self.1, s)
+            }
+        }
+        let WorldState {
+            settings,
+            bodies,
+            shapes,
+            arbiters,
+            stamp,
+            steps,
+            current_dt,
+            prev_dt,
+            constraints,
+            dormant_arbiters,
+        } = self.state;
+        let mut st = serializer.serialize_struct("FrameState", 11)?;
+        st.serialize_field("level_digest", &self.level.digest)?;
+        st.serialize_field("settings", settings)?;
+        st.serialize_field("bodies", &Part(bodies, &self.level.body_runs))?;
+        st.serialize_field("shapes", &Part(shapes, &self.level.shape_runs))?;
+        st.serialize_field("arbiters", arbiters)?;
+        st.serialize_field("stamp", stamp)?;
+        st.serialize_field("steps", steps)?;
+        st.serialize_field("current_dt", current_dt)?;
+        st.serialize_field("prev_dt", prev_dt)?;
+        st.serialize_field("constraints", constraints)?;
+        st.serialize_field("dormant_arbiters", dormant_arbiters)?;
+        st.end()
+    }
+}
+
+impl Space {
+    /// Runs `f` on a serializable view of the frame (for `snapshot::frame`).
+    pub(crate) fn with_frame_view<R>(&self, f: impl FnOnce(&FrameView<'_>) -> R) -> R {
+        self.with_level(|level| {
+            f(&FrameView {
+                state: &self.state,
+                level,
+            })
+        })
+    }
+}
