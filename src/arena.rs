@@ -536,7 +536,11 @@ impl<T> ArenaPart<T> {
         hash_part_words(
             h,
             *slot_count,
-            slots.iter().map(|(i, s)| (*i, s)),
+            |h| {
+                for (i, slot) in slots {
+                    hash_indexed_slot(h, *i, slot);
+                }
+            },
             free,
             *len,
         );
@@ -544,24 +548,35 @@ impl<T> ArenaPart<T> {
 }
 
 /// The one hashing sequence of an arena part, shared by the arena (walking
-/// its slots outside the runs) and a saved [`ArenaPart`].
-fn hash_part_words<'a, T: core::hash::Hash + 'a, H: core::hash::Hasher>(
+/// its slots outside the runs) and a saved [`ArenaPart`]: the slot count,
+/// the slots (`hash_slots`, each by [`hash_indexed_slot`], by increasing
+/// index), the free list and the length.
+#[inline(always)]
+fn hash_part_words<H: core::hash::Hasher>(
     h: &mut H,
     slot_count: u32,
-    slots: impl Iterator<Item = (u32, &'a Slot<T>)>,
+    hash_slots: impl FnOnce(&mut H),
     free: &[u32],
     len: u32,
 ) {
     h.write_u32(slot_count);
-    for (i, slot) in slots {
-        h.write_u32(i);
-        hash_slot(slot, h);
-    }
+    hash_slots(h);
     h.write_u64(free.len() as u64);
     for &i in free {
         h.write_u32(i);
     }
     h.write_u32(len);
+}
+
+/// One slot of an arena part: its index, then the slot.
+#[inline(always)]
+fn hash_indexed_slot<T: core::hash::Hash, H: core::hash::Hasher>(
+    h: &mut H,
+    i: u32,
+    slot: &Slot<T>,
+) {
+    h.write_u32(i);
+    hash_slot(slot, h);
 }
 
 impl<T: Clone> Arena<T> {
@@ -631,10 +646,24 @@ impl<T> Arena<T> {
         T: core::hash::Hash,
     {
         let count = self.slots.len() as u32;
+        // The gaps between the runs as slices: the same slots, in the same
+        // order, as `outside_runs`, each gap walked by a plain loop (the
+        // checksum's hot path: the hasher's lanes stay in registers).
+        let end = [(count, count)];
         hash_part_words(
             h,
             count,
-            outside_runs(runs, count).filter_map(|i| self.slots.get(i as usize).map(|s| (i, s))),
+            |h| {
+                let mut start = 0u32;
+                for &(a, b) in runs.iter().chain(&end) {
+                    let gap = start..a.min(count);
+                    start = start.max(b);
+                    let slots = self.slots.get(gap.start as usize..gap.end as usize);
+                    for (slot, i) in slots.unwrap_or(&[]).iter().zip(gap) {
+                        hash_indexed_slot(h, i, slot);
+                    }
+                }
+            },
             &self.free,
             self.len,
         );
