@@ -43,9 +43,12 @@
 //! Coverage: the checksum sees every field of the state. The types that
 //! derive `Hash` hash every field; every hand-written impl destructures its
 //! type with no `..` (a new field does not compile until it is hashed or,
-//! like a handle's origin tag, said not to be state). `WorldState`'s impl
-//! is the derive's, except that a constraint arena that never had a slot
-//! adds nothing. `tests/mirrors.rs` changes every leaf of a world in turn
+//! like a handle's origin tag, said not to be state). `Space::checksum`
+//! walks the frame (`space/frame.rs`: every slot outside the static level,
+//! each slot as its index then generation and occupancy in one word, see
+//! `arena::hash_part`) after the level's digest, itself a hash of the level
+//! objects under this hasher; a constraint arena that never had a slot adds
+//! nothing. `tests/mirrors.rs` changes every leaf of a world in turn
 //! (unused vertex and contact slots and normals included) and checks that
 //! the checksum changes.
 use core::hash::{Hash, Hasher};
