@@ -96,7 +96,7 @@ pub enum ArbiterState {
 /// [`snapshot`](crate::snapshot) format version 6 (only the used contacts,
 /// zero words left out; see the `Serialize` impl); a human-readable one
 /// every field, as a derive would.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Arbiter {
     pub(crate) shape_a: ShapeHandle,
     pub(crate) shape_b: ShapeHandle,
@@ -542,6 +542,58 @@ impl Arbiter {
                 self.state
             )),
             ArbiterState::Normal | ArbiterState::Ignore | ArbiterState::Cached => Ok(()),
+        }
+    }
+}
+
+/// Every field, the small ones packed into one word (count, state, sensor
+/// flag, warm-start id), then the numbers and the contact slots: the
+/// checksum costs per word, and arbiters are hashed every frame.
+impl core::hash::Hash for Arbiter {
+    #[inline]
+    fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
+        // Every field named: a new one is a compile error until hashed.
+        let Arbiter {
+            shape_a,
+            shape_b,
+            body_a,
+            body_b,
+            normal,
+            count,
+            contacts,
+            restitution,
+            friction,
+            surface_velocity,
+            warm_start_id,
+            stamp,
+            state,
+            sensor,
+        } = self;
+        let state: u64 = match state {
+            ArbiterState::FirstCollision => 0,
+            ArbiterState::Normal => 1,
+            ArbiterState::Ignore => 2,
+            ArbiterState::Cached => 3,
+        };
+        shape_a.hash(h);
+        shape_b.hash(h);
+        body_a.hash(h);
+        body_b.hash(h);
+        h.write_u64(
+            u64::from(*count)
+                | state << 8
+                | u64::from(*sensor) << 10
+                | u64::from(*warm_start_id) << 32,
+        );
+        stamp.hash(h);
+        normal.hash(h);
+        restitution.hash(h);
+        friction.hash(h);
+        surface_velocity.hash(h);
+        // Both slots, fixed length: straight-line code (the slots past the
+        // count are zero in every valid arbiter).
+        for c in contacts {
+            c.hash(h);
         }
     }
 }

@@ -106,8 +106,8 @@ impl<T> core::hash::Hash for Handle<T> {
             origin: _, // not state
             _marker,
         } = self;
-        index.hash(h);
-        generation.hash(h);
+        // One word: the checksum's per-word cost is what counts.
+        h.write_u64(u64::from(*index) | u64::from(*generation) << 32);
     }
 }
 impl<T> core::fmt::Debug for Handle<T> {
@@ -201,13 +201,25 @@ impl<T: core::hash::Hash> core::hash::Hash for Arena<T> {
         } = self;
         h.write_u64(slots.len() as u64);
         for slot in slots {
-            slot.hash(h);
+            hash_slot(slot, h);
         }
         h.write_u64(free.len() as u64);
         for &i in free {
             h.write_u32(i);
         }
         h.write_u32(*len);
+    }
+}
+
+/// A slot as the checksum sees it: generation and occupancy in one word,
+/// then the value (the derive's `Hash` of [`Slot`] spends a word on each).
+#[inline(always)]
+fn hash_slot<T: core::hash::Hash, H: core::hash::Hasher>(slot: &Slot<T>, h: &mut H) {
+    // Every field named: a new one is a compile error until it is hashed.
+    let Slot { generation, value } = slot;
+    h.write_u64(u64::from(*generation) << 1 | u64::from(value.is_some()));
+    if let Some(value) = value {
+        value.hash(h);
     }
 }
 
@@ -579,23 +591,34 @@ impl<T> ArenaPart<T> {
             free,
             len,
         } = self;
-        hash_part_words(h, *slot_count, slots.iter(), free, *len);
+        hash_part_words(
+            h,
+            *slot_count,
+            |h| {
+                for slot in slots {
+                    hash_slot(slot, h);
+                }
+            },
+            free,
+            *len,
+        );
     }
 }
 
 /// The one hashing sequence of an arena part, shared by the arena (walking
-/// its slots outside the runs) and a saved [`ArenaPart`].
-fn hash_part_words<'a, T: core::hash::Hash + 'a, H: core::hash::Hasher>(
+/// its slots outside the runs) and a saved [`ArenaPart`]: the slot count,
+/// the slots (`hash_slots`, each by `hash_slot`, by increasing index; their
+/// indices are implied by the runs), the free list and the length.
+#[inline(always)]
+fn hash_part_words<H: core::hash::Hasher>(
     h: &mut H,
     slot_count: u32,
-    slots: impl Iterator<Item = &'a Slot<T>>,
+    hash_slots: impl FnOnce(&mut H),
     free: &[u32],
     len: u32,
 ) {
     h.write_u32(slot_count);
-    for slot in slots {
-        core::hash::Hash::hash(slot, h);
-    }
+    hash_slots(h);
     h.write_u64(free.len() as u64);
     for &i in free {
         h.write_u32(i);
@@ -675,10 +698,24 @@ impl<T> Arena<T> {
         T: core::hash::Hash,
     {
         let count = self.slots.len() as u32;
+        // The gaps between the runs as slices: the same slots, in the same
+        // order, as `outside_runs`, each gap walked by a plain loop (the
+        // checksum's hot path: the hasher's lanes stay in registers).
+        let end = [(count, count)];
         hash_part_words(
             h,
             count,
-            outside_runs(runs, count).filter_map(|i| self.slots.get(i as usize)),
+            |h| {
+                let mut start = 0u32;
+                for &(a, b) in runs.iter().chain(&end) {
+                    let gap = start..a.min(count);
+                    start = start.max(b);
+                    let slots = self.slots.get(gap.start as usize..gap.end as usize);
+                    for slot in slots.unwrap_or(&[]) {
+                        hash_slot(slot, h);
+                    }
+                }
+            },
             &self.free,
             self.len,
         );

@@ -125,7 +125,11 @@ pub const MAGIC: [u8; 8] = *b"TAMIASRP";
 /// Version of the replay byte layout (bumped whenever it changes).
 /// Version 3: the start is the world's snapshot (no scene start), with the
 /// replay's `dt`; the input log is digested, per frame and as a whole.
-pub const FORMAT_VERSION: u32 = 3;
+/// Version 4: the same layout, but the checksums and digests it records
+/// (and the header's digest) are those of the eight-lane
+/// [`checksum`](crate::checksum) function, which replaced the single-lane
+/// one: a version 3 replay would not verify, so it is refused by version.
+pub const FORMAT_VERSION: u32 = 4;
 
 /// Bytes before the payload: magic, version, payload digest.
 pub const HEADER_LEN: usize = framing::HEADER_LEN;

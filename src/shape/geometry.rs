@@ -4,6 +4,8 @@
 //! Geometry is a small `Copy` value with inline vertex storage (at most
 //! [`MAX_POLY_VERTICES`]): moving shapes into world space each step allocates
 //! nothing, and snapshots hold plain values.
+use core::hash::Hash;
+
 use serde::{Deserialize, Serialize};
 
 use super::ShapeError;
@@ -45,7 +47,7 @@ pub struct Segment {
 }
 
 /// A convex polygon with counter-clockwise vertices and a rounding radius.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Poly {
     /// Number of used entries of `verts`/`normals` (3..=MAX_POLY_VERTICES).
     pub(crate) count: u8,
@@ -63,7 +65,7 @@ pub struct Poly {
 /// [`snapshot`](crate::snapshot) format version 6 (no normals, only the
 /// used polygon vertices, zero words left out; see the `Serialize` impl);
 /// a human-readable one every field, as a derive would.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Geometry {
     /// A circle.
     Circle(Circle),
@@ -606,6 +608,77 @@ fn extent_fits(points: &[Vect], radius: Real) -> bool {
         lo >= min && hi <= max && hi.saturating_sub(lo) <= max
     };
     axis(|p| p.x) && axis(|p| p.y)
+}
+
+/// The kind (and a polygon's vertex count) in one word, then the fields.
+impl Hash for Geometry {
+    #[inline]
+    fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
+        self.hash_with_tag(h, 0);
+    }
+}
+
+impl Geometry {
+    /// [`Hash`]: one word holding `bits` (below 2^8: a caller's own small
+    /// fields, see `Shape`'s hash), the kind and a polygon's vertex count,
+    /// then the fields.
+    #[inline(always)]
+    pub(crate) fn hash_with_tag<H: core::hash::Hasher>(&self, h: &mut H, bits: u64) {
+        match self {
+            Geometry::Circle(c) => {
+                h.write_u64(bits);
+                c.hash(h);
+            }
+            Geometry::Segment(s) => {
+                h.write_u64(bits | 1 << 8);
+                s.hash(h);
+            }
+            Geometry::Poly(p) => {
+                h.write_u64(bits | 2 << 8 | u64::from(p.count) << 16);
+                p.hash_fields(h);
+            }
+        }
+    }
+}
+
+/// The vertex count, the radius and every vertex slot (the slots past the
+/// count are zero in every valid polygon), mixed; the normals are folded
+/// into one word by exclusive or. In every valid polygon (validation
+/// rebuilds the polygon from its vertices and compares) the normals follow
+/// from the vertices, so they carry no information of their own; a change
+/// of any one of their numbers still changes the fold, hence the checksum,
+/// at a fraction of the cost of a word each (a polygon is hashed every
+/// frame).
+impl Hash for Poly {
+    #[inline]
+    fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
+        h.write_u8(self.count);
+        self.hash_fields(h);
+    }
+}
+
+impl Poly {
+    /// [`Hash`] but the count: the radius, the vertex slots, the normals'
+    /// fold.
+    #[inline(always)]
+    fn hash_fields<H: core::hash::Hasher>(&self, h: &mut H) {
+        // Every field named: a new one is a compile error until hashed.
+        let Poly {
+            count: _, // hashed by the caller
+            verts,
+            normals,
+            radius,
+        } = self;
+        radius.hash(h);
+        // Fixed length, no branch: straight-line code.
+        for v in verts {
+            v.hash(h);
+        }
+        let fold = normals
+            .iter()
+            .fold(0, |z, n| z ^ n.x.to_bits() ^ n.y.to_bits());
+        h.write_i64(fold);
+    }
 }
 
 #[cfg(test)]

@@ -217,7 +217,7 @@ impl std::error::Error for ShapeError {}
 /// Serde: a binary serializer (snapshots) gets the compact form of
 /// [`snapshot`](crate::snapshot) format version 6 (see the `Serialize`
 /// impl); a human-readable one every field, as a derive would.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Shape {
     pub(crate) body: BodyHandle,
     pub(crate) geometry: Geometry,
@@ -586,5 +586,47 @@ fn check_radius(radius: Real) -> Result<(), ShapeError> {
         Err(ShapeError::Negative("radius"))
     } else {
         Ok(())
+    }
+}
+
+/// Every field, the small ones packed into words (filter and collision
+/// type; sensor flag and mass kind with the geometry's kind), then the
+/// numbers: the checksum costs per word, and a shape is hashed every frame.
+impl core::hash::Hash for Shape {
+    #[inline(always)]
+    fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
+        // Every field named: a new one is a compile error until hashed.
+        let Shape {
+            body,
+            geometry,
+            material:
+                Material {
+                    friction,
+                    elasticity,
+                    surface_velocity,
+                },
+            filter:
+                ShapeFilter {
+                    group,
+                    categories,
+                    mask,
+                },
+            collision_type,
+            sensor,
+            mass_spec,
+        } = self;
+        let (mass_kind, mass_value): (u64, Real) = match mass_spec {
+            MassSpec::None => (0, Real::ZERO),
+            MassSpec::Mass(m) => (1, *m),
+            MassSpec::Density(d) => (2, *d),
+        };
+        body.hash(h);
+        mass_value.hash(h);
+        h.write_u64(u64::from(*group) | u64::from(*categories) << 32);
+        h.write_u64(u64::from(*mask) | u64::from(*collision_type) << 32);
+        friction.hash(h);
+        elasticity.hash(h);
+        surface_velocity.hash(h);
+        geometry.hash_with_tag(h, mass_kind | u64::from(*sensor) << 2);
     }
 }

@@ -375,8 +375,8 @@ fn save_state_into(state: &WorldState, out: &mut Vec<u8>) -> usize {
     out.len()
 }
 
-/// The header's checksum of the payload bytes: four independent lanes of
-/// the multiply–xorshift step of [`WordHasher`](crate::checksum::WordHasher)
+/// The header's checksum of the payload bytes: four independent lanes of a
+/// multiply–xorshift step (its own, not [`WordHasher`](crate::checksum::WordHasher)'s)
 /// over little-endian 64-bit words (independent lanes keep the multiplier
 /// busy: several bytes per cycle), then the lanes, the length and the tail
 /// bytes folded into one word, and SplitMix64's finaliser. For a fixed lane

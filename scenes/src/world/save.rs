@@ -39,8 +39,12 @@ use crate::desc::SpawnDesc;
 /// First bytes of a saved scripted world.
 pub const MAGIC: [u8; 8] = *b"TAMIASSW";
 
-/// Version of the layout (bumped whenever it changes).
-pub const FORMAT_VERSION: u32 = 1;
+/// Version of the layout (bumped whenever it changes). Version 2: the same
+/// layout, with the header's digest by the eight-lane
+/// [`checksum_of`](tamias2d::checksum::checksum_of), which replaced the
+/// single-lane one (a version 1 file would fail its digest, so it is
+/// refused by version instead).
+pub const FORMAT_VERSION: u32 = 2;
 
 /// Bytes before the payload: magic, version, payload digest (the engine's
 /// shared file frame, [`tamias2d::framing`]).
