@@ -44,6 +44,13 @@ fn a_frame_holds_the_moving_part_only() {
     assert!(!small.arbiters().is_empty(), "the box rests on the level");
     // The same moving part; the level's slots are not in the bytes.
     assert_eq!(a.len(), b.len(), "frame size depends on the level");
+    // The goal for one moving box on a big level: ≤ 2 KB.
+    eprintln!(
+        "one box on 3,000 segments: frame {} bytes, full snapshot {}",
+        b.len(),
+        snapshot::save(&big).len()
+    );
+    assert!(b.len() <= 2048, "{} bytes", b.len());
     assert!(snapshot::save(&big).len() > 100 * b.len());
     let mut f = FrameState::default();
     big.save_frame(&mut f);
@@ -287,4 +294,31 @@ fn queries_stay_on_the_broadphase_and_agree_after_a_frame_restore() {
         assert_eq!(m1, m2);
         ok(w.restore_frame(&f));
     }
+}
+
+#[test]
+fn a_frame_restore_rebuilds_nothing_of_the_level() {
+    let mut w = level_world(200);
+    let mut f = FrameState::default();
+    w.save_frame(&mut f);
+    let bytes = snapshot::save_frame(&w);
+    let builds = w.static_tree_builds();
+    for _ in 0..5 {
+        ok(w.step(dt()));
+        ok(w.restore_frame(&f));
+        ok(w.step(dt()));
+        ok(w.load_frame_snapshot(&bytes));
+    }
+    ok(w.step(dt()));
+    assert_eq!(
+        w.static_tree_builds(),
+        builds,
+        "a frame restore rebuilt the static tree"
+    );
+    // A full restore checks the static boxes (the level may differ) but
+    // rebuilds only when they changed.
+    let state = w.state().clone();
+    w.restore_state(&state);
+    ok(w.step(dt()));
+    assert_eq!(w.static_tree_builds(), builds);
 }
