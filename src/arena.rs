@@ -483,7 +483,7 @@ pub(crate) fn outside_runs(runs: &Runs, slot_count: u32) -> impl Iterator<Item =
 /// holds its arenas this way, so that saving, restoring and hashing a
 /// frame cost what the frame holds, not what the level holds. The held
 /// slots carry no index: they are the slots outside the runs, in order
-/// (which [`check_against`](Self::check_against) makes sure of).
+/// (which `check_against` makes sure of).
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(bound(serialize = "T: Serialize", deserialize = "T: Deserialize<'de>"))]
 pub struct ArenaPart<T> {
