@@ -43,7 +43,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::arbiter::Arbiter;
 use crate::arena::{Arena, ArenaPart};
-use crate::body::Body;
+use crate::body::{Body, BodyType};
 use crate::checksum::WordHasher;
 use crate::constraint::Constraint;
 use crate::math::Real;
@@ -182,7 +182,7 @@ impl Space {
     /// dropped or a suspect body (see `space::level`) became static.
     pub(crate) fn with_level<R>(&self, f: impl FnOnce(&LevelIndex) -> R) -> R {
         let cached = self.caches.level.take();
-        let suspects_changed = self.caches.level_suspects.iter().any(|&i| {
+        let suspects_changed = self.caches.level_suspects.iter().any(|&(i, _)| {
             self.state
                 .bodies
                 .get_by_index(i)
@@ -202,23 +202,76 @@ impl Space {
         self.caches.level.set(None);
     }
 
-    /// Settles the suspects of `body_mut` (start of a step, frame
-    /// install): one that is static now was not when it was handed out, so
-    /// the level changed: the level cache is dropped and the statics
-    /// flagged (its shapes' cache entries and the static tree must be
-    /// redone; stage 2 walks the level's slots only when statics are
-    /// clean). The list is cleared.
+    /// Settles the suspects of `body_mut` (start of a step): one that is
+    /// static now was not when it was handed out, so the level changed
+    /// (see [`flag_level_suspects`](Self::flag_level_suspects)); one that
+    /// was dynamic and is not any more may leave arbiters without a dynamic
+    /// body, which are dropped. The list is cleared.
     pub(crate) fn settle_level_suspects(&mut self) {
+        if self.caches.level_suspects.is_empty() {
+            return;
+        }
+        self.flag_level_suspects();
         let bodies = &self.state.bodies;
-        let turned_static = self.caches.level_suspects.iter().any(|&i| {
-            bodies
-                .get_by_index(i)
-                .is_some_and(|(_, b)| b.body_type() == crate::body::BodyType::Static)
+        let lost_dynamic = self.caches.level_suspects.iter().any(|&(i, was_dynamic)| {
+            was_dynamic
+                && bodies
+                    .get_by_index(i)
+                    .is_some_and(|(_, b)| b.body_type() != BodyType::Dynamic)
         });
         self.caches.level_suspects.clear();
+        if lost_dynamic {
+            self.drop_pairs_without_dynamic_body();
+        }
+    }
+
+    /// The caches' part of settling the suspects, which changes no state
+    /// (for the frame installs, which must leave the world untouched when
+    /// they fail): a suspect that is static now drops the level cache and
+    /// flags the statics (its shapes' cache entries and the static tree
+    /// must be redone; stage 2 walks the level's slots only when statics
+    /// are clean). The list stays for the step's settling.
+    fn flag_level_suspects(&mut self) {
+        let bodies = &self.state.bodies;
+        let turned_static = self.caches.level_suspects.iter().any(|&(i, _)| {
+            bodies
+                .get_by_index(i)
+                .is_some_and(|(_, b)| b.body_type() == BodyType::Static)
+        });
         if turned_static {
             self.caches.broadphase.statics_dirty = true;
             self.forget_level();
+        }
+    }
+
+    /// Removes the arbiters (live and dormant) of which neither body is
+    /// dynamic any more — left by a dynamic body replaced in place by a
+    /// static or kinematic one through `body_mut` while it touched
+    /// something: such a pair never collides, and a state holding one is
+    /// invalid. Live touching pairs get their separate callbacks, as when
+    /// a shape is removed.
+    fn drop_pairs_without_dynamic_body(&mut self) {
+        let bodies = &self.state.bodies;
+        let keeps = |arb: &Arbiter| {
+            bodies.get(arb.body_a).is_some_and(Body::is_dynamic)
+                || bodies.get(arb.body_b).is_some_and(Body::is_dynamic)
+        };
+        let mut removed = Vec::new();
+        self.state.arbiters.retain(|arb| {
+            let keep = keeps(arb);
+            if !keep && !arb.is_cached() {
+                removed.push(arb.clone());
+            }
+            keep
+        });
+        self.state.dormant_arbiters.retain(keeps);
+        for mut arb in removed {
+            self.handlers.separate(
+                &mut arb,
+                &self.state.bodies,
+                &self.state.shapes,
+                &mut self.post_step,
+            );
         }
     }
 
@@ -293,7 +346,7 @@ impl Space {
     /// another level; [`SpaceError::FrameMismatch`] for a frame whose slots
     /// do not fit around this level.
     pub fn restore_frame(&mut self, frame: &FrameState) -> Result<(), SpaceError> {
-        self.settle_level_suspects();
+        self.flag_level_suspects();
         self.check_frame_fits(frame)?;
         let origin = self.origin;
         let Some(level) = self.caches.level.take() else {
@@ -338,7 +391,7 @@ impl Space {
         &mut self,
         mut frame: FrameState,
     ) -> Result<(), SpaceError> {
-        self.settle_level_suspects();
+        self.flag_level_suspects();
         self.check_frame_fits(&frame)?;
         let Some(level) = self.caches.level.take() else {
             return Err(SpaceError::FrameMismatch("level index missing".into()));

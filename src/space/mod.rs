@@ -291,8 +291,9 @@ pub(crate) struct Caches {
     /// first use; `None` after a change to the level.
     pub(crate) level: core::cell::Cell<Option<level::LevelIndex>>,
     /// Body slots given out by `body_mut` while not static since the level
-    /// was last settled (one may have been made static).
-    pub(crate) level_suspects: Vec<u32>,
+    /// was last settled (one may have been made static), each with whether
+    /// it was dynamic then (one may have been made static or kinematic).
+    pub(crate) level_suspects: Vec<(u32, bool)>,
 }
 
 /// The world: bodies, shapes, arbiters, settings and handlers.
@@ -689,8 +690,9 @@ impl Space {
             self.forget_level();
         } else {
             // The game may replace it by a static body (see `space::level`).
-            if !self.caches.level_suspects.contains(&h.index()) {
-                self.caches.level_suspects.push(h.index());
+            let suspect = (h.index(), body_type == BodyType::Dynamic);
+            if !self.caches.level_suspects.contains(&suspect) {
+                self.caches.level_suspects.push(suspect);
             }
         }
         self.state.bodies.get_mut(h)
