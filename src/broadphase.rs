@@ -124,7 +124,14 @@ impl StaticTree {
     }
 
     /// Calls `f` with the index of every static proxy whose box touches `bb`.
-    pub fn query(&self, bb: &BB, mut f: impl FnMut(u32)) {
+    pub fn query(&self, bb: &BB, f: impl FnMut(u32)) {
+        self.query_where(bb, |_| true, f);
+    }
+
+    /// [`query`](Self::query) that also skips every node and proxy whose
+    /// box fails `keep` (a finer test than the box overlap, e.g. a ray's
+    /// line): `keep` must hold for every box that can contain a hit.
+    pub fn query_where(&self, bb: &BB, keep: impl Fn(&BB) -> bool, mut f: impl FnMut(u32)) {
         if self.nodes.is_empty() {
             return;
         }
@@ -136,7 +143,7 @@ impl StaticTree {
             let Some(node) = stack.get(top).and_then(|&i| self.nodes.get(i as usize)) else {
                 continue;
             };
-            if !node.bb.intersects(bb) {
+            if !node.bb.intersects(bb) || !keep(&node.bb) {
                 continue;
             }
             if node.leaf {
@@ -145,7 +152,7 @@ impl StaticTree {
                     .get(node.first as usize..node.second as usize)
                     .unwrap_or(&[])
                 {
-                    if p.bb.intersects(bb) {
+                    if p.bb.intersects(bb) && keep(&p.bb) {
                         f(p.index);
                     }
                 }

@@ -48,6 +48,18 @@ impl Space {
         bb: BB,
         filter: ShapeFilter,
     ) -> impl Iterator<Item = (ShapeHandle, &Shape, Geometry)> + '_ {
+        self.query_candidates_where(bb, |_| true, filter)
+    }
+
+    /// [`query_candidates`](Self::query_candidates) whose static tree walk
+    /// also skips the boxes that fail `keep` (which must hold for every box
+    /// that can contain a hit: the results are the same, found sooner).
+    fn query_candidates_where(
+        &self,
+        bb: BB,
+        keep: impl Fn(&BB) -> bool,
+        filter: ShapeFilter,
+    ) -> impl Iterator<Item = (ShapeHandle, &Shape, Geometry)> + '_ {
         let bodies = &self.state.bodies;
         fn accept<'a>(
             bodies: &Arena<Body>,
@@ -65,7 +77,7 @@ impl Space {
         // Through the broadphase when it is current, else every shape; the
         // same test either way on a superset of the hits, in slot order,
         // so the same results.
-        let (slots, all) = match self.broadphase_candidates(&bb) {
+        let (slots, all) = match self.broadphase_candidates(&bb, keep) {
             Some(slots) => (slots, false),
             None => (Vec::new(), true),
         };
@@ -86,7 +98,7 @@ impl Space {
     /// every shape); for tests.
     #[doc(hidden)]
     pub fn queries_use_broadphase(&self) -> bool {
-        self.broadphase_candidates(&BB::for_point(Vect::ZERO))
+        self.broadphase_candidates(&BB::for_point(Vect::ZERO), |_| true)
             .is_some()
     }
 
@@ -96,7 +108,7 @@ impl Space {
     /// stale or not built (a static shape or body changed since the last
     /// step, a restored or new space) or the lists are not built: then the
     /// caller scans every shape.
-    fn broadphase_candidates(&self, bb: &BB) -> Option<Vec<u32>> {
+    fn broadphase_candidates(&self, bb: &BB, keep: impl Fn(&BB) -> bool) -> Option<Vec<u32>> {
         let bp = &self.caches.broadphase;
         if bp.statics_dirty || bp.static_builds == 0 {
             return None;
@@ -108,7 +120,7 @@ impl Space {
                 slots.extend_from_slice(lists.built(bh.index())?);
             }
         }
-        bp.static_tree.query(bb, |i| slots.push(i));
+        bp.static_tree.query_where(bb, keep, |i| slots.push(i));
         slots.sort_unstable();
         Some(slots)
     }
@@ -170,7 +182,7 @@ impl Space {
     ) -> Vec<(ShapeHandle, SegmentQueryInfo)> {
         let bb = BB::for_point(a).expand(b).grow(radius.max(Real::ZERO));
         let mut hits: Vec<(ShapeHandle, SegmentQueryInfo)> = self
-            .query_candidates(bb, filter)
+            .query_candidates_where(bb, |node| line_may_touch(a, b, radius, node), filter)
             .filter_map(|(h, _, world)| segment_query(&world, a, b, radius).map(|info| (h, info)))
             .collect();
         // Stable: equal alphas stay in slot order.
@@ -191,7 +203,7 @@ impl Space {
         let bb = BB::for_point(a).expand(b).grow(radius.max(Real::ZERO));
         let mut best: Option<(ShapeHandle, SegmentQueryInfo)> = None;
         for (h, _, world) in self
-            .query_candidates(bb, filter)
+            .query_candidates_where(bb, |node| line_may_touch(a, b, radius, node), filter)
             .filter(|(_, s, _)| !s.sensor)
         {
             let Some(info) = segment_query(&world, a, b, radius) else {
@@ -228,4 +240,33 @@ impl Space {
             })
             .collect()
     }
+}
+
+/// False only when the box `bb`, grown by `radius`, lies strictly on one
+/// side of the line through `a` and `b`: then no shape inside it can meet
+/// the segment swept by a circle of `radius` (with the box overlap the
+/// tree already tests, the separating-axis test of a segment and a box).
+/// Exact: the side of each corner is the sign of an integer cross product
+/// on the raw values; coordinates too far apart for 128 bits keep the box.
+fn line_may_touch(a: Vect, b: Vect, radius: Real, bb: &BB) -> bool {
+    const LIMIT: i128 = 1 << 62;
+    let g = bb.grow(radius.max(Real::ZERO));
+    let raw = |r: Real| i128::from(r.to_bits());
+    let (ax, ay) = (raw(a.x), raw(a.y));
+    // Differences of i64 values in i128: never saturate.
+    let (dx, dy) = (raw(b.x).saturating_sub(ax), raw(b.y).saturating_sub(ay));
+    let corners = [(g.l, g.b), (g.r, g.b), (g.r, g.t), (g.l, g.t)];
+    let mut above = false;
+    let mut below = false;
+    for (x, y) in corners {
+        let (cx, cy) = (raw(x).saturating_sub(ax), raw(y).saturating_sub(ay));
+        if [dx, dy, cx, cy].iter().any(|v| v.abs() >= LIMIT) {
+            return true;
+        }
+        // |each product| < 2^124: never saturates.
+        let side = dx.saturating_mul(cy).saturating_sub(dy.saturating_mul(cx));
+        above |= side >= 0;
+        below |= side <= 0;
+    }
+    above && below
 }
