@@ -145,10 +145,10 @@ struct ArbiterFields {
 
 /// Words of the compact form before the contacts: normal (x, y),
 /// restitution, friction, surface velocity (x, y).
-const ARB_WORDS: usize = 6;
+pub(crate) const ARB_WORDS: usize = 6;
 /// Words per used contact: r1 (x, y), r2 (x, y), dist, jn_acc, jt_acc.
-const CONTACT_WORDS: usize = 7;
-const ARB_MAX_WORDS: usize = ARB_WORDS + CONTACT_WORDS * MAX_CONTACTS_PER_ARBITER;
+pub(crate) const CONTACT_WORDS: usize = 7;
+pub(crate) const ARB_MAX_WORDS: usize = ARB_WORDS + CONTACT_WORDS * MAX_CONTACTS_PER_ARBITER;
 /// Head: the contact count (bits 0–1), the state (bits 2–3), `sensor`
 /// (bit 4), then the presence mask of the words from bit 5.
 const ARB_STATE_SHIFT: u32 = 2;
@@ -184,38 +184,11 @@ impl Serialize for Arbiter {
             return ArbiterFields::serialize(self, s);
         }
         let used = self.contacts();
-        let mut words = [Real::ZERO; ARB_MAX_WORDS];
-        let mut n = 0usize;
-        let mut put = |w: Real| {
-            if let Some(slot) = words.get_mut(n) {
-                *slot = w;
-                n = n.saturating_add(1);
-            }
-        };
-        [
-            self.normal.x,
-            self.normal.y,
-            self.restitution,
-            self.friction,
-            self.surface_velocity.x,
-            self.surface_velocity.y,
-        ]
-        .into_iter()
-        .for_each(&mut put);
-        for c in used {
-            [c.r1.x, c.r1.y, c.r2.x, c.r2.y, c.dist, c.jn_acc, c.jt_acc]
-                .into_iter()
-                .for_each(&mut put);
-        }
+        let (words, n) = self.compact_words();
         let words = words.get(..n).unwrap_or(&[]);
         let mask = compact::mask_of(words);
         let narrow = compact::narrow_of(words, mask);
-        let state: u32 = match self.state {
-            ArbiterState::FirstCollision => 0,
-            ArbiterState::Normal => 1,
-            ArbiterState::Ignore => 2,
-            ArbiterState::Cached => 3,
-        };
+        let state = self.compact_state();
         // A count past 3 (only a corrupted in-memory state) is written as
         // 3, which the decoder rejects.
         let head = u32::from(self.count.min(3))
@@ -268,12 +241,7 @@ impl compact::Compact for Arbiter {
         if count > MAX_CONTACTS_PER_ARBITER {
             return Err(r.error("too many contacts"));
         }
-        let state = match (head >> ARB_STATE_SHIFT) & 3 {
-            0 => ArbiterState::FirstCollision,
-            1 => ArbiterState::Normal,
-            2 => ArbiterState::Ignore,
-            _ => ArbiterState::Cached,
-        };
+        let state = (head >> ARB_STATE_SHIFT) & 3;
         // count ≤ 2: at most 6 + 14 words.
         let n = CONTACT_WORDS
             .saturating_mul(count)
@@ -297,18 +265,103 @@ impl compact::Compact for Arbiter {
         let body_b: BodyHandle = r.next()?;
         let warm_start_id: WarmStartId = r.next()?;
         let stamp: u64 = r.next()?;
-        let mut contacts = [ManifoldPoint::default(); MAX_CONTACTS_PER_ARBITER];
-        for c in contacts.iter_mut().take(count) {
-            c.feature_id = r.next()?;
+        let mut features = [0u32; MAX_CONTACTS_PER_ARBITER];
+        for f in features.iter_mut().take(count) {
+            *f = r.next()?;
         }
         let mut w = [Real::ZERO; ARB_MAX_WORDS];
         r.words(mask, Some(narrow), w.get_mut(..n).unwrap_or(&mut []))?;
+        Ok(Arbiter::from_compact(
+            [shape_a, shape_b],
+            [body_a, body_b],
+            CompactHead {
+                count,
+                state,
+                sensor: head & ARB_SENSOR != 0,
+                warm_start_id,
+                stamp,
+            },
+            features,
+            &w,
+        ))
+    }
+}
+
+/// The integers of an arbiter's compact forms besides handles and words.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CompactHead {
+    /// Used contacts (at most [`MAX_CONTACTS_PER_ARBITER`]).
+    pub(crate) count: usize,
+    /// 0 `FirstCollision`, 1 `Normal`, 2 `Ignore`, 3 `Cached`.
+    pub(crate) state: u32,
+    pub(crate) sensor: bool,
+    pub(crate) warm_start_id: WarmStartId,
+    pub(crate) stamp: u64,
+}
+
+impl Arbiter {
+    /// The stored words of the compact forms and how many there are:
+    /// normal (x, y), restitution, friction, surface velocity (x, y), then
+    /// per used contact r1 (x, y), r2 (x, y), dist, jn_acc, jt_acc.
+    #[inline]
+    pub(crate) fn compact_words(&self) -> ([Real; ARB_MAX_WORDS], usize) {
+        let mut words = [Real::ZERO; ARB_MAX_WORDS];
+        let mut n = 0usize;
+        let mut put = |w: Real| {
+            if let Some(slot) = words.get_mut(n) {
+                *slot = w;
+                n = n.saturating_add(1);
+            }
+        };
+        [
+            self.normal.x,
+            self.normal.y,
+            self.restitution,
+            self.friction,
+            self.surface_velocity.x,
+            self.surface_velocity.y,
+        ]
+        .into_iter()
+        .for_each(&mut put);
+        for c in self.contacts() {
+            [c.r1.x, c.r1.y, c.r2.x, c.r2.y, c.dist, c.jn_acc, c.jt_acc]
+                .into_iter()
+                .for_each(&mut put);
+        }
+        (words, n)
+    }
+
+    /// The state's code in the compact forms (see [`CompactHead`]).
+    #[inline]
+    pub(crate) fn compact_state(&self) -> u32 {
+        match self.state {
+            ArbiterState::FirstCollision => 0,
+            ArbiterState::Normal => 1,
+            ArbiterState::Ignore => 2,
+            ArbiterState::Cached => 3,
+        }
+    }
+
+    /// The arbiter of a compact form: handles, head, the used contacts'
+    /// feature ids and the words (those past the count zero); the contact
+    /// slots past the count stay at their default.
+    #[inline]
+    pub(crate) fn from_compact(
+        [shape_a, shape_b]: [ShapeHandle; 2],
+        [body_a, body_b]: [BodyHandle; 2],
+        head: CompactHead,
+        features: [u32; MAX_CONTACTS_PER_ARBITER],
+        w: &[Real; ARB_MAX_WORDS],
+    ) -> Arbiter {
+        let count = head.count.min(MAX_CONTACTS_PER_ARBITER);
         let (head_words, contact_words) = w.split_at(ARB_WORDS);
         let [nx, ny, restitution, friction, sv_x, sv_y] =
             <[Real; ARB_WORDS]>::try_from(head_words).unwrap_or([Real::ZERO; ARB_WORDS]);
-        for (c, cw) in contacts
+        let mut contacts = [ManifoldPoint::default(); MAX_CONTACTS_PER_ARBITER];
+        for ((c, cw), f) in contacts
             .iter_mut()
             .zip(contact_words.chunks_exact(CONTACT_WORDS))
+            .zip(features)
             .take(count)
         {
             if let [r1x, r1y, r2x, r2y, dist, jn, jt] = *cw {
@@ -317,25 +370,31 @@ impl compact::Compact for Arbiter {
                 c.dist = dist;
                 c.jn_acc = jn;
                 c.jt_acc = jt;
+                c.feature_id = f;
             }
         }
-        Ok(Arbiter {
+        Arbiter {
             shape_a,
             shape_b,
             body_a,
             body_b,
             normal: Vect::new(nx, ny),
-            // count ≤ 2 (checked above).
+            // count ≤ 2.
             count: count as u8,
             contacts,
             restitution,
             friction,
             surface_velocity: Vect::new(sv_x, sv_y),
-            warm_start_id,
-            stamp,
-            state,
-            sensor: head & ARB_SENSOR != 0,
-        })
+            warm_start_id: head.warm_start_id,
+            stamp: head.stamp,
+            state: match head.state {
+                0 => ArbiterState::FirstCollision,
+                1 => ArbiterState::Normal,
+                2 => ArbiterState::Ignore,
+                _ => ArbiterState::Cached,
+            },
+            sensor: head.sensor,
+        }
     }
 }
 

@@ -519,6 +519,31 @@ impl<T> ArenaPart<T> {
         self.slots.iter_mut().filter_map(|s| s.value.as_mut())
     }
 
+    /// The free list, to be refilled (with [`refill`](Self::refill)).
+    pub(crate) fn free_mut(&mut self) -> &mut Vec<u32> {
+        &mut self.free
+    }
+
+    /// Refills the part in place, its buffers reused: the bookkeeping and
+    /// `held` slots, each filled by `slot(generation, value)` in order (the
+    /// free list is [`free_mut`](Self::free_mut)'s). Nothing is checked
+    /// here; a part left half-filled by an error is only fit to be refilled.
+    pub(crate) fn refill<E>(
+        &mut self,
+        (slot_count, len): (u32, u32),
+        held: usize,
+        mut slot: impl FnMut(&mut u32, &mut Option<T>) -> Result<(), E>,
+    ) -> Result<(), E> {
+        self.slot_count = slot_count;
+        self.len = len;
+        self.slots.truncate(held);
+        self.slots.resize_with(held, Slot::empty);
+        for s in &mut self.slots {
+            slot(&mut s.generation, &mut s.value)?;
+        }
+        Ok(())
+    }
+
     /// Checks that the part and `runs` tile `0..slot_count` exactly: every
     /// run inside `0..slot_count`, and as many held slots as the runs leave.
     /// What installing needs to be exact; the bookkeeping is
@@ -721,47 +746,35 @@ impl<T> Arena<T> {
         );
     }
 
-    /// Serializes the slots outside `runs` exactly as the [`ArenaPart`]
-    /// saved from this arena would serialize (same fields, same order),
-    /// without copying them.
-    pub(crate) fn serialize_part<S: serde::Serializer>(
-        &self,
-        runs: &Runs,
-        serializer: S,
-    ) -> Result<S::Ok, S::Error>
-    where
-        T: Serialize,
-    {
-        use serde::ser::{SerializeSeq, SerializeStruct};
-        struct Held<'a, T>(&'a Arena<T>, &'a Runs);
-        impl<T: Serialize> Serialize for Held<'_, T> {
-            fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-                let Held(arena, runs) = self;
-                let count = arena.slots.len() as u32;
-                let n = u64::from(count).saturating_sub(runs_len(runs));
-                let mut seq = s.serialize_seq(Some(usize::try_from(n).unwrap_or(usize::MAX)))?;
-                for i in outside_runs(runs, count) {
-                    if let Some(slot) = arena.slots.get(i as usize) {
-                        seq.serialize_element(slot)?;
-                    }
-                }
-                seq.end()
-            }
-        }
-        let mut st = serializer.serialize_struct("ArenaPart", 4)?;
-        st.serialize_field("slot_count", &(self.slots.len() as u32))?;
-        st.serialize_field("slots", &Held(self, runs))?;
-        st.serialize_field("free", &self.free)?;
-        st.serialize_field("len", &self.len)?;
-        st.end()
-    }
-
     /// Every slot, in order, with its index: for computing runs.
     pub(crate) fn raw_slots(&self) -> impl Iterator<Item = (u32, Option<&T>)> {
         self.slots
             .iter()
             .enumerate()
             .map(|(i, s)| (i as u32, s.value.as_ref()))
+    }
+
+    /// The slot count, free list and length: what a part carries besides
+    /// its slots.
+    pub(crate) fn bookkeeping(&self) -> (u32, &[u32], u32) {
+        (self.slots.len() as u32, &self.free, self.len)
+    }
+
+    /// Calls `f(generation, value)` for each slot outside `runs`, by
+    /// increasing index (the slots a part saved for `runs` holds).
+    #[inline]
+    pub(crate) fn for_each_outside(&self, runs: &Runs, mut f: impl FnMut(u32, Option<&T>)) {
+        let count = self.slots.len() as u32;
+        let end = [(count, count)];
+        let mut start = 0u32;
+        for &(a, b) in runs.iter().chain(&end) {
+            let gap = start..a.min(count);
+            start = start.max(b);
+            let slots = self.slots.get(gap.start as usize..gap.end as usize);
+            for slot in slots.unwrap_or(&[]) {
+                f(slot.generation, slot.value.as_ref());
+            }
+        }
     }
 
     /// The slot's generation and value (for hashing a level).

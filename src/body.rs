@@ -124,7 +124,7 @@ struct BodyFields {
 /// Words of the compact form, in order (bit `i` of the presence mask is
 /// word `i`): mass, moment, cog, p, v, f, a, rot (c, s), w, t, v_bias,
 /// w_bias, idle time.
-const BODY_WORDS: usize = 19;
+pub(crate) const BODY_WORDS: usize = 19;
 /// Head bits above the presence mask: the body type (2 bits: dynamic,
 /// kinematic, static), then one bit each.
 const BODY_TYPE_SHIFT: u32 = 24;
@@ -165,27 +165,7 @@ impl Serialize for Body {
         if s.is_human_readable() {
             return BodyFields::serialize(self, s);
         }
-        let words = [
-            self.mass,
-            self.moment,
-            self.cog.x,
-            self.cog.y,
-            self.p.x,
-            self.p.y,
-            self.v.x,
-            self.v.y,
-            self.f.x,
-            self.f.y,
-            self.a,
-            self.rot.c,
-            self.rot.s,
-            self.w,
-            self.t,
-            self.v_bias.x,
-            self.v_bias.y,
-            self.w_bias,
-            self.sleep.idle_time,
-        ];
+        let words = self.compact_words();
         let mask = compact::mask_of(&words);
         let narrow = compact::narrow_of(&words, mask);
         let kind: u32 = match self.body_type {
@@ -262,6 +242,75 @@ impl compact::Compact for Body {
         };
         let mut w = [Real::ZERO; BODY_WORDS];
         r.words(head & ((1 << BODY_WORDS) - 1), Some(narrow), &mut w)?;
+        Ok(Body::from_compact(
+            body_type,
+            CompactFlags {
+                explicit_mass: head & BODY_EXPLICIT_MASS != 0,
+                sleep_allowed: head & BODY_SLEEP_ALLOWED != 0,
+                bullet: head & BODY_BULLET != 0,
+                island,
+            },
+            w,
+        ))
+    }
+}
+
+/// The flags of a body's compact forms (snapshots and frames).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CompactFlags {
+    pub(crate) explicit_mass: bool,
+    pub(crate) sleep_allowed: bool,
+    pub(crate) bullet: bool,
+    pub(crate) island: Option<u32>,
+}
+
+impl Body {
+    /// The stored words of the compact forms, in order: mass, moment, cog,
+    /// p, v, f, a, rot (c, s), w, t, v_bias, w_bias, idle time.
+    #[inline]
+    pub(crate) fn compact_words(&self) -> [Real; BODY_WORDS] {
+        [
+            self.mass,
+            self.moment,
+            self.cog.x,
+            self.cog.y,
+            self.p.x,
+            self.p.y,
+            self.v.x,
+            self.v.y,
+            self.f.x,
+            self.f.y,
+            self.a,
+            self.rot.c,
+            self.rot.s,
+            self.w,
+            self.t,
+            self.v_bias.x,
+            self.v_bias.y,
+            self.w_bias,
+            self.sleep.idle_time,
+        ]
+    }
+
+    /// The flags of the compact forms.
+    #[inline]
+    pub(crate) fn compact_flags(&self) -> CompactFlags {
+        CompactFlags {
+            explicit_mass: self.explicit_mass,
+            sleep_allowed: self.sleep.allowed,
+            bullet: self.bullet,
+            island: self.sleep.island,
+        }
+    }
+
+    /// The body the compact forms describe, with the derived fields
+    /// recomputed (see the `Serialize` impl).
+    #[inline]
+    pub(crate) fn from_compact(
+        body_type: BodyType,
+        flags: CompactFlags,
+        w: [Real; BODY_WORDS],
+    ) -> Body {
         let [mass, moment, cog_x, cog_y, p_x, p_y, v_x, v_y, f_x, f_y, a, rot_c, rot_s, ang_v, torque, vb_x, vb_y, w_bias, idle_time] =
             w;
         // Derived, see the `Serialize` impl (a kinematic or static body
@@ -274,13 +323,13 @@ impl compact::Compact for Body {
                 Real::ZERO
             }
         };
-        Ok(Body {
+        Body {
             body_type,
             mass,
             mass_inv: derive(mass),
             moment,
             moment_inv: derive(moment),
-            explicit_mass: head & BODY_EXPLICIT_MASS != 0,
+            explicit_mass: flags.explicit_mass,
             cog: Vect::new(cog_x, cog_y),
             p: Vect::new(p_x, p_y),
             v: Vect::new(v_x, v_y),
@@ -293,11 +342,11 @@ impl compact::Compact for Body {
             w_bias,
             sleep: SleepState {
                 idle_time,
-                island,
-                allowed: head & BODY_SLEEP_ALLOWED != 0,
+                island: flags.island,
+                allowed: flags.sleep_allowed,
             },
-            bullet: head & BODY_BULLET != 0,
-        })
+            bullet: flags.bullet,
+        }
     }
 }
 

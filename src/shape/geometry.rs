@@ -92,12 +92,14 @@ enum GeometryFields {
 const GEOM_POLY_COUNT_SHIFT: u32 = 2;
 const GEOM_FORM_SHIFT: u32 = 6;
 const GEOM_MASK_SHIFT: u32 = 8;
+/// The head bits below the presence mask: kind, polygon count, form.
+pub(crate) const GEOM_FORM_HEAD: u32 = (1 << GEOM_MASK_SHIFT) - 1;
 /// Polygon forms.
 const FORM_GENERAL: u32 = 0;
 const FORM_RECT: u32 = 1;
 const FORM_CENTRED_RECT: u32 = 2;
 /// Most words of one geometry: a polygon's 8 vertices and its radius.
-const GEOM_MAX_WORDS: usize = 2 * MAX_POLY_VERTICES + 1;
+pub(crate) const GEOM_MAX_WORDS: usize = 2 * MAX_POLY_VERTICES + 1;
 
 /// `(l, b, r, t)` when `p` is the rectangle [`Poly::from_bb`] builds
 /// (4 vertices `(r, b), (r, t), (l, t), (l, b)`): then those four values
@@ -154,6 +156,55 @@ impl Serialize for Geometry {
         if s.is_human_readable() {
             return GeometryFields::serialize(self, s);
         }
+        let (form_head, words, n) = self.compact_form();
+        let words = words.get(..n).unwrap_or(&[]);
+        let mask = compact::mask_of(words);
+        let head = form_head | mask << GEOM_MASK_SHIFT;
+        let mut t = compact::tuple(s, compact::count(mask).saturating_add(1))?;
+        t.serialize_element(&head)?;
+        compact::write_words(&mut t, words, mask, 0)?;
+        t.end()
+    }
+}
+
+impl<'de> Deserialize<'de> for Geometry {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Geometry, D::Error> {
+        if d.is_human_readable() {
+            GeometryFields::deserialize(d)
+        } else {
+            compact::deserialize(d)
+        }
+    }
+}
+
+impl compact::Compact for Geometry {
+    const EXPECTING: &'static str = "a compact geometry";
+    const MAX_ELEMENTS: usize = 1 + GEOM_MAX_WORDS;
+
+    fn read<'de, A: serde::de::SeqAccess<'de>>(
+        r: &mut compact::Reader<'de, A>,
+    ) -> Result<Geometry, A::Error> {
+        let head: u32 = r.next()?;
+        let form_head = head & GEOM_FORM_HEAD;
+        let mask = head >> GEOM_MASK_SHIFT;
+        let Some(n) = Geometry::compact_len(form_head) else {
+            return Err(r.error("unknown kind, count or form"));
+        };
+        if mask & !compact::bit(n).saturating_sub(1) != 0 {
+            return Err(r.error("presence bits past the last word"));
+        }
+        let mut w = [Real::ZERO; GEOM_MAX_WORDS];
+        r.words(mask, None, w.get_mut(..n).unwrap_or(&mut []))?;
+        Geometry::from_compact(form_head, &w).map_err(|e| r.error(e))
+    }
+}
+
+impl Geometry {
+    /// The compact forms' description of this geometry: the kind, count
+    /// and form bits of the head ([`GEOM_FORM_HEAD`]), the stored words and
+    /// how many there are (see the `Serialize` impl).
+    #[inline]
+    pub(crate) fn compact_form(&self) -> (u32, [Real; GEOM_MAX_WORDS], usize) {
         let mut words = [Real::ZERO; GEOM_MAX_WORDS];
         let mut n = 0usize;
         let mut put = |w: Real| {
@@ -202,57 +253,45 @@ impl Serialize for Geometry {
                 (kind, form)
             }
         };
-        let words = words.get(..n).unwrap_or(&[]);
-        let mask = compact::mask_of(words);
-        let head = kind | form << GEOM_FORM_SHIFT | mask << GEOM_MASK_SHIFT;
-        let mut t = compact::tuple(s, compact::count(mask).saturating_add(1))?;
-        t.serialize_element(&head)?;
-        compact::write_words(&mut t, words, mask, 0)?;
-        t.end()
+        (kind | form << GEOM_FORM_SHIFT, words, n)
     }
-}
 
-impl<'de> Deserialize<'de> for Geometry {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Geometry, D::Error> {
-        if d.is_human_readable() {
-            GeometryFields::deserialize(d)
-        } else {
-            compact::deserialize(d)
-        }
-    }
-}
-
-impl compact::Compact for Geometry {
-    const EXPECTING: &'static str = "a compact geometry";
-    const MAX_ELEMENTS: usize = 1 + GEOM_MAX_WORDS;
-
-    fn read<'de, A: serde::de::SeqAccess<'de>>(
-        r: &mut compact::Reader<'de, A>,
-    ) -> Result<Geometry, A::Error> {
-        let head: u32 = r.next()?;
-        let kind = head & 3;
-        let count = (head >> GEOM_POLY_COUNT_SHIFT) & 15;
-        let form = (head >> GEOM_FORM_SHIFT) & 3;
-        let mask = head >> GEOM_MASK_SHIFT;
-        // Words of this kind, count and form (the mask may use no more).
-        let n: usize = match (kind, form) {
-            (0, 0) if count == 0 => 3,
-            (1, 0) if count == 0 => 9,
+    /// Number of words of the compact form with these head bits, `None`
+    /// for an unknown kind, count or form.
+    #[inline]
+    pub(crate) fn compact_len(form_head: u32) -> Option<usize> {
+        let kind = form_head & 3;
+        let count = (form_head >> GEOM_POLY_COUNT_SHIFT) & 15;
+        let form = (form_head >> GEOM_FORM_SHIFT) & 3;
+        match (kind, form) {
+            (0, 0) if count == 0 => Some(3),
+            (1, 0) if count == 0 => Some(9),
             // At most 2·8 + 1: no overflow.
             (2, FORM_GENERAL) if count as usize <= MAX_POLY_VERTICES => {
-                (count as usize).saturating_mul(2).saturating_add(1)
+                Some((count as usize).saturating_mul(2).saturating_add(1))
             }
-            (2, FORM_RECT) if count == 4 => 5,
-            (2, FORM_CENTRED_RECT) if count == 4 => 3,
-            _ => return Err(r.error("unknown kind, count or form")),
-        };
-        if mask & !compact::bit(n).saturating_sub(1) != 0 {
-            return Err(r.error("presence bits past the last word"));
+            (2, FORM_RECT) if count == 4 => Some(5),
+            (2, FORM_CENTRED_RECT) if count == 4 => Some(3),
+            _ => None,
         }
-        let mut w = [Real::ZERO; GEOM_MAX_WORDS];
-        r.words(mask, None, w.get_mut(..n).unwrap_or(&mut []))?;
+    }
+
+    /// The geometry of a compact form (head bits and words, those past
+    /// [`compact_len`](Self::compact_len) zero), derived fields rebuilt;
+    /// an error for an unknown form or a polygon not in its own form.
+    #[inline]
+    pub(crate) fn from_compact(
+        form_head: u32,
+        w: &[Real; GEOM_MAX_WORDS],
+    ) -> Result<Geometry, &'static str> {
+        let Some(n) = Geometry::compact_len(form_head) else {
+            return Err("unknown kind, count or form");
+        };
+        let kind = form_head & 3;
+        let count = (form_head >> GEOM_POLY_COUNT_SHIFT) & 15;
+        let form = (form_head >> GEOM_FORM_SHIFT) & 3;
         let v = |x: Real, y: Real| Vect::new(x, y);
-        let [w0, w1, w2, w3, w4, w5, w6, w7, w8, ..] = w;
+        let [w0, w1, w2, w3, w4, w5, w6, w7, w8, ..] = *w;
         let geometry = match (kind, form) {
             (0, _) => Geometry::Circle(Circle {
                 offset: v(w0, w1),
@@ -289,7 +328,7 @@ impl compact::Compact for Geometry {
             _ => {
                 let (rr, t) = (w0, w1);
                 let (Some(l), Some(b)) = (neg_exact(rr), neg_exact(t)) else {
-                    return Err(r.error("a centred rectangle's half size has no negation"));
+                    return Err("a centred rectangle's half size has no negation");
                 };
                 let verts = [v(rr, b), v(rr, t), v(l, t), v(l, b)];
                 Geometry::Poly(Poly::from_ccw_unchecked(&verts, w2))
@@ -297,7 +336,7 @@ impl compact::Compact for Geometry {
         };
         if let Geometry::Poly(p) = &geometry {
             if poly_form(p).0 != form {
-                return Err(r.error("a polygon not in its own form"));
+                return Err("a polygon not in its own form");
             }
         }
         Ok(geometry)

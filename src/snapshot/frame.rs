@@ -15,15 +15,14 @@
 //!      0     8  magic b"TAMIASFR"
 //!      8     4  frame format version, u32 little-endian
 //!     12     8  payload_checksum of the payload bytes, u64 LE
-//!     20     …  the FrameState, bincode 2 (serde), the configuration of
-//!               full snapshots: level digest (u64), settings, the body
-//!               and shape arena parts (slot count u32, then the slots
-//!               outside the level in slot order — their indices are
-//!               implied by the level's slots —, free list, length u32),
-//!               arbiters, stamp, steps, current and previous dt,
-//!               constraint arena, dormant arbiters
+//!     20     …  the payload: level digest, counters, settings and
+//!               constraints (bincode), the body and shape slots outside
+//!               the level, the arbiters — written by hand, each object a
+//!               head and its words in as few bytes as their values need
+//!               (see `snapshot::frame_codec` and `snapshot::wire`)
 //! ```
-//! Objects are encoded exactly as in a full snapshot (their serde form).
+//! The objects carry what their full-snapshot form carries, less the
+//! arbiters' bodies (those of their shapes, filled in on load).
 //!
 //! # What loading checks
 //! Length, magic, version, decoding (size limit
@@ -34,18 +33,18 @@
 //! invariant of [`validate_state`](crate::space::validate_state) except the
 //! level objects' own (they are the world's, unchanged and valid). On any
 //! error the world is restored to exactly what it was.
-use super::{payload_checksum, SnapshotError, CONFIG};
+use super::{frame_codec, payload_checksum, SnapshotError};
 use crate::framing::{self, FrameError};
 use crate::space::{FrameState, Space, SpaceError};
 
 /// First bytes of every frame snapshot.
 pub const FRAME_MAGIC: [u8; 8] = *b"TAMIASFR";
 
-/// Version of the frame byte layout: that of full snapshots
-/// ([`FORMAT_VERSION`](super::FORMAT_VERSION)), since frames encode the
-/// same objects; a change of [`FrameState`]'s own layout bumps both.
-/// (Frames first appeared in version 5.)
-pub const FRAME_FORMAT_VERSION: u32 = super::FORMAT_VERSION;
+/// Version of the frame byte layout. Frames appeared in version 5 and
+/// used the full snapshots' serde form through version 6; version 7 is the
+/// hand-written coding of `snapshot::frame_codec`, versioned on its own
+/// from then on.
+pub const FRAME_FORMAT_VERSION: u32 = 7;
 
 /// The frame of `space` as bytes into `out` (cleared first, its allocation
 /// reused); returns the length. Cost: the frame's objects, not the level's.
@@ -54,10 +53,7 @@ pub const FRAME_FORMAT_VERSION: u32 = super::FORMAT_VERSION;
 pub fn save_frame_into(space: &Space, out: &mut Vec<u8>) -> usize {
     out.clear();
     framing::begin(out, &FRAME_MAGIC, FRAME_FORMAT_VERSION);
-    let encoded = space.with_frame_view(|view| {
-        bincode::serde::encode_into_std_write(view, &mut *out, CONFIG).is_ok()
-    });
-    if !encoded {
+    if !frame_codec::encode(space, out) {
         out.clear();
         return 0;
     }
@@ -72,22 +68,14 @@ pub fn save_frame(space: &Space) -> Vec<u8> {
     out
 }
 
-/// The [`FrameState`] in `bytes` after the byte-level checks (header,
-/// decoding, trailing bytes, payload checksum), not yet checked against a
-/// level.
-pub fn decode_frame(bytes: &[u8]) -> Result<FrameState, SnapshotError> {
+/// The payload of frame bytes after the byte-level checks (header,
+/// payload checksum).
+fn open_frame(bytes: &[u8]) -> Result<&[u8], SnapshotError> {
     let frame = framing::open(bytes, &FRAME_MAGIC, FRAME_FORMAT_VERSION).map_err(|e| match e {
         FrameError::TooShort => SnapshotError::TooShort,
         FrameError::BadMagic => SnapshotError::BadMagic,
         FrameError::UnsupportedVersion(v) => SnapshotError::UnsupportedVersion(v),
     })?;
-    let (state, read): (FrameState, usize) =
-        bincode::serde::decode_from_slice(frame.payload, CONFIG)
-            .map_err(|e| SnapshotError::Decode(e.to_string()))?;
-    let trailing = frame.payload.len().saturating_sub(read);
-    if trailing > 0 {
-        return Err(SnapshotError::TrailingBytes(trailing));
-    }
     let computed = payload_checksum(frame.payload);
     if computed != frame.digest {
         return Err(SnapshotError::ChecksumMismatch {
@@ -95,7 +83,20 @@ pub fn decode_frame(bytes: &[u8]) -> Result<FrameState, SnapshotError> {
             computed,
         });
     }
-    Ok(state)
+    Ok(frame.payload)
+}
+
+/// The [`FrameState`] in `bytes`, a frame of `world`'s level, exactly as
+/// [`Space::save_frame`] made it: loaded into a copy of `world` (every
+/// check of [`Space::load_frame_snapshot`]) and saved from there. For tools
+/// and tests; a game loads frames with [`Space::load_frame_snapshot`],
+/// which costs no copy of the world.
+pub fn decode_frame(bytes: &[u8], world: &Space) -> Result<FrameState, SnapshotError> {
+    let mut copy = world.clone();
+    copy.load_frame_snapshot(bytes)?;
+    let mut frame = FrameState::default();
+    copy.save_frame(&mut frame);
+    Ok(frame)
 }
 
 impl Space {
@@ -105,15 +106,24 @@ impl Space {
     /// handlers and integrators, and discards pending post-step callbacks.
     /// On error nothing changes.
     pub fn load_frame_snapshot(&mut self, bytes: &[u8]) -> Result<(), SnapshotError> {
-        let frame = decode_frame(bytes)?;
-        self.install_frame_validated(frame).map_err(|e| match e {
-            SpaceError::LevelMismatch { frame, world } => {
-                SnapshotError::LevelMismatch { frame, world }
-            }
-            SpaceError::InvalidState(why) | SpaceError::FrameMismatch(why) => {
-                SnapshotError::Invalid(why)
-            }
-            other => SnapshotError::Invalid(other.to_string()),
-        })
+        let payload = open_frame(bytes)?;
+        // Decoded into the world's spare frame: its buffers are reused.
+        let mut frame = core::mem::take(&mut self.caches.spare_frame);
+        let result = frame_codec::decode_into(payload, &mut frame)
+            .map_err(|e| SnapshotError::Decode(e.to_string()))
+            .and_then(|()| {
+                self.install_frame_validated(&mut frame)
+                    .map_err(|e| match e {
+                        SpaceError::LevelMismatch { frame, world } => {
+                            SnapshotError::LevelMismatch { frame, world }
+                        }
+                        SpaceError::InvalidState(why) | SpaceError::FrameMismatch(why) => {
+                            SnapshotError::Invalid(why)
+                        }
+                        other => SnapshotError::Invalid(other.to_string()),
+                    })
+            });
+        self.caches.spare_frame = frame;
+        result
     }
 }

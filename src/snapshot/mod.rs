@@ -219,6 +219,8 @@
 pub(crate) mod compact;
 pub mod diff;
 pub mod frame;
+mod frame_codec;
+mod wire;
 
 use core::fmt;
 

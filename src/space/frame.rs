@@ -389,10 +389,10 @@ impl Space {
     /// or [`SpaceError::InvalidState`] naming the broken invariant.
     pub(crate) fn install_frame_validated(
         &mut self,
-        mut frame: FrameState,
+        frame: &mut FrameState,
     ) -> Result<(), SpaceError> {
         self.flag_level_suspects();
-        self.check_frame_fits(&frame)?;
+        self.check_frame_fits(frame)?;
         let Some(level) = self.caches.level.take() else {
             return Err(SpaceError::FrameMismatch("level index missing".into()));
         };
@@ -420,10 +420,11 @@ impl Space {
             &mut frame.dormant_arbiters,
             &mut frame.constraints,
         );
-        swap_frame(&mut self.state, &level, &mut frame);
+        swap_frame(&mut self.state, &level, frame);
+        fill_arbiter_bodies(&mut self.state);
         let checked = super::validate_state_trusting_level(&self.state, &level);
         if checked.is_err() {
-            swap_frame(&mut self.state, &level, &mut frame);
+            swap_frame(&mut self.state, &level, frame);
         }
         if let Err(e) = checked {
             self.caches.level.set(Some(level));
@@ -502,56 +503,19 @@ fn swap_frame(state: &mut WorldState, level: &LevelIndex, frame: &mut FrameState
 /// The frame of a live world, serialized in place: the same serde form as
 /// the [`FrameState`] that `save_frame` would copy out (a test holds the
 /// two to the same bytes), without the copy.
-pub(crate) struct FrameView<'a> {
-    state: &'a WorldState,
-    level: &'a LevelIndex,
-}
-
-impl Serialize for FrameView<'_> {
-    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        use serde::ser::SerializeStruct;
-        struct Part<'a, T>(&'a Arena<T>, &'a [(u32, u32)]);
-        impl<T: Serialize> Serialize for Part<'_, T> {
-            fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-                self.0.serialize_part(self.1, s)
-            }
+/// Gives each arbiter the bodies of its shapes (frame bytes do not carry
+/// them, see `snapshot::frame_codec`). An arbiter whose shape is gone keeps
+/// what it has: validation names it.
+fn fill_arbiter_bodies(state: &mut WorldState) {
+    let shapes = &state.shapes;
+    for a in state
+        .arbiters
+        .iter_mut()
+        .chain(state.dormant_arbiters.iter_mut())
+    {
+        if let (Some(sa), Some(sb)) = (shapes.get(a.shape_a), shapes.get(a.shape_b)) {
+            a.body_a = sa.body;
+            a.body_b = sb.body;
         }
-        let WorldState {
-            settings,
-            bodies,
-            shapes,
-            arbiters,
-            stamp,
-            steps,
-            current_dt,
-            prev_dt,
-            constraints,
-            dormant_arbiters,
-        } = self.state;
-        let mut st = serializer.serialize_struct("FrameState", 11)?;
-        st.serialize_field("level_digest", &self.level.digest)?;
-        st.serialize_field("settings", settings)?;
-        st.serialize_field("bodies", &Part(bodies, &self.level.body_runs))?;
-        st.serialize_field("shapes", &Part(shapes, &self.level.shape_runs))?;
-        st.serialize_field("arbiters", arbiters)?;
-        st.serialize_field("stamp", stamp)?;
-        st.serialize_field("steps", steps)?;
-        st.serialize_field("current_dt", current_dt)?;
-        st.serialize_field("prev_dt", prev_dt)?;
-        st.serialize_field("constraints", constraints)?;
-        st.serialize_field("dormant_arbiters", dormant_arbiters)?;
-        st.end()
-    }
-}
-
-impl Space {
-    /// Runs `f` on a serializable view of the frame (for `snapshot::frame`).
-    pub(crate) fn with_frame_view<R>(&self, f: impl FnOnce(&FrameView<'_>) -> R) -> R {
-        self.with_level(|level| {
-            f(&FrameView {
-                state: &self.state,
-                level,
-            })
-        })
     }
 }

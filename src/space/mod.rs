@@ -294,6 +294,10 @@ pub(crate) struct Caches {
     /// was last settled (one may have been made static), each with whether
     /// it was dynamic then (one may have been made static or kinematic).
     pub(crate) level_suspects: Vec<(u32, bool)>,
+    /// The frame `snapshot::Space::load_frame_snapshot` decodes into and
+    /// swaps in (afterwards, the frame it replaced): its buffers are
+    /// reused from load to load.
+    pub(crate) spare_frame: FrameState,
 }
 
 /// The world: bodies, shapes, arbiters, settings and handlers.

@@ -351,26 +351,41 @@ fn frame_fuzz_seeds_are_current_frames() {
 
 #[test]
 fn frame_layout_is_pinned() {
-    // The empty world's frame: header, level digest, then the settings as
-    // in a full snapshot, and empty arena parts, lists and counters.
+    // The empty world's frame (format 7, hand-written): header, level
+    // digest, stamp, steps and the two dts (5 × 8), then the settings and
+    // the constraint arena each as a byte count and their bincode bytes
+    // (as in a full snapshot), then the empty body and shape parts (four
+    // zero words each: two length bytes) and the two empty arbiter lists
+    // (a u32 count each).
     let full = save(&Space::new());
     let frame = snapshot::save_frame(&Space::new());
     assert_eq!(&frame[..8], b"TAMIASFR");
-    assert_eq!(&frame[8..12], &FORMAT_VERSION.to_le_bytes());
+    assert_eq!(&frame[8..12], &FRAME_FORMAT_VERSION.to_le_bytes());
+    assert_eq!(FRAME_FORMAT_VERSION, 7);
     assert_eq!(
         &frame[HEADER_LEN..HEADER_LEN + 8],
         &Space::new().level_digest().to_le_bytes()
     );
     // Full payload: settings, body arena (3 × 8: slots, free, len as u64 +
     // u64 + u32 = 20 bytes), shape arena (20), arbiters (8), stamp, steps,
-    // dts (32), constraints (20), dormant (8). Frame payload: digest (8),
-    // settings, body part (4 + 8 + 8 + 4 = 24), shape part (24), then the
-    // same 8 + 32 + 20 + 8.
-    assert_eq!(frame.len(), full.len() + 8 + 2 * (24 - 20));
+    // dts (32), constraints (20), dormant (8).
     let settings_len = full.len() - HEADER_LEN - (20 + 20 + 8 + 32 + 20 + 8);
+    let at = HEADER_LEN + 40;
     assert_eq!(
-        &frame[HEADER_LEN + 8..HEADER_LEN + 8 + settings_len],
+        &frame[at..at + 4],
+        &(settings_len as u32).to_le_bytes(),
+        "settings byte count"
+    );
+    assert_eq!(
+        &frame[at + 4..at + 4 + settings_len],
         &full[HEADER_LEN..HEADER_LEN + settings_len],
         "settings encoded as in a full snapshot"
+    );
+    let at = at + 4 + settings_len;
+    assert_eq!(&frame[at..at + 4], &20u32.to_le_bytes(), "constraints");
+    assert_eq!(
+        &frame[at + 24..],
+        &[0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0],
+        "two empty parts, two empty lists"
     );
 }

@@ -42,8 +42,16 @@ fn a_frame_holds_the_moving_part_only() {
     let big = level_world(3_000);
     let (a, b) = (snapshot::save_frame(&small), snapshot::save_frame(&big));
     assert!(!small.arbiters().is_empty(), "the box rests on the level");
-    // The same moving part; the level's slots are not in the bytes.
-    assert_eq!(a.len(), b.len(), "frame size depends on the level");
+    // The same moving part; the level's slots are not in the bytes. Only
+    // numbers that count or name level slots grow with it: the parts' slot
+    // counts and lengths, and the handle of the segment under the box, each
+    // written in as few bytes as its value needs (11 → 1 byte, 3,001 → 2).
+    assert!(
+        b.len().abs_diff(a.len()) <= 8,
+        "frame size depends on the level: {} vs {} bytes",
+        a.len(),
+        b.len()
+    );
     // The goal for one moving box on a big level: ≤ 2 KB.
     eprintln!(
         "one box on 3,000 segments: frame {} bytes, full snapshot {}",

@@ -13,7 +13,9 @@ use proptest::prelude::*;
 use tamias2d::body::{Body, BodyHandle};
 use tamias2d::constraint::{Constraint, PinJoint};
 use tamias2d::shape::Shape;
-use tamias2d::snapshot::{self, SnapshotError, Subject, FORMAT_VERSION, HEADER_LEN, MAGIC};
+use tamias2d::snapshot::{
+    self, SnapshotError, Subject, FORMAT_VERSION, FRAME_FORMAT_VERSION, HEADER_LEN, MAGIC,
+};
 use tamias2d::space::{FrameState, ShapeHandle, Space, SpaceError, WorldState};
 use tamias2d::{Real, Transform, Vect};
 use tamias2d_scenes::{self as scenes, ScriptedWorld};
@@ -144,7 +146,7 @@ fn round_trip(name: &str, steps: u32, forks: &[u32]) {
             // The frame's two forms and its checksum agree with the world.
             assert_eq!(frame.checksum(), reference.space.checksum(), "{name}");
             assert!(
-                ok(snapshot::decode_frame(&frame_bytes)) == frame,
+                ok(snapshot::decode_frame(&frame_bytes, &reference.space)) == frame,
                 "{name}: the frame bytes decode to another frame"
             );
             let loaded = ok(snapshot::load(&bytes));

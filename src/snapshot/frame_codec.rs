@@ -1,0 +1,542 @@
+//! The payload of frame snapshots (frame format 7), written and read by
+//! hand: objects straight from the world's arenas into bytes and from
+//! bytes into a reused [`FrameState`], each as a head byte and a list of
+//! words in the [`wire`](super::wire) coding (integers in as few bytes as
+//! their value needs).
+//!
+//! ```text
+//! level digest u64, stamp u64, steps u64, current dt u64, previous dt u64
+//! settings          u32 byte count, then bincode (the full snapshots' configuration)
+//! constraints       u32 byte count, then bincode
+//! bodies, shapes    a part: words [slot count, length, held slots, free
+//!                   slots], the free list (words, 32 a group), then each
+//!                   held slot (the slots outside the level, in order)
+//! arbiters          u32 count, then each arbiter
+//! dormant arbiters  u32 count, then each arbiter
+//! ```
+//! * **Body slot**: a head byte — bit 0 live; for a live body bits 1–2 the
+//!   type (0 dynamic, 1 kinematic, 2 static), 3 explicit mass, 4 sleep
+//!   allowed, 5 bullet, 6 asleep — then the words: generation, the island
+//!   root when asleep, and a live body's 19 state words (`Body::compact_words`).
+//! * **Shape slot**: a `u16` head — bit 0 live, bits 1–2 the mass
+//!   specification (none, mass, density), 3 sensor, 4 a filter follows, 5 a
+//!   collision type follows, bits 8–15 the geometry's kind, polygon count
+//!   and form — then the words: generation, the body handle (slot,
+//!   generation), the filter (group, categories, mask) and the collision
+//!   type when flagged, friction, elasticity, surface velocity (x, y), the
+//!   mass or density, and the geometry's words (`Geometry::compact_form`).
+//! * **Arbiter**: a head byte — bits 0–1 the contact count, 2–3 the state,
+//!   4 sensor — then the words: shape a and shape b (slot, generation), the
+//!   warm-start id, the frame's stamp minus the arbiter's (0 for a pair
+//!   touching this step), the six arbiter words and, per contact, its
+//!   feature id and seven words (`Arbiter::compact_words`).
+//!
+//! Not written, and rebuilt: what the object forms leave out (inverse mass
+//! and moment, polygon and segment normals, contact slots past the count),
+//! and **an arbiter's bodies**, the bodies of its shapes, filled in when the
+//! frame is installed (`Space::load_frame_snapshot`), where the level's
+//! shapes are at hand. Every unused head bit must be clear and every flag
+//! meaningful (a flagged filter is not the default one, a flagged collision
+//! type not 0, no mass word without a mass specification), so one state has
+//! one encoding.
+use crate::arbiter::{Arbiter, CompactHead, ARB_MAX_WORDS, ARB_WORDS, CONTACT_WORDS};
+use crate::arena::{Arena, ArenaPart, Handle};
+use crate::body::{Body, BodyType, CompactFlags, BODY_WORDS};
+use crate::collision::MAX_CONTACTS_PER_ARBITER;
+use crate::math::{Real, Vect};
+use crate::shape::geometry::{GEOM_FORM_HEAD, GEOM_MAX_WORDS};
+use crate::shape::{Geometry, MassSpec, Material, Shape, ShapeFilter};
+use crate::space::{FrameState, Space};
+
+use super::wire::{Dec, Enc, WireError, Words, MAX_WORDS};
+use super::CONFIG;
+
+const BODY_LIVE: u8 = 1;
+const BODY_TYPE_SHIFT: u32 = 1;
+const BODY_EXPLICIT_MASS: u8 = 1 << 3;
+const BODY_SLEEP_ALLOWED: u8 = 1 << 4;
+const BODY_BULLET: u8 = 1 << 5;
+const BODY_ASLEEP: u8 = 1 << 6;
+
+const SHAPE_LIVE: u16 = 1;
+const SHAPE_MASS_SHIFT: u32 = 1;
+const SHAPE_SENSOR: u16 = 1 << 3;
+const SHAPE_FILTER: u16 = 1 << 4;
+const SHAPE_COLLISION_TYPE: u16 = 1 << 5;
+const SHAPE_GEOMETRY_SHIFT: u32 = 8;
+const SHAPE_HEAD: u16 = SHAPE_LIVE
+    | 3 << SHAPE_MASS_SHIFT
+    | SHAPE_SENSOR
+    | SHAPE_FILTER
+    | SHAPE_COLLISION_TYPE
+    | 0xff00;
+
+const ARB_STATE_SHIFT: u32 = 2;
+const ARB_SENSOR: u8 = 1 << 4;
+const ARB_HEAD: u8 = 3 | 3 << ARB_STATE_SHIFT | ARB_SENSOR;
+
+/// Free-list entries per group of words.
+const FREE_GROUP: usize = 32;
+
+/// The body handle an arbiter holds until its frame is installed (see the
+/// module docs).
+pub(crate) const UNFILLED: Handle<Body> = Handle::from_raw_parts(u32::MAX, u32::MAX);
+
+/// Appends the frame payload of `space` to `out`. Cannot fail but for the
+/// bincode parts (settings, constraints), which into a `Vec` do not.
+pub(crate) fn encode(space: &Space, out: &mut Vec<u8>) -> bool {
+    space.with_level(|level| {
+        let st = &space.state;
+        let mut e = Enc::new(out);
+        e.u64(level.digest);
+        e.u64(st.stamp);
+        e.u64(st.steps);
+        e.u64(st.current_dt.to_bits() as u64);
+        e.u64(st.prev_dt.to_bits() as u64);
+        if !bincode_part(&mut e, &st.settings) || !bincode_part(&mut e, &st.constraints) {
+            return false;
+        }
+        put_part(&mut e, &st.bodies, &level.body_runs, put_body);
+        put_part(&mut e, &st.shapes, &level.shape_runs, put_shape);
+        for list in [&st.arbiters, &st.dormant_arbiters] {
+            e.u32(list.len() as u32);
+            for a in list {
+                put_arbiter(&mut e, a, st.stamp);
+            }
+        }
+        true
+    })
+}
+
+/// A serde value as a byte count and bincode.
+fn bincode_part<T: serde::Serialize>(e: &mut Enc<'_>, value: &T) -> bool {
+    let out = e.buffer();
+    let at = out.len();
+    out.extend_from_slice(&[0; 4]);
+    if bincode::serde::encode_into_std_write(value, &mut *out, CONFIG).is_err() {
+        return false;
+    }
+    let len = out.len().saturating_sub(at).saturating_sub(4) as u32;
+    match out.get_mut(at..at.saturating_add(4)) {
+        Some(slot) => {
+            slot.copy_from_slice(&len.to_le_bytes());
+            true
+        }
+        None => false,
+    }
+}
+
+fn put_part<T>(
+    e: &mut Enc<'_>,
+    arena: &Arena<T>,
+    runs: &[(u32, u32)],
+    mut put: impl FnMut(&mut Enc<'_>, u32, Option<&T>),
+) {
+    let (slot_count, free, len) = arena.bookkeeping();
+    let level: u64 = runs
+        .iter()
+        .map(|&(a, b)| u64::from(b.saturating_sub(a)))
+        .sum();
+    let held = u64::from(slot_count).saturating_sub(level);
+    e.words(&[
+        slot_count.into(),
+        len.into(),
+        held as i64,
+        free.len() as i64,
+    ]);
+    for group in free.chunks(FREE_GROUP) {
+        let mut w = Words::new();
+        for &i in group {
+            w.push(i.into());
+        }
+        e.words(w.as_slice());
+    }
+    arena.for_each_outside(runs, |generation, value| put(e, generation, value));
+}
+
+fn put_body(e: &mut Enc<'_>, generation: u32, body: Option<&Body>) {
+    let mut w = Words::new();
+    w.push(generation.into());
+    let Some(b) = body else {
+        e.u8(0);
+        e.words(w.as_slice());
+        return;
+    };
+    let flags = b.compact_flags();
+    let kind: u8 = match b.body_type() {
+        BodyType::Dynamic => 0,
+        BodyType::Kinematic => 1,
+        BodyType::Static => 2,
+    };
+    let flag = |on: bool, bit: u8| if on { bit } else { 0 };
+    e.u8(BODY_LIVE
+        | kind << BODY_TYPE_SHIFT
+        | flag(flags.explicit_mass, BODY_EXPLICIT_MASS)
+        | flag(flags.sleep_allowed, BODY_SLEEP_ALLOWED)
+        | flag(flags.bullet, BODY_BULLET)
+        | flag(flags.island.is_some(), BODY_ASLEEP));
+    if let Some(root) = flags.island {
+        w.push(root.into());
+    }
+    w.reals(&b.compact_words());
+    e.words(w.as_slice());
+}
+
+fn put_shape(e: &mut Enc<'_>, generation: u32, shape: Option<&Shape>) {
+    let mut w = Words::new();
+    w.push(generation.into());
+    let Some(s) = shape else {
+        e.u16(0);
+        e.words(w.as_slice());
+        return;
+    };
+    let (mass_kind, spec): (u16, Real) = match s.mass_spec {
+        MassSpec::None => (0, Real::ZERO),
+        MassSpec::Mass(m) => (1, m),
+        MassSpec::Density(d) => (2, d),
+    };
+    let filter = s.filter != ShapeFilter::ALL;
+    let collision_type = s.collision_type != 0;
+    let (form, gw, n) = s.geometry.compact_form();
+    let flag = |on: bool, bit: u16| if on { bit } else { 0 };
+    // The form head is 8 bits (`GEOM_FORM_HEAD`).
+    e.u16(
+        SHAPE_LIVE
+            | mass_kind << SHAPE_MASS_SHIFT
+            | flag(s.sensor, SHAPE_SENSOR)
+            | flag(filter, SHAPE_FILTER)
+            | flag(collision_type, SHAPE_COLLISION_TYPE)
+            | ((form & GEOM_FORM_HEAD) as u16) << SHAPE_GEOMETRY_SHIFT,
+    );
+    w.push(s.body.index().into());
+    w.push(s.body.generation().into());
+    if filter {
+        w.push(s.filter.group.into());
+        w.push(s.filter.categories.into());
+        w.push(s.filter.mask.into());
+    }
+    if collision_type {
+        w.push(s.collision_type.into());
+    }
+    let m = &s.material;
+    w.reals(&[
+        m.friction,
+        m.elasticity,
+        m.surface_velocity.x,
+        m.surface_velocity.y,
+        spec,
+    ]);
+    w.reals(gw.get(..n).unwrap_or(&[]));
+    e.words(w.as_slice());
+}
+
+fn put_arbiter(e: &mut Enc<'_>, a: &Arbiter, stamp: u64) {
+    // A count past 2 (only a corrupted in-memory state) is written as 3,
+    // which the reader rejects.
+    let count = a.contacts().len();
+    let head = (count.min(3) as u8)
+        | (a.compact_state() as u8) << ARB_STATE_SHIFT
+        | if a.sensor { ARB_SENSOR } else { 0 };
+    e.u8(head);
+    let mut w = Words::new();
+    w.push(a.shape_a.index().into());
+    w.push(a.shape_a.generation().into());
+    w.push(a.shape_b.index().into());
+    w.push(a.shape_b.generation().into());
+    w.push(a.warm_start_id.into());
+    w.push(stamp.wrapping_sub(a.stamp) as i64);
+    let (words, _) = a.compact_words();
+    let (head_words, contact_words) = words.split_at(ARB_WORDS);
+    w.reals(head_words);
+    for (c, cw) in a
+        .contacts()
+        .iter()
+        .zip(contact_words.chunks_exact(CONTACT_WORDS))
+    {
+        w.push(c.feature_id.into());
+        w.reals(cw);
+    }
+    e.words(w.as_slice());
+}
+
+/// Decodes a frame payload into `frame`, reusing its buffers. The result
+/// is not checked against anything but the coding (the level, the arenas'
+/// tiling and every state invariant are checked when it is installed), and
+/// its arbiters' bodies are [`UNFILLED`]. On error `frame` is left
+/// half-written, fit only to be decoded into again.
+pub(crate) fn decode_into(payload: &[u8], frame: &mut FrameState) -> Result<(), WireError> {
+    let mut d = Dec::new(payload);
+    frame.level_digest = d.u64()?;
+    frame.stamp = d.u64()?;
+    frame.steps = d.u64()?;
+    frame.current_dt = Real::from_bits(d.u64()? as i64);
+    frame.prev_dt = Real::from_bits(d.u64()? as i64);
+    frame.settings = bincode_read(&mut d)?;
+    frame.constraints = bincode_read(&mut d)?;
+    // A body slot takes at least 2 bytes, a shape slot 3, an arbiter 4.
+    read_part(&mut d, &mut frame.bodies, 2, read_body)?;
+    read_part(&mut d, &mut frame.shapes, 3, read_shape)?;
+    let stamp = frame.stamp;
+    for list in [&mut frame.arbiters, &mut frame.dormant_arbiters] {
+        let n = d.count(4)?;
+        list.clear();
+        list.reserve(n);
+        for _ in 0..n {
+            list.push(read_arbiter(&mut d, stamp)?);
+        }
+    }
+    if d.remaining() != 0 {
+        return Err(d.error("bytes after the frame"));
+    }
+    Ok(())
+}
+
+fn bincode_read<T: serde::de::DeserializeOwned>(d: &mut Dec<'_>) -> Result<T, WireError> {
+    let n = d.u32()? as usize;
+    let at = d.error("");
+    let bytes = d.take(n)?;
+    match bincode::serde::decode_from_slice::<T, _>(bytes, CONFIG) {
+        Ok((v, read)) if read == n => Ok(v),
+        Ok(_) => Err(WireError {
+            what: "bytes left in a bincode part",
+            ..at
+        }),
+        Err(_) => Err(WireError {
+            what: "a bincode part that does not decode",
+            ..at
+        }),
+    }
+}
+
+fn u32_of(d: &Dec<'_>, v: i64) -> Result<u32, WireError> {
+    u32::try_from(v).map_err(|_| d.error("an unsigned 32-bit field out of range"))
+}
+
+fn read_part<T>(
+    d: &mut Dec<'_>,
+    part: &mut ArenaPart<T>,
+    min_slot_bytes: usize,
+    mut read: impl FnMut(&mut Dec<'_>, &mut u32, &mut Option<T>) -> Result<(), WireError>,
+) -> Result<(), WireError> {
+    let mut head = [0i64; 4];
+    d.words(&mut head)?;
+    let [slot_count, len, held, free] = head;
+    let (slot_count, len) = (u32_of(d, slot_count)?, u32_of(d, len)?);
+    let (held, free) = (u32_of(d, held)? as usize, u32_of(d, free)? as usize);
+    if held > slot_count as usize || free > held {
+        return Err(d.error("more held or free slots than slots"));
+    }
+    if held.saturating_mul(min_slot_bytes) > d.remaining() {
+        return Err(d.error("a slot count past the end of the bytes"));
+    }
+    let list = part.free_mut();
+    list.clear();
+    let mut left = free;
+    let mut group = [0i64; FREE_GROUP];
+    while left > 0 {
+        let n = left.min(FREE_GROUP);
+        let g = group.get_mut(..n).unwrap_or(&mut []);
+        d.words(g)?;
+        for &i in g.iter() {
+            list.push(u32_of(d, i)?);
+        }
+        left = left.saturating_sub(n);
+    }
+    part.refill((slot_count, len), held, |generation, value| {
+        read(d, generation, value)
+    })
+}
+
+fn read_body(
+    d: &mut Dec<'_>,
+    generation: &mut u32,
+    value: &mut Option<Body>,
+) -> Result<(), WireError> {
+    let head = d.u8()?;
+    let mut w = [0i64; 2 + BODY_WORDS];
+    if head & BODY_LIVE == 0 {
+        if head != 0 {
+            return Err(d.error("a free body slot with flags"));
+        }
+        let g = w.get_mut(..1).unwrap_or(&mut []);
+        d.words(g)?;
+        *generation = u32_of(d, g.first().copied().unwrap_or(0))?;
+        *value = None;
+        return Ok(());
+    }
+    if head & 0x80 != 0 {
+        return Err(d.error("unknown bits set in a body head"));
+    }
+    let body_type = match (head >> BODY_TYPE_SHIFT) & 3 {
+        0 => BodyType::Dynamic,
+        1 => BodyType::Kinematic,
+        2 => BodyType::Static,
+        _ => return Err(d.error("unknown body type")),
+    };
+    let asleep = head & BODY_ASLEEP != 0;
+    let n = if asleep {
+        2 + BODY_WORDS
+    } else {
+        1 + BODY_WORDS
+    };
+    let w = w.get_mut(..n).unwrap_or(&mut []);
+    d.words(w)?;
+    let (ints, words) = w.split_at(n.saturating_sub(BODY_WORDS));
+    *generation = u32_of(d, ints.first().copied().unwrap_or(0))?;
+    let island = match ints.get(1) {
+        Some(&root) => Some(u32_of(d, root)?),
+        None => None,
+    };
+    let mut reals = [Real::ZERO; BODY_WORDS];
+    for (r, &x) in reals.iter_mut().zip(words) {
+        *r = Real::from_bits(x);
+    }
+    *value = Some(Body::from_compact(
+        body_type,
+        CompactFlags {
+            explicit_mass: head & BODY_EXPLICIT_MASS != 0,
+            sleep_allowed: head & BODY_SLEEP_ALLOWED != 0,
+            bullet: head & BODY_BULLET != 0,
+            island,
+        },
+        reals,
+    ));
+    Ok(())
+}
+
+fn read_shape(
+    d: &mut Dec<'_>,
+    generation: &mut u32,
+    value: &mut Option<Shape>,
+) -> Result<(), WireError> {
+    let head = d.u16()?;
+    let mut w = [0i64; MAX_WORDS];
+    if head & SHAPE_LIVE == 0 {
+        if head != 0 {
+            return Err(d.error("a free shape slot with flags"));
+        }
+        let g = w.get_mut(..1).unwrap_or(&mut []);
+        d.words(g)?;
+        *generation = u32_of(d, g.first().copied().unwrap_or(0))?;
+        *value = None;
+        return Ok(());
+    }
+    if head & !SHAPE_HEAD != 0 {
+        return Err(d.error("unknown bits set in a shape head"));
+    }
+    let form = u32::from(head >> SHAPE_GEOMETRY_SHIFT);
+    let Some(geometry_words) = Geometry::compact_len(form) else {
+        return Err(d.error("unknown geometry kind, count or form"));
+    };
+    let filter = head & SHAPE_FILTER != 0;
+    let collision_type = head & SHAPE_COLLISION_TYPE != 0;
+    let ints = 3usize
+        .saturating_add(if filter { 3 } else { 0 })
+        .saturating_add(usize::from(collision_type));
+    let n = ints.saturating_add(5).saturating_add(geometry_words);
+    let w = w.get_mut(..n).unwrap_or(&mut []);
+    d.words(w)?;
+    let mut it = w.iter().copied();
+    let mut next = || it.next().unwrap_or(0);
+    *generation = u32_of(d, next())?;
+    let body = Handle::from_raw_parts(u32_of(d, next())?, u32_of(d, next())?);
+    let filter = if filter {
+        let f = ShapeFilter {
+            group: u32_of(d, next())?,
+            categories: u32_of(d, next())?,
+            mask: u32_of(d, next())?,
+        };
+        if f == ShapeFilter::ALL {
+            return Err(d.error("the default filter stored"));
+        }
+        f
+    } else {
+        ShapeFilter::ALL
+    };
+    let collision_type = if collision_type {
+        match u32_of(d, next())? {
+            0 => return Err(d.error("collision type 0 stored")),
+            c => c,
+        }
+    } else {
+        0
+    };
+    let mut real = || Real::from_bits(next());
+    let (friction, elasticity, sv_x, sv_y, spec) = (real(), real(), real(), real(), real());
+    let mass_spec = match (head >> SHAPE_MASS_SHIFT) & 3 {
+        0 if spec.is_zero() => MassSpec::None,
+        1 => MassSpec::Mass(spec),
+        2 => MassSpec::Density(spec),
+        _ => return Err(d.error("bad mass specification")),
+    };
+    let mut gw = [Real::ZERO; GEOM_MAX_WORDS];
+    for g in gw.iter_mut().take(geometry_words) {
+        *g = real();
+    }
+    let geometry = Geometry::from_compact(form, &gw).map_err(|what| d.error(what))?;
+    *value = Some(Shape {
+        body,
+        geometry,
+        material: Material {
+            friction,
+            elasticity,
+            surface_velocity: Vect::new(sv_x, sv_y),
+        },
+        filter,
+        collision_type,
+        sensor: head & SHAPE_SENSOR != 0,
+        mass_spec,
+    });
+    Ok(())
+}
+
+fn read_arbiter(d: &mut Dec<'_>, stamp: u64) -> Result<Arbiter, WireError> {
+    let head = d.u8()?;
+    if head & !ARB_HEAD != 0 {
+        return Err(d.error("unknown bits set in an arbiter head"));
+    }
+    let count = usize::from(head & 3);
+    if count > MAX_CONTACTS_PER_ARBITER {
+        return Err(d.error("too many contacts"));
+    }
+    // At most 12 + 2 · 8 = 28 words.
+    let n = 12usize.saturating_add(count.saturating_mul(1 + CONTACT_WORDS));
+    let mut w = [0i64; MAX_WORDS];
+    let w = w.get_mut(..n).unwrap_or(&mut []);
+    d.words(w)?;
+    let mut it = w.iter().copied();
+    let mut next = || it.next().unwrap_or(0);
+    let shape_a = Handle::from_raw_parts(u32_of(d, next())?, u32_of(d, next())?);
+    let shape_b = Handle::from_raw_parts(u32_of(d, next())?, u32_of(d, next())?);
+    let warm_start_id = u32_of(d, next())?;
+    let arb_stamp = stamp.wrapping_sub(next() as u64);
+    let mut words = [Real::ZERO; ARB_MAX_WORDS];
+    let (head_words, contact_words) = words.split_at_mut(ARB_WORDS);
+    for x in head_words {
+        *x = Real::from_bits(next());
+    }
+    let mut features = [0u32; MAX_CONTACTS_PER_ARBITER];
+    for (f, cw) in features
+        .iter_mut()
+        .zip(contact_words.chunks_exact_mut(CONTACT_WORDS))
+        .take(count)
+    {
+        *f = u32_of(d, next())?;
+        for x in cw {
+            *x = Real::from_bits(next());
+        }
+    }
+    Ok(Arbiter::from_compact(
+        [shape_a, shape_b],
+        [UNFILLED, UNFILLED],
+        CompactHead {
+            count,
+            state: u32::from((head >> ARB_STATE_SHIFT) & 3),
+            sensor: head & ARB_SENSOR != 0,
+            warm_start_id,
+            stamp: arb_stamp,
+        },
+        features,
+        &words,
+    ))
+}
