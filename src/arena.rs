@@ -697,6 +697,24 @@ impl<T> Arena<T> {
     /// are the same call, exact both ways, without cloning an object.
     pub(crate) fn swap_part(&mut self, runs: &Runs, part: &mut ArenaPart<T>) {
         let mine = self.slots.len() as u32;
+        if part.slot_count == mine {
+            // The same slot count (the usual case): slot for slot in place,
+            // gap by gap between the runs; no buffer, no object moved twice.
+            let end = [(mine, mine)];
+            let mut held = part.slots.iter_mut();
+            let mut start = 0u32;
+            for &(a, b) in runs.iter().chain(&end) {
+                let gap = start..a.min(mine);
+                start = start.max(b);
+                let slots = self.slots.get_mut(gap.start as usize..gap.end as usize);
+                for (dst, src) in slots.unwrap_or(&mut []).iter_mut().zip(&mut held) {
+                    core::mem::swap(dst, src);
+                }
+            }
+            core::mem::swap(&mut self.free, &mut part.free);
+            core::mem::swap(&mut self.len, &mut part.len);
+            return;
+        }
         let mut taken = Vec::with_capacity(part.slots.len());
         for i in outside_runs(runs, mine) {
             if let Some(s) = self.slots.get_mut(i as usize) {

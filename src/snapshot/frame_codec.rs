@@ -81,6 +81,7 @@ const FREE_GROUP: usize = 32;
 /// The body handle an arbiter holds until its frame is installed (see the
 /// module docs).
 pub(crate) const UNFILLED: Handle<Body> = Handle::from_raw_parts(u32::MAX, u32::MAX);
+const UNFILLED_SHAPE: Handle<Shape> = Handle::from_raw_parts(u32::MAX, u32::MAX);
 
 /// Appends the frame payload of `space` to `out`. Cannot fail but for the
 /// bincode parts (settings, constraints), which into a `Vec` do not.
@@ -104,6 +105,7 @@ pub(crate) fn encode(space: &Space, out: &mut Vec<u8>) -> bool {
                 put_arbiter(&mut e, a, st.stamp);
             }
         }
+        e.finish();
         true
     })
 }
@@ -279,16 +281,36 @@ pub(crate) fn decode_into(payload: &[u8], frame: &mut FrameState) -> Result<(), 
     let stamp = frame.stamp;
     for list in [&mut frame.arbiters, &mut frame.dormant_arbiters] {
         let n = d.count(4)?;
-        list.clear();
-        list.reserve(n);
-        for _ in 0..n {
-            list.push(read_arbiter(&mut d, stamp)?);
+        // Written over the arbiters already there (no move of a whole
+        // arbiter per entry), then any more appended.
+        list.truncate(n);
+        for a in list.iter_mut() {
+            read_arbiter(&mut d, stamp, a)?;
+        }
+        list.reserve(n.saturating_sub(list.len()));
+        while list.len() < n {
+            let mut a = blank_arbiter();
+            read_arbiter(&mut d, stamp, &mut a)?;
+            list.push(a);
         }
     }
     if d.remaining() != 0 {
         return Err(d.error("bytes after the frame"));
     }
     Ok(())
+}
+
+/// An arbiter to decode into.
+fn blank_arbiter() -> Arbiter {
+    let head = CompactHead {
+        count: 0,
+        state: 0,
+        sensor: false,
+        warm_start_id: 0,
+        stamp: 0,
+    };
+    let words = [Real::ZERO; ARB_MAX_WORDS];
+    Arbiter::from_compact([UNFILLED_SHAPE; 2], [UNFILLED; 2], head, [0; 2], &words)
 }
 
 fn bincode_read<T: serde::de::DeserializeOwned>(d: &mut Dec<'_>) -> Result<T, WireError> {
@@ -391,16 +413,17 @@ fn read_body(
     for (r, &x) in reals.iter_mut().zip(words) {
         *r = Real::from_bits(x);
     }
-    *value = Some(Body::from_compact(
-        body_type,
-        CompactFlags {
-            explicit_mass: head & BODY_EXPLICIT_MASS != 0,
-            sleep_allowed: head & BODY_SLEEP_ALLOWED != 0,
-            bullet: head & BODY_BULLET != 0,
-            island,
-        },
-        reals,
-    ));
+    let flags = CompactFlags {
+        explicit_mass: head & BODY_EXPLICIT_MASS != 0,
+        sleep_allowed: head & BODY_SLEEP_ALLOWED != 0,
+        bullet: head & BODY_BULLET != 0,
+        island,
+    };
+    // Written in place over a body already there.
+    match value {
+        Some(b) => *b = Body::from_compact(body_type, flags, reals),
+        None => *value = Some(Body::from_compact(body_type, flags, reals)),
+    }
     Ok(())
 }
 
@@ -474,7 +497,7 @@ fn read_shape(
         *g = real();
     }
     let geometry = Geometry::from_compact(form, &gw).map_err(|what| d.error(what))?;
-    *value = Some(Shape {
+    let shape = Shape {
         body,
         geometry,
         material: Material {
@@ -486,11 +509,16 @@ fn read_shape(
         collision_type,
         sensor: head & SHAPE_SENSOR != 0,
         mass_spec,
-    });
+    };
+    match value {
+        Some(s) => *s = shape,
+        None => *value = Some(shape),
+    }
     Ok(())
 }
 
-fn read_arbiter(d: &mut Dec<'_>, stamp: u64) -> Result<Arbiter, WireError> {
+#[inline(always)]
+fn read_arbiter(d: &mut Dec<'_>, stamp: u64, out: &mut Arbiter) -> Result<(), WireError> {
     let head = d.u8()?;
     if head & !ARB_HEAD != 0 {
         return Err(d.error("unknown bits set in an arbiter head"));
@@ -526,7 +554,7 @@ fn read_arbiter(d: &mut Dec<'_>, stamp: u64) -> Result<Arbiter, WireError> {
             *x = Real::from_bits(next());
         }
     }
-    Ok(Arbiter::from_compact(
+    *out = Arbiter::from_compact(
         [shape_a, shape_b],
         [UNFILLED, UNFILLED],
         CompactHead {
@@ -538,5 +566,6 @@ fn read_arbiter(d: &mut Dec<'_>, stamp: u64) -> Result<Arbiter, WireError> {
         },
         features,
         &words,
-    ))
+    );
+    Ok(())
 }

@@ -18,12 +18,10 @@
 /// Bytes of the shortest two's-complement form of `v` (0 for 0).
 #[inline(always)]
 pub(crate) fn byte_len(v: i64) -> u32 {
-    if v == 0 {
-        return 0;
-    }
-    // The magnitude bits (a negative value's complement), plus a sign bit.
+    // The magnitude bits (a negative value's complement), then one more
+    // for the sign; without a branch: 0 has no bits at all, −1 one.
     let magnitude = (v ^ v.wrapping_shr(63)) as u64;
-    let bits = 65u32.wrapping_sub(magnitude.leading_zeros());
+    let bits = 64u32.wrapping_sub((magnitude.wrapping_shl(1) | u64::from(v != 0)).leading_zeros());
     bits.div_ceil(8)
 }
 
@@ -69,68 +67,119 @@ impl Words {
     }
 }
 
-/// Appends to a byte buffer.
+/// Bytes of one object's coding at most (a head, the lengths, the
+/// words), plus room for the last word's whole store.
+const OBJECT_MAX: usize = 8 + MAX_WORDS / 2 + 8 * MAX_WORDS + 8;
+/// The encoder's staging buffer: objects are built there and copied into
+/// the output a few kilobytes at a time.
+const STAGE: usize = 16 * 1024;
+
+/// Appends to a byte buffer, through a staging buffer on the stack (the
+/// fixed-position writes of one object cost no call and no capacity check;
+/// the output grows by one copy per [`STAGE`] bytes). Call
+/// [`finish`](Self::finish) at the end.
 pub(crate) struct Enc<'a> {
     out: &'a mut Vec<u8>,
+    stage: [u8; STAGE],
+    at: usize,
 }
 
 impl<'a> Enc<'a> {
     pub(crate) fn new(out: &'a mut Vec<u8>) -> Enc<'a> {
-        Enc { out }
+        Enc {
+            out,
+            stage: [0; STAGE],
+            at: 0,
+        }
     }
 
-    /// The bytes written so far (the whole buffer).
-    pub(crate) fn buffer(&mut self) -> &mut Vec<u8> {
+    /// Moves the staged bytes into the output.
+    #[inline]
+    fn flush(&mut self) {
         self.out
+            .extend_from_slice(self.stage.get(..self.at).unwrap_or(&[]));
+        self.at = 0;
+    }
+
+    /// Makes room for one object.
+    #[inline(always)]
+    fn room(&mut self) {
+        if self.at > STAGE.saturating_sub(OBJECT_MAX) {
+            self.flush();
+        }
+    }
+
+    /// Everything written so far, in the output (the whole buffer).
+    pub(crate) fn buffer(&mut self) -> &mut Vec<u8> {
+        self.flush();
+        self.out
+    }
+
+    /// Ends the writing: everything is in the output.
+    pub(crate) fn finish(mut self) {
+        self.flush();
+    }
+
+    #[inline(always)]
+    fn bytes<const N: usize>(&mut self, b: [u8; N]) {
+        self.room();
+        if let Some(dst) = self.stage.get_mut(self.at..self.at.saturating_add(N)) {
+            dst.copy_from_slice(&b);
+            self.at = self.at.saturating_add(N);
+        }
     }
 
     #[inline(always)]
     pub(crate) fn u8(&mut self, v: u8) {
-        self.out.push(v);
+        self.bytes(v.to_le_bytes());
     }
 
     #[inline(always)]
     pub(crate) fn u16(&mut self, v: u16) {
-        self.out.extend_from_slice(&v.to_le_bytes());
+        self.bytes(v.to_le_bytes());
     }
 
     #[inline(always)]
     pub(crate) fn u32(&mut self, v: u32) {
-        self.out.extend_from_slice(&v.to_le_bytes());
+        self.bytes(v.to_le_bytes());
     }
 
     #[inline(always)]
     pub(crate) fn u64(&mut self, v: u64) {
-        self.out.extend_from_slice(&v.to_le_bytes());
+        self.bytes(v.to_le_bytes());
     }
 
     /// Writes `words` (at most [`MAX_WORDS`]; more are not written, which
     /// the reader of a fixed list rejects) in the coding above.
     #[inline]
     pub(crate) fn words(&mut self, words: &[i64]) {
+        self.room();
         let words = words.get(..MAX_WORDS).unwrap_or(words);
+        // Each word stored whole (one 8-byte store) at the current end and
+        // the end moved by its length; the lengths packed in front after.
+        let lens_at = self.at;
         let mut lens = [0u8; MAX_WORDS];
+        let mut end = lens_at.saturating_add(words.len().div_ceil(2));
         for (l, &w) in lens.iter_mut().zip(words) {
-            // At most 8: fits a nibble.
-            *l = byte_len(w) as u8;
+            let len = byte_len(w);
+            if let Some(dst) = self.stage.get_mut(end..end.saturating_add(8)) {
+                dst.copy_from_slice(&w.to_le_bytes());
+            }
+            end = end.saturating_add(len as usize);
+            // At most 8: a nibble.
+            *l = len as u8;
         }
-        let lens = lens.get(..words.len()).unwrap_or(&[]);
-        for pair in lens.chunks(2) {
-            let lo = pair.first().copied().unwrap_or(0);
-            let hi = pair.get(1).copied().unwrap_or(0);
-            self.out.push(lo | hi.wrapping_shl(4));
+        for (dst, pair) in self
+            .stage
+            .iter_mut()
+            .skip(lens_at)
+            .zip(lens.chunks_exact(2).take(words.len().div_ceil(2)))
+        {
+            if let [lo, hi] = *pair {
+                *dst = lo | hi.wrapping_shl(4);
+            }
         }
-        // Each word is written whole (one 8-byte store) and the buffer cut
-        // back to its length: no variable-length copy.
-        self.out.reserve(words.len().saturating_mul(8));
-        for (&w, &n) in words.iter().zip(lens) {
-            self.out.extend_from_slice(&w.to_le_bytes());
-            let keep = self
-                .out
-                .len()
-                .saturating_sub(8usize.saturating_sub(n.into()));
-            self.out.truncate(keep);
-        }
+        self.at = end;
     }
 }
 
@@ -229,56 +278,60 @@ impl<'a> Dec<'a> {
         if n % 2 == 1 && lens.last().is_some_and(|b| b >> 4 != 0) {
             return Err(self.error("a padding length that is not 0"));
         }
+        let mut total = 0usize;
+        for &b in lens {
+            let (lo, hi) = (b & 15, b >> 4);
+            if lo > 8 || hi > 8 {
+                return Err(self.error("a word length above 8"));
+            }
+            total = total.saturating_add(usize::from(lo).saturating_add(usize::from(hi)));
+        }
+        let start = self.at;
+        let body = self.take(total)?;
+        // Each word read whole (one 8-byte load) where 8 bytes remain from
+        // its start, byte by byte near the end of the bytes.
+        let mut at = 0usize;
         for (i, w) in out.iter_mut().enumerate() {
             let byte = lens.get(i / 2).copied().unwrap_or(0);
-            let len = if i % 2 == 0 { byte & 15 } else { byte >> 4 };
-            *w = self.word(len)?;
+            let len = u32::from(byte.wrapping_shr(4 * (i as u32 % 2)) & 15);
+            if len == 0 {
+                *w = 0;
+                continue;
+            }
+            let raw = match self
+                .bytes
+                .get(start.saturating_add(at)..start.saturating_add(at).saturating_add(8))
+                .and_then(|b| <[u8; 8]>::try_from(b).ok())
+            {
+                Some(b) => i64::from_le_bytes(b),
+                None => {
+                    let mut b = [0u8; 8];
+                    for (d, s) in b.iter_mut().zip(body.get(at..).unwrap_or(&[])) {
+                        *d = *s;
+                    }
+                    i64::from_le_bytes(b)
+                }
+            };
+            // Sign-extend the low `len` bytes. Canonical: the value does not
+            // fit one byte fewer (for one byte: it is not 0).
+            let shift = 64u32.saturating_sub(len.saturating_mul(8));
+            let v = raw.wrapping_shl(shift).wrapping_shr(shift);
+            let narrower = shift.saturating_add(8);
+            let fits_shorter = if len == 1 {
+                v == 0
+            } else {
+                v.wrapping_shl(narrower).wrapping_shr(narrower) == v
+            };
+            if fits_shorter {
+                return Err(WireError {
+                    what: "a word longer than its shortest form",
+                    at: start.saturating_add(at),
+                });
+            }
+            *w = v;
+            at = at.saturating_add(len as usize);
         }
         Ok(())
-    }
-
-    /// One word of `len` bytes.
-    #[inline(always)]
-    fn word(&mut self, len: u8) -> Result<i64, WireError> {
-        if len == 0 {
-            return Ok(0);
-        }
-        if len > 8 {
-            return Err(self.error("a word length above 8"));
-        }
-        let len = u32::from(len);
-        let n = len as usize;
-        // Whole 8-byte load when the bytes allow it (the common case), a
-        // byte copy near the end.
-        let raw = match self
-            .bytes
-            .get(self.at..self.at.saturating_add(8))
-            .and_then(|b| <[u8; 8]>::try_from(b).ok())
-        {
-            Some(b) => i64::from_le_bytes(b),
-            None => {
-                let mut b = [0u8; 8];
-                let src = self.bytes.get(self.at..self.at.saturating_add(n));
-                let Some(src) = src else {
-                    return Err(self.error("unexpected end of the bytes"));
-                };
-                for (d, s) in b.iter_mut().zip(src) {
-                    *d = *s;
-                }
-                i64::from_le_bytes(b)
-            }
-        };
-        if self.remaining() < n {
-            return Err(self.error("unexpected end of the bytes"));
-        }
-        // Sign-extend the low `len` bytes.
-        let shift = 64u32.saturating_sub(len.saturating_mul(8));
-        let v = raw.wrapping_shl(shift).wrapping_shr(shift);
-        if byte_len(v) != len {
-            return Err(self.error("a word longer than its shortest form"));
-        }
-        self.at = self.at.saturating_add(n);
-        Ok(v)
     }
 }
 
@@ -311,7 +364,9 @@ mod tests {
     fn words_round_trip_and_non_canonical_forms_are_refused() {
         let words = [0, 5, -1, 1 << 40, i64::MIN, i64::MAX, -300];
         let mut buf = Vec::new();
-        Enc::new(&mut buf).words(&words);
+        let mut e = Enc::new(&mut buf);
+        e.words(&words);
+        e.finish();
         // Lengths 0,1,1,6,8,8,2: four length bytes, 26 word bytes.
         assert_eq!(buf.len(), 4 + 26);
         let mut out = [0i64; 7];

@@ -414,14 +414,9 @@ impl Space {
         for s in frame.shapes.values_mut() {
             s.body = s.body.with_origin(origin);
         }
-        adopt_shared(
-            origin,
-            &mut frame.arbiters,
-            &mut frame.dormant_arbiters,
-            &mut frame.constraints,
-        );
+        adopt_shared(origin, &mut [], &mut [], &mut frame.constraints);
         swap_frame(&mut self.state, &level, frame);
-        fill_arbiter_bodies(&mut self.state);
+        adopt_arbiters(&mut self.state, origin);
         let checked = super::validate_state_trusting_level(&self.state, &level);
         if checked.is_err() {
             swap_frame(&mut self.state, &level, frame);
@@ -503,16 +498,21 @@ fn swap_frame(state: &mut WorldState, level: &LevelIndex, frame: &mut FrameState
 /// The frame of a live world, serialized in place: the same serde form as
 /// the [`FrameState`] that `save_frame` would copy out (a test holds the
 /// two to the same bytes), without the copy.
-/// Gives each arbiter the bodies of its shapes (frame bytes do not carry
-/// them, see `snapshot::frame_codec`). An arbiter whose shape is gone keeps
-/// what it has: validation names it.
-fn fill_arbiter_bodies(state: &mut WorldState) {
+/// Gives each arbiter of an installed frame the world's origin and the
+/// bodies of its shapes (frame bytes do not carry them, see
+/// `snapshot::frame_codec`). An arbiter whose shape is gone keeps the
+/// bodies it has: validation names it.
+fn adopt_arbiters(state: &mut WorldState, origin: u32) {
     let shapes = &state.shapes;
     for a in state
         .arbiters
         .iter_mut()
         .chain(state.dormant_arbiters.iter_mut())
     {
+        a.shape_a = a.shape_a.with_origin(origin);
+        a.shape_b = a.shape_b.with_origin(origin);
+        a.body_a = a.body_a.with_origin(origin);
+        a.body_b = a.body_b.with_origin(origin);
         if let (Some(sa), Some(sb)) = (shapes.get(a.shape_a), shapes.get(a.shape_b)) {
             a.body_a = sa.body;
             a.body_b = sb.body;
