@@ -311,24 +311,38 @@ impl Body {
         flags: CompactFlags,
         w: [Real; BODY_WORDS],
     ) -> Body {
+        Body::from_compact_reusing(body_type, flags, w, None)
+    }
+
+    /// [`from_compact`](Self::from_compact), the inverse mass and moment
+    /// taken from `known` where it has the same type and mass (moment)
+    /// instead of divided anew: they are a pure function of those (the
+    /// frame decoder passes the body it writes over, which a valid state or
+    /// this function made).
+    #[inline]
+    pub(crate) fn from_compact_reusing(
+        body_type: BodyType,
+        flags: CompactFlags,
+        w: [Real; BODY_WORDS],
+        known: Option<&Body>,
+    ) -> Body {
         let [mass, moment, cog_x, cog_y, p_x, p_y, v_x, v_y, f_x, f_y, a, rot_c, rot_s, ang_v, torque, vb_x, vb_y, w_bias, idle_time] =
             w;
         // Derived, see the `Serialize` impl (a kinematic or static body
         // with a mass is left to validation to name).
         let dynamic = body_type == BodyType::Dynamic;
-        let derive = |v: Real| {
-            if dynamic {
-                inverse_or_zero(v)
-            } else {
-                Real::ZERO
-            }
+        let derive = |v: Real, known: Option<(Real, Real)>| match known {
+            Some((kv, inv)) if kv == v => inv,
+            _ if dynamic => inverse_or_zero(v),
+            _ => Real::ZERO,
         };
+        let known = known.filter(|k| k.body_type == body_type);
         Body {
             body_type,
             mass,
-            mass_inv: derive(mass),
+            mass_inv: derive(mass, known.map(|k| (k.mass, k.mass_inv))),
             moment,
-            moment_inv: derive(moment),
+            moment_inv: derive(moment, known.map(|k| (k.moment, k.moment_inv))),
             explicit_mass: flags.explicit_mass,
             cog: Vect::new(cog_x, cog_y),
             p: Vect::new(p_x, p_y),

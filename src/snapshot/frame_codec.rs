@@ -48,7 +48,7 @@ use crate::shape::geometry::{GEOM_FORM_HEAD, GEOM_MAX_WORDS};
 use crate::shape::{Geometry, MassSpec, Material, Shape, ShapeFilter};
 use crate::space::{FrameState, Space};
 
-use super::wire::{Dec, Enc, WireError, Words, MAX_WORDS};
+use super::wire::{Dec, Enc, WireError, MAX_WORDS};
 use super::CONFIG;
 
 const BODY_LIVE: u8 = 1;
@@ -147,21 +147,19 @@ fn put_part<T>(
         free.len() as i64,
     ]);
     for group in free.chunks(FREE_GROUP) {
-        let mut w = Words::new();
+        let mut o = e.object(group.len());
         for &i in group {
-            w.push(i.into());
+            o.word(i.into());
         }
-        e.words(w.as_slice());
+        o.finish();
     }
     arena.for_each_outside(runs, |generation, value| put(e, generation, value));
 }
 
 fn put_body(e: &mut Enc<'_>, generation: u32, body: Option<&Body>) {
-    let mut w = Words::new();
-    w.push(generation.into());
     let Some(b) = body else {
         e.u8(0);
-        e.words(w.as_slice());
+        e.words(&[generation.into()]);
         return;
     };
     let flags = b.compact_flags();
@@ -177,19 +175,24 @@ fn put_body(e: &mut Enc<'_>, generation: u32, body: Option<&Body>) {
         | flag(flags.sleep_allowed, BODY_SLEEP_ALLOWED)
         | flag(flags.bullet, BODY_BULLET)
         | flag(flags.island.is_some(), BODY_ASLEEP));
+    let n = 1usize
+        .saturating_add(usize::from(flags.island.is_some()))
+        .saturating_add(BODY_WORDS);
+    let mut o = e.object(n);
+    o.word(generation.into());
     if let Some(root) = flags.island {
-        w.push(root.into());
+        o.word(root.into());
     }
-    w.reals(&b.compact_words());
-    e.words(w.as_slice());
+    for r in b.compact_words() {
+        o.real(r);
+    }
+    o.finish();
 }
 
 fn put_shape(e: &mut Enc<'_>, generation: u32, shape: Option<&Shape>) {
-    let mut w = Words::new();
-    w.push(generation.into());
     let Some(s) = shape else {
         e.u16(0);
-        e.words(w.as_slice());
+        e.words(&[generation.into()]);
         return;
     };
     let (mass_kind, spec): (u16, Real) = match s.mass_spec {
@@ -210,55 +213,74 @@ fn put_shape(e: &mut Enc<'_>, generation: u32, shape: Option<&Shape>) {
             | flag(collision_type, SHAPE_COLLISION_TYPE)
             | ((form & GEOM_FORM_HEAD) as u16) << SHAPE_GEOMETRY_SHIFT,
     );
-    w.push(s.body.index().into());
-    w.push(s.body.generation().into());
+    let words = 8usize
+        .saturating_add(if filter { 3 } else { 0 })
+        .saturating_add(usize::from(collision_type))
+        .saturating_add(n);
+    let mut o = e.object(words);
+    o.word(generation.into());
+    o.word(s.body.index().into());
+    o.word(s.body.generation().into());
     if filter {
-        w.push(s.filter.group.into());
-        w.push(s.filter.categories.into());
-        w.push(s.filter.mask.into());
+        o.word(s.filter.group.into());
+        o.word(s.filter.categories.into());
+        o.word(s.filter.mask.into());
     }
     if collision_type {
-        w.push(s.collision_type.into());
+        o.word(s.collision_type.into());
     }
     let m = &s.material;
-    w.reals(&[
+    for r in [
         m.friction,
         m.elasticity,
         m.surface_velocity.x,
         m.surface_velocity.y,
         spec,
-    ]);
-    w.reals(gw.get(..n).unwrap_or(&[]));
-    e.words(w.as_slice());
+    ] {
+        o.real(r);
+    }
+    for &r in gw.get(..n).unwrap_or(&[]) {
+        o.real(r);
+    }
+    o.finish();
 }
 
 fn put_arbiter(e: &mut Enc<'_>, a: &Arbiter, stamp: u64) {
     // A count past 2 (only a corrupted in-memory state) is written as 3,
     // which the reader rejects.
-    let count = a.contacts().len();
+    let contacts = a.contacts();
+    let count = contacts.len();
     let head = (count.min(3) as u8)
         | (a.compact_state() as u8) << ARB_STATE_SHIFT
         | if a.sensor { ARB_SENSOR } else { 0 };
     e.u8(head);
-    let mut w = Words::new();
-    w.push(a.shape_a.index().into());
-    w.push(a.shape_a.generation().into());
-    w.push(a.shape_b.index().into());
-    w.push(a.shape_b.generation().into());
-    w.push(a.warm_start_id.into());
-    w.push(stamp.wrapping_sub(a.stamp) as i64);
-    let (words, _) = a.compact_words();
-    let (head_words, contact_words) = words.split_at(ARB_WORDS);
-    w.reals(head_words);
-    for (c, cw) in a
-        .contacts()
-        .iter()
-        .zip(contact_words.chunks_exact(CONTACT_WORDS))
-    {
-        w.push(c.feature_id.into());
-        w.reals(cw);
+    // 12 + 8 per contact (at most 2).
+    let mut o = e.object(count.saturating_mul(8).saturating_add(12));
+    o.word(a.shape_a.index().into());
+    o.word(a.shape_a.generation().into());
+    o.word(a.shape_b.index().into());
+    o.word(a.shape_b.generation().into());
+    o.word(a.warm_start_id.into());
+    o.word(stamp.wrapping_sub(a.stamp) as i64);
+    for r in [
+        a.normal.x,
+        a.normal.y,
+        a.restitution,
+        a.friction,
+        a.surface_velocity.x,
+        a.surface_velocity.y,
+    ] {
+        o.real(r);
     }
-    e.words(w.as_slice());
+    // The words of `Arbiter::compact_words`, each contact's feature id
+    // before its own.
+    for c in contacts {
+        o.word(c.feature_id.into());
+        for r in [c.r1.x, c.r1.y, c.r2.x, c.r2.y, c.dist, c.jn_acc, c.jt_acc] {
+            o.real(r);
+        }
+    }
+    o.finish();
 }
 
 /// Decodes a frame payload into `frame`, reusing its buffers. The result
@@ -421,7 +443,7 @@ fn read_body(
     };
     // Written in place over a body already there.
     match value {
-        Some(b) => *b = Body::from_compact(body_type, flags, reals),
+        Some(b) => *b = Body::from_compact_reusing(body_type, flags, reals, Some(b)),
         None => *value = Some(Body::from_compact(body_type, flags, reals)),
     }
     Ok(())

@@ -28,45 +28,6 @@ pub(crate) fn byte_len(v: i64) -> u32 {
 /// Most words one object may have (an arbiter with two contacts: 28).
 pub(crate) const MAX_WORDS: usize = 32;
 
-/// The words of one object, gathered before writing.
-pub(crate) struct Words {
-    w: [i64; MAX_WORDS],
-    n: usize,
-}
-
-impl Words {
-    #[inline(always)]
-    pub(crate) fn new() -> Words {
-        Words {
-            w: [0; MAX_WORDS],
-            n: 0,
-        }
-    }
-
-    /// Appends a word (past [`MAX_WORDS`] it is dropped: no object has
-    /// that many).
-    #[inline(always)]
-    pub(crate) fn push(&mut self, v: i64) {
-        if let Some(slot) = self.w.get_mut(self.n) {
-            *slot = v;
-            self.n = self.n.saturating_add(1);
-        }
-    }
-
-    /// Appends fixed-point values as their raw words.
-    #[inline(always)]
-    pub(crate) fn reals(&mut self, v: &[crate::math::Real]) {
-        for x in v {
-            self.push(x.to_bits());
-        }
-    }
-
-    #[inline(always)]
-    pub(crate) fn as_slice(&self) -> &[i64] {
-        self.w.get(..self.n).unwrap_or(&[])
-    }
-}
-
 /// Bytes of one object's coding at most (a head, the lengths, the
 /// words), plus room for the last word's whole store.
 const OBJECT_MAX: usize = 8 + MAX_WORDS / 2 + 8 * MAX_WORDS + 8;
@@ -149,37 +110,106 @@ impl<'a> Enc<'a> {
         self.bytes(v.to_le_bytes());
     }
 
+    /// Starts an object of exactly `n` words (at most [`MAX_WORDS`]),
+    /// written one by one with [`Obj::word`] and ended with
+    /// [`Obj::finish`]: the same bytes as [`words`](Self::words), without
+    /// gathering the words first.
+    #[inline(always)]
+    pub(crate) fn object(&mut self, n: usize) -> Obj<'_, 'a> {
+        self.room();
+        let n = n.min(MAX_WORDS);
+        let lens_at = self.at;
+        let n_lens = n.div_ceil(2);
+        Obj {
+            end: lens_at.saturating_add(n_lens),
+            enc: self,
+            lens_at,
+            n_lens,
+            lens_lo: 0,
+            lens_hi: 0,
+            shift: 0,
+            // ≤ 4 · MAX_WORDS.
+            limit: (n as u32).saturating_mul(4),
+        }
+    }
+
     /// Writes `words` (at most [`MAX_WORDS`]; more are not written, which
     /// the reader of a fixed list rejects) in the coding above.
     #[inline]
     pub(crate) fn words(&mut self, words: &[i64]) {
-        self.room();
-        let words = words.get(..MAX_WORDS).unwrap_or(words);
-        // Each word stored whole (one 8-byte store) at the current end and
-        // the end moved by its length; the lengths packed in front after.
-        let lens_at = self.at;
-        let mut lens = [0u8; MAX_WORDS];
-        let mut end = lens_at.saturating_add(words.len().div_ceil(2));
-        for (l, &w) in lens.iter_mut().zip(words) {
-            let len = byte_len(w);
-            if let Some(dst) = self.stage.get_mut(end..end.saturating_add(8)) {
-                dst.copy_from_slice(&w.to_le_bytes());
-            }
-            end = end.saturating_add(len as usize);
-            // At most 8: a nibble.
-            *l = len as u8;
+        let mut o = self.object(words.len());
+        for &w in words {
+            o.word(w);
         }
-        for (dst, pair) in self
+        o.finish();
+    }
+}
+
+/// One object being written (see [`Enc::object`]).
+pub(crate) struct Obj<'e, 'a> {
+    enc: &'e mut Enc<'a>,
+    lens_at: usize,
+    n_lens: usize,
+    end: usize,
+    /// The lengths so far, a nibble each, low first: words 0–15, 16–31.
+    lens_lo: u64,
+    lens_hi: u64,
+    /// 4 × the words written, and 4 × the words declared.
+    shift: u32,
+    limit: u32,
+}
+
+impl Obj<'_, '_> {
+    /// The next word: stored whole (one 8-byte store) at the end, which
+    /// then moves by its length.
+    #[inline(always)]
+    pub(crate) fn word(&mut self, w: i64) {
+        // Past the declared count the word is dropped (the lengths have no
+        // room for it); the writers here declare exactly what they write.
+        if self.shift >= self.limit {
+            return;
+        }
+        let len = byte_len(w);
+        if let Some(dst) = self.enc.stage.get_mut(self.end..self.end.wrapping_add(8)) {
+            dst.copy_from_slice(&w.to_le_bytes());
+        }
+        // ≤ STAGE: no overflow.
+        self.end = self.end.wrapping_add(len as usize);
+        if self.shift < 64 {
+            self.lens_lo |= u64::from(len).wrapping_shl(self.shift);
+        } else {
+            self.lens_hi |= u64::from(len).wrapping_shl(self.shift);
+        }
+        self.shift = self.shift.wrapping_add(4);
+    }
+
+    /// The next word, a fixed-point value's raw bits.
+    #[inline(always)]
+    pub(crate) fn real(&mut self, r: crate::math::Real) {
+        self.word(r.to_bits());
+    }
+
+    /// Ends the object: its lengths go in front of its words (a 16-byte
+    /// read-modify-write that keeps the words' first bytes).
+    #[inline(always)]
+    pub(crate) fn finish(self) {
+        let at = self.lens_at;
+        if let Some(block) = self
+            .enc
             .stage
-            .iter_mut()
-            .skip(lens_at)
-            .zip(lens.chunks_exact(2).take(words.len().div_ceil(2)))
+            .get_mut(at..at.wrapping_add(16))
+            .and_then(|b| <&mut [u8; 16]>::try_from(b).ok())
         {
-            if let [lo, hi] = *pair {
-                *dst = lo | hi.wrapping_shl(4);
-            }
+            let old = u128::from_le_bytes(*block);
+            // n_lens ≤ 16 bytes: the low n_lens bytes are the lengths'.
+            let mask = match u32::try_from(self.n_lens.wrapping_mul(8)) {
+                Ok(bits) if bits < 128 => 1u128.wrapping_shl(bits).wrapping_sub(1),
+                _ => u128::MAX,
+            };
+            let lens = u128::from(self.lens_lo) | u128::from(self.lens_hi).wrapping_shl(64);
+            *block = ((old & !mask) | (lens & mask)).to_le_bytes();
         }
-        self.at = end;
+        self.enc.at = self.end;
     }
 }
 
@@ -271,6 +301,53 @@ impl<'a> Dec<'a> {
     #[inline]
     pub(crate) fn words(&mut self, out: &mut [i64]) -> Result<(), WireError> {
         let n = out.len();
+        let n_lens = n.div_ceil(2);
+        // Fast path: the bytes hold the longest coding of `n` words and 8
+        // more, so every word is one 8-byte load at its offset (what lies
+        // past it is dropped) and nothing is checked per word but the
+        // coding itself; the checks are gathered and tested once.
+        let longest = n_lens.saturating_add(n.saturating_mul(8)).saturating_add(8);
+        let Some((lens, data)) = self
+            .bytes
+            .get(self.at..)
+            .filter(|rest| n <= MAX_WORDS && rest.len() >= longest)
+            .and_then(|rest| rest.split_at_checked(n_lens))
+        else {
+            return self.words_near_end(out);
+        };
+        let mut at = 0usize;
+        let mut bad = false;
+        let mut read = |w: &mut i64, len: u8| {
+            let (v, wrong) = word_at(data, at, len);
+            *w = v;
+            bad |= wrong;
+            // ≤ 15 · MAX_WORDS: no overflow.
+            at = at.wrapping_add(usize::from(len));
+        };
+        let mut pairs = out.chunks_exact_mut(2);
+        let mut len_bytes = lens.iter();
+        for (pair, &b) in (&mut pairs).zip(&mut len_bytes) {
+            if let [w0, w1] = pair {
+                read(w0, b & 15);
+                read(w1, b >> 4);
+            }
+        }
+        // An odd count: the last word, and a high nibble that must be 0.
+        if let (Some(w), Some(&b)) = (pairs.into_remainder().first_mut(), len_bytes.next()) {
+            read(w, b & 15);
+            bad |= b >> 4 != 0;
+        }
+        if bad {
+            return Err(self.error("a word length above 8, a word longer than its shortest form or a padding length that is not 0"));
+        }
+        self.at = self.at.saturating_add(n_lens).saturating_add(at);
+        Ok(())
+    }
+
+    /// [`words`](Self::words) near the end of the bytes.
+    #[cold]
+    fn words_near_end(&mut self, out: &mut [i64]) -> Result<(), WireError> {
+        let n = out.len();
         if n > MAX_WORDS {
             return Err(self.error("too many words"));
         }
@@ -288,51 +365,66 @@ impl<'a> Dec<'a> {
         }
         let start = self.at;
         let body = self.take(total)?;
-        // Each word read whole (one 8-byte load) where 8 bytes remain from
-        // its start, byte by byte near the end of the bytes.
-        let mut at = 0usize;
-        for (i, w) in out.iter_mut().enumerate() {
-            let byte = lens.get(i / 2).copied().unwrap_or(0);
-            let len = u32::from(byte.wrapping_shr(4 * (i as u32 % 2)) & 15);
-            if len == 0 {
-                *w = 0;
-                continue;
-            }
-            let raw = match self
-                .bytes
-                .get(start.saturating_add(at)..start.saturating_add(at).saturating_add(8))
-                .and_then(|b| <[u8; 8]>::try_from(b).ok())
-            {
-                Some(b) => i64::from_le_bytes(b),
-                None => {
-                    let mut b = [0u8; 8];
-                    for (d, s) in b.iter_mut().zip(body.get(at..).unwrap_or(&[])) {
-                        *d = *s;
-                    }
-                    i64::from_le_bytes(b)
+        // Fast path: 8 bytes readable past the object's last byte, so each
+        // word is one 8-byte load (the bytes past it dropped). Otherwise
+        // (the frame's last objects) the words come from a padded copy.
+        let mut padded: [u8; 8 * MAX_WORDS + 8];
+        let tail = match self.bytes.get(start..) {
+            Some(t) if t.len() >= total.wrapping_add(8) => t,
+            _ => {
+                padded = [0u8; 8 * MAX_WORDS + 8];
+                for (d, s) in padded.iter_mut().zip(body) {
+                    *d = *s;
                 }
-            };
-            // Sign-extend the low `len` bytes. Canonical: the value does not
-            // fit one byte fewer (for one byte: it is not 0).
-            let shift = 64u32.saturating_sub(len.saturating_mul(8));
-            let v = raw.wrapping_shl(shift).wrapping_shr(shift);
-            let narrower = shift.saturating_add(8);
-            let fits_shorter = if len == 1 {
-                v == 0
-            } else {
-                v.wrapping_shl(narrower).wrapping_shr(narrower) == v
-            };
-            if fits_shorter {
-                return Err(WireError {
-                    what: "a word longer than its shortest form",
-                    at: start.saturating_add(at),
-                });
+                padded.as_slice()
             }
-            *w = v;
-            at = at.saturating_add(len as usize);
+        };
+        let mut at = 0usize;
+        let mut bad = false;
+        for (pair, &b) in out.chunks_mut(2).zip(lens) {
+            for (w, len) in pair.iter_mut().zip([b & 15, b >> 4]) {
+                let (v, wrong) = word_at(tail, at, len);
+                *w = v;
+                bad |= wrong;
+                // ≤ 8 · MAX_WORDS: no overflow.
+                at = at.wrapping_add(usize::from(len));
+            }
+        }
+        if bad {
+            return Err(WireError {
+                what: "a word longer than its shortest form",
+                at: start,
+            });
         }
         Ok(())
     }
+}
+
+/// The word of `len` bytes (≤ 8) at `at` in `bytes`, which hold 8 bytes
+/// from there, and whether it is longer than its shortest form.
+#[inline(always)]
+fn word_at(bytes: &[u8], at: usize, len: u8) -> (i64, bool) {
+    let raw = bytes
+        .get(at..)
+        .and_then(|b| b.first_chunk::<8>())
+        .map_or(0, |b| i64::from_le_bytes(*b));
+    if len == 0 {
+        return (0, false);
+    }
+    if len > 8 {
+        return (0, true);
+    }
+    // Sign-extend the low `len` bytes. Canonical: the value does not fit
+    // one byte fewer (one byte: it is not 0).
+    let shift = 64u32.wrapping_sub(u32::from(len).wrapping_mul(8));
+    let v = raw.wrapping_shl(shift).wrapping_shr(shift);
+    let narrower = shift.wrapping_add(8);
+    let wrong = if len == 1 {
+        v == 0
+    } else {
+        v.wrapping_shl(narrower).wrapping_shr(narrower) == v
+    };
+    (v, wrong)
 }
 
 #[cfg(test)]
@@ -380,9 +472,20 @@ mod tests {
             assert!(Dec::new(&buf[..cut]).words(&mut out).is_err(), "{cut}");
         }
         // 5 written in 2 bytes; a length of 9; a padding nibble.
+        // Each near the end of the bytes and far from it (the fast path).
         for bad in [vec![0x02u8, 5, 0], vec![0x09u8], vec![0x10u8]] {
             let mut one = [0i64; 1];
             assert!(Dec::new(&bad).words(&mut one).is_err(), "{bad:?}");
+            let mut far = bad.clone();
+            far.resize(300, 0);
+            assert!(Dec::new(&far).words(&mut one).is_err(), "{bad:?}");
         }
+        // Far from the end the fast path reads the same words.
+        let mut far = buf.clone();
+        far.resize(buf.len() + 300, 0xff);
+        let mut d = Dec::new(&far);
+        d.words(&mut out).unwrap();
+        assert_eq!(out, words);
+        assert_eq!(d.remaining(), 300);
     }
 }
