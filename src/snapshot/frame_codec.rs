@@ -48,7 +48,7 @@ use crate::shape::geometry::{GEOM_FORM_HEAD, GEOM_MAX_WORDS};
 use crate::shape::{Geometry, MassSpec, Material, Shape, ShapeFilter};
 use crate::space::{FrameState, Space};
 
-use super::wire::{Dec, Enc, WireError, MAX_WORDS};
+use super::wire::{Dec, Enc, WireError};
 use super::CONFIG;
 
 const BODY_LIVE: u8 = 1;
@@ -397,14 +397,13 @@ fn read_body(
     value: &mut Option<Body>,
 ) -> Result<(), WireError> {
     let head = d.u8()?;
-    let mut w = [0i64; 2 + BODY_WORDS];
     if head & BODY_LIVE == 0 {
         if head != 0 {
             return Err(d.error("a free body slot with flags"));
         }
-        let g = w.get_mut(..1).unwrap_or(&mut []);
-        d.words(g)?;
-        *generation = u32_of(d, g.first().copied().unwrap_or(0))?;
+        let mut o = d.object(1)?;
+        *generation = o.u32();
+        o.finish()?;
         *value = None;
         return Ok(());
     }
@@ -418,23 +417,19 @@ fn read_body(
         _ => return Err(d.error("unknown body type")),
     };
     let asleep = head & BODY_ASLEEP != 0;
-    let n = if asleep {
-        2 + BODY_WORDS
-    } else {
-        1 + BODY_WORDS
-    };
-    let w = w.get_mut(..n).unwrap_or(&mut []);
-    d.words(w)?;
-    let (ints, words) = w.split_at(n.saturating_sub(BODY_WORDS));
-    *generation = u32_of(d, ints.first().copied().unwrap_or(0))?;
-    let island = match ints.get(1) {
-        Some(&root) => Some(u32_of(d, root)?),
-        None => None,
-    };
+    let mut o = d.object(
+        1usize
+            .saturating_add(usize::from(asleep))
+            .saturating_add(BODY_WORDS),
+    )?;
+    let gen = o.u32();
+    let island = if asleep { Some(o.u32()) } else { None };
     let mut reals = [Real::ZERO; BODY_WORDS];
-    for (r, &x) in reals.iter_mut().zip(words) {
-        *r = Real::from_bits(x);
+    for r in reals.iter_mut() {
+        *r = o.real();
     }
+    o.finish()?;
+    *generation = gen;
     let flags = CompactFlags {
         explicit_mass: head & BODY_EXPLICIT_MASS != 0,
         sleep_allowed: head & BODY_SLEEP_ALLOWED != 0,
@@ -455,14 +450,13 @@ fn read_shape(
     value: &mut Option<Shape>,
 ) -> Result<(), WireError> {
     let head = d.u16()?;
-    let mut w = [0i64; MAX_WORDS];
     if head & SHAPE_LIVE == 0 {
         if head != 0 {
             return Err(d.error("a free shape slot with flags"));
         }
-        let g = w.get_mut(..1).unwrap_or(&mut []);
-        d.words(g)?;
-        *generation = u32_of(d, g.first().copied().unwrap_or(0))?;
+        let mut o = d.object(1)?;
+        *generation = o.u32();
+        o.finish()?;
         *value = None;
         return Ok(());
     }
@@ -475,61 +469,76 @@ fn read_shape(
     };
     let filter = head & SHAPE_FILTER != 0;
     let collision_type = head & SHAPE_COLLISION_TYPE != 0;
-    let ints = 3usize
+    let n = 8usize
         .saturating_add(if filter { 3 } else { 0 })
-        .saturating_add(usize::from(collision_type));
-    let n = ints.saturating_add(5).saturating_add(geometry_words);
-    let w = w.get_mut(..n).unwrap_or(&mut []);
-    d.words(w)?;
-    let mut it = w.iter().copied();
-    let mut next = || it.next().unwrap_or(0);
-    *generation = u32_of(d, next())?;
-    let body = Handle::from_raw_parts(u32_of(d, next())?, u32_of(d, next())?);
+        .saturating_add(usize::from(collision_type))
+        .saturating_add(geometry_words);
+    let at = d.error("");
+    let mut o = d.object(n)?;
+    let gen = o.u32();
+    let body = Handle::from_raw_parts(o.u32(), o.u32());
     let filter = if filter {
-        let f = ShapeFilter {
-            group: u32_of(d, next())?,
-            categories: u32_of(d, next())?,
-            mask: u32_of(d, next())?,
-        };
-        if f == ShapeFilter::ALL {
-            return Err(d.error("the default filter stored"));
-        }
-        f
+        Some(ShapeFilter {
+            group: o.u32(),
+            categories: o.u32(),
+            mask: o.u32(),
+        })
     } else {
-        ShapeFilter::ALL
+        None
     };
-    let collision_type = if collision_type {
-        match u32_of(d, next())? {
-            0 => return Err(d.error("collision type 0 stored")),
-            c => c,
-        }
-    } else {
-        0
+    let collision_type = if collision_type { Some(o.u32()) } else { None };
+    let (friction, elasticity, sv_x, sv_y, spec) =
+        (o.real(), o.real(), o.real(), o.real(), o.real());
+    let mut gw = [Real::ZERO; GEOM_MAX_WORDS];
+    for g in gw.iter_mut().take(geometry_words) {
+        *g = o.real();
+    }
+    o.finish()?;
+    let fail = |what| WireError { what, ..at };
+    *generation = gen;
+    let filter = match filter {
+        Some(f) if f == ShapeFilter::ALL => return Err(fail("the default filter stored")),
+        Some(f) => f,
+        None => ShapeFilter::ALL,
     };
-    let mut real = || Real::from_bits(next());
-    let (friction, elasticity, sv_x, sv_y, spec) = (real(), real(), real(), real(), real());
+    let collision_type = match collision_type {
+        Some(0) => return Err(fail("collision type 0 stored")),
+        Some(c) => c,
+        None => 0,
+    };
     let mass_spec = match (head >> SHAPE_MASS_SHIFT) & 3 {
         0 if spec.is_zero() => MassSpec::None,
         1 => MassSpec::Mass(spec),
         2 => MassSpec::Density(spec),
-        _ => return Err(d.error("bad mass specification")),
+        _ => return Err(fail("bad mass specification")),
     };
-    let mut gw = [Real::ZERO; GEOM_MAX_WORDS];
-    for g in gw.iter_mut().take(geometry_words) {
-        *g = real();
+    let material = Material {
+        friction,
+        elasticity,
+        surface_velocity: Vect::new(sv_x, sv_y),
+    };
+    let sensor = head & SHAPE_SENSOR != 0;
+    // A shape decoded over one with the same geometry (a frame's shapes
+    // rarely change form) keeps it: the geometry is a pure function of its
+    // compact form, so nothing is rebuilt.
+    if let Some(old) = value.as_mut() {
+        if old.geometry.compact_form() == (form, gw, geometry_words) {
+            old.body = body;
+            old.material = material;
+            old.filter = filter;
+            old.collision_type = collision_type;
+            old.sensor = sensor;
+            old.mass_spec = mass_spec;
+            return Ok(());
+        }
     }
-    let geometry = Geometry::from_compact(form, &gw).map_err(|what| d.error(what))?;
     let shape = Shape {
         body,
-        geometry,
-        material: Material {
-            friction,
-            elasticity,
-            surface_velocity: Vect::new(sv_x, sv_y),
-        },
+        geometry: Geometry::from_compact(form, &gw).map_err(fail)?,
+        material,
         filter,
         collision_type,
-        sensor: head & SHAPE_SENSOR != 0,
+        sensor,
         mass_spec,
     };
     match value {
@@ -550,20 +559,15 @@ fn read_arbiter(d: &mut Dec<'_>, stamp: u64, out: &mut Arbiter) -> Result<(), Wi
         return Err(d.error("too many contacts"));
     }
     // At most 12 + 2 · 8 = 28 words.
-    let n = 12usize.saturating_add(count.saturating_mul(1 + CONTACT_WORDS));
-    let mut w = [0i64; MAX_WORDS];
-    let w = w.get_mut(..n).unwrap_or(&mut []);
-    d.words(w)?;
-    let mut it = w.iter().copied();
-    let mut next = || it.next().unwrap_or(0);
-    let shape_a = Handle::from_raw_parts(u32_of(d, next())?, u32_of(d, next())?);
-    let shape_b = Handle::from_raw_parts(u32_of(d, next())?, u32_of(d, next())?);
-    let warm_start_id = u32_of(d, next())?;
-    let arb_stamp = stamp.wrapping_sub(next() as u64);
+    let mut o = d.object(12usize.saturating_add(count.saturating_mul(1 + CONTACT_WORDS)))?;
+    let shape_a = Handle::from_raw_parts(o.u32(), o.u32());
+    let shape_b = Handle::from_raw_parts(o.u32(), o.u32());
+    let warm_start_id = o.u32();
+    let arb_stamp = stamp.wrapping_sub(o.word() as u64);
     let mut words = [Real::ZERO; ARB_MAX_WORDS];
     let (head_words, contact_words) = words.split_at_mut(ARB_WORDS);
     for x in head_words {
-        *x = Real::from_bits(next());
+        *x = o.real();
     }
     let mut features = [0u32; MAX_CONTACTS_PER_ARBITER];
     for (f, cw) in features
@@ -571,11 +575,12 @@ fn read_arbiter(d: &mut Dec<'_>, stamp: u64, out: &mut Arbiter) -> Result<(), Wi
         .zip(contact_words.chunks_exact_mut(CONTACT_WORDS))
         .take(count)
     {
-        *f = u32_of(d, next())?;
+        *f = o.u32();
         for x in cw {
-            *x = Real::from_bits(next());
+            *x = o.real();
         }
     }
+    o.finish()?;
     *out = Arbiter::from_compact(
         [shape_a, shape_b],
         [UNFILLED, UNFILLED],

@@ -230,11 +230,62 @@ impl core::fmt::Display for WireError {
 pub(crate) struct Dec<'a> {
     bytes: &'a [u8],
     at: usize,
+    /// A zero-padded copy of the last bytes, read by the objects that end
+    /// too near the end for whole 8-byte loads.
+    pad: [u8; PAD],
 }
+
+/// Bytes of the longest object coding plus an 8-byte load past it.
+const PAD: usize = MAX_WORDS / 2 + 8 * MAX_WORDS + 8;
 
 impl<'a> Dec<'a> {
     pub(crate) fn new(bytes: &'a [u8]) -> Dec<'a> {
-        Dec { bytes, at: 0 }
+        Dec {
+            bytes,
+            at: 0,
+            pad: [0; PAD],
+        }
+    }
+
+    /// Starts reading an object of exactly `n` words (at most
+    /// [`MAX_WORDS`]), read one by one with [`ObjR::word`] and ended with
+    /// [`ObjR::finish`], which reports any coding error (a length above 8,
+    /// a word longer than its shortest form, a padding nibble, the end of
+    /// the bytes): the same checks as [`words`](Self::words).
+    #[inline(always)]
+    pub(crate) fn object(&mut self, n: usize) -> Result<ObjR<'_>, WireError> {
+        if n > MAX_WORDS {
+            return Err(self.error("too many words"));
+        }
+        let n_lens = n.div_ceil(2);
+        let longest = n_lens.saturating_add(n.saturating_mul(8)).saturating_add(8);
+        let Dec { bytes, at, pad } = self;
+        let rest = bytes.get(*at..).unwrap_or(&[]);
+        let near_end = rest.len() < longest.max(16);
+        let src: &[u8] = if near_end {
+            *pad = [0; PAD];
+            for (d, s) in pad.iter_mut().zip(rest) {
+                *d = *s;
+            }
+            &pad[..]
+        } else {
+            rest
+        };
+        let block = src
+            .first_chunk::<16>()
+            .map_or(0, |b| u128::from_le_bytes(*b));
+        let mask = match u32::try_from(n_lens.saturating_mul(8)) {
+            Ok(bits) if bits < 128 => 1u128.wrapping_shl(bits).wrapping_sub(1),
+            _ => u128::MAX,
+        };
+        Ok(ObjR {
+            available: rest.len(),
+            src,
+            start: at,
+            lens: block & mask,
+            at: n_lens,
+            bad: false,
+        })
     }
 
     /// An error at the current position.
@@ -300,102 +351,74 @@ impl<'a> Dec<'a> {
     /// holds next, checking that it is canonical.
     #[inline]
     pub(crate) fn words(&mut self, out: &mut [i64]) -> Result<(), WireError> {
-        let n = out.len();
-        let n_lens = n.div_ceil(2);
-        // Fast path: the bytes hold the longest coding of `n` words and 8
-        // more, so every word is one 8-byte load at its offset (what lies
-        // past it is dropped) and nothing is checked per word but the
-        // coding itself; the checks are gathered and tested once.
-        let longest = n_lens.saturating_add(n.saturating_mul(8)).saturating_add(8);
-        let Some((lens, data)) = self
-            .bytes
-            .get(self.at..)
-            .filter(|rest| n <= MAX_WORDS && rest.len() >= longest)
-            .and_then(|rest| rest.split_at_checked(n_lens))
-        else {
-            return self.words_near_end(out);
-        };
-        let mut at = 0usize;
-        let mut bad = false;
-        let mut read = |w: &mut i64, len: u8| {
-            let (v, wrong) = word_at(data, at, len);
-            *w = v;
-            bad |= wrong;
-            // ≤ 15 · MAX_WORDS: no overflow.
-            at = at.wrapping_add(usize::from(len));
-        };
-        let mut pairs = out.chunks_exact_mut(2);
-        let mut len_bytes = lens.iter();
-        for (pair, &b) in (&mut pairs).zip(&mut len_bytes) {
-            if let [w0, w1] = pair {
-                read(w0, b & 15);
-                read(w1, b >> 4);
-            }
+        let mut o = self.object(out.len())?;
+        for w in out.iter_mut() {
+            *w = o.word();
         }
-        // An odd count: the last word, and a high nibble that must be 0.
-        if let (Some(w), Some(&b)) = (pairs.into_remainder().first_mut(), len_bytes.next()) {
-            read(w, b & 15);
-            bad |= b >> 4 != 0;
-        }
-        if bad {
-            return Err(self.error("a word length above 8, a word longer than its shortest form or a padding length that is not 0"));
-        }
-        self.at = self.at.saturating_add(n_lens).saturating_add(at);
-        Ok(())
+        o.finish()
+    }
+}
+
+/// One object being read (see [`Dec::object`]).
+pub(crate) struct ObjR<'d> {
+    /// The bytes from the object's start (or their padded copy).
+    src: &'d [u8],
+    /// The reader's position, moved past the object by `finish`.
+    start: &'d mut usize,
+    /// The lengths not yet used, a nibble each, next lowest.
+    lens: u128,
+    /// Offset of the next word from the object's start.
+    at: usize,
+    /// Bytes from the object's start to the end of the bytes.
+    available: usize,
+    bad: bool,
+}
+
+impl ObjR<'_> {
+    /// The next word (0 once the declared words are read).
+    #[inline(always)]
+    pub(crate) fn word(&mut self) -> i64 {
+        let len = (self.lens & 15) as u8;
+        self.lens = self.lens.wrapping_shr(4);
+        let (v, wrong) = word_at(self.src, self.at, len);
+        self.bad |= wrong;
+        // ≤ 15 · MAX_WORDS past the start: no overflow.
+        self.at = self.at.wrapping_add(usize::from(len));
+        v
     }
 
-    /// [`words`](Self::words) near the end of the bytes.
-    #[cold]
-    fn words_near_end(&mut self, out: &mut [i64]) -> Result<(), WireError> {
-        let n = out.len();
-        if n > MAX_WORDS {
-            return Err(self.error("too many words"));
-        }
-        let lens = self.take(n.div_ceil(2))?;
-        if n % 2 == 1 && lens.last().is_some_and(|b| b >> 4 != 0) {
-            return Err(self.error("a padding length that is not 0"));
-        }
-        let mut total = 0usize;
-        for &b in lens {
-            let (lo, hi) = (b & 15, b >> 4);
-            if lo > 8 || hi > 8 {
-                return Err(self.error("a word length above 8"));
-            }
-            total = total.saturating_add(usize::from(lo).saturating_add(usize::from(hi)));
-        }
-        let start = self.at;
-        let body = self.take(total)?;
-        // Fast path: 8 bytes readable past the object's last byte, so each
-        // word is one 8-byte load (the bytes past it dropped). Otherwise
-        // (the frame's last objects) the words come from a padded copy.
-        let mut padded: [u8; 8 * MAX_WORDS + 8];
-        let tail = match self.bytes.get(start..) {
-            Some(t) if t.len() >= total.wrapping_add(8) => t,
-            _ => {
-                padded = [0u8; 8 * MAX_WORDS + 8];
-                for (d, s) in padded.iter_mut().zip(body) {
-                    *d = *s;
-                }
-                padded.as_slice()
-            }
-        };
-        let mut at = 0usize;
-        let mut bad = false;
-        for (pair, &b) in out.chunks_mut(2).zip(lens) {
-            for (w, len) in pair.iter_mut().zip([b & 15, b >> 4]) {
-                let (v, wrong) = word_at(tail, at, len);
-                *w = v;
-                bad |= wrong;
-                // ≤ 8 · MAX_WORDS: no overflow.
-                at = at.wrapping_add(usize::from(len));
+    /// The next word, as a fixed-point value.
+    #[inline(always)]
+    pub(crate) fn real(&mut self) -> crate::math::Real {
+        crate::math::Real::from_bits(self.word())
+    }
+
+    /// The next word as an unsigned 32-bit field (out of range: an error
+    /// at [`finish`](Self::finish), 0 here).
+    #[inline(always)]
+    pub(crate) fn u32(&mut self) -> u32 {
+        let w = self.word();
+        match u32::try_from(w) {
+            Ok(v) => v,
+            Err(_) => {
+                self.bad = true;
+                0
             }
         }
-        if bad {
+    }
+
+    /// Ends the object after its declared words: an error if any was
+    /// malformed or out of range, or the padding nibble is not 0, or the
+    /// object runs past the end of the bytes.
+    #[inline(always)]
+    pub(crate) fn finish(self) -> Result<(), WireError> {
+        if self.bad || self.lens != 0 || self.at > self.available {
             return Err(WireError {
-                what: "a word longer than its shortest form",
-                at: start,
+                what: "a malformed object (a word length above 8, a word longer than its shortest form, a field out of range, a padding length that is not 0, or the end of the bytes)",
+                at: *self.start,
             });
         }
+        *self.start = self.start.saturating_add(self.at);
         Ok(())
     }
 }
