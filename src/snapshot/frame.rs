@@ -112,7 +112,7 @@ impl Space {
         let result = frame_codec::decode_into(payload, &mut frame)
             .map_err(|e| SnapshotError::Decode(e.to_string()))
             .and_then(|()| {
-                self.install_frame_validated(&mut frame)
+                self.install_frame_validated(&mut frame, &mut frame_codec::complete_arbiter)
                     .map_err(|e| match e {
                         SpaceError::LevelMismatch { frame, world } => {
                             SnapshotError::LevelMismatch { frame, world }

@@ -29,13 +29,16 @@
 //!   4 sensor — then the words: shape a and shape b (slot, generation), the
 //!   warm-start id, the frame's stamp minus the arbiter's (0 for a pair
 //!   touching this step), the six arbiter words and, per contact, its
-//!   feature id and seven words (`Arbiter::compact_words`).
+//!   feature id and seven words (`Arbiter::compact_words`). Ids are written
+//!   nibble-ordered ([`nibbles_first`]: small indices, 2 bytes) and `r2`
+//!   as its residual from what `r1`, the bodies' positions, the normal and
+//!   the separation imply ([`r2_residual`]: about 1 byte instead of 5).
 //!
 //! Not written, and rebuilt: what the object forms leave out (inverse mass
 //! and moment, polygon and segment normals, contact slots past the count),
 //! and **an arbiter's bodies**, the bodies of its shapes, filled in when the
 //! frame is installed (`Space::load_frame_snapshot`), where the level's
-//! shapes are at hand. Every unused head bit must be clear and every flag
+//! shapes are at hand; `r2` is completed there too ([`complete_arbiter`]). Every unused head bit must be clear and every flag
 //! meaningful (a flagged filter is not the default one, a flagged collision
 //! type not 0, no mass word without a mass specification), so one state has
 //! one encoding.
@@ -83,6 +86,73 @@ const FREE_GROUP: usize = 32;
 pub(crate) const UNFILLED: Handle<Body> = Handle::from_raw_parts(u32::MAX, u32::MAX);
 const UNFILLED_SHAPE: Handle<Shape> = Handle::from_raw_parts(u32::MAX, u32::MAX);
 
+/// Feature and warm-start ids pack small indices into bytes (`a << 16 |
+/// b`, `a₀ << 24 | b₀ << 16 | a₁ << 8 | b₁`). Written as their low nibbles
+/// (the four bytes' low nibbles, then the high ones) they take 2 bytes
+/// instead of 3–4 when every index is below 16. A bijection of `u32`.
+#[inline(always)]
+fn nibbles_first(x: u32) -> u32 {
+    fn gather(v: u32) -> u32 {
+        // The low nibble of each byte, packed into 16 bits.
+        let v = v & 0x0F0F_0F0F;
+        let v = (v | v >> 4) & 0x00FF_00FF;
+        (v | v >> 8) & 0x0000_FFFF
+    }
+    gather(x) | gather(x >> 4) << 16
+}
+
+/// The inverse of [`nibbles_first`].
+#[inline(always)]
+fn nibbles_back(x: u32) -> u32 {
+    fn spread(v: u32) -> u32 {
+        // 16 bits into the low nibble of each byte.
+        let v = v & 0x0000_FFFF;
+        let v = (v | v << 8) & 0x00FF_00FF;
+        (v | v << 4) & 0x0F0F_0F0F
+    }
+    spread(x) | spread(x >> 16) << 4
+}
+
+/// Contact point `r2` is written relative to what the rest of the
+/// contact implies: `r2 − r1 − (pa − pb)` is `point_b − point_a`, which
+/// the narrowphase makes the separation along the normal, `n · dist`, up to
+/// rounding. So the word written is `r2 − r1 − (pa − pb) − n · dist`: a
+/// byte or two instead of 5 (wrapping arithmetic on the raw words, `n ·
+/// dist` by the engine's own product: exact both ways whatever the values).
+#[inline(always)]
+fn r2_residual(r1: Real, r2: Real, pa: Real, pb: Real, predicted: Real) -> i64 {
+    r2.to_bits()
+        .wrapping_sub(r1.to_bits())
+        .wrapping_sub(pa.to_bits().wrapping_sub(pb.to_bits()))
+        .wrapping_sub(predicted.to_bits())
+}
+
+/// Completes a decoded arbiter once its bodies are known: its contacts'
+/// `r2` from the residuals the bytes hold (see [`r2_residual`]).
+pub(crate) fn complete_arbiter(a: &mut Arbiter, pa: Vect, pb: Vect) {
+    let count = a.contacts().len();
+    let n = a.normal;
+    for c in a.contacts.iter_mut().take(count) {
+        let predicted = n.mult(c.dist);
+        c.r2 = Vect::new(
+            r2_from_residual(c.r1.x, c.r2.x, pa.x, pb.x, predicted.x),
+            r2_from_residual(c.r1.y, c.r2.y, pa.y, pb.y, predicted.y),
+        );
+    }
+}
+
+/// The inverse of [`r2_residual`].
+#[inline(always)]
+fn r2_from_residual(r1: Real, residual: Real, pa: Real, pb: Real, predicted: Real) -> Real {
+    Real::from_bits(
+        residual
+            .to_bits()
+            .wrapping_add(r1.to_bits())
+            .wrapping_add(pa.to_bits().wrapping_sub(pb.to_bits()))
+            .wrapping_add(predicted.to_bits()),
+    )
+}
+
 /// Appends the frame payload of `space` to `out`. Cannot fail but for the
 /// bincode parts (settings, constraints), which into a `Vec` do not.
 pub(crate) fn encode(space: &Space, out: &mut Vec<u8>) -> bool {
@@ -102,7 +172,8 @@ pub(crate) fn encode(space: &Space, out: &mut Vec<u8>) -> bool {
         for list in [&st.arbiters, &st.dormant_arbiters] {
             e.u32(list.len() as u32);
             for a in list {
-                put_arbiter(&mut e, a, st.stamp);
+                let p = |h| st.bodies.get(h).map_or(Vect::ZERO, |b: &Body| b.p);
+                put_arbiter(&mut e, a, st.stamp, [p(a.body_a), p(a.body_b)]);
             }
         }
         e.finish();
@@ -245,7 +316,8 @@ fn put_shape(e: &mut Enc<'_>, generation: u32, shape: Option<&Shape>) {
     o.finish();
 }
 
-fn put_arbiter(e: &mut Enc<'_>, a: &Arbiter, stamp: u64) {
+/// `p`: the positions of the arbiter's bodies (see [`r2_residual`]).
+fn put_arbiter(e: &mut Enc<'_>, a: &Arbiter, stamp: u64, [pa, pb]: [Vect; 2]) {
     // A count past 2 (only a corrupted in-memory state) is written as 3,
     // which the reader rejects.
     let contacts = a.contacts();
@@ -260,7 +332,7 @@ fn put_arbiter(e: &mut Enc<'_>, a: &Arbiter, stamp: u64) {
     o.word(a.shape_a.generation().into());
     o.word(a.shape_b.index().into());
     o.word(a.shape_b.generation().into());
-    o.word(a.warm_start_id.into());
+    o.word(nibbles_first(a.warm_start_id).into());
     o.word(stamp.wrapping_sub(a.stamp) as i64);
     for r in [
         a.normal.x,
@@ -275,8 +347,13 @@ fn put_arbiter(e: &mut Enc<'_>, a: &Arbiter, stamp: u64) {
     // The words of `Arbiter::compact_words`, each contact's feature id
     // before its own.
     for c in contacts {
-        o.word(c.feature_id.into());
-        for r in [c.r1.x, c.r1.y, c.r2.x, c.r2.y, c.dist, c.jn_acc, c.jt_acc] {
+        o.word(nibbles_first(c.feature_id).into());
+        o.real(c.r1.x);
+        o.real(c.r1.y);
+        let predicted = a.normal.mult(c.dist);
+        o.word(r2_residual(c.r1.x, c.r2.x, pa.x, pb.x, predicted.x));
+        o.word(r2_residual(c.r1.y, c.r2.y, pa.y, pb.y, predicted.y));
+        for r in [c.dist, c.jn_acc, c.jt_acc] {
             o.real(r);
         }
     }
@@ -562,7 +639,7 @@ fn read_arbiter(d: &mut Dec<'_>, stamp: u64, out: &mut Arbiter) -> Result<(), Wi
     let mut o = d.object(12usize.saturating_add(count.saturating_mul(1 + CONTACT_WORDS)))?;
     let shape_a = Handle::from_raw_parts(o.u32(), o.u32());
     let shape_b = Handle::from_raw_parts(o.u32(), o.u32());
-    let warm_start_id = o.u32();
+    let warm_start_id = nibbles_back(o.u32());
     let arb_stamp = stamp.wrapping_sub(o.word() as u64);
     let mut words = [Real::ZERO; ARB_MAX_WORDS];
     let (head_words, contact_words) = words.split_at_mut(ARB_WORDS);
@@ -575,7 +652,7 @@ fn read_arbiter(d: &mut Dec<'_>, stamp: u64, out: &mut Arbiter) -> Result<(), Wi
         .zip(contact_words.chunks_exact_mut(CONTACT_WORDS))
         .take(count)
     {
-        *f = o.u32();
+        *f = nibbles_back(o.u32());
         for x in cw {
             *x = o.real();
         }
@@ -595,4 +672,49 @@ fn read_arbiter(d: &mut Dec<'_>, stamp: u64, out: &mut Arbiter) -> Result<(), Wi
         &words,
     );
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn id_nibble_order_is_a_bijection_that_shrinks_small_indices() {
+        for x in [
+            0u32,
+            1,
+            0x0001_0000,
+            0x0203_0405,
+            0x0706_0504,
+            u32::MAX,
+            0xF0F0_F0F0,
+            0x1234_5678,
+        ] {
+            assert_eq!(nibbles_back(nibbles_first(x)), x, "{x:#x}");
+            assert_eq!(nibbles_first(nibbles_back(x)), x, "{x:#x}");
+        }
+        // Indices below 16 in every byte: 16 bits.
+        assert_eq!(nibbles_first(0x0203_0405), 0x2345);
+        assert_eq!(nibbles_first(0x0007_0003), 0x0703);
+    }
+
+    #[test]
+    fn r2_residuals_round_trip_exactly_at_the_extremes() {
+        let raws = [0i64, 1, -1, 1 << 40, i64::MAX, i64::MIN, -(1 << 33) + 5];
+        for &r1 in &raws {
+            for &r2 in &raws {
+                for &pa in &raws {
+                    let (r1, r2, pa, pb) = (
+                        Real::from_bits(r1),
+                        Real::from_bits(r2),
+                        Real::from_bits(pa),
+                        Real::from_bits(7),
+                    );
+                    let q = Real::from_bits(-3);
+                    let d = Real::from_bits(r2_residual(r1, r2, pa, pb, q));
+                    assert_eq!(r2_from_residual(r1, d, pa, pb, q), r2);
+                }
+            }
+        }
+    }
 }

@@ -46,7 +46,7 @@ use crate::arena::{Arena, ArenaPart};
 use crate::body::{Body, BodyType};
 use crate::checksum::WordHasher;
 use crate::constraint::Constraint;
-use crate::math::Real;
+use crate::math::{Real, Vect};
 use crate::shape::Shape;
 use core::hash::{Hash, Hasher};
 
@@ -390,6 +390,7 @@ impl Space {
     pub(crate) fn install_frame_validated(
         &mut self,
         frame: &mut FrameState,
+        complete: &mut dyn FnMut(&mut Arbiter, Vect, Vect),
     ) -> Result<(), SpaceError> {
         self.flag_level_suspects();
         self.check_frame_fits(frame)?;
@@ -416,7 +417,7 @@ impl Space {
         }
         adopt_shared(origin, &mut [], &mut [], &mut frame.constraints);
         swap_frame(&mut self.state, &level, frame);
-        adopt_arbiters(&mut self.state, origin);
+        adopt_arbiters(&mut self.state, origin, complete);
         let checked = super::validate_state_trusting_level(&self.state, &level);
         if checked.is_err() {
             swap_frame(&mut self.state, &level, frame);
@@ -500,10 +501,15 @@ fn swap_frame(state: &mut WorldState, level: &LevelIndex, frame: &mut FrameState
 /// two to the same bytes), without the copy.
 /// Gives each arbiter of an installed frame the world's origin and the
 /// bodies of its shapes (frame bytes do not carry them, see
-/// `snapshot::frame_codec`). An arbiter whose shape is gone keeps the
-/// bodies it has: validation names it.
-fn adopt_arbiters(state: &mut WorldState, origin: u32) {
-    let shapes = &state.shapes;
+/// `snapshot::frame_codec`), then lets `complete` rebuild what the bytes
+/// hold relative to the bodies' positions. An arbiter whose shapes or
+/// bodies are gone keeps what it has: validation names it.
+fn adopt_arbiters(
+    state: &mut WorldState,
+    origin: u32,
+    complete: &mut dyn FnMut(&mut Arbiter, Vect, Vect),
+) {
+    let (shapes, bodies) = (&state.shapes, &state.bodies);
     for a in state
         .arbiters
         .iter_mut()
@@ -516,6 +522,9 @@ fn adopt_arbiters(state: &mut WorldState, origin: u32) {
         if let (Some(sa), Some(sb)) = (shapes.get(a.shape_a), shapes.get(a.shape_b)) {
             a.body_a = sa.body;
             a.body_b = sb.body;
+            if let (Some(ba), Some(bb)) = (bodies.get(sa.body), bodies.get(sb.body)) {
+                complete(a, ba.p, bb.p);
+            }
         }
     }
 }
