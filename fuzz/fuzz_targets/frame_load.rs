@@ -2,7 +2,9 @@
 //! (`fuzz/frame_world.snap`, a full snapshot of the world the seeds are
 //! frames of): `load_frame_snapshot` returns an error and leaves the world
 //! byte-identical, or installs a frame and the world validates, keeps its
-//! level, and steps without panicking.
+//! level, and steps without panicking. Each input is tried as it is and
+//! with its header checksum fixed up (as a forger would), so that damaged
+//! payloads reach the decoder instead of stopping at the checksum.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 use std::sync::OnceLock;
@@ -22,6 +24,16 @@ fn world() -> &'static (WorldState, Vec<u8>) {
 }
 
 fuzz_target!(|bytes: &[u8]| {
+    check(bytes);
+    if bytes.len() >= snapshot::HEADER_LEN {
+        let mut sealed = bytes.to_vec();
+        let sum = snapshot::payload_checksum(&sealed[snapshot::HEADER_LEN..]);
+        sealed[12..20].copy_from_slice(&sum.to_le_bytes());
+        check(&sealed);
+    }
+});
+
+fn check(bytes: &[u8]) {
     let (base, saved) = world();
     let mut space = Space::from_state(base.clone());
     let level = space.level_digest();
@@ -46,4 +58,4 @@ fuzz_target!(|bytes: &[u8]| {
             panic!("stepping broke a loaded frame: {e}");
         }
     }
-});
+}

@@ -367,6 +367,11 @@ fn put_arbiter(e: &mut Enc<'_>, a: &Arbiter, stamp: u64, [pa, pb]: [Vect; 2]) {
 /// half-written, fit only to be decoded into again.
 pub(crate) fn decode_into(payload: &[u8], frame: &mut FrameState) -> Result<(), WireError> {
     let mut d = Dec::new(payload);
+    // The full snapshots' limit: what is decoded is bounded by the bytes
+    // present (every count is checked against them first).
+    if payload.len() > super::MAX_SNAPSHOT_BYTES {
+        return Err(d.error("a payload over the size limit"));
+    }
     frame.level_digest = d.u64()?;
     frame.stamp = d.u64()?;
     frame.steps = d.u64()?;
