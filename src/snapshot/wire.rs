@@ -33,7 +33,7 @@ pub(crate) const MAX_WORDS: usize = 32;
 const OBJECT_MAX: usize = 8 + MAX_WORDS / 2 + 8 * MAX_WORDS + 8;
 /// The encoder's staging buffer: objects are built there and copied into
 /// the output a few kilobytes at a time.
-const STAGE: usize = 16 * 1024;
+const STAGE: usize = 4 * 1024;
 
 /// Appends to a byte buffer, through a staging buffer on the stack (the
 /// fixed-position writes of one object cost no call and no capacity check;
@@ -77,7 +77,7 @@ impl<'a> Enc<'a> {
     }
 
     /// Ends the writing: everything is in the output.
-    pub(crate) fn finish(mut self) {
+    pub(crate) fn finish(&mut self) {
         self.flush();
     }
 
