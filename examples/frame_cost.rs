@@ -5,7 +5,8 @@
 //! If the file does not exist, builds the scene (default `bowl_boxes_500`),
 //! steps it (default 300 steps, as `tamias bench --rollback`) and saves a
 //! full snapshot there; then loads it and prints the frame's size and the
-//! median time per save and per load over 15 rounds of `calls` calls. Run
+//! median time per save and per load (and, by default, per in-memory
+//! `Space::save_frame`) over 15 rounds of `calls` calls. Run
 //! it once to write the file, then under `perf record` or
 //! `valgrind --tool=callgrind` with the one operation to study.
 use std::hint::black_box;
@@ -65,6 +66,17 @@ fn main() {
             black_box(snapshot::save_frame_into(black_box(&space), &mut buf));
         });
         println!("save ms: {ms:.4} ({:.4} per 1000 bodies)", per_k(ms));
+    }
+    if which == "both" {
+        // The in-memory frame (a copy into reused buffers, no coding).
+        let mut frame = tamias2d::space::FrameState::default();
+        let ms = median_ms(calls, || {
+            black_box(&space).save_frame(&mut frame);
+        });
+        println!(
+            "in-memory save_frame ms: {ms:.4} ({:.4} per 1000 bodies)",
+            per_k(ms)
+        );
     }
     if which != "save" {
         let ms = median_ms(calls, || {
