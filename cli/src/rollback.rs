@@ -221,7 +221,7 @@ fn measure(desc: &scenes::SceneDesc, warmup: u32, samples: u32) -> Result<(), St
     println!("  save ms per 1000 bodies: {:.3}", per_k(save));
     println!("  load ms per 1000 bodies: {:.3}", per_k(load));
     println!("  checksum ms per 1000 bodies: {:.3}", per_k(checksum));
-    println!("  save / load / checksum ms: {save:.3} / {load:.3} / {checksum:.3}");
+    println!("  save / load / checksum ms: {save:.4} / {load:.4} / {checksum:.4}");
     println!("  full snapshot bytes: {}", full.len());
     println!("  full snapshot save / load ms: {full_save:.3} / {full_load:.3}");
     println!(

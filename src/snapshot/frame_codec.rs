@@ -604,7 +604,11 @@ fn read_shape(
     // rarely change form) keeps it: the geometry is a pure function of its
     // compact form, so nothing is rebuilt.
     if let Some(old) = value.as_mut() {
-        if old.geometry.compact_form() == (form, gw, geometry_words) {
+        let (old_form, old_words, old_n) = old.geometry.compact_form();
+        if old_form == form
+            && old_n == geometry_words
+            && old_words.get(..old_n) == gw.get(..geometry_words)
+        {
             old.body = body;
             old.material = material;
             old.filter = filter;
