@@ -478,6 +478,21 @@ pub(crate) fn outside_runs(runs: &Runs, slot_count: u32) -> impl Iterator<Item =
     })
 }
 
+/// The gaps between `runs` within `0..count`, as index ranges in order:
+/// the slots [`outside_runs`] yields, a range at a time (for loops that
+/// walk slices).
+pub(crate) fn gaps(runs: &Runs, count: u32) -> impl Iterator<Item = core::ops::Range<usize>> + '_ {
+    let mut start = 0u32;
+    runs.iter()
+        .copied()
+        .chain(core::iter::once((count, count)))
+        .map(move |(a, b)| {
+            let gap = start as usize..a.min(count).max(start) as usize;
+            start = start.max(b);
+            gap
+        })
+}
+
 /// Part of an arena: every slot outside some runs (the level's), with the
 /// arena's free list, length and slot count. A world's per-frame state
 /// holds its arenas this way, so that saving, restoring and hashing a
@@ -700,14 +715,10 @@ impl<T> Arena<T> {
         if part.slot_count == mine {
             // The same slot count (the usual case): slot for slot in place,
             // gap by gap between the runs; no buffer, no object moved twice.
-            let end = [(mine, mine)];
             let mut held = part.slots.iter_mut();
-            let mut start = 0u32;
-            for &(a, b) in runs.iter().chain(&end) {
-                let gap = start..a.min(mine);
-                start = start.max(b);
-                let slots = self.slots.get_mut(gap.start as usize..gap.end as usize);
-                for (dst, src) in slots.unwrap_or(&mut []).iter_mut().zip(&mut held) {
+            for gap in gaps(runs, mine) {
+                let slots = self.slots.get_mut(gap).unwrap_or(&mut []);
+                for (dst, src) in slots.iter_mut().zip(&mut held) {
                     core::mem::swap(dst, src);
                 }
             }
@@ -744,17 +755,12 @@ impl<T> Arena<T> {
         // The gaps between the runs as slices: the same slots, in the same
         // order, as `outside_runs`, each gap walked by a plain loop (the
         // checksum's hot path: the hasher's lanes stay in registers).
-        let end = [(count, count)];
         hash_part_words(
             h,
             count,
             |h| {
-                let mut start = 0u32;
-                for &(a, b) in runs.iter().chain(&end) {
-                    let gap = start..a.min(count);
-                    start = start.max(b);
-                    let slots = self.slots.get(gap.start as usize..gap.end as usize);
-                    for slot in slots.unwrap_or(&[]) {
+                for gap in gaps(runs, count) {
+                    for slot in self.slots.get(gap).unwrap_or(&[]) {
                         hash_slot(slot, h);
                     }
                 }
@@ -782,14 +788,8 @@ impl<T> Arena<T> {
     /// increasing index (the slots a part saved for `runs` holds).
     #[inline]
     pub(crate) fn for_each_outside(&self, runs: &Runs, mut f: impl FnMut(u32, Option<&T>)) {
-        let count = self.slots.len() as u32;
-        let end = [(count, count)];
-        let mut start = 0u32;
-        for &(a, b) in runs.iter().chain(&end) {
-            let gap = start..a.min(count);
-            start = start.max(b);
-            let slots = self.slots.get(gap.start as usize..gap.end as usize);
-            for slot in slots.unwrap_or(&[]) {
+        for gap in gaps(runs, self.slots.len() as u32) {
+            for slot in self.slots.get(gap).unwrap_or(&[]) {
                 f(slot.generation, slot.value.as_ref());
             }
         }

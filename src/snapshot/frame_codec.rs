@@ -473,6 +473,24 @@ fn read_part<T>(
     })
 }
 
+/// A free slot after its head (`clear`: the head has no flag set): its
+/// generation.
+fn read_free_slot<T>(
+    d: &mut Dec<'_>,
+    clear: bool,
+    generation: &mut u32,
+    value: &mut Option<T>,
+) -> Result<(), WireError> {
+    if !clear {
+        return Err(d.error("a free slot with flags"));
+    }
+    let mut o = d.object(1)?;
+    *generation = o.u32();
+    o.finish()?;
+    *value = None;
+    Ok(())
+}
+
 fn read_body(
     d: &mut Dec<'_>,
     generation: &mut u32,
@@ -480,14 +498,7 @@ fn read_body(
 ) -> Result<(), WireError> {
     let head = d.u8()?;
     if head & BODY_LIVE == 0 {
-        if head != 0 {
-            return Err(d.error("a free body slot with flags"));
-        }
-        let mut o = d.object(1)?;
-        *generation = o.u32();
-        o.finish()?;
-        *value = None;
-        return Ok(());
+        return read_free_slot(d, head == 0, generation, value);
     }
     if head & 0x80 != 0 {
         return Err(d.error("unknown bits set in a body head"));
@@ -533,14 +544,7 @@ fn read_shape(
 ) -> Result<(), WireError> {
     let head = d.u16()?;
     if head & SHAPE_LIVE == 0 {
-        if head != 0 {
-            return Err(d.error("a free shape slot with flags"));
-        }
-        let mut o = d.object(1)?;
-        *generation = o.u32();
-        o.finish()?;
-        *value = None;
-        return Ok(());
+        return read_free_slot(d, head == 0, generation, value);
     }
     if head & !SHAPE_HEAD != 0 {
         return Err(d.error("unknown bits set in a shape head"));
