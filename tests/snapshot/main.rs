@@ -122,7 +122,15 @@ fn round_trip(name: &str, steps: u32, forks: &[u32]) {
                 match path {
                     "load_snapshot" => ok(f.space.load_snapshot(&bytes)),
                     "restore_state" => f.space.restore_state(reference.space.state()),
-                    "load_frame_snapshot" => ok(f.space.load_frame_snapshot(&frame_bytes)),
+                    "load_frame_snapshot" => {
+                        ok(f.space.load_frame_snapshot(&frame_bytes));
+                        // One state, one encoding: the loaded frame saves
+                        // to the very bytes it came from.
+                        assert!(
+                            snapshot::save_frame(&f.space) == frame_bytes,
+                            "{name}: a loaded frame re-saves differently"
+                        );
+                    }
                     _ => ok(f.space.restore_frame(&frame)),
                 }
                 ok(f.space.validate());
