@@ -256,6 +256,51 @@ impl Geometry {
         (kind | form << GEOM_FORM_SHIFT, words, n)
     }
 
+    /// Whether [`from_compact`](Self::from_compact) of these head bits and
+    /// words would give exactly this geometry, decided without building
+    /// it, for circles, segments and rectangles (the usual shapes of a
+    /// frame); `None` for a general polygon (its form check needs the
+    /// polygon: compare [`compact_form`](Self::compact_form) instead).
+    /// Exact because every stored geometry's derived fields (normals) are
+    /// those of its defining fields, which the compact form holds.
+    #[inline]
+    pub(crate) fn matches_compact(
+        &self,
+        form_head: u32,
+        w: &[Real; GEOM_MAX_WORDS],
+    ) -> Option<bool> {
+        let kind = form_head & 3;
+        let count = (form_head >> GEOM_POLY_COUNT_SHIFT) & 15;
+        let form = (form_head >> GEOM_FORM_SHIFT) & 3;
+        let v = |x: Real, y: Real| Vect::new(x, y);
+        let [w0, w1, w2, w3, w4, w5, w6, w7, w8, ..] = *w;
+        Some(match (self, kind, form, count) {
+            (Geometry::Circle(c), 0, 0, 0) => c.offset == v(w0, w1) && c.radius == w2,
+            (Geometry::Segment(g), 1, 0, 0) => {
+                g.a == v(w0, w1)
+                    && g.b == v(w2, w3)
+                    && g.radius == w4
+                    && g.a_tangent == v(w5, w6)
+                    && g.b_tangent == v(w7, w8)
+            }
+            (Geometry::Poly(p), 2, FORM_CENTRED_RECT, 4) => {
+                let (r, t) = (w0, w1);
+                let (Some(l), Some(b)) = (neg_exact(r), neg_exact(t)) else {
+                    return Some(false);
+                };
+                p.verts() == [v(r, b), v(r, t), v(l, t), v(l, b)] && p.radius == w2
+            }
+            (Geometry::Poly(p), 2, FORM_RECT, 4) => {
+                let (l, b, r, t) = (w0, w1, w2, w3);
+                // A centred rectangle is not written in this form.
+                let centred = neg_exact(r) == Some(l) && neg_exact(t) == Some(b);
+                !centred && p.verts() == [v(r, b), v(r, t), v(l, t), v(l, b)] && p.radius == w4
+            }
+            (Geometry::Poly(_), 2, FORM_GENERAL, _) => return None,
+            _ => false,
+        })
+    }
+
     /// Number of words of the compact form with these head bits, `None`
     /// for an unknown kind, count or form.
     #[inline]
@@ -723,6 +768,70 @@ impl Poly {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn matches_compact_agrees_with_from_compact() {
+        let r = |n: i64| Real::from_bits(n << 28);
+        let v = |x: i64, y: i64| Vect::new(r(x), r(y));
+        let shapes = [
+            Geometry::Circle(Circle::new(r(5), v(1, -2))),
+            Geometry::Segment(
+                Segment::new(v(0, 0), v(9, 3), r(1)).with_neighbors(v(-4, 0), v(12, 3)),
+            ),
+            Geometry::Poly(Poly::new_box(r(16), r(8), r(1)).unwrap()),
+            Geometry::Poly(
+                Poly::from_bb(crate::math::BB::new(r(1), r(2), r(7), r(5)), Real::ZERO).unwrap(),
+            ),
+            Geometry::Poly(
+                Poly::from_ccw(&[v(0, 0), v(4, 0), v(5, 3), v(0, 2)], Real::ZERO).unwrap(),
+            ),
+        ];
+        for g in &shapes {
+            let (form, words, n) = g.compact_form();
+            let built = Geometry::from_compact(form, &words);
+            assert_eq!(built.as_ref(), Ok(g));
+            match g.matches_compact(form, &words) {
+                Some(same) => assert!(same, "{g:?}"),
+                None => assert!(matches!(g, Geometry::Poly(_))),
+            }
+            // Every word changed in turn: a match only if the rebuilt
+            // geometry is this one.
+            for i in 0..n {
+                for delta in [1i64, -1 << 30] {
+                    let mut w = words;
+                    w[i] = Real::from_bits(w[i].to_bits().wrapping_add(delta));
+                    if let Some(same) = g.matches_compact(form, &w) {
+                        let rebuilt = Geometry::from_compact(form, &w);
+                        assert_eq!(same, rebuilt.as_ref() == Ok(g), "{g:?} word {i}");
+                    }
+                }
+            }
+            // Another geometry's form never matches.
+            for other in &shapes {
+                let (f2, w2, _) = other.compact_form();
+                if other != g {
+                    assert_ne!(g.matches_compact(f2, &w2), Some(true), "{g:?} vs {other:?}");
+                }
+            }
+        }
+        // A centred rectangle's words in the general rectangle form: not
+        // canonical, so no match (and no geometry).
+        let centred = &shapes[2];
+        let Geometry::Poly(p) = centred else {
+            unreachable!()
+        };
+        let [x0, y0, x1, y1] = [
+            p.verts()[2].x,
+            p.verts()[0].y,
+            p.verts()[0].x,
+            p.verts()[1].y,
+        ];
+        let mut w = [Real::ZERO; GEOM_MAX_WORDS];
+        w[..5].copy_from_slice(&[x0, y0, x1, y1, p.radius]);
+        let rect_form = 2 | 4 << GEOM_POLY_COUNT_SHIFT | FORM_RECT << GEOM_FORM_SHIFT;
+        assert_eq!(centred.matches_compact(rect_form, &w), Some(false));
+        assert!(Geometry::from_compact(rect_form, &w).is_err());
+    }
 
     #[test]
     fn edge_normal_is_normalize_bit_for_bit() {

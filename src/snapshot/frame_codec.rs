@@ -608,11 +608,13 @@ fn read_shape(
     // rarely change form) keeps it: the geometry is a pure function of its
     // compact form, so nothing is rebuilt.
     if let Some(old) = value.as_mut() {
-        let (old_form, old_words, old_n) = old.geometry.compact_form();
-        if old_form == form
-            && old_n == geometry_words
-            && old_words.get(..old_n) == gw.get(..geometry_words)
-        {
+        let same = old.geometry.matches_compact(form, &gw).unwrap_or_else(|| {
+            let (old_form, old_words, old_n) = old.geometry.compact_form();
+            old_form == form
+                && old_n == geometry_words
+                && old_words.get(..old_n) == gw.get(..geometry_words)
+        });
+        if same {
             old.body = body;
             old.material = material;
             old.filter = filter;
