@@ -6,7 +6,8 @@
 //! steps it (default 300 steps, as `tamias bench --rollback`) and saves a
 //! full snapshot there; then loads it and prints the frame's size and the
 //! median time per save and per load (and, by default, per in-memory
-//! `Space::save_frame`) over 15 rounds of `calls` calls. Run
+//! `Space::save_frame` and `Space::restore_frame`) over 15 rounds of
+//! `calls` calls. Run
 //! it once to write the file, then under `perf record` or
 //! `valgrind --tool=callgrind` with the one operation to study.
 use std::hint::black_box;
@@ -75,6 +76,15 @@ fn main() {
         });
         println!(
             "in-memory save_frame ms: {ms:.4} ({:.4} per 1000 bodies)",
+            per_k(ms)
+        );
+        let ms = median_ms(calls, || {
+            space
+                .restore_frame(black_box(&frame))
+                .expect("the frame restores");
+        });
+        println!(
+            "in-memory restore_frame ms: {ms:.4} ({:.4} per 1000 bodies)",
             per_k(ms)
         );
     }
