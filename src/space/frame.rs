@@ -415,7 +415,7 @@ impl Space {
         for s in frame.shapes.values_mut() {
             s.body = s.body.with_origin(origin);
         }
-        adopt_shared(origin, &mut [], &mut [], &mut frame.constraints);
+        adopt_constraints(origin, &mut frame.constraints);
         swap_frame(&mut self.state, &level, frame);
         adopt_arbiters(&mut self.state, origin, complete);
         let checked = super::validate_state_trusting_level(&self.state, &level);
@@ -454,11 +454,21 @@ fn adopt_shared(
     constraints: &mut Arena<Constraint>,
 ) {
     for arb in arbiters.iter_mut().chain(dormant) {
-        arb.shape_a = arb.shape_a.with_origin(origin);
-        arb.shape_b = arb.shape_b.with_origin(origin);
-        arb.body_a = arb.body_a.with_origin(origin);
-        arb.body_b = arb.body_b.with_origin(origin);
+        adopt_arbiter(origin, arb);
     }
+    adopt_constraints(origin, constraints);
+}
+
+/// Puts the origin tag on an arbiter's handles.
+fn adopt_arbiter(origin: u32, arb: &mut Arbiter) {
+    arb.shape_a = arb.shape_a.with_origin(origin);
+    arb.shape_b = arb.shape_b.with_origin(origin);
+    arb.body_a = arb.body_a.with_origin(origin);
+    arb.body_b = arb.body_b.with_origin(origin);
+}
+
+/// Puts the origin tag on the handles of the constraints.
+fn adopt_constraints(origin: u32, constraints: &mut Arena<Constraint>) {
     if constraints.origin() != origin {
         constraints.set_origin(origin);
         for (_, c) in constraints.iter_mut() {
@@ -496,9 +506,6 @@ fn swap_frame(state: &mut WorldState, level: &LevelIndex, frame: &mut FrameState
     swap(&mut state.dormant_arbiters, dormant_arbiters);
 }
 
-/// The frame of a live world, serialized in place: the same serde form as
-/// the [`FrameState`] that `save_frame` would copy out (a test holds the
-/// two to the same bytes), without the copy.
 /// Gives each arbiter of an installed frame the world's origin and the
 /// bodies of its shapes (frame bytes do not carry them, see
 /// `snapshot::frame_codec`), then lets `complete` rebuild what the bytes
@@ -515,10 +522,7 @@ fn adopt_arbiters(
         .iter_mut()
         .chain(state.dormant_arbiters.iter_mut())
     {
-        a.shape_a = a.shape_a.with_origin(origin);
-        a.shape_b = a.shape_b.with_origin(origin);
-        a.body_a = a.body_a.with_origin(origin);
-        a.body_b = a.body_b.with_origin(origin);
+        adopt_arbiter(origin, a);
         if let (Some(sa), Some(sb)) = (shapes.get(a.shape_a), shapes.get(a.shape_b)) {
             a.body_a = sa.body;
             a.body_b = sb.body;
