@@ -20,6 +20,7 @@ mod render;
 mod rollback;
 mod run;
 mod source;
+mod web;
 
 use source::Overrides;
 
@@ -61,6 +62,10 @@ enum Command {
     /// Times the benchmark scenes: median ms per step over ≥ 10 samples
     /// (`--rollback`: the rollback budget, snapshot and rollback figures).
     Bench(bench::BenchArgs),
+    /// The demo page: builds the engine for the browser (wasm32) and serves
+    /// it on localhost (`--check`: the headless-Chromium test that the
+    /// browser computes the native goldens' bits).
+    Web(web::WebArgs),
 }
 
 #[derive(Args)]
@@ -238,6 +243,7 @@ fn main() -> ExitCode {
         })) => files::replay_record(&scene, steps, &output, digests_every, opts.overrides()),
         Some(Command::Replay(ReplayCommand::Verify { file })) => files::replay_verify(&file),
         Some(Command::Bench(args)) => bench::bench(&args),
+        Some(Command::Web(args)) => web::web(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
