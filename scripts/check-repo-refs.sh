@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 paths=()
-for p in src docs README.md scenes cli; do
+for p in src docs README.md scenes cli web; do
     [ -e "$p" ] && paths+=("$p")
 done
 

@@ -344,6 +344,16 @@ fn judge(body: &str) -> Result<(), String> {
     if agreed.is_none() || agreed != confirmed || confirmed == Some(0) {
         return Err("the lockstep peers did not agree on every confirmed frame".into());
     }
+    let ui = &report["ui"];
+    println!(
+        "pointer: press on a body grabs it {}, release lets go {}, press on empty space drops one {}",
+        ui["grabbed"], ui["released"], ui["dropped"]
+    );
+    for step in ["grabbed", "released", "dropped"] {
+        if ui[step] != serde_json::Value::Bool(true) {
+            return Err(format!("the page's pointer handling failed: not {step}"));
+        }
+    }
     Ok(())
 }
 
@@ -399,6 +409,7 @@ mod tests {
             "timings": { "pyramid_20": 1.0, "bowl_boxes_500": 2.0 },
             "lockstep": { "frames": 300, "confirmed": 295, "agreed": agreed, "rollbacks": 4 },
             "userAgent": "test",
+            "ui": { "grabbed": true, "released": true, "dropped": true },
         })
         .to_string()
     }
@@ -416,6 +427,10 @@ mod tests {
         partial["goldens"].as_array_mut().unwrap().pop();
         assert!(judge(&partial.to_string()).is_err());
         assert!(judge("not json").is_err());
+        // The page's pointer wiring failed.
+        let mut clumsy: serde_json::Value = serde_json::from_str(&report(|_, c| c, 295)).unwrap();
+        clumsy["ui"]["dropped"] = serde_json::Value::Bool(false);
+        assert!(judge(&clumsy.to_string()).is_err_and(|e| e.contains("dropped")));
     }
 
     /// One request to a live server; the response's status line and body.

@@ -131,13 +131,33 @@ function showPlay() {
   if (play.times.length) $('steptime').textContent = ms(median(play.times));
 }
 
+/** Runs `f`; an engine error is shown in the status line, not thrown. */
+const guard = (f) => (...args) => {
+  try { return f(...args); } catch (e) { status(`error: ${e.message}`); return undefined; }
+};
+
 $('scene').onchange = (e) => loadScene(Number(e.target.value));
+$('scenefile').onchange = guard(async (e) => {
+  const file = e.target.files[0];
+  if (!file) return;
+  const text = await file.text();
+  try {
+    engine.playJson(text);
+  } catch (err) {
+    status(`${file.name}: ${err.message}`);
+    return;
+  }
+  play.times = [];
+  view.fit(engine.drawPlay(false));
+  $('load').disabled = true; $('snapshot').textContent = '–';
+  status(`${file.name}: ${engine.status().name}`);
+});
 $('pause').onclick = () => { play.running = !play.running; $('pause').textContent = play.running ? 'Pause' : 'Play'; };
 $('stepone').onclick = () => { stepPlay(); showPlay(); };
 $('reset').onclick = () => loadScene(play.index);
-$('save').onclick = () => { const n = engine.save(); $('snapshot').textContent = `${n} B saved`; $('load').disabled = false; };
-$('load').onclick = () => { engine.load(); showPlay(); $('snapshot').textContent += ', loaded'; };
-$('view').addEventListener('pointerdown', (e) => {
+$('save').onclick = guard(() => { const n = engine.save(); $('snapshot').textContent = `${n} B saved`; $('load').disabled = false; });
+$('load').onclick = guard(() => { engine.load(); showPlay(); $('snapshot').textContent += ', loaded'; });
+$('view').addEventListener('pointerdown', guard((e) => {
   const [x, y] = view.toWorld(e);
   const reach = 6 / view.scale;
   if (engine.dragBegin(x, y, reach)) {
@@ -145,9 +165,9 @@ $('view').addEventListener('pointerdown', (e) => {
   } else {
     engine.drop($('dropkind').value, x, y);
   }
-});
-$('view').addEventListener('pointermove', (e) => { if (play.dragging) engine.dragMove(...view.toWorld(e)); });
-const endDrag = () => { if (play.dragging) { engine.dragEnd(); play.dragging = false; } };
+}));
+$('view').addEventListener('pointermove', guard((e) => { if (play.dragging) engine.dragMove(...view.toWorld(e)); }));
+const endDrag = guard(() => { if (play.dragging) { play.dragging = false; engine.dragEnd(); } });
 $('view').addEventListener('pointerup', endDrag);
 $('view').addEventListener('pointercancel', endDrag);
 
@@ -237,6 +257,40 @@ function frameTime(name) {
   return (performance.now() - t0) / 300;
 }
 
+/** The page's own wiring, through real pointer events on the playground:
+ * a press on the top box of pyramid_20 grabs it (a drag starts), the
+ * release ends the drag, a press on empty space drops a body. */
+function checkPointer() {
+  loadScene(indexOf('pyramid_20'));
+  let top = null;
+  walk(engine.drawPlay(false), {
+    circle() {}, segment() {}, dot() {},
+    polygon(v) {
+      let [x, y] = [0, 0];
+      for (let k = 0; k < v.length; k += 2) { x += v[k]; y += v[k + 1]; }
+      const c = [2 * x / v.length, 2 * y / v.length];
+      if (!top || c[1] > top[1]) top = c;
+    },
+  });
+  const canvas = $('view');
+  const rect = canvas.getBoundingClientRect();
+  const client = ([x, y]) => ({
+    clientX: rect.left + (view.ox + view.scale * x) * rect.width / canvas.width,
+    clientY: rect.top + (view.oy - view.scale * y) * rect.height / canvas.height,
+  });
+  const fire = (type, at) => canvas.dispatchEvent(new PointerEvent(type, { bubbles: true, pointerId: 1, ...client(at) }));
+  fire('pointerdown', top);
+  const grabbed = engine.status().dragging;
+  fire('pointermove', [top[0], top[1] + 1]);
+  fire('pointerup', top);
+  const released = !engine.status().dragging;
+  const before = engine.status().bodies;
+  fire('pointerdown', [top[0], top[1] + 0.3 * (view.world.t - view.world.b)]);
+  fire('pointerup', top);
+  const dropped = engine.status().bodies === before + 1;
+  return { grabbed, released, dropped };
+}
+
 /** The browser test, synchronous from start to end (so a screenshot taken
  * after it sees the finished page); the report is posted to /report. */
 function check() {
@@ -253,6 +307,7 @@ function check() {
     goldens, timings, userAgent: navigator.userAgent,
     lockstep: { frames: st.frame, confirmed: lock.confirmed, agreed: lock.agreed, rollbacks: lock.rollbacks },
   };
+  report.ui = checkPointer();
   fetch('/report', { method: 'POST', body: JSON.stringify(report) })
     .then(() => { document.title = 'tamias: check done'; });
   const same = `browser test done: same bits ${goldens.filter((o) => o.computed === o.golden).length}/${total}`;
@@ -288,9 +343,15 @@ if (CHECK) {
 }
 
 function animate() {
-  if (play.running) stepPlay();
-  showPlay();
-  showLockstep(frameLockstep());
+  try {
+    if (play.running) stepPlay();
+    showPlay();
+    showLockstep(frameLockstep());
+  } catch (e) {
+    // An engine error stops the animation with its message, not silently.
+    status(`stopped: ${e.message}`);
+    return;
+  }
   requestAnimationFrame(animate);
 }
 requestAnimationFrame(animate);
