@@ -74,6 +74,7 @@
 //! About 19 ns per `sin_cos` (independent of the angle's size) and 16 ns per
 //! `atan2` in release builds on the development machine (Xeon, x86-64):
 //! `cargo test --release --test math_trig -- --ignored --nocapture timing`.
+use super::wide::int::wide_mul;
 use super::Real;
 
 /// 2/π in Q64, rounded to nearest (< 2^64).
@@ -146,7 +147,7 @@ const ATAN_MID_Q62: [i64; 16] = [
 #[allow(clippy::arithmetic_side_effects)]
 #[inline(always)]
 fn mul_q62(a: i64, b: i64) -> i64 {
-    ((a as i128 * b as i128 + (1 << 61)) >> 62) as i64
+    ((wide_mul(a, b) + (1 << 61)) >> 62) as i64
 }
 
 /// Horner evaluation of `coeffs` (highest power first) at `z` in Q62.

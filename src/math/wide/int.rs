@@ -5,19 +5,75 @@
 /// The exact 128-bit product of two raw values (units of 2^-64 for `Real`
 /// bits): |a·b| ≤ 2^126, so it never overflows `i128` (the one product the
 /// `arithmetic_side_effects` lint cannot see is bounded).
+///
+/// On wasm32 it is [`wide_mul_split`]: wasm has no 64×64→128 multiply, and
+/// LLVM lowers an `i128` product to a call of `__multi3` (a full 128×128
+/// product, its result returned through memory), which took 29 % of the
+/// browser's step. The same integer either way: an exact product has one
+/// value.
 #[inline(always)]
 #[allow(clippy::arithmetic_side_effects)]
 pub(crate) const fn wide_mul(a: i64, b: i64) -> i128 {
-    a as i128 * b as i128
+    #[cfg(target_arch = "wasm32")]
+    {
+        wide_mul_split(a, b)
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        a as i128 * b as i128
+    }
 }
 
 /// The exact 128-bit product of two unsigned 64-bit values: below 2^128, so
 /// it never overflows `u128`. One widening multiply, where a `u128`
-/// `saturating_mul` also multiplies (and tests) the high halves.
+/// `saturating_mul` also multiplies (and tests) the high halves. On wasm32,
+/// [`wide_mul_u64_split`] (see [`wide_mul`]).
 #[inline(always)]
 #[allow(clippy::arithmetic_side_effects)]
 pub(crate) const fn wide_mul_u64(a: u64, b: u64) -> u128 {
-    a as u128 * b as u128
+    #[cfg(target_arch = "wasm32")]
+    {
+        wide_mul_u64_split(a, b)
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        a as u128 * b as u128
+    }
+}
+
+/// `a·b` exactly, from four 32×32→64 partial products: the schoolbook
+/// product on 32-bit halves, for targets whose only multiply is 64-bit.
+/// Each partial product is below 2^64, and so is each column sum (at most
+/// three values below 2^32 plus one below 2^64 − 2^33): nothing wraps.
+#[inline(always)]
+#[allow(clippy::arithmetic_side_effects, dead_code)]
+pub(crate) const fn wide_mul_u64_split(a: u64, b: u64) -> u128 {
+    const LOW: u64 = 0xffff_ffff;
+    let (a0, a1, b0, b1) = (a & LOW, a >> 32, b & LOW, b >> 32);
+    let (p00, p01, p10, p11) = (a0 * b0, a0 * b1, a1 * b0, a1 * b1);
+    let mid = (p00 >> 32) + (p01 & LOW) + (p10 & LOW);
+    let lo = (p00 & LOW) | (mid << 32);
+    let hi = p11 + (p01 >> 32) + (p10 >> 32) + (mid >> 32);
+    ((hi as u128) << 64) | lo as u128
+}
+
+/// The signed `a·b` from the unsigned product of the two's-complement bit
+/// patterns: a negative factor counts 2^64 too much, so its partner is
+/// subtracted from the high half (modulo 2^128, where the exact product
+/// lives).
+#[inline(always)]
+#[allow(clippy::arithmetic_side_effects, dead_code)]
+pub(crate) const fn wide_mul_split(a: i64, b: i64) -> i128 {
+    let (au, bu) = (a as u64, b as u64);
+    let p = wide_mul_u64_split(au, bu);
+    let (lo, mut hi) = (p as u64, (p >> 64) as u64);
+    if a < 0 {
+        hi = hi.wrapping_sub(bu);
+    }
+    if b < 0 {
+        hi = hi.wrapping_sub(au);
+    }
+    (((hi as u128) << 64) | lo as u128) as i128
 }
 
 /// `x² + y²` of two raw values, exact (units of 2^-64 for `Real` bits):
@@ -416,5 +472,46 @@ mod tests {
         assert_eq!(I256::from_i128(3).round_shr(1), 2);
         assert_eq!(I256::from_i128(-3).round_shr(1), -2);
         assert_eq!(I256::from_i128(5).round_shr(2), 1);
+    }
+
+    /// The split products (wasm32's) equal the native widening products on
+    /// the extremes and their neighbours, every sign combination.
+    #[test]
+    fn split_products_equal_native_products_at_the_extremes() {
+        let edges = [
+            0,
+            1,
+            -1,
+            2,
+            i64::MAX,
+            i64::MIN,
+            i64::MAX - 1,
+            i64::MIN + 1,
+            1 << 32,
+            -(1 << 32),
+            (1 << 32) - 1,
+            0xffff_ffff_ffff,
+            -0x1234_5678_9abc_def0,
+        ];
+        for &a in &edges {
+            for &b in &edges {
+                assert_eq!(wide_mul_split(a, b), a as i128 * b as i128, "{a} · {b}");
+                let (ua, ub) = (a as u64, b as u64);
+                assert_eq!(
+                    wide_mul_u64_split(ua, ub),
+                    ua as u128 * ub as u128,
+                    "{ua} · {ub}"
+                );
+            }
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn split_products_equal_native_products(a: i64, b: i64) {
+            proptest::prop_assert_eq!(wide_mul_split(a, b), a as i128 * b as i128);
+            let (ua, ub) = (a as u64, b as u64);
+            proptest::prop_assert_eq!(wide_mul_u64_split(ua, ub), ua as u128 * ub as u128);
+        }
     }
 }
