@@ -59,6 +59,7 @@ const STATIC: &[(&str, &str)] = &[
     ("index.html", "text/html; charset=utf-8"),
     ("app.js", "text/javascript; charset=utf-8"),
     ("tamias.js", "text/javascript; charset=utf-8"),
+    ("golden-worker.js", "text/javascript; charset=utf-8"),
     ("style.css", "text/css; charset=utf-8"),
 ];
 

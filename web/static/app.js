@@ -173,7 +173,10 @@ $('view').addEventListener('pointercancel', endDrag);
 
 // Same bits.
 function runGolden(i) {
-  const o = engine.goldenRun(i);
+  return showGolden(engine.goldenRun(i));
+}
+
+function showGolden(o) {
   const same = o.computed === o.golden;
   const row = document.createElement('tr');
   row.dataset.scene = o.name; row.dataset.computed = o.computed;
@@ -193,7 +196,7 @@ function summarise(outcomes, total) {
 // Lockstep.
 const DELAY = 6, AUTO_EVERY = 60, INPUTS_PER_GAME = 40;
 const lock = { index: indexOf('bowl_boxes_100'), views: [new View($('peerA')), new View($('peerB'))],
-  pending: null, inputs: 0, frames: 0, agreed: 0, confirmed: 0, rollbacks: 0, lastMs: null, lastFrames: 0 };
+  pending: null, inputs: 0, frames: 0, agreed: 0, confirmed: 0, rollbacks: 0, lastMs: null, maxMs: 0, lastFrames: 0 };
 $('delay').textContent = DELAY;
 
 function newGame() {
@@ -217,8 +220,8 @@ function frameLockstep() {
   engine.lockstepA(input);
   const t0 = performance.now();
   const replayed = engine.lockstepB();
-  const ms = performance.now() - t0;
-  if (replayed > 0) { lock.lastMs = ms; lock.lastFrames = replayed; lock.rollbacks++; }
+  const took = performance.now() - t0;
+  if (replayed > 0) { lock.lastMs = took; lock.maxMs = Math.max(lock.maxMs, took); lock.lastFrames = replayed; lock.rollbacks++; }
   const st = engine.lockstepStatus();
   if (st.confirmed_frame !== null) {
     lock.confirmed++;
@@ -238,7 +241,7 @@ function showLockstep(st) {
   $('ls-agree').textContent = `${lock.agreed}/${lock.confirmed} frames ${all ? '✅' : '❌'}`;
   $('ls-agree').className = all ? 'ok' : 'bad';
   $('ls-rollbacks').textContent = lock.rollbacks;
-  if (lock.lastMs !== null) $('ls-last').textContent = `${lock.lastFrames} frames replayed` + (lock.lastMs > 0 ? ` in ${ms(lock.lastMs)}` : '');
+  if (lock.lastMs !== null) $('ls-last').textContent = `${lock.lastFrames} frames replayed` + (lock.lastMs > 0 ? ` in ${ms(lock.lastMs)} (slowest ${ms(lock.maxMs)})` : '');
 }
 
 for (const c of ['peerA', 'peerB']) {
@@ -332,14 +335,13 @@ if (CHECK) {
 } else {
   loadScene(play.index);
   newGame();
-  // Goldens one per task, so the page keeps drawing while they run.
+  // The goldens run in a worker, so the page keeps drawing meanwhile.
   const total = engine.goldenCount(); const goldens = [];
-  const next = (i) => {
-    if (i >= total) return;
-    goldens.push(runGolden(i)); summarise(goldens, total);
-    setTimeout(() => next(i + 1), 0);
+  const worker = new Worker('golden-worker.js', { type: 'module' });
+  worker.onmessage = ({ data }) => {
+    if (data.outcome) { goldens.push(showGolden(data.outcome)); summarise(goldens, total); }
+    if (data.error) status(`same bits: ${data.error}`);
   };
-  setTimeout(() => next(0), 300);
 }
 
 function animate() {
