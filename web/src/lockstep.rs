@@ -202,7 +202,8 @@ impl Lockstep {
         // S_{f+1-delay} is now final on B: every input before it is known.
         if let Some(c) = self.frame.checked_sub(u64::from(self.delay)) {
             self.confirmed = self.confirmed.saturating_add(1);
-            if self.a.checksum_of(c) == self.b.checksum_of(c) {
+            let (a, b) = (self.a.checksum_of(c), self.b.checksum_of(c));
+            if a.is_some() && a == b {
                 self.agreed = self.agreed.saturating_add(1);
             }
         }

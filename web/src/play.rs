@@ -302,6 +302,34 @@ mod tests {
     }
 
     #[test]
+    fn a_sleeping_pile_wakes_when_a_box_is_dragged() -> Result<(), String> {
+        let mut play = Play::builtin("pyramid_20")?;
+        play.step(400)?;
+        // The top box: the highest dynamic body.
+        let (top, at) = play
+            .world
+            .space
+            .bodies()
+            .filter(|(_, b)| b.is_dynamic())
+            .map(|(h, b)| (h, b.position()))
+            .max_by_key(|&(_, p)| p.y)
+            .ok_or("no box")?;
+        assert!(play.world.space.body(top).is_some_and(|b| b.is_sleeping()));
+        assert!(play.drag_begin(at, Real::HALF)?);
+        let goal = at + Vect::from_ints(3, 2);
+        play.drag_move(goal);
+        play.step(60)?;
+        let now = play
+            .world
+            .space
+            .body(top)
+            .map(|b| b.position())
+            .ok_or("body")?;
+        assert!(now.dist(goal) < Real::HALF, "{now:?} vs {goal:?}");
+        Ok(())
+    }
+
+    #[test]
     fn nothing_under_the_pointer_is_no_drag() -> Result<(), String> {
         let mut play = Play::builtin("pyramid_20")?;
         assert!(!play.drag_begin(Vect::from_ints(0, 10_000), Real::ONE)?);
