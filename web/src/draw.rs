@@ -42,6 +42,18 @@ impl DrawList {
     }
 }
 
+/// Every body's transform for drawing, in slot order: `x, y, cos θ, sin θ`
+/// per body (4 floats), into `out` (cleared first). For a page that draws
+/// its own sprites per body instead of the shapes.
+pub fn transforms(space: &Space, out: &mut Vec<f32>) {
+    out.clear();
+    for (_, body) in space.bodies() {
+        let (x, y) = body.position().to_f64();
+        let (c, s) = body.rotation().to_f64();
+        out.extend_from_slice(&[px(x), px(y), px(c), px(s)]);
+    }
+}
+
 /// `0xRRGGBB` as an exact `f32`.
 fn rgb(c: Color) -> f32 {
     // Below 2^24: every value is exact in an f32's 24-bit significand.

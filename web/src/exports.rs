@@ -22,7 +22,7 @@ use std::cell::RefCell;
 use tamias2d::Real;
 use tamias2d_scenes::REGISTRY;
 
-use crate::draw::DrawList;
+use crate::draw::{transforms, DrawList};
 use crate::golden;
 use crate::lockstep::Lockstep;
 use crate::play::{point, DropKind, Play};
@@ -208,6 +208,22 @@ pub extern "C" fn tamias_play_draw(contacts: u32) -> i32 {
     })
 }
 
+/// Fills the draw buffer with every body's transform (`x, y, cos θ,
+/// sin θ`, slot order; see [`crate::draw::transforms`]); returns its length
+/// in floats.
+#[no_mangle]
+pub extern "C" fn tamias_play_transforms() -> i32 {
+    with(|s| {
+        let State { play, draw, .. } = s;
+        let Some(play) = play.as_ref() else {
+            s.say("no scene loaded");
+            return -1;
+        };
+        transforms(&play.world.space, &mut draw.floats);
+        count(draw.floats.len())
+    })
+}
+
 /// Starts dragging the dynamic body within `reach` of `(x, y)`: 1 if one
 /// was grabbed, 0 if none is there.
 #[no_mangle]
@@ -386,6 +402,8 @@ mod tests {
         assert_eq!(tamias_play_step(2), 0);
         assert!(tamias_play_draw(1) > 0);
         assert!(!tamias_draw_ptr().is_null());
+        // pyramid_20: the ground and 210 boxes, 4 floats each.
+        assert_eq!(tamias_play_transforms(), 211 * 4);
         assert!(tamias_play_status() > 0);
         assert!(out().contains("\"steps\":2"), "{}", out());
         assert_eq!(tamias_drop(1, 0.0, 50.0), 0);

@@ -67,6 +67,8 @@ export class Tamias {
   /** `{name, steps, bodies, checksum, dragging}`. */
   status() { return this.json(this.x.tamias_play_status()); }
   drawPlay(contacts) { return this.drawList(this.x.tamias_play_draw(contacts ? 1 : 0)); }
+  /** Every body's `x, y, cos θ, sin θ` (4 floats per body, slot order), for sprites. */
+  bodyTransforms() { return this.drawList(this.x.tamias_play_transforms()); }
   /** True if a body was grabbed. */
   dragBegin(x, y, reach) { return this.ok(this.x.tamias_drag_begin(x, y, reach)) === 1; }
   dragMove(x, y) { this.ok(this.x.tamias_drag_move(x, y)); }
