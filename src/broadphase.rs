@@ -10,7 +10,12 @@
 //! * Static shapes go into a **static tree** (a bounding-volume hierarchy
 //!   built by median splits), rebuilt only when the set of static shapes or
 //!   their boxes change. Moving boxes query it, so a scene pays nothing per
-//!   step for static shapes no moving shape is near.
+//!   step for static shapes no moving shape is near. Each moving shape
+//!   keeps the tree's answer for a **fattened box** around its own and
+//!   re-queries only when its box leaves the fat one (Box2D's fat AABBs,
+//!   here a cache): the answer for the fat box holds every static box the
+//!   shape's box can touch, so filtering it gives the very pairs a fresh
+//!   query gives.
 //! * The output is a list of `(lower index, higher index)` pairs sorted
 //!   ascending (a counting sort on the lower index): the **canonical pair
 //!   order**. The solver is Gauss–Seidel, so
@@ -46,7 +51,17 @@ const LEAF_SIZE: usize = 4;
 pub struct StaticTree {
     proxies: Vec<Proxy>,
     nodes: Vec<Node>,
+    /// Which build this is (unique per [`StaticTree::build`] in the
+    /// process; a clone keeps it, the empty default tree is 0): what a
+    /// [`Broadphase`]'s cached answers were taken from. Never part of a
+    /// result: a cache that is cold or dropped gives the same pairs.
+    id: u64,
 }
+
+/// The next [`StaticTree::id`]. A process-wide counter, so two trees built
+/// apart never share an id, whatever space or thread built them; which
+/// number a tree gets changes how often a cache is reused, never a pair.
+static NEXT_TREE_ID: core::sync::atomic::AtomicU64 = core::sync::atomic::AtomicU64::new(1);
 
 impl StaticTree {
     /// Builds the tree over `proxies` (deterministic: median splits along the
@@ -56,6 +71,7 @@ impl StaticTree {
         let mut tree = StaticTree {
             proxies,
             nodes: Vec::new(),
+            id: NEXT_TREE_ID.fetch_add(1, core::sync::atomic::Ordering::Relaxed),
         };
         if !tree.proxies.is_empty() {
             let n = tree.proxies.len();
@@ -124,14 +140,20 @@ impl StaticTree {
     }
 
     /// Calls `f` with the index of every static proxy whose box touches `bb`.
-    pub fn query(&self, bb: &BB, f: impl FnMut(u32)) {
-        self.query_where(bb, |_| true, f);
+    pub fn query(&self, bb: &BB, mut f: impl FnMut(u32)) {
+        self.query_proxies(bb, |_| true, |p| f(p.index));
     }
 
     /// [`query`](Self::query) that also skips every node and proxy whose
     /// box fails `keep` (a finer test than the box overlap, e.g. a ray's
     /// line): `keep` must hold for every box that can contain a hit.
     pub fn query_where(&self, bb: &BB, keep: impl Fn(&BB) -> bool, mut f: impl FnMut(u32)) {
+        self.query_proxies(bb, keep, |p| f(p.index));
+    }
+
+    /// [`query_where`](Self::query_where), handing out each proxy (its box
+    /// too), in the tree's fixed depth-first order.
+    fn query_proxies(&self, bb: &BB, keep: impl Fn(&BB) -> bool, mut f: impl FnMut(&Proxy)) {
         if self.nodes.is_empty() {
             return;
         }
@@ -153,7 +175,7 @@ impl StaticTree {
                     .unwrap_or(&[])
                 {
                     if p.bb.intersects(bb) && keep(&p.bb) {
-                        f(p.index);
+                        f(p);
                     }
                 }
             } else if let Some([second, first, ..]) = stack.get_mut(top..) {
@@ -189,6 +211,77 @@ pub struct Broadphase {
     bucket: Vec<u32>,
     /// Candidate pairs of the last [`Broadphase::find_pairs`] call.
     pub pairs: Vec<(u32, u32)>,
+    /// Per moving shape slot: the trees' answer for its fat box.
+    hits: Vec<StaticHits>,
+}
+
+/// The static and sleeping proxies whose boxes touch `fat`, as the trees
+/// `trees` (their ids; `None`: not asked yet) answered; valid for any box
+/// inside `fat` and those same trees.
+#[derive(Clone, Debug, Default)]
+struct StaticHits {
+    trees: Option<(u64, u64)>,
+    fat: BB,
+    found: Vec<Proxy>,
+    /// The shape's box at the last call: how far it moves per step.
+    last: BB,
+}
+
+/// Steps of motion a fat box looks ahead.
+const LOOK_AHEAD: i32 = 8;
+
+/// The box to query for `bb`, whose box one call ago was `last` (`None`:
+/// no earlier call): `bb` stretched [`LOOK_AHEAD`] steps' motion along the
+/// way each edge moves (Box2D's predicted displacement, here measured from
+/// the boxes), at most 4 sides' worth (a teleport asks for no giant box),
+/// plus an eighth of its larger side on every side for turning and jitter.
+/// A fat box reaches ahead, not sideways: a shape running down a corridor
+/// of static shapes meets few more candidates than its own box does. `Real`
+/// arithmetic saturates: near the range's edge the box is clamped there and
+/// still holds `bb`.
+fn fatten(bb: &BB, last: Option<&BB>) -> BB {
+    use crate::math::Real;
+    let side = (bb.r - bb.l).max(bb.t - bb.b);
+    let margin = side / Real::from_int(8);
+    let (ahead, cap) = (Real::from_int(LOOK_AHEAD), side * Real::from_int(4));
+    // How far to stretch an edge that moved by `d` (outward only).
+    let stretch = |d: Real| (d.abs() * ahead).min(cap);
+    let (dl, db, dr, dt) = last.map_or((Real::ZERO, Real::ZERO, Real::ZERO, Real::ZERO), |o| {
+        (bb.l - o.l, bb.b - o.b, bb.r - o.r, bb.t - o.t)
+    });
+    let out = |d: Real, sign_out: bool| {
+        if d.is_negative() == sign_out && !d.is_zero() {
+            stretch(d)
+        } else {
+            Real::ZERO
+        }
+    };
+    BB::new(
+        bb.l - out(dl, true) - margin,
+        bb.b - out(db, true) - margin,
+        bb.r + out(dr, false) + margin,
+        bb.t + out(dt, false) + margin,
+    )
+}
+
+impl StaticHits {
+    /// The answer for `bb`: the cached one if `bb` lies in the fat box and
+    /// the trees are the ones it came from, else a new query of a fat box
+    /// around `bb` (see [`StaticHits::fatten`]). Either way the list holds
+    /// every proxy touching `bb` (and maybe a few more).
+    fn refresh(&mut self, bb: &BB, statics: &StaticTree, sleeping: &StaticTree) -> &[Proxy] {
+        let trees = Some((statics.id, sleeping.id));
+        if self.trees != trees || !self.fat.contains_bb(bb) {
+            self.fat = fatten(bb, self.trees.map(|_| &self.last));
+            self.trees = trees;
+            self.found.clear();
+            for tree in [statics, sleeping] {
+                tree.query_proxies(&self.fat, |_| true, |p| self.found.push(*p));
+            }
+        }
+        self.last = *bb;
+        &self.found
+    }
 }
 
 /// No position (a slot without a box in this call).
@@ -209,7 +302,25 @@ impl Broadphase {
     pub fn find_pairs(&mut self, moving: &[Proxy], statics: &StaticTree, sleeping: &StaticTree) {
         self.sort_moving(moving);
         self.found.clear();
-        let mut rest = self.sorted.as_slice();
+        // A table by shape slot when the slots are dense (see `dense_limit`);
+        // otherwise every box queries the trees afresh.
+        let slots = self
+            .sorted
+            .iter()
+            .map(|p| p.index as usize)
+            .max()
+            .map_or(0, |m| m.saturating_add(1));
+        if slots <= dense_limit(self.sorted.len()) && self.hits.len() < slots {
+            self.hits.resize_with(slots, StaticHits::default);
+        }
+        let Broadphase {
+            sorted,
+            found,
+            hits,
+            ..
+        } = self;
+        let mut rest = sorted.as_slice();
+        let mut fresh = StaticHits::default();
         while let Some((a, later)) = rest.split_first() {
             rest = later;
             for b in later {
@@ -217,16 +328,24 @@ impl Broadphase {
                     break;
                 }
                 if a.bb.b <= b.bb.t && b.bb.b <= a.bb.t {
-                    self.found.push(ordered(a.index, b.index));
+                    found.push(ordered(a.index, b.index));
                 }
             }
-            let found = &mut self.found;
-            for tree in [statics, sleeping] {
-                tree.query(&a.bb, |s| {
-                    if s != a.index {
-                        found.push(ordered(a.index, s));
-                    }
-                });
+            if statics.is_empty() && sleeping.is_empty() {
+                continue;
+            }
+            let cache = match hits.get_mut(a.index as usize) {
+                Some(cache) => cache,
+                None => {
+                    // No table: a scratch entry, asked afresh.
+                    fresh.trees = None;
+                    &mut fresh
+                }
+            };
+            for s in cache.refresh(&a.bb, statics, sleeping) {
+                if s.index != a.index && s.bb.intersects(&a.bb) {
+                    found.push(ordered(a.index, s.index));
+                }
             }
         }
         self.canonical_pairs();
@@ -540,6 +659,108 @@ mod tests {
                 proptest::prop_assert_eq!(&bp.pairs, &find_pairs_full_sort(&moving, &tree));
             }
         }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(200))]
+        /// The fat-box cache changes no pair: calls on one `Broadphase`
+        /// whose moving boxes creep, jump, vanish and come back, while the
+        /// static and sleeping trees are rebuilt, kept or swapped, give
+        /// exactly the pairs of a fresh `Broadphase` (cold cache) each call.
+        #[test]
+        fn cached_static_answers_give_the_pairs_of_fresh_queries(
+            start in proptest::collection::vec((0u32..40, -30i32..30, -30i32..30), 0..40),
+            steps in proptest::collection::vec(
+                (
+                    proptest::collection::vec((0u32..40, -4i32..=4, -4i32..=4, 0u8..12), 0..30),
+                    0u8..6,
+                ),
+                1..8,
+            ),
+            statics in proptest::collection::vec((40u32..90, -30i32..30, -30i32..30), 0..40),
+        ) {
+            let build = |list: &[(u32, i32, i32)]| {
+                StaticTree::build(list.iter().map(|&(i, x, y)| proxy(i, x, y)).collect())
+            };
+            let mut level = statics.clone();
+            let mut tree = build(&level);
+            let mut sleeping = StaticTree::default();
+            let mut world: Vec<(u32, i32, i32)> = start;
+            let mut bp = Broadphase::default();
+            for (moves, what_trees) in steps {
+                for (i, dx, dy, what) in moves {
+                    match what {
+                        0 => world.retain(|b| b.0 != i),
+                        1 => world.push((i, dx * 9, dy * 9)),
+                        _ => {
+                            for b in world.iter_mut().filter(|b| b.0 == i) {
+                                b.1 += dx;
+                                b.2 += dy;
+                            }
+                        }
+                    }
+                }
+                world.sort_by_key(|b| b.0);
+                world.dedup_by_key(|b| b.0);
+                match what_trees {
+                    // A static shape moves: a new tree.
+                    0 => {
+                        if let Some(s) = level.first_mut() {
+                            s.1 += 3;
+                        }
+                        tree = build(&level);
+                    }
+                    // Some moving boxes fall asleep (a sleeping tree of them).
+                    1 => sleeping = build(&world.iter().take(3).map(|&(i, x, y)| (i + 100, x, y)).collect::<Vec<_>>()),
+                    2 => sleeping = StaticTree::default(),
+                    // The same boxes, a rebuilt tree (a new id).
+                    3 => tree = build(&level),
+                    _ => {}
+                }
+                let moving: Vec<Proxy> = world.iter().map(|&(i, x, y)| proxy(i, x, y)).collect();
+                bp.find_pairs(&moving, &tree, &sleeping);
+                let mut cold = Broadphase::default();
+                cold.find_pairs(&moving, &tree, &sleeping);
+                proptest::prop_assert_eq!(&bp.pairs, &cold.pairs);
+            }
+        }
+    }
+
+    #[test]
+    fn a_moving_shape_re_queries_only_when_it_leaves_its_fat_box() {
+        // Boxes are 2 × 2 around their points; a static box at x = 6.
+        let tree = StaticTree::build(vec![proxy(10, 6, 0), proxy(11, 60, 0)]);
+        let empty = StaticTree::default();
+        let mut bp = Broadphase::default();
+        let at = |x: i32| Proxy {
+            index: 1,
+            bb: BB::for_circle(Vect::new(Real::ratio(x, 2), Real::ZERO), Real::ONE),
+        };
+        // x = 0, then x = 0.5: the second fat box reaches 8 steps of 0.5
+        // ahead (to x = 5.25), which takes in the static box (5..7).
+        bp.find_pairs(&[at(0)], &tree, &empty);
+        bp.find_pairs(&[at(1)], &tree, &empty);
+        let fat = bp.hits.get(1).map(|h| h.fat);
+        assert!(fat.is_some_and(|f| f.r > Real::from_int(5)), "{fat:?}");
+        // Moving on at 0.5 per call: the same fat box answers, and the pair
+        // appears when the boxes touch (x = 4: 3..5 touches 5..7).
+        for x in 2..=8 {
+            bp.find_pairs(&[at(x)], &tree, &empty);
+            assert_eq!(bp.hits.get(1).map(|h| h.fat), fat, "x = {x}/2");
+            let touching = x >= 8;
+            assert_eq!(bp.pairs == vec![(1, 10)], touching, "x = {x}/2");
+        }
+        // Far away: a new fat box, the other static box.
+        bp.find_pairs(
+            &[Proxy {
+                index: 1,
+                bb: BB::for_circle(Vect::from_ints(59, 0), Real::ONE),
+            }],
+            &tree,
+            &empty,
+        );
+        assert_ne!(bp.hits.get(1).map(|h| h.fat), fat);
+        assert_eq!(bp.pairs, vec![(1, 11)]);
     }
 
     #[test]
