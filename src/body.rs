@@ -606,6 +606,11 @@ impl Body {
 
     /// MIS `set_pos` / Chipmunk `cpBodyGetPosition`: world position of the body origin.
     pub fn position(&self) -> Vect {
+        // Most bodies keep their centre of gravity at the origin: `p` itself,
+        // exactly what the rotation of a zero vector would give.
+        if self.cog == Vect::ZERO {
+            return self.p;
+        }
         self.p - self.rot.apply(self.cog)
     }
 

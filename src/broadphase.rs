@@ -68,10 +68,17 @@ impl StaticTree {
     /// longer axis, ties broken by shape index).
     pub fn build(mut proxies: Vec<Proxy>) -> StaticTree {
         proxies.sort_unstable_by_key(|p| p.index);
+        let proxies_empty = proxies.is_empty();
         let mut tree = StaticTree {
             proxies,
             nodes: Vec::new(),
-            id: NEXT_TREE_ID.fetch_add(1, core::sync::atomic::Ordering::Relaxed),
+            // Empty trees answer alike: they share the default's id 0, so a
+            // rebuilt empty tree (no body asleep) keeps the answers cached.
+            id: if proxies_empty {
+                0
+            } else {
+                NEXT_TREE_ID.fetch_add(1, core::sync::atomic::Ordering::Relaxed)
+            },
         };
         if !tree.proxies.is_empty() {
             let n = tree.proxies.len();
@@ -302,15 +309,21 @@ impl Broadphase {
     pub fn find_pairs(&mut self, moving: &[Proxy], statics: &StaticTree, sleeping: &StaticTree) {
         self.sort_moving(moving);
         self.found.clear();
-        // A table by shape slot when the slots are dense (see `dense_limit`);
-        // otherwise every box queries the trees afresh.
+        // The fat-box answers, by shape slot counted from the lowest moving
+        // one (a level's static slots below take no room), when those slots
+        // are dense (see `dense_limit`); otherwise every box queries the
+        // trees with its own box. Which entry serves which shape changes
+        // the work only: an entry answers any box inside its fat box.
+        let base = self.sorted.iter().map(|p| p.index).min().unwrap_or(0);
+        let at = |index: u32| index.wrapping_sub(base) as usize;
         let slots = self
             .sorted
             .iter()
-            .map(|p| p.index as usize)
+            .map(|p| at(p.index))
             .max()
             .map_or(0, |m| m.saturating_add(1));
-        if slots <= dense_limit(self.sorted.len()) && self.hits.len() < slots {
+        let table = slots <= dense_limit(self.sorted.len());
+        if table && self.hits.len() < slots {
             self.hits.resize_with(slots, StaticHits::default);
         }
         let Broadphase {
@@ -320,7 +333,6 @@ impl Broadphase {
             ..
         } = self;
         let mut rest = sorted.as_slice();
-        let mut fresh = StaticHits::default();
         while let Some((a, later)) = rest.split_first() {
             rest = later;
             for b in later {
@@ -334,17 +346,22 @@ impl Broadphase {
             if statics.is_empty() && sleeping.is_empty() {
                 continue;
             }
-            let cache = match hits.get_mut(a.index as usize) {
-                Some(cache) => cache,
-                None => {
-                    // No table: a scratch entry, asked afresh.
-                    fresh.trees = None;
-                    &mut fresh
+            match hits.get_mut(at(a.index)).filter(|_| table) {
+                Some(cache) => {
+                    for s in cache.refresh(&a.bb, statics, sleeping) {
+                        if s.index != a.index && s.bb.intersects(&a.bb) {
+                            found.push(ordered(a.index, s.index));
+                        }
+                    }
                 }
-            };
-            for s in cache.refresh(&a.bb, statics, sleeping) {
-                if s.index != a.index && s.bb.intersects(&a.bb) {
-                    found.push(ordered(a.index, s.index));
+                None => {
+                    for tree in [statics, sleeping] {
+                        tree.query(&a.bb, |s| {
+                            if s != a.index {
+                                found.push(ordered(a.index, s));
+                            }
+                        });
+                    }
                 }
             }
         }
@@ -356,9 +373,13 @@ impl Broadphase {
     /// appended), then insertion sort; a full sort if `moving` repeats a
     /// shape index or the insertion sort shifts too much.
     fn sort_moving(&mut self, moving: &[Proxy]) {
+        // The table covers the moving shapes' slots only, from the lowest:
+        // a level's static slots below them cost nothing.
+        let base = moving.iter().map(|p| p.index).min().unwrap_or(0);
+        let at = |index: u32| index.wrapping_sub(base) as usize;
         let slots = moving
             .iter()
-            .map(|p| p.index as usize)
+            .map(|p| at(p.index))
             .max()
             .map_or(0, |m| m.saturating_add(1));
         self.slot_pos.clear();
@@ -367,7 +388,7 @@ impl Broadphase {
             self.slot_pos.resize(slots, NONE);
         }
         for (k, p) in moving.iter().enumerate() {
-            if let Some(pos) = self.slot_pos.get_mut(p.index as usize) {
+            if let Some(pos) = self.slot_pos.get_mut(at(p.index)) {
                 unique &= *pos == NONE;
                 *pos = k as u32;
             }
@@ -383,7 +404,8 @@ impl Broadphase {
         // a slot taken here is marked so the new ones can be found.
         let slot_pos = &mut self.slot_pos;
         self.sorted.retain_mut(|p| {
-            let Some(pos) = slot_pos.get_mut(p.index as usize) else {
+            // A shape below `base` is gone (wrapping puts it past the table).
+            let Some(pos) = slot_pos.get_mut(at(p.index)) else {
                 return false;
             };
             match moving.get(*pos as usize) {
@@ -396,7 +418,7 @@ impl Broadphase {
             }
         });
         for p in moving {
-            if self.slot_pos.get(p.index as usize) != Some(&NONE) {
+            if self.slot_pos.get(at(p.index)) != Some(&NONE) {
                 self.sorted.push(*p);
             }
         }
@@ -417,7 +439,10 @@ impl Broadphase {
             .max()
             .map_or(0, |m| m.saturating_add(2));
         self.bucket.clear();
-        if slots > dense_limit(self.found.len()) {
+        // The counting sort walks a table of every slot up to the highest
+        // lower index: worth it when the pairs are many for the slots (a
+        // pile), not for a few pairs among a large level's slots.
+        if slots > dense_limit(self.found.len()) || slots > self.found.len().saturating_mul(8) {
             self.pairs.extend_from_slice(&self.found);
             self.pairs.sort_unstable();
             self.pairs.dedup();
@@ -740,13 +765,13 @@ mod tests {
         // ahead (to x = 5.25), which takes in the static box (5..7).
         bp.find_pairs(&[at(0)], &tree, &empty);
         bp.find_pairs(&[at(1)], &tree, &empty);
-        let fat = bp.hits.get(1).map(|h| h.fat);
+        let fat = bp.hits.first().map(|h| h.fat);
         assert!(fat.is_some_and(|f| f.r > Real::from_int(5)), "{fat:?}");
         // Moving on at 0.5 per call: the same fat box answers, and the pair
         // appears when the boxes touch (x = 4: 3..5 touches 5..7).
         for x in 2..=8 {
             bp.find_pairs(&[at(x)], &tree, &empty);
-            assert_eq!(bp.hits.get(1).map(|h| h.fat), fat, "x = {x}/2");
+            assert_eq!(bp.hits.first().map(|h| h.fat), fat, "x = {x}/2");
             let touching = x >= 8;
             assert_eq!(bp.pairs == vec![(1, 10)], touching, "x = {x}/2");
         }
@@ -759,7 +784,7 @@ mod tests {
             &tree,
             &empty,
         );
-        assert_ne!(bp.hits.get(1).map(|h| h.fat), fat);
+        assert_ne!(bp.hits.first().map(|h| h.fat), fat);
         assert_eq!(bp.pairs, vec![(1, 11)]);
     }
 

@@ -408,8 +408,15 @@ impl Circle {
 
     /// Moved into world space.
     pub fn to_world(&self, pos: Vect, rot: Rot) -> Circle {
+        // A centred circle (the usual one) is at `pos`: exactly what the
+        // rotation of a zero offset would give.
+        let offset = if self.offset == Vect::ZERO {
+            pos
+        } else {
+            pos + rot.apply(self.offset)
+        };
         Circle {
-            offset: pos + rot.apply(self.offset),
+            offset,
             radius: self.radius,
         }
     }
@@ -567,6 +574,21 @@ impl Poly {
         out
     }
 
+    /// [`to_world`](Self::to_world) written over `out`, a polygon of the
+    /// same vertex count: only the used entries change (the unused ones of
+    /// both are zero), so a cache entry is rewritten without copying the
+    /// whole polygon twice.
+    fn write_world_over(&self, pos: Vect, rot: Rot, out: &mut Poly) {
+        let n = self.count();
+        for (dst, src) in out.verts.iter_mut().zip(&self.verts).take(n) {
+            *dst = pos + rot.apply(*src);
+        }
+        for (dst, src) in out.normals.iter_mut().zip(&self.normals).take(n) {
+            *dst = rot.apply(*src);
+        }
+        out.radius = self.radius;
+    }
+
     /// Bounding box.
     pub fn bb(&self) -> BB {
         let mut it = self.verts().iter();
@@ -592,6 +614,20 @@ impl Geometry {
             Geometry::Circle(c) => Geometry::Circle(c.to_world(pos, rot)),
             Geometry::Segment(s) => Geometry::Segment(s.to_world(pos, rot)),
             Geometry::Poly(p) => Geometry::Poly(p.to_world(pos, rot)),
+        }
+    }
+
+    /// [`to_world`](Self::to_world) written into `out` (a shape cache's
+    /// entry, usually last step's world geometry of the same shape): the
+    /// same value, without building a whole `Geometry` and moving it.
+    pub(crate) fn write_world_into(&self, pos: Vect, rot: Rot, out: &mut Geometry) {
+        match (self, out) {
+            (Geometry::Circle(c), Geometry::Circle(o)) => *o = c.to_world(pos, rot),
+            (Geometry::Segment(s), Geometry::Segment(o)) => *o = s.to_world(pos, rot),
+            (Geometry::Poly(p), Geometry::Poly(o)) if o.count == p.count => {
+                p.write_world_over(pos, rot, o);
+            }
+            (g, out) => *out = g.to_world(pos, rot),
         }
     }
 
@@ -768,6 +804,50 @@ impl Poly {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Writing a world geometry over a cache entry gives exactly the
+    /// geometry `to_world` builds, whatever the entry held before: another
+    /// kind, a polygon of another vertex count, another placement.
+    #[test]
+    fn write_world_into_is_to_world_over_any_prior_entry() {
+        let r = |n: i64| Real::from_bits(n << 28);
+        let v = |x: i64, y: i64| Vect::new(r(x), r(y));
+        let shapes = [
+            Geometry::Circle(Circle::new(r(5), Vect::ZERO)),
+            Geometry::Circle(Circle::new(r(5), v(1, -2))),
+            Geometry::Segment(
+                Segment::new(v(0, 0), v(9, 3), r(1)).with_neighbors(v(-4, 0), v(12, 3)),
+            ),
+            Geometry::Poly(Poly::new_box(r(16), r(8), r(1)).unwrap()),
+            Geometry::Poly(
+                Poly::from_ccw(&[v(0, 0), v(4, 0), v(5, 3), v(0, 2)], Real::ZERO).unwrap(),
+            ),
+            Geometry::Poly(Poly::from_ccw(&[v(0, 0), v(4, 0), v(1, 3)], r(2)).unwrap()),
+        ];
+        let placements = [
+            (v(3, -7), crate::math::Rot::IDENTITY),
+            (
+                v(-100, 40),
+                crate::math::Rot::from_angle(Real::ratio(7, 10)),
+            ),
+            (
+                Vect::new(Real::MAX, Real::MIN),
+                crate::math::Rot::from_angle(Real::PI),
+            ),
+        ];
+        for g in &shapes {
+            for &(pos, rot) in &placements {
+                let want = g.to_world(pos, rot);
+                for prior in &shapes {
+                    for &(p2, r2) in &placements {
+                        let mut entry = prior.to_world(p2, r2);
+                        g.write_world_into(pos, rot, &mut entry);
+                        assert_eq!(entry, want, "{g:?} over {prior:?}");
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn matches_compact_agrees_with_from_compact() {

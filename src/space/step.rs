@@ -350,13 +350,26 @@ impl Space {
                 continue;
             }
             statics_changed |= is_static;
-            let geometry = s.geometry.to_world(body.position(), body.rotation());
-            let bb = geometry.bb();
-            *entry = Some(ShapeCache {
-                geometry,
-                bb,
-                is_static,
-            });
+            let (pos, rot) = (body.position(), body.rotation());
+            // Written over last step's entry where there is one.
+            let bb = match entry {
+                Some(c) => {
+                    s.geometry.write_world_into(pos, rot, &mut c.geometry);
+                    c.bb = c.geometry.bb();
+                    c.is_static = is_static;
+                    c.bb
+                }
+                None => {
+                    let geometry = s.geometry.to_world(pos, rot);
+                    let bb = geometry.bb();
+                    *entry = Some(ShapeCache {
+                        geometry,
+                        bb,
+                        is_static,
+                    });
+                    bb
+                }
+            };
             if sleeping {
                 bp.sleepers.push(Proxy {
                     index: i as u32,
