@@ -825,6 +825,14 @@ impl Body {
         if self.body_type != BodyType::Dynamic {
             return true;
         }
+        // A body of positive mass moving faster than `idle_speed` along an
+        // axis has more than the limit's energy in that term alone (the
+        // others are ≥ 0): not idle, the exact answer without the 256-bit
+        // sums. Most moving bodies leave here.
+        let fast = |v: Vect| v.x.abs() > idle_speed.abs() || v.y.abs() > idle_speed.abs();
+        if self.mass.is_positive() && (fast(self.v) || fast(self.v_bias)) {
+            return false;
+        }
         let term = |k: Real, r: Real| {
             I256::mul_i128(i128::from(k.to_bits()), wide_mul(r.to_bits(), r.to_bits()))
         };
@@ -866,8 +874,27 @@ impl Body {
     /// factor (the space precomputes `damping^dt`). Only dynamic bodies move.
     pub fn update_velocity(&mut self, gravity: Vect, damping: Real, dt: Real) {
         if self.body_type == BodyType::Dynamic {
-            self.v = self.v * damping + (gravity + self.f * self.mass_inv) * dt;
-            self.w = self.w * damping + self.t * self.moment_inv * dt;
+            // Each shortcut skips a product whose result is known exactly
+            // (`x·1 = x`, `0·x = 0`, `x + 0 = x`): the same bits, without
+            // the multiplies of the usual body (no damping, no force).
+            let damped = |x: Real| if damping == Real::ONE { x } else { x * damping };
+            let accel = if self.f == Vect::ZERO {
+                gravity
+            } else {
+                gravity + self.f * self.mass_inv
+            };
+            let v = Vect::new(damped(self.v.x), damped(self.v.y));
+            self.v = if accel == Vect::ZERO {
+                v
+            } else {
+                v + accel * dt
+            };
+            let w = damped(self.w);
+            self.w = if self.t.is_zero() {
+                w
+            } else {
+                w + self.t * self.moment_inv * dt
+            };
         }
         self.f = Vect::ZERO;
         self.t = Real::ZERO;
@@ -1009,6 +1036,57 @@ fn check_non_negative(v: Real, why: &'static str) -> Result<(), BodyError> {
 mod tests {
     use super::*;
     use crate::real;
+
+    /// A `Real` drawn from raw bits, extremes and small values alike.
+    fn any_real() -> impl proptest::strategy::Strategy<Value = Real> {
+        use proptest::prelude::*;
+        prop_oneof![
+            any::<i64>().prop_map(Real::from_bits),
+            (-(1i64 << 40)..(1i64 << 40)).prop_map(Real::from_bits),
+            Just(Real::ZERO),
+            Just(Real::ONE),
+            Just(Real::MAX),
+            Just(Real::MIN),
+        ]
+    }
+
+    proptest::proptest! {
+        /// The integrator's shortcuts (no damping, no force, no
+        /// acceleration) and the idle test's early "fast" exit give exactly
+        /// the results of the full formulas.
+        #[test]
+        fn velocity_update_and_idle_test_shortcuts_are_exact(
+            (m, i, vx, vy, w) in (any_real(), any_real(), any_real(), any_real(), any_real()),
+            (bx, by, bw, fx, fy) in (any_real(), any_real(), any_real(), any_real(), any_real()),
+            (t, gx, gy, damping, dt) in (any_real(), any_real(), any_real(), any_real(), any_real()),
+            (pick, idle) in (0u8..8, any_real()),
+        ) {
+            let mut b = Body::new(m.abs().max(Real::DELTA), i.abs().max(Real::DELTA)).unwrap();
+            let zero_or = |keep: bool, x: Real| if keep { x } else { Real::ZERO };
+            b.v = Vect::new(vx, vy);
+            b.w = w;
+            b.v_bias = Vect::new(zero_or(pick & 1 == 0, bx), by);
+            b.w_bias = bw;
+            b.f = Vect::new(zero_or(pick & 2 == 0, fx), zero_or(pick & 2 == 0, fy));
+            b.t = zero_or(pick & 4 == 0, t);
+            let gravity = Vect::new(zero_or(pick & 2 == 0, gx), zero_or(pick & 4 == 0, gy));
+            let damping = if pick & 1 == 0 { Real::ONE } else { damping };
+            // The idle test in full: energy on 256 bits against the limit.
+            let term = |k: Real, r: Real| {
+                I256::mul_i128(i128::from(k.to_bits()), wide_mul(r.to_bits(), r.to_bits()))
+            };
+            let below = |v: Vect, w: Real| {
+                let e = term(b.mass, v.x).add(term(b.mass, v.y)).add(term(b.moment, w));
+                let x = e.sub(term(b.mass, idle));
+                x.is_negative() || x.is_zero()
+            };
+            proptest::prop_assert_eq!(b.is_idle(idle), below(b.v, b.w) && below(b.v_bias, b.w_bias));
+            let (v, w, f, t) = (b.v, b.w, b.f, b.t);
+            b.update_velocity(gravity, damping, dt);
+            proptest::prop_assert_eq!(b.v, v * damping + (gravity + f * b.mass_inv) * dt);
+            proptest::prop_assert_eq!(b.w, w * damping + t * b.moment_inv * dt);
+        }
+    }
 
     #[test]
     fn small_angle_series_constants_are_nearest() {

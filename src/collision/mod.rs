@@ -531,6 +531,7 @@ fn moved(g: &Geometry, anchor: Vect) -> Geometry {
     }
 }
 
+#[inline(always)]
 fn moved_poly(p: &Poly, anchor: Vect) -> Poly {
     let n = p.count();
     // Built in place (a copy, then a loop over it, cost two extra copies).
