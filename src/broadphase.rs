@@ -648,6 +648,26 @@ mod tests {
         pairs
     }
 
+    /// One step of a random world of boxes `(index, x, y)`: each move
+    /// `(index, dx, dy, what)` removes the box (`what` 0), adds one at
+    /// `jump` times `(dx, dy)` (1), or moves it by `(dx, dy)`; the world
+    /// is left sorted by index.
+    fn apply_moves(world: &mut Vec<(u32, i32, i32)>, moves: &[(u32, i32, i32, u8)], jump: i32) {
+        for &(i, dx, dy, what) in moves {
+            match what {
+                0 => world.retain(|b| b.0 != i),
+                1 => world.push((i, dx * jump, dy * jump)),
+                _ => {
+                    for b in world.iter_mut().filter(|b| b.0 == i) {
+                        b.1 += dx;
+                        b.2 += dy;
+                    }
+                }
+            }
+        }
+        world.sort_by_key(|b| b.0);
+    }
+
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
         /// Calls on one `Broadphase` whose boxes move a little, jump, appear,
@@ -666,19 +686,7 @@ mod tests {
             let mut world: Vec<(u32, i32, i32)> = start;
             let mut bp = Broadphase::default();
             for step in moves {
-                for (i, dx, dy, what) in step {
-                    match what {
-                        0 => world.retain(|b| b.0 != i),
-                        1 => world.push((i, dx * 7, dy * 7)),
-                        _ => {
-                            for b in world.iter_mut().filter(|b| b.0 == i) {
-                                b.1 += dx;
-                                b.2 += dy;
-                            }
-                        }
-                    }
-                }
-                world.sort_by_key(|b| b.0);
+                apply_moves(&mut world, &step, 7);
                 let moving: Vec<Proxy> = world.iter().map(|&(i, x, y)| proxy(i, x, y)).collect();
                 bp.find_pairs(&moving, &tree, &StaticTree::default());
                 proptest::prop_assert_eq!(&bp.pairs, &find_pairs_full_sort(&moving, &tree));
@@ -713,19 +721,7 @@ mod tests {
             let mut world: Vec<(u32, i32, i32)> = start;
             let mut bp = Broadphase::default();
             for (moves, what_trees) in steps {
-                for (i, dx, dy, what) in moves {
-                    match what {
-                        0 => world.retain(|b| b.0 != i),
-                        1 => world.push((i, dx * 9, dy * 9)),
-                        _ => {
-                            for b in world.iter_mut().filter(|b| b.0 == i) {
-                                b.1 += dx;
-                                b.2 += dy;
-                            }
-                        }
-                    }
-                }
-                world.sort_by_key(|b| b.0);
+                apply_moves(&mut world, &moves, 9);
                 world.dedup_by_key(|b| b.0);
                 match what_trees {
                     // A static shape moves: a new tree.
