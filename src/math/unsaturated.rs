@@ -19,24 +19,38 @@ use super::wide::int::wide_mul;
 /// `2^(FRAC_BITS − 1)`: the rounding half.
 const HALF: i128 = 1 << (FRAC_BITS - 1);
 
+/// Products whose high word is recorded at or above this (`|p| ≥ 2^93`,
+/// results of `2^29` and more) raise the flag: far beyond any value a
+/// scene reaches, and far enough below `i64`'s edge that rounding cannot
+/// reach it (see [`Unsaturated::round`]).
+const WIDE_LIMIT: u64 = 1 << 29;
+
 /// A sticky overflow flag and the operations that raise it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Unsaturated {
+    /// An addition or a 128-bit sum wrapped.
     overflow: bool,
+    /// The bitwise OR of `|hi|` (one's complement) over the high words of
+    /// every rounded 128-bit product: a cheap, conservative range record
+    /// (see [`Unsaturated::round`]).
+    wide: u64,
 }
 
 impl Unsaturated {
     /// A clear flag.
     #[inline(always)]
     pub const fn new() -> Unsaturated {
-        Unsaturated { overflow: false }
+        Unsaturated {
+            overflow: false,
+            wide: 0,
+        }
     }
 
     /// True if any operation since [`Unsaturated::new`] left the range:
     /// the results are then meaningless and must be recomputed with [`Real`].
     #[inline(always)]
     pub const fn overflowed(self) -> bool {
-        self.overflow
+        self.overflow | (self.wide >= WIDE_LIMIT)
     }
 
     /// `a + b`.
@@ -56,16 +70,25 @@ impl Unsaturated {
     }
 
     /// Rounds a 128-bit sum of products like `Real` does (nearest, ties away
-    /// from zero) and flags results outside `i64`.
+    /// from zero), recording its size for [`overflowed`](Self::overflowed).
+    ///
+    /// Why this is exact without a check per product: the high word `hi`
+    /// of `p` is recorded as `hi ^ (hi >> 63)` (`|hi|` for `hi ≥ 0`,
+    /// `|hi| − 1` below), OR-ed into one word, and tested once at the end
+    /// against [`WIDE_LIMIT`]. Below it every recorded `p` lies in
+    /// `[−2^93, 2^93)`, so `p + HALF − [p < 0]` cannot wrap and the
+    /// rounded quotient lies in `[−2^61 − 1, 2^61]`: it fits `i64`, which
+    /// is the saturating operator's result bit for bit. Above it the caller
+    /// reruns saturating (a false alarm only costs that rerun, never a
+    /// bit). This is two instructions per product instead of an `i128`
+    /// overflow test and a range comparison.
     #[inline(always)]
     fn round(&mut self, p: i128) -> Real {
-        // `p + HALF − [p < 0]` cannot overflow unless |p| is within 2^31 of
-        // the i128 limit; flag that case too (the result would saturate).
-        let (biased, o) = p.overflowing_add(HALF.wrapping_sub(i128::from(p < 0)));
-        let r = biased >> FRAC_BITS;
-        let lo = r as i64;
-        self.overflow |= o | ((r >> 64) as i64 != lo >> 63);
-        Real::from_bits(lo)
+        let hi = (p >> 64) as i64;
+        let negative = hi >> 63; // 0 or −1
+        self.wide |= (hi ^ negative) as u64;
+        let biased = p.wrapping_add(HALF + i128::from(negative));
+        Real::from_bits((biased >> FRAC_BITS) as i64)
     }
 
     /// `a · b`, rounded as [`Real`]'s `*`.
@@ -80,9 +103,10 @@ impl Unsaturated {
     pub fn mul_add2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real {
         let p = wide_mul(a.to_bits(), b.to_bits());
         let q = wide_mul(c.to_bits(), d.to_bits());
-        let (s, o) = p.overflowing_add(q);
-        self.overflow |= o;
-        self.round(s)
+        // Each product lies in [−2^126 + 2^63, 2^126], so the sum wraps
+        // only when both are 2^126 (every factor `i64::MIN`): it becomes
+        // −2^127, whose high word `round` records as far out of range.
+        self.round(p.wrapping_add(q))
     }
 
     /// `a·b − c·d` with one rounding, as [`Real::mul_sub2`].
@@ -90,9 +114,9 @@ impl Unsaturated {
     pub fn mul_sub2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real {
         let p = wide_mul(a.to_bits(), b.to_bits());
         let q = wide_mul(c.to_bits(), d.to_bits());
-        let (s, o) = p.overflowing_sub(q);
-        self.overflow |= o;
-        self.round(s)
+        // Both products lie in [−2^126 + 2^63, 2^126]: the difference is
+        // within (−2^127, 2^127) and never wraps.
+        self.round(p.wrapping_sub(q))
     }
 
     /// `Σ xᵢ·yᵢ` over four terms with one rounding, as [`Real::dot4`].
@@ -212,6 +236,15 @@ mod tests {
         let mut u = Unsaturated::new();
         u.mul_add2(Real::MIN, Real::MIN, Real::MIN, Real::MIN);
         assert!(u.overflowed());
+        // The widest differences: 2^126 − (−2^126 + 2^63) and its negation.
+        for (a, b, c, d) in [
+            (Real::MIN, Real::MIN, Real::MIN, Real::MAX),
+            (Real::MIN, Real::MAX, Real::MIN, Real::MIN),
+        ] {
+            let mut u = Unsaturated::new();
+            u.mul_sub2(a, b, c, d);
+            assert!(u.overflowed());
+        }
         let mut u = Unsaturated::new();
         assert_eq!(u.mul(Real::TWO, Real::HALF), Real::ONE);
         assert!(!u.overflowed());
