@@ -87,7 +87,7 @@ impl Unsaturated {
         let hi = (p >> 64) as i64;
         let negative = hi >> 63; // 0 or −1
         self.wide |= (hi ^ negative) as u64;
-        let biased = p.wrapping_add(HALF + i128::from(negative));
+        let biased = p.wrapping_add(HALF.wrapping_add(i128::from(negative)));
         Real::from_bits((biased >> FRAC_BITS) as i64)
     }
 
