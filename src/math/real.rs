@@ -97,6 +97,24 @@ const fn round_shift_sat(p: i128) -> i64 {
     }
 }
 
+/// True when `p` lies in `[−2^93, 2^93)` (its high word in `[−2^29, 2^29)`):
+/// then `p` plus the rounding bias cannot wrap and the rounded quotient
+/// fits `i64`, so [`round_in_range`] is exact. Far beyond any sum a scene
+/// forms (results of `2^29` units); outside it the saturating path runs.
+#[inline(always)]
+const fn in_round_range(p: i128) -> bool {
+    let hi = (p >> 64) as i64;
+    (hi ^ (hi >> 63)) < (1 << 29)
+}
+
+/// [`round_shift_sat`] for `p` with [`in_round_range`]: the same bits
+/// without the saturation tests (nothing can saturate).
+#[inline(always)]
+const fn round_in_range(p: i128) -> i64 {
+    let bias = (1i128 << (FRAC_BITS - 1)).wrapping_sub((p < 0) as i128);
+    (p.wrapping_add(bias) >> FRAC_BITS) as i64
+}
+
 /// Clamps a sum of products so that [`round_shift_sat`] may take it.
 #[inline(always)]
 const fn clamp_sum(p: i128) -> i128 {
@@ -269,15 +287,29 @@ impl Real {
     /// The building block of dot and cross products.
     #[inline(always)]
     pub const fn mul_add2(a: Real, b: Real, c: Real, d: Real) -> Real {
-        let p = wide_mul(a.0, b.0).saturating_add(wide_mul(c.0, d.0));
-        Real(round_shift_sat(clamp_sum(p)))
+        let (p, q) = (wide_mul(a.0, b.0), wide_mul(c.0, d.0));
+        // Each product lies in [−2^126 + 2^63, 2^126]: the wrapping sum is
+        // exact except when both are 2^126, where it wraps to −2^127 and
+        // fails the range test. So in range it is the exact sum.
+        let sum = p.wrapping_add(q);
+        if in_round_range(sum) {
+            Real(round_in_range(sum))
+        } else {
+            Real(round_shift_sat(clamp_sum(p.saturating_add(q))))
+        }
     }
 
     /// `a·b − c·d` with a single rounding.
     #[inline(always)]
     pub const fn mul_sub2(a: Real, b: Real, c: Real, d: Real) -> Real {
-        let p = wide_mul(a.0, b.0).saturating_sub(wide_mul(c.0, d.0));
-        Real(round_shift_sat(clamp_sum(p)))
+        let (p, q) = (wide_mul(a.0, b.0), wide_mul(c.0, d.0));
+        // Both products lie in [−2^126 + 2^63, 2^126]: the difference never wraps.
+        let diff = p.wrapping_sub(q);
+        if in_round_range(diff) {
+            Real(round_in_range(diff))
+        } else {
+            Real(round_shift_sat(clamp_sum(p.saturating_sub(q))))
+        }
     }
 
     /// `x₀y₀ + x₁y₁ + x₂y₂ + x₃y₃` with a single rounding: the solver's
@@ -290,6 +322,16 @@ impl Real {
         let p1 = wide_mul(x[1].0, y[1].0);
         let p2 = wide_mul(x[2].0, y[2].0);
         let p3 = wide_mul(x[3].0, y[3].0);
+        // Fast path: each half sum wraps only at −2^127 (see `mul_add2`),
+        // which fails the range test; two halves in range (below 2^93)
+        // add exactly.
+        let (h01, h23) = (p0.wrapping_add(p1), p2.wrapping_add(p3));
+        if in_round_range(h01) && in_round_range(h23) {
+            let sum = h01.wrapping_add(h23);
+            if in_round_range(sum) {
+                return Real(round_in_range(sum));
+            }
+        }
         let sum = p0.saturating_add(p1).saturating_add(p2).saturating_add(p3);
         Real(round_shift_sat(clamp_sum(sum)))
     }
@@ -528,6 +570,87 @@ macro_rules! real {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    /// The sums of products as they were before their in-range fast path:
+    /// saturating 128-bit sums, clamped, rounded with saturation.
+    fn mul_add2_reference(a: Real, b: Real, c: Real, d: Real) -> Real {
+        let p = wide_mul(a.0, b.0).saturating_add(wide_mul(c.0, d.0));
+        Real(round_shift_sat(clamp_sum(p)))
+    }
+    fn mul_sub2_reference(a: Real, b: Real, c: Real, d: Real) -> Real {
+        let p = wide_mul(a.0, b.0).saturating_sub(wide_mul(c.0, d.0));
+        Real(round_shift_sat(clamp_sum(p)))
+    }
+    fn dot4_reference(x: [Real; 4], y: [Real; 4]) -> Real {
+        let p = |i: usize| wide_mul(x[i].0, y[i].0);
+        let sum = p(0)
+            .saturating_add(p(1))
+            .saturating_add(p(2))
+            .saturating_add(p(3));
+        Real(round_shift_sat(clamp_sum(sum)))
+    }
+
+    /// Raw values over the whole range: extremes, the edge of the fast
+    /// range (products near 2^93), ties and small values.
+    fn any_raw() -> impl Strategy<Value = i64> {
+        prop_oneof![
+            any::<i64>(),
+            (any::<i64>(), 0u32..63).prop_map(|(v, s)| v >> s),
+            (-64i64..64),
+            (-8i64..8).prop_map(|k| k << 31),
+            (-4i64..4).prop_map(|k| (1i64 << 46).wrapping_add(k)),
+            (-4i64..4).prop_map(|k| (-1i64 << 46).wrapping_add(k)),
+            Just(i64::MIN),
+            Just(i64::MAX),
+        ]
+    }
+
+    proptest! {
+        #[test]
+        fn sums_of_products_match_the_saturating_reference(
+            v in proptest::array::uniform8(any_raw())
+        ) {
+            let [a, b, c, d, e, f, g, h] = v.map(Real::from_bits);
+            prop_assert_eq!(Real::mul_add2(a, b, c, d), mul_add2_reference(a, b, c, d));
+            prop_assert_eq!(Real::mul_sub2(a, b, c, d), mul_sub2_reference(a, b, c, d));
+            let (x, y) = ([a, b, c, d], [e, f, g, h]);
+            prop_assert_eq!(Real::dot4(x, y), dot4_reference(x, y));
+            prop_assert_eq!(Real::dot4(x, x), dot4_reference(x, x));
+        }
+    }
+
+    #[test]
+    fn sums_of_products_at_the_edges() {
+        let edges = [
+            i64::MIN,
+            i64::MIN + 1,
+            i64::MAX,
+            -(1 << 46),
+            (1 << 46) - 1,
+            1 << 46,
+            -(1 << 31),
+            1 << 31,
+            -1,
+            0,
+            1,
+        ]
+        .map(Real::from_bits);
+        for &a in &edges {
+            for &b in &edges {
+                for &c in &edges {
+                    for &d in &edges {
+                        assert_eq!(Real::mul_add2(a, b, c, d), mul_add2_reference(a, b, c, d));
+                        assert_eq!(Real::mul_sub2(a, b, c, d), mul_sub2_reference(a, b, c, d));
+                        let (x, y) = ([a, b, c, d], [d, c, b, a]);
+                        assert_eq!(Real::dot4(x, y), dot4_reference(x, y));
+                        let (x, y) = ([a, a, c, c], [b, b, d, d]);
+                        assert_eq!(Real::dot4(x, y), dot4_reference(x, y));
+                    }
+                }
+            }
+        }
+    }
 
     fn r(v: f64) -> Real {
         Real::from_f64(v).unwrap()
