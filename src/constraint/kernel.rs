@@ -77,16 +77,16 @@ pub(crate) fn solve<K: JointKernel>(
     if !k.is_active() {
         return;
     }
-    let Some((a0, b0)) = load_pair(bodies, ia, ib) else {
+    let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
         return;
     };
-    let acc0 = k.acc();
-    let (mut a, mut b, mut acc) = (a0, b0, acc0);
+    let mut acc = k.acc();
     let mut fast = Unsaturated::new();
     k.iterate(&mut a, &mut b, &mut acc, j_max, &mut fast);
     if fast.overflowed() {
-        (a, b, acc) = (a0, b0, acc0);
-        iterate_saturating(k, &mut a, &mut b, &mut acc, j_max);
+        // The inputs are still in `bodies` and `k`: no copies kept.
+        solve_saturating(k, bodies, ia, ib, j_max);
+        return;
     }
     k.set_acc(acc);
     store_pair(bodies, ia, a, ib, b);
@@ -96,14 +96,20 @@ pub(crate) fn solve<K: JointKernel>(
 /// something saturates.
 #[cold]
 #[inline(never)]
-fn iterate_saturating<K: JointKernel>(
-    k: &K,
-    a: &mut SolverBody,
-    b: &mut SolverBody,
-    acc: &mut K::Impulse,
+fn solve_saturating<K: JointKernel>(
+    k: &mut K,
+    bodies: &mut [SolverBody],
+    ia: u32,
+    ib: u32,
     j_max: Real,
 ) {
-    k.iterate(a, b, acc, j_max, &mut Saturating);
+    let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
+        return;
+    };
+    let mut acc = k.acc();
+    k.iterate(&mut a, &mut b, &mut acc, j_max, &mut Saturating);
+    k.set_acc(acc);
+    store_pair(bodies, ia, a, ib, b);
 }
 
 /// The warm start of row `k`: `acc` (last step's impulse, already scaled)
@@ -121,15 +127,15 @@ pub(crate) fn warm_start<K: JointKernel>(
         return;
     }
     k.set_acc(acc);
-    let Some((a0, b0)) = load_pair(bodies, ia, ib) else {
+    let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
         return;
     };
-    let (mut a, mut b) = (a0, b0);
     let mut fast = Unsaturated::new();
     k.apply(&mut a, &mut b, acc, &mut fast);
     if fast.overflowed() {
-        (a, b) = (a0, b0);
-        apply_saturating(k, &mut a, &mut b, acc);
+        // The inputs are still in `bodies`: no copies kept.
+        apply_saturating(k, bodies, ia, ib, acc);
+        return;
     }
     store_pair(bodies, ia, a, ib, b);
 }
@@ -139,11 +145,16 @@ pub(crate) fn warm_start<K: JointKernel>(
 #[inline(never)]
 fn apply_saturating<K: JointKernel>(
     k: &K,
-    a: &mut SolverBody,
-    b: &mut SolverBody,
+    bodies: &mut [SolverBody],
+    ia: u32,
+    ib: u32,
     acc: K::Impulse,
 ) {
-    k.apply(a, b, acc, &mut Saturating);
+    let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
+        return;
+    };
+    k.apply(&mut a, &mut b, acc, &mut Saturating);
+    store_pair(bodies, ia, a, ib, b);
 }
 
 /// Copies out solver bodies `a` and `b` (`None` if one is out of range;

@@ -274,19 +274,19 @@ pub fn solve_with<const FRICTION: bool, const BIAS: bool>(
     block: &ManifoldBlock,
     bodies: &mut [SolverBody],
 ) {
-    let Some((a0, b0)) = load_pair(bodies, c1.a, c1.b) else {
+    let Some((mut a, mut b)) = load_pair(bodies, c1.a, c1.b) else {
         return;
     };
-    let acc0 = [
+    let mut acc = [
         [c1.jb_acc, c1.jn_acc, c1.jt_acc],
         [c2.jb_acc, c2.jn_acc, c2.jt_acc],
     ];
-    let (mut a, mut b, mut acc) = (a0, b0, acc0);
     let mut fast = Unsaturated::new();
     iterate::<_, FRICTION, BIAS>(c1, c2, block, &mut a, &mut b, &mut acc, &mut fast);
     if fast.overflowed() {
-        (a, b, acc) = (a0, b0, acc0);
-        iterate_saturating::<FRICTION, BIAS>(c1, c2, block, &mut a, &mut b, &mut acc);
+        // The inputs are still in `bodies` and the rows: no copies kept.
+        solve_saturating::<FRICTION, BIAS>(c1, c2, block, bodies);
+        return;
     }
     [c1.jb_acc, c1.jn_acc, c1.jt_acc] = acc[0];
     [c2.jb_acc, c2.jn_acc, c2.jt_acc] = acc[1];
@@ -296,15 +296,23 @@ pub fn solve_with<const FRICTION: bool, const BIAS: bool>(
 /// The reference path of [`solve_with`], out of line.
 #[cold]
 #[inline(never)]
-pub(super) fn iterate_saturating<const FRICTION: bool, const BIAS: bool>(
-    c1: &ContactConstraint,
-    c2: &ContactConstraint,
+pub(super) fn solve_saturating<const FRICTION: bool, const BIAS: bool>(
+    c1: &mut ContactConstraint,
+    c2: &mut ContactConstraint,
     block: &ManifoldBlock,
-    a: &mut SolverBody,
-    b: &mut SolverBody,
-    acc: &mut [[Real; 3]; 2],
+    bodies: &mut [SolverBody],
 ) {
-    iterate::<_, FRICTION, BIAS>(c1, c2, block, a, b, acc, &mut Saturating);
+    let Some((mut a, mut b)) = load_pair(bodies, c1.a, c1.b) else {
+        return;
+    };
+    let mut acc = [
+        [c1.jb_acc, c1.jn_acc, c1.jt_acc],
+        [c2.jb_acc, c2.jn_acc, c2.jt_acc],
+    ];
+    iterate::<_, FRICTION, BIAS>(c1, c2, block, &mut a, &mut b, &mut acc, &mut Saturating);
+    [c1.jb_acc, c1.jn_acc, c1.jt_acc] = acc[0];
+    [c2.jb_acc, c2.jn_acc, c2.jt_acc] = acc[1];
+    store_pair(bodies, c1.a, a, c1.b, b);
 }
 
 /// The velocity error of a row along the normal: `n·dv + ω_b (r2 × n) −

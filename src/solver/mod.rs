@@ -453,15 +453,15 @@ impl ContactConstraint {
     /// [`solve_with`](Self::solve_with).
     #[inline]
     fn warm_start_with<const FRICTION: bool>(&self, bodies: &mut [SolverBody]) {
-        let Some((a0, b0)) = load_pair(bodies, self.a, self.b) else {
+        let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
             return;
         };
-        let (mut a, mut b) = (a0, b0);
         let mut fast = Unsaturated::new();
         self.warm_start_bodies::<_, FRICTION>(&mut a, &mut b, &mut fast);
         if fast.overflowed() {
-            (a, b) = (a0, b0);
-            self.warm_start_saturating::<FRICTION>(&mut a, &mut b);
+            // The inputs are still in `bodies`: no copies kept.
+            self.warm_start_saturating::<FRICTION>(bodies);
+            return;
         }
         store_pair(bodies, self.a, a, self.b, b);
     }
@@ -469,8 +469,12 @@ impl ContactConstraint {
     /// The reference path of [`warm_start_with`](Self::warm_start_with).
     #[cold]
     #[inline(never)]
-    fn warm_start_saturating<const FRICTION: bool>(&self, a: &mut SolverBody, b: &mut SolverBody) {
-        self.warm_start_bodies::<_, FRICTION>(a, b, &mut Saturating);
+    fn warm_start_saturating<const FRICTION: bool>(&self, bodies: &mut [SolverBody]) {
+        let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
+            return;
+        };
+        self.warm_start_bodies::<_, FRICTION>(&mut a, &mut b, &mut Saturating);
+        store_pair(bodies, self.a, a, self.b, b);
     }
 
     /// Applies the accumulated impulses to body copies.
@@ -518,16 +522,16 @@ impl ContactConstraint {
         &mut self,
         bodies: &mut [SolverBody],
     ) {
-        let Some((a0, b0)) = load_pair(bodies, self.a, self.b) else {
+        let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
             return;
         };
-        let acc0 = [self.jb_acc, self.jn_acc, self.jt_acc];
-        let (mut a, mut b, mut acc) = (a0, b0, acc0);
+        let mut acc = [self.jb_acc, self.jn_acc, self.jt_acc];
         let mut fast = Unsaturated::new();
         self.iterate::<_, FRICTION, BIAS>(&mut a, &mut b, &mut acc, &mut fast);
         if fast.overflowed() {
-            (a, b, acc) = (a0, b0, acc0);
-            self.iterate_saturating::<FRICTION, BIAS>(&mut a, &mut b, &mut acc);
+            // The inputs are still in `bodies` and `self`: no copies kept.
+            self.solve_saturating::<FRICTION, BIAS>(bodies);
+            return;
         }
         [self.jb_acc, self.jn_acc, self.jt_acc] = acc;
         store_pair(bodies, self.a, a, self.b, b);
@@ -537,13 +541,17 @@ impl ContactConstraint {
     /// line: it runs only when something saturates.
     #[cold]
     #[inline(never)]
-    fn iterate_saturating<const FRICTION: bool, const BIAS: bool>(
-        &self,
-        a: &mut SolverBody,
-        b: &mut SolverBody,
-        acc: &mut [Real; 3],
+    fn solve_saturating<const FRICTION: bool, const BIAS: bool>(
+        &mut self,
+        bodies: &mut [SolverBody],
     ) {
-        self.iterate::<_, FRICTION, BIAS>(a, b, acc, &mut Saturating);
+        let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
+            return;
+        };
+        let mut acc = [self.jb_acc, self.jn_acc, self.jt_acc];
+        self.iterate::<_, FRICTION, BIAS>(&mut a, &mut b, &mut acc, &mut Saturating);
+        [self.jb_acc, self.jn_acc, self.jt_acc] = acc;
+        store_pair(bodies, self.a, a, self.b, b);
     }
 
     /// One iteration on body copies `a`, `b` and the accumulated impulses
@@ -942,11 +950,14 @@ mod tests {
         let mut fast = c;
         let mut bodies = [a, b];
         fast.solve_with::<F, B>(&mut bodies);
-        let (mut ra, mut rb) = (a, b);
-        let mut acc = [c.jb_acc, c.jn_acc, c.jt_acc];
-        c.iterate_saturating::<F, B>(&mut ra, &mut rb, &mut acc);
-        proptest::prop_assert_eq!(bodies, [ra, rb]);
-        proptest::prop_assert_eq!([fast.jb_acc, fast.jn_acc, fast.jt_acc], acc);
+        let mut reference = c;
+        let mut ref_bodies = [a, b];
+        reference.solve_saturating::<F, B>(&mut ref_bodies);
+        proptest::prop_assert_eq!(bodies, ref_bodies);
+        proptest::prop_assert_eq!(
+            [fast.jb_acc, fast.jn_acc, fast.jt_acc],
+            [reference.jb_acc, reference.jn_acc, reference.jt_acc]
+        );
         Ok(())
     }
 
@@ -961,9 +972,9 @@ mod tests {
         c.scale_cached_impulses::<F>(dt_coef);
         let mut bodies = [a, b];
         c.warm_start_with::<F>(&mut bodies);
-        let (mut ra, mut rb) = (a, b);
-        c.warm_start_saturating::<F>(&mut ra, &mut rb);
-        proptest::prop_assert_eq!(bodies, [ra, rb]);
+        let mut ref_bodies = [a, b];
+        c.warm_start_saturating::<F>(&mut ref_bodies);
+        proptest::prop_assert_eq!(bodies, ref_bodies);
         Ok(())
     }
 
@@ -1000,15 +1011,18 @@ mod tests {
         let (mut f1, mut f2) = (c1, c2);
         let mut bodies = [a, b];
         block::solve_with::<F, B>(&mut f1, &mut f2, blk, &mut bodies);
-        let (mut ra, mut rb) = (a, b);
-        let mut acc = [
-            [c1.jb_acc, c1.jn_acc, c1.jt_acc],
-            [c2.jb_acc, c2.jn_acc, c2.jt_acc],
-        ];
-        block::iterate_saturating::<F, B>(&c1, &c2, blk, &mut ra, &mut rb, &mut acc);
-        proptest::prop_assert_eq!(bodies, [ra, rb]);
-        proptest::prop_assert_eq!([f1.jb_acc, f1.jn_acc, f1.jt_acc], acc[0]);
-        proptest::prop_assert_eq!([f2.jb_acc, f2.jn_acc, f2.jt_acc], acc[1]);
+        let (mut r1, mut r2) = (c1, c2);
+        let mut ref_bodies = [a, b];
+        block::solve_saturating::<F, B>(&mut r1, &mut r2, blk, &mut ref_bodies);
+        proptest::prop_assert_eq!(bodies, ref_bodies);
+        proptest::prop_assert_eq!(
+            [f1.jb_acc, f1.jn_acc, f1.jt_acc],
+            [r1.jb_acc, r1.jn_acc, r1.jt_acc]
+        );
+        proptest::prop_assert_eq!(
+            [f2.jb_acc, f2.jn_acc, f2.jt_acc],
+            [r2.jb_acc, r2.jn_acc, r2.jt_acc]
+        );
         Ok(())
     }
 
