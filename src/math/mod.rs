@@ -14,5 +14,5 @@ pub use bb::BB;
 pub use real::{Real, RealError};
 pub use rot::Rot;
 pub use transform::Transform;
-pub use unsaturated::{FixedArith, Saturating, Unsaturated};
+pub use unsaturated::{below_2_62, Bounded, FixedArith, Saturating, Unsaturated};
 pub use vect::Vect;

@@ -151,6 +151,86 @@ pub trait FixedArith {
     fn mul_sub2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real;
     /// `Σ xᵢ·yᵢ` over four terms, one rounding.
     fn dot4(&mut self, x: [Real; 4], y: [Real; 4]) -> Real;
+
+    /// [`dot4`](Self::dot4) where one factor of every product is a
+    /// constant of the kernel that [`below_2_62`] accepted. Only
+    /// [`Bounded`] uses the promise; the others compute `dot4`.
+    #[inline(always)]
+    fn dot4_bounded(&mut self, x: [Real; 4], y: [Real; 4]) -> Real {
+        self.dot4(x, y)
+    }
+
+    /// `−c` for a constant `c` of the kernel, as `Real`'s saturating `−`.
+    /// [`Bounded`] negates without the saturation test ([`below_2_62`]
+    /// accepted `c`, so `c ≠ i64::MIN`).
+    #[inline(always)]
+    fn neg_const(&mut self, c: Real) -> Real {
+        -c
+    }
+}
+
+/// True when every value is below `2^62` in magnitude (raw bits): the
+/// promise [`Bounded`] relies on, checked once per step for a kernel's
+/// constants (normals, lever arms, `I⁻¹·(r × n)`) instead of once per
+/// operation in every iteration.
+#[inline(always)]
+pub fn below_2_62(values: &[Real]) -> bool {
+    let or = values
+        .iter()
+        .fold(0u64, |acc, v| acc | v.to_bits().unsigned_abs());
+    or < 1 << 62
+}
+
+/// [`Unsaturated`] for a kernel whose constants [`below_2_62`] accepted:
+/// the same operations and the same flag, except that the 4-term dot
+/// products with such a constant in every product add their 128-bit
+/// products without overflow tests (each is below `2^63 · 2^62`, so the
+/// sum of four stays below `2^127`), and the constants' negations need no
+/// saturation test. The same bits as [`Unsaturated`] and [`Saturating`]
+/// whenever the flag stays clear.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Bounded(pub Unsaturated);
+
+impl FixedArith for Bounded {
+    #[inline(always)]
+    fn add(&mut self, a: Real, b: Real) -> Real {
+        self.0.add(a, b)
+    }
+    #[inline(always)]
+    fn sub(&mut self, a: Real, b: Real) -> Real {
+        self.0.sub(a, b)
+    }
+    #[inline(always)]
+    fn mul(&mut self, a: Real, b: Real) -> Real {
+        self.0.mul(a, b)
+    }
+    #[inline(always)]
+    fn mul_add2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real {
+        self.0.mul_add2(a, b, c, d)
+    }
+    #[inline(always)]
+    fn mul_sub2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real {
+        self.0.mul_sub2(a, b, c, d)
+    }
+    #[inline(always)]
+    fn dot4(&mut self, x: [Real; 4], y: [Real; 4]) -> Real {
+        self.0.dot4(x, y)
+    }
+    #[inline(always)]
+    fn dot4_bounded(&mut self, x: [Real; 4], y: [Real; 4]) -> Real {
+        let [x0, x1, x2, x3] = x;
+        let [y0, y1, y2, y3] = y;
+        let p = |a: Real, b: Real| wide_mul(a.to_bits(), b.to_bits());
+        let sum = p(x0, y0)
+            .wrapping_add(p(x1, y1))
+            .wrapping_add(p(x2, y2))
+            .wrapping_add(p(x3, y3));
+        self.0.round(sum)
+    }
+    #[inline(always)]
+    fn neg_const(&mut self, c: Real) -> Real {
+        Real::from_bits(c.to_bits().wrapping_neg())
+    }
 }
 
 /// [`FixedArith`] by [`Real`]'s saturating operators.
@@ -248,6 +328,27 @@ mod tests {
         let mut u = Unsaturated::new();
         assert_eq!(u.mul(Real::TWO, Real::HALF), Real::ONE);
         assert!(!u.overflowed());
+    }
+
+    #[test]
+    fn bounded_constants_stop_below_2_62() {
+        let raw = |bits: i64| [Real::from_bits(bits)];
+        assert!(below_2_62(&raw((1 << 62) - 1)));
+        assert!(below_2_62(&raw(1 - (1 << 62))));
+        assert!(!below_2_62(&raw(1 << 62)));
+        assert!(!below_2_62(&raw(-(1 << 62))));
+        assert!(!below_2_62(&raw(i64::MIN)));
+        assert!(!below_2_62(&[Real::ONE, Real::MAX, Real::ZERO]));
+        // At the edge, four products with the widest variable stay exact
+        // (flagged by the rounding, never wrapped into a wrong value).
+        for (c, v) in [((1i64 << 62) - 1, i64::MIN), (1 - (1 << 62), i64::MIN)] {
+            let (c, v) = (Real::from_bits(c), Real::from_bits(v));
+            let mut u = Bounded(Unsaturated::new());
+            let got = u.dot4_bounded([v; 4], [c; 4]);
+            assert!(agrees(u.0, got, Real::dot4([v; 4], [c; 4])));
+            assert!(u.0.overflowed());
+            assert_eq!(u.neg_const(c), -c);
+        }
     }
 
     #[test]

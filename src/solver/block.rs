@@ -34,7 +34,7 @@ use super::{
 use crate::constraint::kernel::neg;
 use crate::math::wide::exact::saturate_to_real;
 use crate::math::wide::int::wide_mul;
-use crate::math::{FixedArith, Real, Saturating, Unsaturated, Vect};
+use crate::math::{below_2_62, Bounded, FixedArith, Real, Saturating, Unsaturated, Vect};
 
 /// Largest accepted condition estimate `k_max² / det K` (Box2D v2's value):
 /// beyond it the 2×2 inverse amplifies rounding more than the block gains.
@@ -73,6 +73,11 @@ pub struct ManifoldBlock {
     pub kt_b: Real,
     /// `1 / (d(vt₁ + vt₂)/dJ)` for a face impulse `J`.
     pub t_mass: Real,
+    /// Both rows are [`bounded`](ContactConstraint::bounded) and so are
+    /// the block's own constants of the iteration's dot products (`t2`,
+    /// `st_a`, `st_b`, `kt_a`, `kt_b`): the iteration may run in
+    /// [`Bounded`] arithmetic ([`check_range`](Self::check_range)).
+    pub bounded: bool,
 }
 
 impl ManifoldBlock {
@@ -99,7 +104,20 @@ impl ManifoldBlock {
         if fast.overflowed() {
             terms = block_terms_saturating(c1, c2, a, b, friction);
         }
-        terms.finish(a.i_inv, b.i_inv, friction)
+        let mut block = terms.finish(a.i_inv, b.i_inv, friction)?;
+        block.check_range(c1, c2);
+        Some(block)
+    }
+
+    /// Sets [`bounded`](Self::bounded) from the rows' flags and the
+    /// block's constants.
+    #[inline(always)]
+    pub fn check_range(&mut self, c1: &ContactConstraint, c2: &ContactConstraint) {
+        self.bounded = c1.bounded
+            && c2.bounded
+            && below_2_62(&[
+                self.t2.x, self.t2.y, self.st_a, self.st_b, self.kt_a, self.kt_b,
+            ]);
     }
 }
 
@@ -274,6 +292,10 @@ pub fn solve_with<const FRICTION: bool, const BIAS: bool>(
     block: &ManifoldBlock,
     bodies: &mut [SolverBody],
 ) {
+    if !block.bounded {
+        solve_saturating::<FRICTION, BIAS>(c1, c2, block, bodies);
+        return;
+    }
     let Some((mut a, mut b)) = load_pair(bodies, c1.a, c1.b) else {
         return;
     };
@@ -281,9 +303,9 @@ pub fn solve_with<const FRICTION: bool, const BIAS: bool>(
         [c1.jb_acc, c1.jn_acc, c1.jt_acc],
         [c2.jb_acc, c2.jn_acc, c2.jt_acc],
     ];
-    let mut fast = Unsaturated::new();
+    let mut fast = Bounded(Unsaturated::new());
     iterate::<_, FRICTION, BIAS>(c1, c2, block, &mut a, &mut b, &mut acc, &mut fast);
-    if fast.overflowed() {
+    if fast.0.overflowed() {
         // The inputs are still in `bodies` and the rows: no copies kept.
         solve_saturating::<FRICTION, BIAS>(c1, c2, block, bodies);
         return;
@@ -325,7 +347,8 @@ fn normal_velocity<A: FixedArith>(
     wb: Real,
     ar: &mut A,
 ) -> Real {
-    ar.dot4([dv.x, dv.y, wb, wa], [c.n.x, c.n.y, c.rn_b, -c.rn_a])
+    let neg_rn_a = ar.neg_const(c.rn_a);
+    ar.dot4_bounded([dv.x, dv.y, wb, wa], [c.n.x, c.n.y, c.rn_b, neg_rn_a])
 }
 
 /// One iteration on body copies and accumulators `acc[i] = [jb, jn, jt]` of
@@ -370,9 +393,10 @@ fn iterate<A: FixedArith, const FRICTION: bool, const BIAS: bool>(
 
     if FRICTION {
         // vt₁ + vt₂ (+ the surface velocity of both), one rounding.
-        let vt = ar.dot4(
+        let neg_st_a = ar.neg_const(block.st_a);
+        let vt = ar.dot4_bounded(
             [dv.x, dv.y, b.w, a.w],
-            [block.t2.x, block.t2.y, block.st_b, -block.st_a],
+            [block.t2.x, block.t2.y, block.st_b, neg_st_a],
         );
         let surface = ar.add(c1.surface_t, c2.surface_t);
         let vt = ar.add(vt, surface);
@@ -390,11 +414,11 @@ fn iterate<A: FixedArith, const FRICTION: bool, const BIAS: bool>(
         let dn = ar.add(d[0], d[1]);
         // P = n·(d₁ + d₂) + perp(n)·J, perp(n) = (−n.y, n.x).
         let p = Vect::new(ar.mul_sub2(n.x, dn, n.y, jt), ar.mul_add2(n.y, dn, n.x, jt));
-        let dwa = ar.dot4(
+        let dwa = ar.dot4_bounded(
             [c1.kn_a, c2.kn_a, block.kt_a, Real::ZERO],
             [d[0], d[1], jt, Real::ZERO],
         );
-        let dwb = ar.dot4(
+        let dwb = ar.dot4_bounded(
             [c1.kn_b, c2.kn_b, block.kt_b, Real::ZERO],
             [d[0], d[1], jt, Real::ZERO],
         );
@@ -563,6 +587,8 @@ mod tests {
                 Real::ZERO
             };
         }
+        // The range flag (newer than this oracle) is a function of the fields.
+        block.check_range(c1, c2);
         Some(block)
     }
 
