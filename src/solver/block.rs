@@ -367,7 +367,18 @@ fn iterate<A: FixedArith, const FRICTION: bool, const BIAS: bool>(
 ) {
     let k = &block.normal;
     let masses = [c1.n_mass, c2.n_mass];
-    if BIAS {
+    // As in a row: with no bias velocity on either body and neither a
+    // target nor an impulse on either contact, the bias block is an exact
+    // no-op (the complementarity problem of zeros returns zeros).
+    let bias_idle = || {
+        c1.bias_target.is_zero()
+            && c2.bias_target.is_zero()
+            && acc[0][0].is_zero()
+            && acc[1][0].is_zero()
+            && a.bias_is_zero()
+            && b.bias_is_zero()
+    };
+    if BIAS && !bias_idle() {
         let dvb = Vect::new(
             ar.sub(b.v_bias.x, a.v_bias.x),
             ar.sub(b.v_bias.y, a.v_bias.y),

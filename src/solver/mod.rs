@@ -89,6 +89,14 @@ pub struct SolverBody {
     pub i_inv: Real,
 }
 
+impl SolverBody {
+    /// No bias velocity, linear or angular (bit test, no arithmetic).
+    #[inline(always)]
+    pub fn bias_is_zero(&self) -> bool {
+        (self.v_bias.x.to_bits() | self.v_bias.y.to_bits() | self.w_bias.to_bits()) == 0
+    }
+}
+
 /// The solver stages' scratch in the space (stages 6–11; not simulation
 /// state): the contiguous body array, indexed by body slot, and this step's
 /// contact constraints in canonical order.
@@ -587,7 +595,13 @@ impl ContactConstraint {
         let n = self.n;
         let [jb_old, jn_old, jt_old] = *acc;
 
-        if BIAS {
+        // The bias row is an exact no-op (every product and sum is of
+        // zeros) while both bodies have no bias velocity and the row has
+        // neither a target nor an impulse: skipped, same bits.
+        let bias_idle = || {
+            self.bias_target.is_zero() && jb_old.is_zero() && a.bias_is_zero() && b.bias_is_zero()
+        };
+        if BIAS && !bias_idle() {
             let dvb = Vect::new(
                 ar.sub(b.v_bias.x, a.v_bias.x),
                 ar.sub(b.v_bias.y, a.v_bias.y),
