@@ -258,18 +258,20 @@ impl<'a> Dec<'a> {
             return Err(self.error("too many words"));
         }
         let n_lens = n.div_ceil(2);
-        let longest = n_lens.saturating_add(n.saturating_mul(8)).saturating_add(8);
         let Dec { bytes, at, pad } = self;
         let rest = bytes.get(*at..).unwrap_or(&[]);
-        let near_end = rest.len() < longest.max(16);
-        let src: &[u8] = if near_end {
-            *pad = [0; PAD];
-            for (d, s) in pad.iter_mut().zip(rest) {
-                *d = *s;
+        // A whole `PAD` bytes from the object's start (the longest object
+        // and an 8-byte load past it), or their zero-padded copy near the
+        // end: a fixed-size window, so the word loads need no bounds tests.
+        let src: &[u8; PAD] = match rest.first_chunk::<PAD>() {
+            Some(window) => window,
+            None => {
+                *pad = [0; PAD];
+                if let Some(head) = pad.get_mut(..rest.len()) {
+                    head.copy_from_slice(rest);
+                }
+                pad
             }
-            &pad[..]
-        } else {
-            rest
         };
         let block = src
             .first_chunk::<16>()
@@ -362,7 +364,7 @@ impl<'a> Dec<'a> {
 /// One object being read (see [`Dec::object`]).
 pub(crate) struct ObjR<'d> {
     /// The bytes from the object's start (or their padded copy).
-    src: &'d [u8],
+    src: &'d [u8; PAD],
     /// The reader's position, moved past the object by `finish`.
     start: &'d mut usize,
     /// The lengths not yet used, a nibble each, next lowest.
@@ -423,14 +425,17 @@ impl ObjR<'_> {
     }
 }
 
-/// The word of `len` bytes (≤ 8) at `at` in `bytes`, which hold 8 bytes
-/// from there, and whether it is longer than its shortest form.
+/// The word of `len` bytes (≤ 8) at `at` in `bytes`, and whether it is
+/// longer than its shortest form. `at` is at most `PAD − 16` while every
+/// length so far was at most 8; past that the object is already malformed
+/// (a length above 8 sets the error) and the load is clamped to the window.
 #[inline(always)]
-fn word_at(bytes: &[u8], at: usize, len: u8) -> (i64, bool) {
+fn word_at(bytes: &[u8; PAD], at: usize, len: u8) -> (i64, bool) {
+    let at = at.min(PAD - 8);
     let raw = bytes
-        .get(at..)
-        .and_then(|b| b.first_chunk::<8>())
-        .map_or(0, |b| i64::from_le_bytes(*b));
+        .get(at..at.wrapping_add(8))
+        .and_then(|b| <[u8; 8]>::try_from(b).ok())
+        .map_or(0, i64::from_le_bytes);
     if len == 0 {
         return (0, false);
     }
