@@ -5,14 +5,17 @@
 //! all instructions of a resting-pyramid step). In hot loops where overflow
 //! is rare but must still be handled exactly, [`Unsaturated`] computes with
 //! plain (wrapping) integer operations, the same round-to-nearest,
-//! ties-away-from-zero products as [`Real`], and one sticky flag that
-//! records whether any result left the `i64` range. The caller runs the
-//! fast computation on copies; if the flag is clear no operation could have
-//! saturated, so the result is bit-identical to the [`Real`] computation
-//! (wrapping and saturating arithmetic agree on every in-range result); if it
-//! is set, the caller discards the copies and runs the saturating version.
-//! The solver's fast path is tested against the saturating one on random and
-//! extreme inputs.
+//! ties-away-from-zero products as [`Real`], and a sticky record of whether
+//! any result may have left the `i64` range (an overflow bit for additions;
+//! for products, the OR of their high words, tested once at the end). The
+//! caller runs the fast computation on copies; if the record is clear no
+//! operation could have saturated, so the result is bit-identical to the
+//! [`Real`] computation (wrapping and saturating arithmetic agree on every
+//! in-range result); if it is set (conservatively: a false alarm costs only
+//! the rerun), the caller discards the copies and runs the saturating
+//! version. [`Bounded`] goes one step further for kernels whose constants a
+//! range check ([`below_2_62`]) accepted once per step. The solver's fast
+//! path is tested against the saturating one on random and extreme inputs.
 use super::real::{Real, FRAC_BITS};
 use super::wide::int::wide_mul;
 
