@@ -76,8 +76,9 @@ pub struct ManifoldBlock {
     /// Both rows are [`bounded`](ContactConstraint::bounded) and so are
     /// the block's own constants of the iteration's dot products (`t2`,
     /// `st_a`, `st_b`, `kt_a`, `kt_b`): the iteration may run in
-    /// [`Bounded`] arithmetic ([`check_range`](Self::check_range)).
-    pub bounded: bool,
+    /// [`Bounded`] arithmetic ([`check_range`](Self::check_range)). Set
+    /// only by the pre-step and `check_range`.
+    pub(crate) bounded: bool,
 }
 
 impl ManifoldBlock {
@@ -284,9 +285,27 @@ fn half_product(i_inv: Real, s: Real) -> Real {
 /// One block iteration of rows `c1`, `c2` (the two-contact
 /// [`ContactConstraint::solve_with`]): fast path first, the saturating
 /// reference only if the overflow flag is raised, so the result is always
-/// the saturating one.
+/// the saturating one. The rows' and the block's constants are
+/// range-checked first (their fields are public and may have changed since
+/// the pre-step).
 #[inline]
 pub fn solve_with<const FRICTION: bool, const BIAS: bool>(
+    c1: &mut ContactConstraint,
+    c2: &mut ContactConstraint,
+    block: &ManifoldBlock,
+    bodies: &mut [SolverBody],
+) {
+    c1.check_range();
+    c2.check_range();
+    let mut checked = *block;
+    checked.check_range(c1, c2);
+    solve_prepared::<FRICTION, BIAS>(c1, c2, &checked, bodies);
+}
+
+/// [`solve_with`] trusting the range flags the pre-step set: the space's
+/// step, whose rows and blocks nothing changes before the iterations.
+#[inline]
+pub(crate) fn solve_prepared<const FRICTION: bool, const BIAS: bool>(
     c1: &mut ContactConstraint,
     c2: &mut ContactConstraint,
     block: &ManifoldBlock,

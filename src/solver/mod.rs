@@ -321,10 +321,11 @@ pub struct ContactConstraint {
     /// The constants that multiply in the iteration's dot products (`n`,
     /// the lever arms `r × n`, `r × t` and `I⁻¹ (r × n)`) are below `2^62`
     /// raw ([`below_2_62`]): the iteration may run in [`Bounded`]
-    /// arithmetic. Set by the pre-step ([`check_range`](Self::check_range));
-    /// a row without it (positions near the edge of the range) is solved
-    /// in saturating arithmetic.
-    pub bounded: bool,
+    /// arithmetic. Set by the pre-step ([`check_range`](Self::check_range))
+    /// and only by it (read it with [`is_bounded`](Self::is_bounded)); a
+    /// row without it (positions near the edge of the range) is solved in
+    /// saturating arithmetic.
+    pub(crate) bounded: bool,
 }
 
 impl ContactConstraint {
@@ -382,6 +383,12 @@ impl ContactConstraint {
         sc.n_mass = effective_mass(k[0]);
         sc.check_range();
         (sc, k[1])
+    }
+
+    /// True if the row's constants passed the range check of the
+    /// [`Bounded`] fast path (see [`check_range`](Self::check_range)).
+    pub fn is_bounded(&self) -> bool {
+        self.bounded
     }
 
     /// Sets [`bounded`](Self::bounded) from the row's constants.
@@ -535,14 +542,29 @@ impl ContactConstraint {
     /// target with no bias velocities (the bias row is not computed). The
     /// space picks one of the four once per step.
     ///
-    /// The iteration runs first in [`Unsaturated`] arithmetic on copies;
+    /// The iteration runs first in [`Bounded`] arithmetic on copies;
     /// only if an operation left the range (the overflow flag) is it
     /// recomputed in saturating [`Real`] arithmetic. Both run the same
     /// generic code (`iterate`), so the result is always
     /// the saturating one, bit for bit, and ordinary scenes pay for no
-    /// saturation checks.
+    /// saturation checks. The row's constants are range-checked first
+    /// ([`check_range`](Self::check_range)): its fields are public and may
+    /// have changed since the pre-step.
     #[inline]
     pub fn solve_with<const FRICTION: bool, const BIAS: bool>(
+        &mut self,
+        bodies: &mut [SolverBody],
+    ) {
+        self.check_range();
+        self.solve_prepared::<FRICTION, BIAS>(bodies);
+    }
+
+    /// [`solve_with`](Self::solve_with) trusting [`bounded`](Self::bounded)
+    /// as the pre-step set it: the space's step, whose rows live in its
+    /// scratch and are changed by nothing between the pre-step and the
+    /// iterations.
+    #[inline]
+    pub(crate) fn solve_prepared<const FRICTION: bool, const BIAS: bool>(
         &mut self,
         bodies: &mut [SolverBody],
     ) {

@@ -757,10 +757,10 @@ impl Space {
             {
                 let block = c.block.checked_sub(1).and_then(|k| blocks.get(k as usize));
                 if let (Some(block), Some(c2)) = (block, tail.first_mut()) {
-                    solver::block::solve_with::<FRICTION, BIAS>(c, c2, block, solver_bodies);
+                    solver::block::solve_prepared::<FRICTION, BIAS>(c, c2, block, solver_bodies);
                     i = i.saturating_add(2);
                 } else {
-                    c.solve_with::<FRICTION, BIAS>(solver_bodies);
+                    c.solve_prepared::<FRICTION, BIAS>(solver_bodies);
                     i = i.saturating_add(1);
                 }
             }
