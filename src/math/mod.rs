@@ -14,5 +14,6 @@ pub use bb::BB;
 pub use real::{Real, RealError};
 pub use rot::Rot;
 pub use transform::Transform;
-pub use unsaturated::{below_2_62, Bounded, FixedArith, Saturating, Unsaturated};
+pub(crate) use unsaturated::{below_2_62, Bounded};
+pub use unsaturated::{FixedArith, Saturating, Unsaturated};
 pub use vect::Vect;

@@ -13,8 +13,8 @@
 //! [`Real`] computation (wrapping and saturating arithmetic agree on every
 //! in-range result); if it is set (conservatively: a false alarm costs only
 //! the rerun), the caller discards the copies and runs the saturating
-//! version. [`Bounded`] goes one step further for kernels whose constants a
-//! range check ([`below_2_62`]) accepted once per step. The solver's fast
+//! version. `Bounded` goes one step further for kernels whose constants a
+//! range check (`below_2_62`) accepted once per step. The solver's fast
 //! path is tested against the saturating one on random and extreme inputs.
 use super::real::{Real, FRAC_BITS};
 use super::wide::int::wide_mul;
@@ -83,8 +83,9 @@ impl Unsaturated {
     /// rounded quotient lies in `[−2^61 − 1, 2^61]`: it fits `i64`, which
     /// is the saturating operator's result bit for bit. Above it the caller
     /// reruns saturating (a false alarm only costs that rerun, never a
-    /// bit). This is two instructions per product instead of an `i128`
-    /// overflow test and a range comparison.
+    /// bit). This is an XOR and an OR per product (the sign shift is shared
+    /// with the rounding bias) instead of an `i128` overflow test and a
+    /// range comparison.
     #[inline(always)]
     fn round(&mut self, p: i128) -> Real {
         let hi = (p >> 64) as i64;
@@ -156,15 +157,15 @@ pub trait FixedArith {
     fn dot4(&mut self, x: [Real; 4], y: [Real; 4]) -> Real;
 
     /// [`dot4`](Self::dot4) where one factor of every product is a
-    /// constant of the kernel that [`below_2_62`] accepted. Only
-    /// [`Bounded`] uses the promise; the others compute `dot4`.
+    /// constant of the kernel that `below_2_62` accepted. Only
+    /// `Bounded` uses the promise; the others compute `dot4`.
     #[inline(always)]
     fn dot4_bounded(&mut self, x: [Real; 4], y: [Real; 4]) -> Real {
         self.dot4(x, y)
     }
 
     /// `−c` for a constant `c` of the kernel, as `Real`'s saturating `−`.
-    /// [`Bounded`] negates without the saturation test ([`below_2_62`]
+    /// `Bounded` negates without the saturation test (`below_2_62`
     /// accepted `c`, so `c ≠ i64::MIN`).
     #[inline(always)]
     fn neg_const(&mut self, c: Real) -> Real {
@@ -177,7 +178,7 @@ pub trait FixedArith {
 /// constants (normals, lever arms, `I⁻¹·(r × n)`) instead of once per
 /// operation in every iteration.
 #[inline(always)]
-pub fn below_2_62(values: &[Real]) -> bool {
+pub(crate) fn below_2_62(values: &[Real]) -> bool {
     let or = values
         .iter()
         .fold(0u64, |acc, v| acc | v.to_bits().unsigned_abs());
@@ -191,8 +192,11 @@ pub fn below_2_62(values: &[Real]) -> bool {
 /// sum of four stays below `2^127`), and the constants' negations need no
 /// saturation test. The same bits as [`Unsaturated`] and [`Saturating`]
 /// whenever the flag stays clear.
+///
+/// Crate-private: the promise is the caller's (the solver's pre-step checks
+/// it), and a wrong promise would wrap silently.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Bounded(pub Unsaturated);
+pub(crate) struct Bounded(pub(crate) Unsaturated);
 
 impl FixedArith for Bounded {
     #[inline(always)]
