@@ -1265,7 +1265,11 @@ mod tests {
             );
             c1.jn_acc = Real::ratio(jn, 1000);
             c2.jn_acc = Real::ratio(jn, 700);
+            // Realistic rows take the `Bounded` fast path: the range check
+            // is not so strict that the fast path is never used.
+            proptest::prop_assert!(c1.is_bounded() && c2.is_bounded());
             if let Some(blk) = block::ManifoldBlock::new(&c1, &c2, &bodies, true) {
+                proptest::prop_assert!(blk.bounded);
                 check_fast_block::<true, true>(c1, c2, &blk, bodies[0], bodies[1])?;
                 check_fast_block::<false, false>(c1, c2, &blk, bodies[0], bodies[1])?;
             }
