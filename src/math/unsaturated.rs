@@ -80,7 +80,7 @@ impl Unsaturated {
     /// `|hi| − 1` below), OR-ed into one word, and tested once at the end
     /// against [`WIDE_LIMIT`]. Below it every recorded `p` lies in
     /// `[−2^93, 2^93)`, so `p + HALF − [p < 0]` cannot wrap and the
-    /// rounded quotient lies in `[−2^61 − 1, 2^61]`: it fits `i64`, which
+    /// rounded quotient lies in `[−2^61, 2^61]`: it fits `i64`, which
     /// is the saturating operator's result bit for bit. Above it the caller
     /// reruns saturating (a false alarm only costs that rerun, never a
     /// bit). This is an XOR and an OR per product (the sign shift is shared
