@@ -75,6 +75,9 @@ pub(crate) struct ArbiterBuffers {
     /// Indices (into the world's arbiter list) of the arbiters solved this
     /// step.
     pub(crate) active: Vec<u32>,
+    /// The narrowphase's answer for each candidate pair when threads
+    /// compute them ahead of the merge (`space/step.rs`).
+    pub(crate) infos: Vec<Option<crate::collision::CollisionInfo>>,
 }
 
 /// Where an arbiter is in its life.

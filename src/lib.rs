@@ -42,5 +42,6 @@ pub mod snapshot;
 #[doc(hidden)]
 pub mod solver;
 pub mod space;
+mod threads;
 
 pub use math::{Real, RealError, Rot, Transform, Vect, BB};

@@ -64,6 +64,14 @@ pub struct BenchArgs {
     /// Timed samples [default: 20, quick 10; at least 10].
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(10..))]
     samples: Option<u32>,
+    /// Threads the step may use [default: all cores]; the results are the
+    /// same with any count.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    threads: Option<u32>,
+    /// Solve the contacts color by color (`Settings::colored_solver`), the
+    /// order the threads can share.
+    #[arg(long)]
+    colored_solver: bool,
 }
 
 /// One row of the table.
@@ -100,16 +108,23 @@ pub fn bench(args: &BenchArgs) -> Result<(), String> {
     };
     let mut descs = Vec::with_capacity(names.len());
     for name in &names {
-        let desc = scenes::builtin(name)
+        let mut desc = scenes::builtin(name)
             .ok_or_else(|| format!("unknown scene {name:?} (`tamias list` shows the scenes)"))?;
+        desc.settings.colored_solver |= args.colored_solver;
         descs.push(desc);
     }
+    let threads = args.threads.map_or_else(source::all_cores, |n| n as usize);
     if cfg!(debug_assertions) {
         eprintln!("note: a debug build; `cargo run --release -- bench` gives meaningful numbers");
     }
     println!(
-        "{} scenes; warm-up {} steps, then {} samples of {} steps",
+        "{} scenes; {threads} thread(s){}; warm-up {} steps, then {} samples of {} steps",
         descs.len(),
+        if args.colored_solver {
+            ", colored solver"
+        } else {
+            ""
+        },
         plan.warmup,
         plan.samples,
         plan.steps_per_sample
@@ -118,7 +133,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), String> {
     let mut rows = Vec::with_capacity(descs.len());
     for desc in &descs {
         bar.set_label(&format!("bench {}", desc.name));
-        rows.push(measure(desc, plan, &mut bar)?);
+        rows.push(measure(desc, plan, threads, &mut bar)?);
     }
     bar.finish();
     print_table(&rows);
@@ -126,9 +141,18 @@ pub fn bench(args: &BenchArgs) -> Result<(), String> {
 }
 
 /// Warms `desc` up and times its samples.
-fn measure(desc: &scenes::SceneDesc, plan: Plan, bar: &mut Progress) -> Result<Row, String> {
+fn measure(
+    desc: &scenes::SceneDesc,
+    plan: Plan,
+    threads: usize,
+    bar: &mut Progress,
+) -> Result<Row, String> {
     let mut sim = source::build(desc)?;
     let fail = |e: String| format!("scene {}: {e}", desc.name);
+    sim.space
+        .set_threads(threads)
+        .map_err(|e| e.to_string())
+        .map_err(fail)?;
     for _ in 0..plan.warmup {
         sim.step().map_err(|e| e.to_string()).map_err(fail)?;
         bar.inc(1);

@@ -90,6 +90,10 @@ struct SceneOpts {
     /// Solver iterations per step.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     iterations: Option<u32>,
+    /// Solve the contacts color by color (`Settings::colored_solver`):
+    /// the order the threads can share; changes the results.
+    #[arg(long)]
+    colored_solver: bool,
 }
 
 impl SceneOpts {
@@ -97,7 +101,24 @@ impl SceneOpts {
         Overrides {
             dt: self.dt,
             iterations: self.iterations,
+            colored_solver: self.colored_solver,
         }
+    }
+}
+
+/// Threads for the step: any count gives the same results.
+#[derive(Args, Clone, Copy)]
+struct ThreadOpts {
+    /// Threads the step may use [default: all cores]; the results are the
+    /// same with any count.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    threads: Option<u32>,
+}
+
+impl ThreadOpts {
+    /// The count asked for, or every core.
+    fn count(self) -> usize {
+        self.threads.map_or_else(source::all_cores, |n| n as usize)
     }
 }
 
@@ -124,6 +145,8 @@ struct RunArgs {
     steps: Option<u32>,
     #[command(flatten)]
     opts: SceneOpts,
+    #[command(flatten)]
+    threads: ThreadOpts,
     #[command(flatten)]
     render: RenderOpts,
 }
@@ -233,7 +256,16 @@ fn main() -> ExitCode {
             dt,
             iterations,
             render,
-        })) => run::snapshot_run(&file, steps, Overrides { dt, iterations }, &render),
+        })) => run::snapshot_run(
+            &file,
+            steps,
+            Overrides {
+                dt,
+                iterations,
+                colored_solver: false,
+            },
+            &render,
+        ),
         Some(Command::Replay(ReplayCommand::Record {
             scene,
             steps,

@@ -187,6 +187,9 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
     let loaded = source::load(&args.scene, args.opts.overrides())?;
     let steps = args.steps.unwrap_or(loaded.steps);
     let mut sim = source::build(&loaded)?;
+    let threads = args.threads.count();
+    sim.space.set_threads(threads).map_err(|e| e.to_string())?;
+    println!("threads: {threads}");
     let label = format!("scene {}", loaded.name);
     run_and_report(&mut sim, steps, &label, &args.render)
 }
@@ -203,6 +206,15 @@ pub fn snapshot_run(
         .map_err(|e| format!("{}: {e}", file.display()))?;
     if let Some(n) = overrides.iterations {
         sim.space.set_iterations(n);
+    }
+    if overrides.colored_solver {
+        let settings = tamias2d::space::Settings {
+            colored_solver: true,
+            ..sim.space.settings().clone()
+        };
+        sim.space
+            .set_settings(settings)
+            .map_err(|e| e.to_string())?;
     }
     println!("loaded {} at step {}", file.display(), sim.space.steps());
     run_and_report(&mut sim, steps, "snapshot", render)

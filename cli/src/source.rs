@@ -43,6 +43,13 @@ pub struct Overrides {
     pub dt: Option<Real>,
     /// `--iterations`.
     pub iterations: Option<u32>,
+    /// `--colored-solver`.
+    pub colored_solver: bool,
+}
+
+/// Every core of this machine (1 if the system will not say).
+pub fn all_cores() -> usize {
+    std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
 }
 
 /// The scene `arg` names: a built-in scene, `showcase`, or a JSON file
@@ -62,6 +69,7 @@ pub fn load(arg: &str, overrides: Overrides) -> Result<SceneDesc, String> {
     if let Some(dt) = overrides.dt {
         desc.dt = dt;
     }
+    desc.settings.colored_solver |= overrides.colored_solver;
     if let Some(n) = overrides.iterations {
         desc.settings.iterations = n;
     }

@@ -87,6 +87,9 @@ pub struct SettingsDesc {
     /// Block solver (see [`Settings::block_solver`]); omitted when on.
     #[serde(skip_serializing_if = "is_true")]
     pub block_solver: bool,
+    /// Colored solver (see [`Settings::colored_solver`]); omitted when off.
+    #[serde(skip_serializing_if = "is_false")]
+    pub colored_solver: bool,
     /// Seconds of rest before an island sleeps (see
     /// [`Settings::sleep_time_threshold`]); omitted when the default.
     #[serde(
@@ -147,6 +150,7 @@ impl From<&Settings> for SettingsDesc {
             restitution,
             bias_impulses,
             block_solver,
+            colored_solver,
             sleep_time_threshold,
             idle_speed_threshold,
         } = *s;
@@ -163,6 +167,7 @@ impl From<&Settings> for SettingsDesc {
             restitution,
             bias_impulses,
             block_solver,
+            colored_solver,
             sleep_time_threshold,
             idle_speed_threshold,
         }
@@ -184,6 +189,7 @@ impl From<&SettingsDesc> for Settings {
             restitution,
             bias_impulses,
             block_solver,
+            colored_solver,
             sleep_time_threshold,
             idle_speed_threshold,
         } = *s;
@@ -200,6 +206,7 @@ impl From<&SettingsDesc> for Settings {
             restitution,
             bias_impulses,
             block_solver,
+            colored_solver,
             sleep_time_threshold,
             idle_speed_threshold,
         }

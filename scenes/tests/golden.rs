@@ -66,14 +66,58 @@ fn goldens() -> Vec<(&'static str, Golden)> {
         .collect()
 }
 
-/// Builds `name` and steps it `steps` times; returns the checksum. Prints
-/// every step's checksum when `TAMIAS_GOLDEN_TRACE` names the scene.
+/// The checksums of the native golden scenes, at their golden step, with
+/// the colored solver on (`Settings::colored_solver`, the order threads
+/// share): the bits every platform and every thread count must give for
+/// it (`tests/threads.rs` checks the thread counts against this table).
+/// Not run under Miri (the Miri table is the canonical solver's).
+const COLORED_GOLDENS: &[(&str, u64)] = &[
+    ("bowl_circles_100", 0x67aa7ebf7604b5f5),
+    ("bowl_boxes_100", 0x4bc405bc897616aa),
+    ("bowl_hexagons_100", 0x6148e48a5354337b),
+    ("bouncy_circles_500", 0x5a4f32c4458129b9),
+    ("no_collide", 0x028dfaa930556694),
+    ("pyramid_20", 0x33ac3028c3f54ce5),
+    ("many_pyramids_4x4", 0x583f004fb9459b72),
+    ("rain_1000", 0xb502e9f1f260b79f),
+    ("tumbler_500", 0x35ca775b264aa4a1),
+    ("free_fall", 0x7f4bfcad9cc96c9d),
+    ("constant_force", 0x800f2b806658b63a),
+    ("projectile_45", 0xf4be14e2d76f5f06),
+    ("projectile_60", 0x180b0ea93c0a989c),
+    ("spin", 0x0124c9306443f234),
+    ("elastic_pair", 0xcc963996db5f05b2),
+    ("newtons_cradle", 0x56cfbbd59e85549b),
+    ("incline_slide", 0x98c0eee6ba6517f3),
+    ("incline_stick", 0x065f4704ff1d5be6),
+    ("stack_10", 0x4459f08045fb1e26),
+    ("sleep_wake", 0xb9a4de9824fab095),
+    ("bullets", 0xc1cda3aefeced93f),
+    ("pendulum", 0x3999466388625a7e),
+    ("chain_100", 0x292334c880d18bc9),
+    ("windmill", 0x5c4de02893ce0667),
+    ("gear_train", 0x2ef6ce4ee457cfc9),
+    ("spring_mass", 0xf76c8fde20738f27),
+    ("ratchet", 0x2fb066a05085725a),
+    ("rope_bridge", 0x66f41218b130fcbe),
+    ("ragdolls_20", 0x163dd2f75fd93ff3),
+    ("car", 0x5841eac8446eab12),
+    ("level_300", 0x8b0da822909ee6a2),
+];
+
+/// Builds `name` (with the colored solver if `colored`) and steps it
+/// `steps` times; returns the checksum. Prints every step's checksum when
+/// `TAMIAS_GOLDEN_TRACE` names the scene.
 fn checksum_after(name: &str, steps: u32) -> u64 {
+    checksum_with(name, steps, false)
+}
+
+fn checksum_with(name: &str, steps: u32, colored: bool) -> u64 {
     let trace = std::env::var("TAMIAS_GOLDEN_TRACE").is_ok_and(|t| t == name || t == "all");
-    let mut world = tamias2d_scenes::builtin(name)
-        .unwrap_or_else(|| panic!("{name} is not a registered scene"))
-        .build()
-        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    let mut desc = tamias2d_scenes::builtin(name)
+        .unwrap_or_else(|| panic!("{name} is not a registered scene"));
+    desc.settings.colored_solver = colored;
+    let mut world = desc.build().unwrap_or_else(|e| panic!("{name}: {e}"));
     if trace {
         println!("trace {name} 0 {:#018x}", world.space.checksum());
     }
@@ -133,6 +177,37 @@ fn golden_checksums_match_the_committed_values() {
          in the commit message; if not, this is a determinism bug.",
         wrong.len(),
         table.len(),
+        wrong.join("\n  ")
+    );
+}
+
+#[test]
+fn colored_solver_goldens_match_the_committed_values() {
+    if cfg!(miri) {
+        return;
+    }
+    let native: Vec<(&str, Golden)> = goldens();
+    let mut wrong = Vec::new();
+    for &(name, g) in &native {
+        let got = checksum_with(name, g.steps, true);
+        if std::env::var_os("TAMIAS_PRINT_GOLDENS").is_some() {
+            println!("    (\"{name}\", {got:#018x}),");
+        }
+        match COLORED_GOLDENS.iter().find(|(n, _)| *n == name) {
+            Some(&(_, want)) if want == got => {}
+            Some(&(_, want)) => wrong.push(format!(
+                "{name} after {} steps: got {got:#018x}, golden {want:#018x}",
+                g.steps
+            )),
+            None => wrong.push(format!("{name}: no colored golden (got {got:#018x})")),
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "{} of {} colored-solver goldens differ on this platform/build:\n  {}\n\
+         Regenerate with TAMIAS_PRINT_GOLDENS=1 (see the module docs) only for a deliberate change.",
+        wrong.len(),
+        native.len(),
         wrong.join("\n  ")
     );
 }

@@ -259,6 +259,7 @@ pub fn first_difference(a: &Space, b: &Space) -> Option<Difference> {
     let found = first_field!(Settings; settings, &sb.settings;
         iterations, gravity, damping, collision_slop, collision_bias, collision_persistence,
         substeps, warm_starting, friction, restitution, bias_impulses, block_solver,
+        colored_solver,
         sleep_time_threshold, idle_speed_threshold)
     .map(|f| diff(Subject::Settings, f));
     found

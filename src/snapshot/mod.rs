@@ -249,7 +249,8 @@ pub const MAGIC: [u8; 8] = *b"TAMIAS2D";
 /// mask, only the non-zero words (a body's or arbiter's in 4 bytes when
 /// they fit); no inverse mass or moment, no normals,
 /// no unused polygon vertices or contact slots (recomputed on decode).
-pub const FORMAT_VERSION: u32 = 6;
+/// Version 7: `colored_solver` (one byte) after `block_solver`.
+pub const FORMAT_VERSION: u32 = 7;
 
 /// Bytes before the bincode payload: magic, version, checksum (the frame
 /// every Tamias file shares, see [`crate::framing`]).

@@ -299,23 +299,26 @@ pub fn solve_with<const FRICTION: bool, const BIAS: bool>(
     c2.check_range();
     let mut checked = *block;
     checked.check_range(c1, c2);
-    solve_prepared::<FRICTION, BIAS>(c1, c2, &checked, bodies);
+    solve_prepared::<FRICTION, BIAS>(c1, c2, &checked, bodies, (c1.a, c1.b));
 }
 
 /// [`solve_with`] trusting the range flags the pre-step set: the space's
 /// step, whose rows and blocks nothing changes before the iterations.
+/// Bodies `a` and `b` are `bodies[ends.0]` and `bodies[ends.1]` (see
+/// [`ContactConstraint::solve_prepared`]).
 #[inline]
 pub(crate) fn solve_prepared<const FRICTION: bool, const BIAS: bool>(
     c1: &mut ContactConstraint,
     c2: &mut ContactConstraint,
     block: &ManifoldBlock,
     bodies: &mut [SolverBody],
+    ends: (u32, u32),
 ) {
     if !block.bounded {
-        solve_saturating::<FRICTION, BIAS>(c1, c2, block, bodies);
+        solve_saturating::<FRICTION, BIAS>(c1, c2, block, bodies, ends);
         return;
     }
-    let Some((mut a, mut b)) = load_pair(bodies, c1.a, c1.b) else {
+    let Some((mut a, mut b)) = load_pair(bodies, ends.0, ends.1) else {
         return;
     };
     let mut acc = [
@@ -326,12 +329,12 @@ pub(crate) fn solve_prepared<const FRICTION: bool, const BIAS: bool>(
     iterate::<_, FRICTION, BIAS>(c1, c2, block, &mut a, &mut b, &mut acc, &mut fast);
     if fast.0.overflowed() {
         // The inputs are still in `bodies` and the rows: no copies kept.
-        solve_saturating::<FRICTION, BIAS>(c1, c2, block, bodies);
+        solve_saturating::<FRICTION, BIAS>(c1, c2, block, bodies, ends);
         return;
     }
     [c1.jb_acc, c1.jn_acc, c1.jt_acc] = acc[0];
     [c2.jb_acc, c2.jn_acc, c2.jt_acc] = acc[1];
-    store_pair(bodies, c1.a, a, c1.b, b);
+    store_pair(bodies, ends.0, a, ends.1, b);
 }
 
 /// The reference path of [`solve_with`], out of line.
@@ -342,8 +345,9 @@ pub(super) fn solve_saturating<const FRICTION: bool, const BIAS: bool>(
     c2: &mut ContactConstraint,
     block: &ManifoldBlock,
     bodies: &mut [SolverBody],
+    ends: (u32, u32),
 ) {
-    let Some((mut a, mut b)) = load_pair(bodies, c1.a, c1.b) else {
+    let Some((mut a, mut b)) = load_pair(bodies, ends.0, ends.1) else {
         return;
     };
     let mut acc = [
@@ -353,7 +357,7 @@ pub(super) fn solve_saturating<const FRICTION: bool, const BIAS: bool>(
     iterate::<_, FRICTION, BIAS>(c1, c2, block, &mut a, &mut b, &mut acc, &mut Saturating);
     [c1.jb_acc, c1.jn_acc, c1.jt_acc] = acc[0];
     [c2.jb_acc, c2.jn_acc, c2.jt_acc] = acc[1];
-    store_pair(bodies, c1.a, a, c1.b, b);
+    store_pair(bodies, ends.0, a, ends.1, b);
 }
 
 /// The velocity error of a row along the normal: `n·dv + ω_b (r2 × n) −

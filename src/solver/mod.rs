@@ -66,6 +66,8 @@
 use core::fmt;
 
 pub mod block;
+pub(crate) mod graph;
+pub(crate) mod sweep;
 
 use crate::arbiter::ManifoldPoint;
 use crate::constraint::kernel::{self, neg};
@@ -99,7 +101,7 @@ impl SolverBody {
 
 /// The solver stages' scratch in the space (stages 6–11; not simulation
 /// state): the contiguous body array, indexed by body slot, and this step's
-/// contact constraints in canonical order.
+/// contact constraints in solve order (by color, see [`graph`]).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct SolverScratch {
     /// Velocities and inverse masses of every body slot.
@@ -109,6 +111,16 @@ pub(crate) struct SolverScratch {
     /// The blocks of two-contact manifolds (see [`block`]), referred to by
     /// their first row's [`ContactConstraint::block`].
     pub(crate) blocks: Vec<ManifoldBlock>,
+    /// The arbiters' colors: the order the rows are built and solved in.
+    pub(crate) graph: graph::ConstraintGraph,
+    /// `color_rows[c]..color_rows[c + 1]`: the rows of color `c` (the
+    /// overflow's at `c = graph::COLORS`).
+    pub(crate) color_rows: [u32; graph::COLORS + 2],
+    /// The first row of each manifold in solve order, and the end: a
+    /// color's manifolds are the pieces [`sweep`] splits it into.
+    pub(crate) manifold_rows: Vec<u32>,
+    /// The bodies while threads share them ([`sweep::SharedBody`]).
+    pub(crate) shared: Vec<sweep::SharedBody>,
 }
 
 /// MIS UnsolvableCollision: both bodies have infinite mass along the
@@ -556,23 +568,26 @@ impl ContactConstraint {
         bodies: &mut [SolverBody],
     ) {
         self.check_range();
-        self.solve_prepared::<FRICTION, BIAS>(bodies);
+        self.solve_prepared::<FRICTION, BIAS>(bodies, (self.a, self.b));
     }
 
     /// [`solve_with`](Self::solve_with) trusting [`bounded`](Self::bounded)
     /// as the pre-step set it: the space's step, whose rows live in its
     /// scratch and are changed by nothing between the pre-step and the
-    /// iterations.
+    /// iterations. Bodies `a` and `b` are `bodies[ends.0]` and
+    /// `bodies[ends.1]`: the row's own slots, or those of a copy of the
+    /// two (a thread's, see [`sweep`]).
     #[inline]
     pub(crate) fn solve_prepared<const FRICTION: bool, const BIAS: bool>(
         &mut self,
         bodies: &mut [SolverBody],
+        ends: (u32, u32),
     ) {
         if !self.bounded {
-            self.solve_saturating::<FRICTION, BIAS>(bodies);
+            self.solve_saturating::<FRICTION, BIAS>(bodies, ends);
             return;
         }
-        let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
+        let Some((mut a, mut b)) = load_pair(bodies, ends.0, ends.1) else {
             return;
         };
         let mut acc = [self.jb_acc, self.jn_acc, self.jt_acc];
@@ -580,11 +595,11 @@ impl ContactConstraint {
         self.iterate::<_, FRICTION, BIAS>(&mut a, &mut b, &mut acc, &mut fast);
         if fast.0.overflowed() {
             // The inputs are still in `bodies` and `self`: no copies kept.
-            self.solve_saturating::<FRICTION, BIAS>(bodies);
+            self.solve_saturating::<FRICTION, BIAS>(bodies, ends);
             return;
         }
         [self.jb_acc, self.jn_acc, self.jt_acc] = acc;
-        store_pair(bodies, self.a, a, self.b, b);
+        store_pair(bodies, ends.0, a, ends.1, b);
     }
 
     /// The reference path of [`solve_with`](Self::solve_with), kept out of
@@ -594,14 +609,15 @@ impl ContactConstraint {
     fn solve_saturating<const FRICTION: bool, const BIAS: bool>(
         &mut self,
         bodies: &mut [SolverBody],
+        ends: (u32, u32),
     ) {
-        let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
+        let Some((mut a, mut b)) = load_pair(bodies, ends.0, ends.1) else {
             return;
         };
         let mut acc = [self.jb_acc, self.jn_acc, self.jt_acc];
         self.iterate::<_, FRICTION, BIAS>(&mut a, &mut b, &mut acc, &mut Saturating);
         [self.jb_acc, self.jn_acc, self.jt_acc] = acc;
-        store_pair(bodies, self.a, a, self.b, b);
+        store_pair(bodies, ends.0, a, ends.1, b);
     }
 
     /// One iteration on body copies `a`, `b` and the accumulated impulses
@@ -1024,7 +1040,7 @@ mod tests {
         fast.solve_with::<F, B>(&mut bodies);
         let mut reference = c;
         let mut ref_bodies = [a, b];
-        reference.solve_saturating::<F, B>(&mut ref_bodies);
+        reference.solve_saturating::<F, B>(&mut ref_bodies, (reference.a, reference.b));
         proptest::prop_assert_eq!(bodies, ref_bodies);
         proptest::prop_assert_eq!(
             [fast.jb_acc, fast.jn_acc, fast.jt_acc],
@@ -1089,7 +1105,8 @@ mod tests {
         block::solve_with::<F, B>(&mut f1, &mut f2, blk, &mut bodies);
         let (mut r1, mut r2) = (c1, c2);
         let mut ref_bodies = [a, b];
-        block::solve_saturating::<F, B>(&mut r1, &mut r2, blk, &mut ref_bodies);
+        let ends = (r1.a, r1.b);
+        block::solve_saturating::<F, B>(&mut r1, &mut r2, blk, &mut ref_bodies, ends);
         proptest::prop_assert_eq!(bodies, ref_bodies);
         proptest::prop_assert_eq!(
             [f1.jb_acc, f1.jn_acc, f1.jt_acc],

@@ -134,6 +134,7 @@ const _SETTINGS: fn(&Settings) = |s| {
         restitution: _,           // any value
         bias_impulses: _,         // any value
         block_solver: _,          // any value
+        colored_solver: _,        // any value
         sleep_time_threshold: _,  // ≥ 0 (SLEEP_NEVER: off)
         idle_speed_threshold: _,  // ≥ 0
     } = s;

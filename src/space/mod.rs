@@ -298,6 +298,8 @@ pub(crate) struct Caches {
     /// swaps in (afterwards, the frame it replaced): its buffers are
     /// reused from load to load.
     pub(crate) spare_frame: FrameState,
+    /// The threads the step may use ([`Space::set_threads`]).
+    pub(crate) threads: crate::threads::Threads,
 }
 
 /// The world: bodies, shapes, arbiters, settings and handlers.
@@ -359,7 +361,10 @@ impl Clone for Space {
     /// Clones the simulation state; handlers and post-step callbacks are not
     /// cloned (closures), the clone has none.
     fn clone(&self) -> Space {
-        Space::with_origin(self.state.clone(), self.origin)
+        let mut space = Space::with_origin(self.state.clone(), self.origin);
+        // Not state: the same threads (a thread count changes no bit).
+        space.caches.threads = self.caches.threads.clone();
+        space
     }
 }
 
@@ -421,6 +426,25 @@ impl Space {
         self.caches.broadphase.sleeping_count = None;
         self.caches.body_shapes.invalidate();
         self.caches.step.dt_constants = [None, None];
+    }
+
+    /// Lets the step use `n` threads (0 counts as 1; the default is 1).
+    /// Nothing a step computes depends on it: any count gives the bits of
+    /// one thread. Without the `parallel` cargo feature the count is kept
+    /// and the step runs on the calling thread. With it, the stages split
+    /// between the threads are the contact iterations of the colored
+    /// solver ([`Settings::colored_solver`]; the canonical order is one
+    /// sequence, solved on one thread). An error (and no change) if the
+    /// operating system will not start the threads.
+    pub fn set_threads(&mut self, n: usize) -> Result<(), SpaceError> {
+        self.caches.threads =
+            crate::threads::Threads::new(n).map_err(SpaceError::InvalidSetting)?;
+        Ok(())
+    }
+
+    /// The thread count of [`set_threads`](Self::set_threads).
+    pub fn threads(&self) -> usize {
+        self.caches.threads.count()
     }
 
     /// The settings.
@@ -965,6 +989,10 @@ impl Space {
 /// builds ignore the feature (timing runs measure the engine alone); the
 /// check only reads the state, so it changes no bit either way.
 pub const VALIDATES_STEPS: bool = cfg!(all(feature = "validate", debug_assertions));
+
+/// Whether this build has the `parallel` feature: [`Space::set_threads`]
+/// then splits the step between threads (always with the bits of one).
+pub const PARALLEL: bool = cfg!(feature = "parallel");
 
 impl Space {
     /// The check [`Space::step`] ends with: when [`VALIDATES_STEPS`], every

@@ -95,6 +95,18 @@ pub struct Settings {
     /// mirrors) and converges faster per iteration. Off: Chipmunk's
     /// sequential contacts. See the `solver::block` module.
     pub block_solver: bool,
+    /// Colored solver (default off): the iterations solve the contacts
+    /// color by color, where no two contacts of a color share a body the
+    /// solver moves (the `solver::graph` module), instead of in canonical
+    /// order. A color's contacts are independent, so the `parallel`
+    /// feature splits each color between threads and still gives the bits
+    /// of one thread (and of a build without the feature). The price is
+    /// quality: Gauss–Seidel converges by the order it sweeps in, and the
+    /// canonical order (creation order, bottom-up in a stack built from the
+    /// ground) carries a stack's weight down in one pass, a coloring does
+    /// not. `docs/performance.md` ("The parallel step") measures both.
+    /// Off, the contact iterations run on one thread.
+    pub colored_solver: bool,
     /// Seconds every body of an island must stay idle before the island
     /// falls asleep (default 0.5 s, Box2D v3's `b2_timeToSleep`; Chipmunk's
     /// default is infinity, i.e. off). [`SLEEP_NEVER`] (`Real::MAX`) turns
@@ -214,6 +226,7 @@ impl Default for Settings {
             restitution: true,
             bias_impulses: true,
             block_solver: true,
+            colored_solver: false,
             sleep_time_threshold: DEFAULT_SLEEP_TIME_THRESHOLD,
             idle_speed_threshold: DEFAULT_IDLE_SPEED_THRESHOLD,
         }

@@ -46,8 +46,9 @@ use crate::broadphase::Proxy;
 use crate::collision::collide;
 use crate::math::{Real, Vect};
 use crate::solver::block::ManifoldBlock;
+use crate::solver::graph::COLORS;
 use crate::solver::{
-    self, effective_mass, ContactConstraint, ContactFeatures, ContactParams, PairParams,
+    effective_mass, sweep, ContactConstraint, ContactFeatures, ContactParams, PairParams,
     SolverBody, SolverScratch,
 };
 
@@ -450,14 +451,26 @@ impl Space {
             candidate_pairs: pairs.len() as u32,
             ..StepStats::default()
         };
+        // With threads, every pair's narrowphase first, in parallel; then
+        // the same merge.
+        let mut infos = mem::take(&mut self.caches.arbiters.infos);
+        let ahead = self.caches.threads.parallel();
+        if ahead {
+            self.collide_ahead(&pairs, &old, &mut infos);
+        }
         let mut old_iter = old.drain(..);
-        for &(ia, ib) in &pairs {
+        for (k, &(ia, ib)) in pairs.iter().enumerate() {
             // Arbiters of pairs that the broadphase no longer reports.
             while let Some(arb) = take_if(&mut old_iter, |key| key < (ia, ib)) {
                 self.retire(arb, &mut arbiters);
             }
             let existing = take_if(&mut old_iter, |key| key == (ia, ib));
-            if let Some(mut arb) = self.collide_pair(ia, ib, existing, &mut arbiters) {
+            let info = if ahead {
+                infos.get_mut(k).and_then(Option::take)
+            } else {
+                self.narrowphase(ia, ib, existing.as_ref())
+            };
+            if let Some(mut arb) = self.collide_pair(ia, ib, info, existing, &mut arbiters) {
                 if self.run_contact_handlers(&mut arb) {
                     active.push(arbiters.len() as u32);
                 }
@@ -468,23 +481,59 @@ impl Space {
             self.retire(arb, &mut arbiters);
         }
         self.caches.broadphase.sweep.pairs = pairs;
+        self.caches.arbiters.infos = infos;
         self.state.arbiters = arbiters;
         self.caches.arbiters.spare = old;
         active
     }
 
-    /// Stage 4 for one candidate pair: the narrowphase, then the touched
-    /// arbiter (the pair's `existing` one or a new one). A pair that does
-    /// not touch retires its existing arbiter into `arbiters` (stage 5) and
-    /// gives `None`.
+    /// Stage 4 for every candidate pair at once, split between threads:
+    /// `infos[k]` becomes pair `k`'s narrowphase answer, warm-started from
+    /// its arbiter in `old` (last step's, in canonical order like `pairs`).
+    fn collide_ahead(
+        &self,
+        pairs: &[(u32, u32)],
+        old: &[Arbiter],
+        infos: &mut Vec<Option<crate::collision::CollisionInfo>>,
+    ) {
+        infos.clear();
+        infos.resize(pairs.len(), None);
+        // The warm-start ids, by the merge the serial pass makes.
+        let mut old_keys = old.iter().peekable();
+        let ids: Vec<u32> = pairs
+            .iter()
+            .map(|&key| {
+                while old_keys.next_if(|a| a.key() < key).is_some() {}
+                old_keys
+                    .peek()
+                    .filter(|a| a.key() == key)
+                    .map_or(0, |a| a.warm_start_id)
+            })
+            .collect();
+        let view = NarrowView {
+            shapes: &self.state.shapes,
+            bodies: &self.state.bodies,
+            caches: &self.caches.shapes,
+            constraints: &self.caches.constraints,
+        };
+        self.caches.threads.install(|| {
+            collide_split(&view, pairs, &ids, infos);
+        });
+    }
+
+    /// Stage 4 for one candidate pair: the touched arbiter (the pair's
+    /// `existing` one or a new one), given the narrowphase's `info`. A pair
+    /// that does not touch retires its existing arbiter into `arbiters`
+    /// (stage 5) and gives `None`.
     fn collide_pair(
         &mut self,
         ia: u32,
         ib: u32,
+        info: Option<crate::collision::CollisionInfo>,
         existing: Option<Arbiter>,
         arbiters: &mut Vec<Arbiter>,
     ) -> Option<Arbiter> {
-        let Some(info) = self.narrowphase(ia, ib, existing.as_ref()) else {
+        let Some(info) = info else {
             if let Some(arb) = existing {
                 self.retire(arb, arbiters);
             }
@@ -531,30 +580,13 @@ impl Space {
         ib: u32,
         existing: Option<&Arbiter>,
     ) -> Option<crate::collision::CollisionInfo> {
-        let (_, sa) = self.state.shapes.get_by_index(ia)?;
-        let (_, sb) = self.state.shapes.get_by_index(ib)?;
-        if sa.body == sb.body || sa.filter.rejects(&sb.filter) || (sa.sensor && sb.sensor) {
-            return None;
-        }
-        if self.caches.constraints.rejects(sa.body, sb.body) {
-            return None;
-        }
-        let ba = self.state.bodies.get(sa.body)?;
-        let bb = self.state.bodies.get(sb.body)?;
-        // Two bodies that cannot move, or a sleeping body and one that
-        // does not move it (stage 3b woke the islands a mover touches).
-        let awake = |b: &crate::body::Body| b.is_dynamic() && !b.is_sleeping();
-        if !awake(ba) && !awake(bb) {
-            return None;
-        }
-        let ca = self.caches.shapes.get(ia as usize)?.as_ref()?;
-        let cb = self.caches.shapes.get(ib as usize)?.as_ref()?;
-        let info = collide(
-            &ca.geometry,
-            &cb.geometry,
-            existing.map_or(0, |a| a.warm_start_id),
-        );
-        (info.count > 0).then_some(info)
+        let view = NarrowView {
+            shapes: &self.state.shapes,
+            bodies: &self.state.bodies,
+            caches: &self.caches.shapes,
+            constraints: &self.caches.constraints,
+        };
+        view.collide(ia, ib, existing.map_or(0, |a| a.warm_start_id))
     }
 
     /// Begin and pre-solve handlers; true if the arbiter goes to the solver.
@@ -615,12 +647,35 @@ impl Space {
             bodies: solver_bodies,
             constraints: contact_constraints,
             blocks,
+            graph,
+            color_rows,
+            manifold_rows,
+            ..
         } = &mut self.caches.solver;
         contact_constraints.clear();
         blocks.clear();
+        let arbiters = &self.state.arbiters;
+        if !s.colored_solver {
+            graph.uncolored(active);
+        } else {
+            graph.color(active, solver_bodies.len(), |i| {
+                let movable = |slot: u32| {
+                    solver_bodies
+                        .get(slot as usize)
+                        .is_some_and(|b| !b.m_inv.is_zero() || !b.i_inv.is_zero())
+                };
+                arbiters.get(i as usize).map_or([(0, false); 2], |arb| {
+                    let (a, b) = (arb.body_a.index(), arb.body_b.index());
+                    [(a, movable(a)), (b, movable(b))]
+                })
+            });
+        }
         let use_blocks = s.block_solver;
-        for &i in active {
-            let Some(arb) = self.state.arbiters.get(i as usize) else {
+        manifold_rows.clear();
+        for &i in graph.order() {
+            // At most 2^32 rows: counted in u32 like the stats.
+            manifold_rows.push(contact_constraints.len() as u32);
+            let Some(arb) = arbiters.get(i as usize) else {
                 continue;
             };
             let pair = PairParams {
@@ -655,6 +710,11 @@ impl Space {
                     k_t,
                 );
             }
+        }
+        manifold_rows.push(contact_constraints.len() as u32);
+        for (c, first_row) in color_rows.iter_mut().enumerate() {
+            let first_manifold = graph.range(c).start;
+            *first_row = manifold_rows.get(first_manifold).copied().unwrap_or(0);
         }
         self.caches.step.stats.solver_contacts = contact_constraints.len() as u32;
     }
@@ -740,32 +800,56 @@ impl Space {
         }
     }
 
-    /// `n` Gauss–Seidel passes over the active contacts, then the
-    /// constraints (joints), in canonical order.
+    /// `n` Gauss–Seidel passes over the active contacts, color by color
+    /// (see [`solver::graph`]; without colors all are in the overflow, in
+    /// canonical order), then the constraints (joints) in canonical order.
+    /// With more than one thread ([`Space::set_threads`]) each color is
+    /// split between them ([`solver::sweep`]): the same bits.
     fn iterate<const FRICTION: bool, const BIAS: bool>(&mut self, n: u32) {
+        let threads = &self.caches.threads;
+        let split = threads.parallel() && self.state.settings.colored_solver;
         let SolverScratch {
-            bodies: solver_bodies,
-            constraints: contact_constraints,
+            bodies,
+            constraints: rows,
             blocks,
+            color_rows,
+            manifold_rows,
+            graph,
+            shared,
         } = &mut self.caches.solver;
         let joints = &mut self.caches.constraints;
-        for _ in 0..n {
-            let mut i = 0usize;
-            while let Some((c, tail)) = contact_constraints
-                .get_mut(i..)
-                .and_then(<[ContactConstraint]>::split_first_mut)
-            {
-                let block = c.block.checked_sub(1).and_then(|k| blocks.get(k as usize));
-                if let (Some(block), Some(c2)) = (block, tail.first_mut()) {
-                    solver::block::solve_prepared::<FRICTION, BIAS>(c, c2, block, solver_bodies);
-                    i = i.saturating_add(2);
-                } else {
-                    c.solve_prepared::<FRICTION, BIAS>(solver_bodies);
-                    i = i.saturating_add(1);
+        if !split {
+            // One thread: the colors are contiguous, one pass in place.
+            for _ in 0..n {
+                sweep::solve_rows::<FRICTION, BIAS>(rows, blocks, bodies);
+                joints.iterate(bodies);
+            }
+            return;
+        }
+        threads.install(|| {
+            sweep::share(bodies, shared);
+            for _ in 0..n {
+                for c in 0..=COLORS {
+                    let (Some(&start), Some(&end)) =
+                        (color_rows.get(c), color_rows.get(c.wrapping_add(1)))
+                    else {
+                        continue;
+                    };
+                    let Some(rows) = rows.get_mut(start as usize..end as usize) else {
+                        continue;
+                    };
+                    let range = graph.range(c);
+                    let starts = manifold_rows.get(range.start..=range.end).unwrap_or(&[]);
+                    sweep::solve_shared::<FRICTION, BIAS>(rows, starts, blocks, shared, c < COLORS);
+                }
+                if !joints.is_empty() {
+                    sweep::unshare(shared, bodies);
+                    joints.iterate(bodies);
+                    sweep::share(bodies, shared);
                 }
             }
-            joints.iterate(solver_bodies);
-        }
+            sweep::unshare(shared, bodies);
+        });
     }
 
     /// Stage 11: copies solved velocities back into the bodies and
@@ -842,6 +926,73 @@ impl Space {
             }
         }
     }
+}
+
+/// What the narrowphase of a pair reads: the space's parts threads may
+/// share (the space itself holds callbacks, which they may not).
+struct NarrowView<'a> {
+    shapes: &'a crate::arena::Arena<crate::shape::Shape>,
+    bodies: &'a crate::arena::Arena<crate::body::Body>,
+    caches: &'a [Option<ShapeCache>],
+    constraints: &'a crate::constraint::solve::ConstraintScratch,
+}
+
+impl NarrowView<'_> {
+    /// Filters the candidate pair of shape slots `ia`, `ib` and collides
+    /// it from warm-start id `ws`; `None` if rejected or not touching.
+    #[inline]
+    fn collide(&self, ia: u32, ib: u32, ws: u32) -> Option<crate::collision::CollisionInfo> {
+        let (_, sa) = self.shapes.get_by_index(ia)?;
+        let (_, sb) = self.shapes.get_by_index(ib)?;
+        if sa.body == sb.body || sa.filter.rejects(&sb.filter) || (sa.sensor && sb.sensor) {
+            return None;
+        }
+        if self.constraints.rejects(sa.body, sb.body) {
+            return None;
+        }
+        let ba = self.bodies.get(sa.body)?;
+        let bb = self.bodies.get(sb.body)?;
+        // Two bodies that cannot move, or a sleeping body and one that
+        // does not move it (stage 3b woke the islands a mover touches).
+        let awake = |b: &crate::body::Body| b.is_dynamic() && !b.is_sleeping();
+        if !awake(ba) && !awake(bb) {
+            return None;
+        }
+        let ca = self.caches.get(ia as usize)?.as_ref()?;
+        let cb = self.caches.get(ib as usize)?.as_ref()?;
+        let info = collide(&ca.geometry, &cb.geometry, ws);
+        (info.count > 0).then_some(info)
+    }
+}
+
+/// Pairs per piece of the split narrowphase (a few µs of work).
+const PAIR_PIECE: usize = 64;
+
+/// [`NarrowView::collide`] for every pair, halves in parallel down to
+/// [`PAIR_PIECE`]s: each piece writes its own slots of `infos`.
+fn collide_split(
+    view: &NarrowView<'_>,
+    pairs: &[(u32, u32)],
+    ids: &[u32],
+    infos: &mut [Option<crate::collision::CollisionInfo>],
+) {
+    if infos.len() <= PAIR_PIECE {
+        for ((info, &(ia, ib)), &ws) in infos.iter_mut().zip(pairs).zip(ids) {
+            *info = view.collide(ia, ib, ws);
+        }
+        return;
+    }
+    let mid = infos.len() / 2;
+    let (left, right) = infos.split_at_mut(mid);
+    let (pl, pr) = (
+        pairs.get(..mid).unwrap_or(&[]),
+        pairs.get(mid..).unwrap_or(&[]),
+    );
+    let (il, ir) = (ids.get(..mid).unwrap_or(&[]), ids.get(mid..).unwrap_or(&[]));
+    crate::threads::join(
+        || collide_split(view, pl, il, left),
+        || collide_split(view, pr, ir, right),
+    );
 }
 
 /// The next arbiter of `old` if its pair key satisfies `pred`.

@@ -1,0 +1,203 @@
+//! One Gauss–Seidel pass over rows of whole manifolds: in order on one
+//! thread, or one color's manifolds split between threads.
+//!
+//! A color's manifolds share no body the solver moves
+//! ([`graph`](super::graph)), so they can be solved at the same time on
+//! bodies that threads share ([`SharedBody`]): the same bits as solving them
+//! one after the other in place, however the color is split. Bodies the
+//! solver does not move (static, kinematic, sleeping: zero inverse mass and
+//! moment) may be in several of a color's manifolds; they are only read.
+use core::sync::atomic::{AtomicI64, Ordering::Relaxed};
+
+use super::block::{self, ManifoldBlock};
+use super::{ContactConstraint, SolverBody};
+use crate::math::{Real, Vect};
+
+/// Solves `rows` (whole manifolds, in order) on `bodies`: a block's two
+/// rows together, every other row on its own.
+#[inline]
+pub(crate) fn solve_rows<const FRICTION: bool, const BIAS: bool>(
+    rows: &mut [ContactConstraint],
+    blocks: &[ManifoldBlock],
+    bodies: &mut [SolverBody],
+) {
+    let mut i = 0usize;
+    while let Some((c, tail)) = rows
+        .get_mut(i..)
+        .and_then(<[ContactConstraint]>::split_first_mut)
+    {
+        let ends = (c.a, c.b);
+        let block = c.block.checked_sub(1).and_then(|k| blocks.get(k as usize));
+        if let (Some(block), Some(c2)) = (block, tail.first_mut()) {
+            block::solve_prepared::<FRICTION, BIAS>(c, c2, block, bodies, ends);
+            i = i.saturating_add(2);
+        } else {
+            c.solve_prepared::<FRICTION, BIAS>(bodies, ends);
+            i = i.saturating_add(1);
+        }
+    }
+}
+
+/// A [`SolverBody`] threads can share: each field an atomic word, read
+/// and written with relaxed loads and stores (plain moves on 64-bit
+/// targets). Within a color no two threads touch the same movable body,
+/// so no ordering is needed; atomics make the sharing safe Rust.
+#[derive(Debug, Default)]
+pub(crate) struct SharedBody {
+    words: [AtomicI64; 8],
+}
+
+impl Clone for SharedBody {
+    fn clone(&self) -> Self {
+        let copy = SharedBody::default();
+        copy.store(&self.load());
+        copy
+    }
+}
+
+impl SharedBody {
+    /// The body's current value.
+    #[inline(always)]
+    fn load(&self) -> SolverBody {
+        let [vx, vy, w, bx, by, bw, m, i] = self
+            .words
+            .each_ref()
+            .map(|x| Real::from_bits(x.load(Relaxed)));
+        SolverBody {
+            v: Vect::new(vx, vy),
+            w,
+            v_bias: Vect::new(bx, by),
+            w_bias: bw,
+            m_inv: m,
+            i_inv: i,
+        }
+    }
+
+    /// Sets the body to `b`.
+    #[inline(always)]
+    fn store(&self, b: &SolverBody) {
+        let words = [
+            b.v.x, b.v.y, b.w, b.v_bias.x, b.v_bias.y, b.w_bias, b.m_inv, b.i_inv,
+        ];
+        for (x, r) in self.words.iter().zip(words) {
+            x.store(r.to_bits(), Relaxed);
+        }
+    }
+
+    /// Sets the velocities (the solver never changes the inverse masses).
+    #[inline(always)]
+    fn store_velocities(&self, b: &SolverBody) {
+        let words = [b.v.x, b.v.y, b.w, b.v_bias.x, b.v_bias.y, b.w_bias];
+        for (x, r) in self.words.iter().zip(words) {
+            x.store(r.to_bits(), Relaxed);
+        }
+    }
+}
+
+/// Copies `bodies` into `shared` (resized to match).
+pub(crate) fn share(bodies: &[SolverBody], shared: &mut Vec<SharedBody>) {
+    if shared.len() != bodies.len() {
+        shared.clear();
+        shared.resize_with(bodies.len(), SharedBody::default);
+    }
+    for (s, b) in shared.iter().zip(bodies) {
+        s.store(b);
+    }
+}
+
+/// Copies `shared` back into `bodies`.
+pub(crate) fn unshare(shared: &[SharedBody], bodies: &mut [SolverBody]) {
+    for (b, s) in bodies.iter_mut().zip(shared) {
+        *b = s.load();
+    }
+}
+
+/// Solves one manifold's `rows` on a copy of its two bodies loaded from
+/// `shared`, and stores the movable ones back (a body the solver does not
+/// move comes back unchanged: not stored, so threads sharing it never
+/// write its cache line). Nothing where the in-place pass solves nothing
+/// (a body paired with itself, a slot out of range).
+#[inline]
+fn solve_manifold_shared<const FRICTION: bool, const BIAS: bool>(
+    rows: &mut [ContactConstraint],
+    blocks: &[ManifoldBlock],
+    shared: &[SharedBody],
+) {
+    let Some(first) = rows.first() else {
+        return;
+    };
+    let (a, b) = (first.a, first.b);
+    let (Some(sa), Some(sb)) = (shared.get(a as usize), shared.get(b as usize)) else {
+        return;
+    };
+    if a == b {
+        return;
+    }
+    let mut copy = [sa.load(), sb.load()];
+    let mut i = 0usize;
+    while let Some((c, tail)) = rows
+        .get_mut(i..)
+        .and_then(<[ContactConstraint]>::split_first_mut)
+    {
+        let block = c.block.checked_sub(1).and_then(|k| blocks.get(k as usize));
+        if let (Some(block), Some(c2)) = (block, tail.first_mut()) {
+            block::solve_prepared::<FRICTION, BIAS>(c, c2, block, &mut copy, (0, 1));
+            i = i.saturating_add(2);
+        } else {
+            c.solve_prepared::<FRICTION, BIAS>(&mut copy, (0, 1));
+            i = i.saturating_add(1);
+        }
+    }
+    for (s, body) in [sa, sb].into_iter().zip(&copy) {
+        if !body.m_inv.is_zero() || !body.i_inv.is_zero() {
+            s.store_velocities(body);
+        }
+    }
+}
+
+/// Manifolds per piece of a split color: about 1–2 µs of work, far above
+/// the cost of handing a piece to another thread.
+const PIECE: usize = 16;
+
+/// Solves the manifolds `rows` of one color, or of the overflow in order,
+/// on the shared bodies: `starts` holds each manifold's first row
+/// (absolute, as in the scratch) and the end. A color's manifolds are
+/// split in halves down to [`PIECE`]s (boundaries set by the count alone)
+/// and solved in parallel inside a pool ([`crate::threads::join`]); any
+/// split gives the same bits. `split = false` (the overflow): in order.
+pub(crate) fn solve_shared<const FRICTION: bool, const BIAS: bool>(
+    rows: &mut [ContactConstraint],
+    starts: &[u32],
+    blocks: &[ManifoldBlock],
+    shared: &[SharedBody],
+    split: bool,
+) {
+    let base = starts.first().copied().unwrap_or(0);
+    let manifolds = starts.len().saturating_sub(1);
+    if !split || manifolds <= PIECE {
+        for (k, &s) in starts.iter().enumerate().take(manifolds) {
+            let Some(&e) = starts.get(k.wrapping_add(1)) else {
+                continue;
+            };
+            let range = s.wrapping_sub(base) as usize..e.wrapping_sub(base) as usize;
+            if let Some(manifold) = rows.get_mut(range) {
+                solve_manifold_shared::<FRICTION, BIAS>(manifold, blocks, shared);
+            }
+        }
+        return;
+    }
+    let mid = manifolds / 2;
+    let cut = starts.get(mid).copied().unwrap_or(base);
+    let Some((left_rows, right_rows)) = rows.split_at_mut_checked(cut.wrapping_sub(base) as usize)
+    else {
+        return;
+    };
+    let (left_starts, right_starts) = (
+        starts.get(..=mid).unwrap_or(&[]),
+        starts.get(mid..).unwrap_or(&[]),
+    );
+    crate::threads::join(
+        || solve_shared::<FRICTION, BIAS>(left_rows, left_starts, blocks, shared, true),
+        || solve_shared::<FRICTION, BIAS>(right_rows, right_starts, blocks, shared, true),
+    );
+}

@@ -1,0 +1,89 @@
+//! The threads a step may use (the `parallel` feature), and the one
+//! primitive the parallel stages split work with.
+//!
+//! Nothing a step computes depends on the thread count: work is split in
+//! halves down to pieces whose boundaries depend only on the item count,
+//! and every piece writes only what no other piece of the same stage
+//! reads or writes (see [`solver::sweep`](crate::solver)). Without the
+//! feature, or with one thread, the halves run one after the other.
+
+/// A space's threads: a count, and with the `parallel` feature and more
+/// than one thread, the pool that runs them (shared by the space's clones).
+#[derive(Clone, Debug)]
+pub(crate) struct Threads {
+    count: usize,
+    #[cfg(feature = "parallel")]
+    pool: Option<std::sync::Arc<rayon::ThreadPool>>,
+}
+
+impl Default for Threads {
+    fn default() -> Self {
+        Threads {
+            count: 1,
+            #[cfg(feature = "parallel")]
+            pool: None,
+        }
+    }
+}
+
+impl Threads {
+    /// `n` threads (0 counts as 1). Without the `parallel` feature the
+    /// count is kept and the step runs on the calling thread.
+    pub(crate) fn new(n: usize) -> Result<Threads, &'static str> {
+        let count = n.max(1);
+        #[cfg(feature = "parallel")]
+        {
+            let pool = if count > 1 {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(count)
+                    .thread_name(|i| format!("tamias2d-{i}"))
+                    .build()
+                    .map_err(|_| "threads: the operating system refused to start the threads")?;
+                Some(std::sync::Arc::new(pool))
+            } else {
+                None
+            };
+            Ok(Threads { count, pool })
+        }
+        #[cfg(not(feature = "parallel"))]
+        Ok(Threads { count })
+    }
+
+    /// The thread count asked for.
+    pub(crate) fn count(&self) -> usize {
+        self.count
+    }
+
+    /// Whether stages split between threads (the feature, more than one
+    /// thread): otherwise they take the cheaper in-place serial paths.
+    pub(crate) fn parallel(&self) -> bool {
+        #[cfg(feature = "parallel")]
+        return self.pool.is_some();
+        #[cfg(not(feature = "parallel"))]
+        false
+    }
+
+    /// Runs `f` in the pool (its [`join`]s then use the pool's threads),
+    /// or on this thread.
+    pub(crate) fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
+        #[cfg(feature = "parallel")]
+        if let Some(pool) = &self.pool {
+            return pool.install(f);
+        }
+        f()
+    }
+}
+
+/// Runs `a` and `b`, in parallel inside a pool's [`Threads::install`]
+/// (`rayon::join`), else one after the other.
+#[inline]
+pub(crate) fn join<A: FnOnce() + Send, B: FnOnce() + Send>(a: A, b: B) {
+    // Outside a pool rayon would start its global one: never.
+    #[cfg(feature = "parallel")]
+    if rayon::current_thread_index().is_some() {
+        rayon::join(a, b);
+        return;
+    }
+    a();
+    b();
+}

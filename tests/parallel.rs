@@ -1,0 +1,66 @@
+//! The parallel step (`parallel` feature, `Space::set_threads`) gives the
+//! bits of one thread: every golden scene, with the canonical and with the
+//! colored solver, stepped on 1, 2, 3, 4 and 8 threads (more threads than
+//! this machine's cores is fine), has the same checksum at every step; on
+//! one thread it is the committed golden (`scenes/tests/golden.rs`, which
+//! the cross-platform script runs without the feature on every target, and
+//! which also holds the colored solver's goldens).
+//!
+//! The root crate's tests build the engine with the feature (see the
+//! dev-dependencies). A debug build checks the first 60 steps of each
+//! scene (every step validated costs time there); release, the whole
+//! golden run.
+use tamias2d_scenes::REGISTRY;
+
+const THREADS: [usize; 5] = [1, 2, 3, 4, 8];
+
+/// The checksum after each of `steps` steps of scene `name`.
+fn checksums(name: &str, colored: bool, threads: usize, steps: u32) -> Vec<u64> {
+    let mut desc = tamias2d_scenes::builtin(name).expect("a registered scene");
+    desc.settings.colored_solver = colored;
+    let mut world = desc.build().expect("a valid scene");
+    world.space.set_threads(threads).expect("threads start");
+    assert_eq!(world.space.threads(), threads);
+    (0..steps)
+        .map(|n| {
+            world
+                .step()
+                .unwrap_or_else(|e| panic!("{name}, {threads} threads, step {n}: {e}"));
+            world.space.checksum()
+        })
+        .collect()
+}
+
+#[test]
+fn the_feature_is_on_in_these_tests() {
+    // Otherwise the test below would compare one thread with itself.
+    const { assert!(tamias2d::space::PARALLEL) };
+}
+
+#[test]
+fn every_thread_count_gives_the_bits_of_one_thread_at_every_step() {
+    for info in REGISTRY {
+        let Some(golden) = info.golden else { continue };
+        let steps = if cfg!(debug_assertions) {
+            golden.steps.min(60)
+        } else {
+            golden.steps
+        };
+        for colored in [false, true] {
+            let one = checksums(info.name, colored, 1, steps);
+            if !colored && steps == golden.steps {
+                assert_eq!(one.last(), Some(&golden.checksum), "{}: golden", info.name);
+            }
+            for &threads in &THREADS[1..] {
+                let many = checksums(info.name, colored, threads, steps);
+                if let Some(n) = one.iter().zip(&many).position(|(a, b)| a != b) {
+                    panic!(
+                        "{} (colored solver {colored}): {threads} threads differ from 1 at step {}",
+                        info.name,
+                        n + 1
+                    );
+                }
+            }
+        }
+    }
+}
