@@ -47,7 +47,7 @@ ROOT=$(pwd)
 
 MIRI_TOOLCHAIN=${MIRI_TOOLCHAIN:-nightly}
 DEFAULT_PLATFORMS=(x86_64-debug x86_64-release i686-debug i686-release aarch64 wasm32 miri-s390x miri-i686)
-ALL_PLATFORMS=("${DEFAULT_PLATFORMS[@]}" s390x)
+ALL_PLATFORMS=("${DEFAULT_PLATFORMS[@]}" s390x i686-parallel aarch64-parallel)
 
 if [ $# -gt 0 ]; then
     PLATFORMS=("$@")
@@ -187,7 +187,7 @@ for p in "${PLATFORMS[@]}"; do
             has_target i686-unknown-linux-gnu || reason="rust target i686-unknown-linux-gnu not installed"
             [ -n "$reason" ] || i686_links || reason="gcc -m32 cannot link (libc6-dev-i386, lib32gcc-N-dev)"
             ;;
-        aarch64)
+        aarch64 | aarch64-parallel)
             has_target aarch64-unknown-linux-gnu || reason="rust target aarch64-unknown-linux-gnu not installed"
             [ -n "$reason" ] || aarch64_links ||
                 reason="aarch64-linux-gnu-gcc cannot link (gcc-aarch64-linux-gnu, libc6-dev-arm64-cross)"
@@ -244,6 +244,12 @@ autotests = false
 
 [dependencies]
 tamias2d-scenes = { path = '$ROOT/scenes' }
+tamias2d = { path = '$ROOT' }
+
+# The *-parallel platforms: the engine's parallel step, the goldens computed
+# on TAMIAS_GOLDEN_THREADS threads.
+[features]
+parallel = ["tamias2d/parallel"]
 
 [[test]]
 name = "golden"
@@ -286,6 +292,17 @@ run_platform() {
         x86_64-release) runner cargo test --release ;;
         i686-debug) runner cargo test --target i686-unknown-linux-gnu ;;
         i686-release) runner cargo test --release --target i686-unknown-linux-gnu ;;
+        i686-parallel)
+            TAMIAS_GOLDEN_THREADS=3 runner cargo test --release --target i686-unknown-linux-gnu \
+                --features parallel
+            ;;
+        aarch64-parallel)
+            qemu=$(qemu_aarch64)
+            CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_LINKER=aarch64-linux-gnu-gcc \
+                CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_RUNNER="$qemu -L /usr/aarch64-linux-gnu" \
+                TAMIAS_GOLDEN_THREADS=3 runner cargo test --release --target aarch64-unknown-linux-gnu \
+                --features parallel
+            ;;
         aarch64)
             qemu=$(qemu_aarch64)
             CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_LINKER=aarch64-linux-gnu-gcc \

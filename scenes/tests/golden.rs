@@ -9,6 +9,14 @@
 //! if it reproduces these exact 64-bit values, so passing everywhere proves
 //! the engine steps bit-identically everywhere.
 //!
+//! Besides the registry's goldens (the default, canonical solver) it
+//! checks [`COLORED_GOLDENS`], the same scenes with the colored solver
+//! (`Settings::colored_solver`), natively. With `TAMIAS_GOLDEN_THREADS=N`
+//! every world steps on N threads: the script's `i686-parallel` and
+//! `aarch64-parallel` platforms build the engine with its `parallel`
+//! feature and run this test on 3 threads (the same values: no bit depends
+//! on the thread count).
+//!
 //! This file uses nothing but `tamias2d_scenes` (and through it `tamias2d`)
 //! and `std`: the script builds it alone, and this crate has no
 //! dev-dependencies, so keep it that way.
@@ -27,7 +35,8 @@
 //! cargo test -p tamias2d-scenes --release --test golden -- --ignored --nocapture print_goldens
 //! ```
 //! or set `TAMIAS_PRINT_GOLDENS=1` on a normal run, which prints the values
-//! before checking them. The Miri values are computed natively too: they
+//! before checking them (and prints the colored-solver table, to paste
+//! into [`COLORED_GOLDENS`]). The Miri values are computed natively too: they
 //! are the same scenes at fewer steps, so the values are
 //! platform-independent by the same promise.
 //!
@@ -118,6 +127,16 @@ fn checksum_with(name: &str, steps: u32, colored: bool) -> u64 {
         .unwrap_or_else(|| panic!("{name} is not a registered scene"));
     desc.settings.colored_solver = colored;
     let mut world = desc.build().unwrap_or_else(|e| panic!("{name}: {e}"));
+    // The cross-platform script's *-parallel platforms: the same goldens
+    // on several threads (any count gives the bits of one).
+    let threads = std::env::var("TAMIAS_GOLDEN_THREADS")
+        .ok()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(1);
+    world
+        .space
+        .set_threads(threads)
+        .unwrap_or_else(|e| panic!("{name}: {threads} threads: {e}"));
     if trace {
         println!("trace {name} 0 {:#018x}", world.space.checksum());
     }

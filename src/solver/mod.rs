@@ -119,6 +119,9 @@ pub(crate) struct SolverScratch {
     /// The first row of each manifold in solve order, and the end: a
     /// color's manifolds are the pieces [`sweep`] splits it into.
     pub(crate) manifold_rows: Vec<u32>,
+    /// The first block slot of each manifold in solve order, and the end
+    /// (a two-contact manifold has one, used if it is solved as a block).
+    pub(crate) manifold_blocks: Vec<u32>,
     /// The bodies while threads share them ([`sweep::SharedBody`]).
     pub(crate) shared: Vec<sweep::SharedBody>,
 }

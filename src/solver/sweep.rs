@@ -155,14 +155,25 @@ fn solve_manifold_shared<const FRICTION: bool, const BIAS: bool>(
     }
 }
 
-/// Manifolds per piece of a split color: about 1–2 µs of work, far above
-/// the cost of handing a piece to another thread.
-const PIECE: usize = 16;
+/// The fewest manifolds in a piece of a split color (about 1 µs of work:
+/// several times the cost of handing a piece to another thread).
+const MIN_PIECE: usize = 16;
+
+/// The most pieces a color is split into: enough to balance 16 threads,
+/// few enough that a large color's pieces are long (each split costs a
+/// `join`, measured at 10–20 % of a 16-manifold piece).
+const MAX_PIECES: usize = 16;
+
+/// The piece size for a color of `manifolds`: set by the count alone.
+fn piece_size(manifolds: usize) -> usize {
+    manifolds.div_ceil(MAX_PIECES).max(MIN_PIECE)
+}
 
 /// Solves the manifolds `rows` of one color, or of the overflow in order,
 /// on the shared bodies: `starts` holds each manifold's first row
 /// (absolute, as in the scratch) and the end. A color's manifolds are
-/// split in halves down to [`PIECE`]s (boundaries set by the count alone)
+/// split in halves down to pieces of [`piece_size`] (boundaries set by the
+/// count alone)
 /// and solved in parallel inside a pool ([`crate::threads::join`]); any
 /// split gives the same bits. `split = false` (the overflow): in order.
 pub(crate) fn solve_shared<const FRICTION: bool, const BIAS: bool>(
@@ -172,9 +183,26 @@ pub(crate) fn solve_shared<const FRICTION: bool, const BIAS: bool>(
     shared: &[SharedBody],
     split: bool,
 ) {
+    let manifolds = starts.len().saturating_sub(1);
+    let piece = if split {
+        piece_size(manifolds)
+    } else {
+        usize::MAX
+    };
+    solve_pieces::<FRICTION, BIAS>(rows, starts, blocks, shared, piece);
+}
+
+/// [`solve_shared`] down to pieces of at most `piece` manifolds.
+fn solve_pieces<const FRICTION: bool, const BIAS: bool>(
+    rows: &mut [ContactConstraint],
+    starts: &[u32],
+    blocks: &[ManifoldBlock],
+    shared: &[SharedBody],
+    piece: usize,
+) {
     let base = starts.first().copied().unwrap_or(0);
     let manifolds = starts.len().saturating_sub(1);
-    if !split || manifolds <= PIECE {
+    if manifolds <= piece {
         for (k, &s) in starts.iter().enumerate().take(manifolds) {
             let Some(&e) = starts.get(k.wrapping_add(1)) else {
                 continue;
@@ -197,7 +225,7 @@ pub(crate) fn solve_shared<const FRICTION: bool, const BIAS: bool>(
         starts.get(mid..).unwrap_or(&[]),
     );
     crate::threads::join(
-        || solve_shared::<FRICTION, BIAS>(left_rows, left_starts, blocks, shared, true),
-        || solve_shared::<FRICTION, BIAS>(right_rows, right_starts, blocks, shared, true),
+        || solve_pieces::<FRICTION, BIAS>(left_rows, left_starts, blocks, shared, piece),
+        || solve_pieces::<FRICTION, BIAS>(right_rows, right_starts, blocks, shared, piece),
     );
 }

@@ -643,6 +643,7 @@ impl Space {
             max_bias: Real::MAX,
             features,
         };
+        let threads = &self.caches.threads;
         let SolverScratch {
             bodies: solver_bodies,
             constraints: contact_constraints,
@@ -650,10 +651,9 @@ impl Space {
             graph,
             color_rows,
             manifold_rows,
+            manifold_blocks,
             ..
         } = &mut self.caches.solver;
-        contact_constraints.clear();
-        blocks.clear();
         let arbiters = &self.state.arbiters;
         if !s.colored_solver {
             graph.uncolored(active);
@@ -670,48 +670,43 @@ impl Space {
                 })
             });
         }
+        // Where each manifold's rows and block go, in one pass over the
+        // arbiters: the manifolds can then be prepared in any order, and
+        // split between threads.
         let use_blocks = s.block_solver;
         manifold_rows.clear();
+        manifold_blocks.clear();
+        let (mut rows, mut block_count) = (0u32, 0u32);
         for &i in graph.order() {
-            // At most 2^32 rows: counted in u32 like the stats.
-            manifold_rows.push(contact_constraints.len() as u32);
-            let Some(arb) = arbiters.get(i as usize) else {
-                continue;
-            };
-            let pair = PairParams {
-                a: arb.body_a.index(),
-                b: arb.body_b.index(),
-                n: arb.normal,
-                e: arb.restitution,
-                friction: arb.friction,
-                surface_vr: arb.surface_velocity,
-            };
-            // A two-contact manifold's rows get their tangent effective
-            // mass (a division) only if they are not solved as a block.
-            let block = use_blocks && arb.contacts().len() == 2;
-            let mut k_t = [Real::ZERO; 2];
-            for (slot, c) in arb.contacts().iter().enumerate() {
-                let (mut sc, k) = ContactConstraint::prepare(c, solver_bodies, &pair, &params);
-                if let Some(slot_k) = k_t.get_mut(slot).filter(|_| block) {
-                    *slot_k = k;
-                } else {
-                    sc.t_mass = effective_mass(k);
-                }
-                sc.arbiter = i;
-                sc.slot = slot as u32;
-                contact_constraints.push(sc);
-            }
-            if block {
-                add_block(
-                    contact_constraints,
-                    blocks,
-                    solver_bodies,
-                    features.friction,
-                    k_t,
-                );
-            }
+            manifold_rows.push(rows);
+            manifold_blocks.push(block_count);
+            // At most MAX_CONTACTS_PER_ARBITER (2) rows per arbiter, and
+            // rows are counted in u32 like the stats.
+            let n = arbiters
+                .get(i as usize)
+                .map_or(0, |a| a.contacts().len() as u32);
+            rows = rows.saturating_add(n);
+            block_count = block_count.saturating_add(u32::from(use_blocks && n == 2));
         }
-        manifold_rows.push(contact_constraints.len() as u32);
+        manifold_rows.push(rows);
+        manifold_blocks.push(block_count);
+        contact_constraints.clear();
+        contact_constraints.resize(rows as usize, ContactConstraint::default());
+        blocks.clear();
+        blocks.resize(block_count as usize, ManifoldBlock::default());
+        let job = PrepareJob {
+            arbiters,
+            bodies: solver_bodies,
+            params: &params,
+            friction: features.friction,
+        };
+        let order = graph.order();
+        let parts = ManifoldParts {
+            order,
+            rows: manifold_rows,
+            blocks: manifold_blocks,
+        };
+        threads.install(|| prepare_split(&job, parts, contact_constraints, blocks));
         for (c, first_row) in color_rows.iter_mut().enumerate() {
             let first_manifold = graph.range(c).start;
             *first_row = manifold_rows.get(first_manifold).copied().unwrap_or(0);
@@ -816,6 +811,7 @@ impl Space {
             manifold_rows,
             graph,
             shared,
+            ..
         } = &mut self.caches.solver;
         let joints = &mut self.caches.constraints;
         if !split {
@@ -1009,25 +1005,142 @@ fn take_if(
     }
 }
 
-/// Marks the last two rows of `rows` (one two-contact manifold) as a block
-/// for the block solver when its normal matrix is well conditioned
-/// ([`ManifoldBlock::new`]); otherwise they stay sequential rows and get
-/// their tangent effective masses `1/k_t[i]` (a block's rows never read
-/// theirs: its face friction has its own).
-fn add_block(
-    rows: &mut [ContactConstraint],
-    blocks: &mut Vec<ManifoldBlock>,
-    bodies: &[SolverBody],
+/// What preparing a manifold reads.
+struct PrepareJob<'a> {
+    arbiters: &'a [Arbiter],
+    bodies: &'a [SolverBody],
+    params: &'a ContactParams,
     friction: bool,
-    k_t: [Real; 2],
+}
+
+/// A run of manifolds in solve order: their arbiters, and the first row
+/// and first block slot of each (absolute, as in the scratch) and the end.
+#[derive(Clone, Copy)]
+struct ManifoldParts<'a> {
+    order: &'a [u32],
+    rows: &'a [u32],
+    blocks: &'a [u32],
+}
+
+impl<'a> ManifoldParts<'a> {
+    /// The manifolds `..mid` and `mid..`.
+    fn split(self, mid: usize) -> (ManifoldParts<'a>, ManifoldParts<'a>) {
+        let head = |v: &'a [u32]| v.get(..=mid).unwrap_or(&[]);
+        let tail = |v: &'a [u32]| v.get(mid..).unwrap_or(&[]);
+        (
+            ManifoldParts {
+                order: self.order.get(..mid).unwrap_or(&[]),
+                rows: head(self.rows),
+                blocks: head(self.blocks),
+            },
+            ManifoldParts {
+                order: self.order.get(mid..).unwrap_or(&[]),
+                rows: tail(self.rows),
+                blocks: tail(self.blocks),
+            },
+        )
+    }
+}
+
+/// Manifolds per piece of the split pre-step.
+const PREPARE_PIECE: usize = 32;
+
+/// Stage 7 for the manifolds of `parts`, whose rows are `rows` and whose
+/// block slots are `blocks`: halves in parallel down to
+/// [`PREPARE_PIECE`]s, each writing only its own rows and slots.
+fn prepare_split(
+    job: &PrepareJob<'_>,
+    parts: ManifoldParts<'_>,
+    rows: &mut [ContactConstraint],
+    blocks: &mut [ManifoldBlock],
 ) {
-    let Some([c1, c2]) = rows.last_chunk_mut::<2>() else {
+    let n = parts.order.len();
+    let row_base = parts.rows.first().copied().unwrap_or(0);
+    let block_base = parts.blocks.first().copied().unwrap_or(0);
+    if n <= PREPARE_PIECE {
+        for (k, &i) in parts.order.iter().enumerate() {
+            let at = |v: &[u32], k: usize| v.get(k).copied().unwrap_or(0);
+            let (r0, r1) = (at(parts.rows, k), at(parts.rows, k.wrapping_add(1)));
+            let (b0, b1) = (at(parts.blocks, k), at(parts.blocks, k.wrapping_add(1)));
+            let range = r0.wrapping_sub(row_base) as usize..r1.wrapping_sub(row_base) as usize;
+            let (Some(arb), Some(out)) = (job.arbiters.get(i as usize), rows.get_mut(range)) else {
+                continue;
+            };
+            // A block slot (b1 = b0 + 1) and its index + 1 for the row.
+            let slot = (b1 > b0)
+                .then(|| blocks.get_mut(b0.wrapping_sub(block_base) as usize))
+                .flatten()
+                .map(|dst| (dst, b0.saturating_add(1)));
+            prepare_manifold(job, i, arb, out, slot);
+        }
+        return;
+    }
+    let mid = n / 2;
+    let (left, right) = parts.split(mid);
+    let row_cut = left
+        .rows
+        .last()
+        .copied()
+        .unwrap_or(row_base)
+        .wrapping_sub(row_base);
+    let block_cut = left
+        .blocks
+        .last()
+        .copied()
+        .unwrap_or(block_base)
+        .wrapping_sub(block_base);
+    let (Some((rows_l, rows_r)), Some((blocks_l, blocks_r))) = (
+        rows.split_at_mut_checked(row_cut as usize),
+        blocks.split_at_mut_checked(block_cut as usize),
+    ) else {
         return;
     };
-    if let Some(block) = ManifoldBlock::new(c1, c2, bodies, friction) {
-        blocks.push(block);
-        // At most one block per two rows, and rows are counted in u32.
-        c1.block = u32::try_from(blocks.len()).unwrap_or(0);
+    crate::threads::join(
+        || prepare_split(job, left, rows_l, blocks_l),
+        || prepare_split(job, right, rows_r, blocks_r),
+    );
+}
+
+/// Stage 7 for arbiter `i` (`arb`): its rows into `out`, and with a block
+/// `slot` (a two-contact manifold, block solver on) its block, if its
+/// normal matrix is well conditioned ([`ManifoldBlock::new`]). A block's
+/// rows never get their tangent effective mass (its face friction has its
+/// own): the division is done only for rows solved on their own.
+fn prepare_manifold(
+    job: &PrepareJob<'_>,
+    i: u32,
+    arb: &Arbiter,
+    out: &mut [ContactConstraint],
+    slot: Option<(&mut ManifoldBlock, u32)>,
+) {
+    let pair = PairParams {
+        a: arb.body_a.index(),
+        b: arb.body_b.index(),
+        n: arb.normal,
+        e: arb.restitution,
+        friction: arb.friction,
+        surface_vr: arb.surface_velocity,
+    };
+    let block = slot.is_some();
+    let mut k_t = [Real::ZERO; 2];
+    for (n, (c, row)) in arb.contacts().iter().zip(out.iter_mut()).enumerate() {
+        let (mut sc, k) = ContactConstraint::prepare(c, job.bodies, &pair, job.params);
+        if let Some(slot_k) = k_t.get_mut(n).filter(|_| block) {
+            *slot_k = k;
+        } else {
+            sc.t_mass = effective_mass(k);
+        }
+        sc.arbiter = i;
+        // n < MAX_CONTACTS_PER_ARBITER.
+        sc.slot = n as u32;
+        *row = sc;
+    }
+    let (Some((dst, id)), [c1, c2]) = (slot, out) else {
+        return;
+    };
+    if let Some(b) = ManifoldBlock::new(c1, c2, job.bodies, job.friction) {
+        *dst = b;
+        c1.block = id;
     } else {
         c1.t_mass = effective_mass(k_t[0]);
         c2.t_mass = effective_mass(k_t[1]);
