@@ -63,6 +63,43 @@ impl Threads {
         false
     }
 
+    /// Runs `f` (on this thread) with the pool's workers kept awake: each
+    /// spins, picking up the pool's work as it comes, until `f` returns.
+    /// Parallel stages a few milliseconds apart then start at once instead
+    /// of waking sleeping threads. Without a pool, just `f()`.
+    pub(crate) fn awake<R>(&self, f: impl FnOnce() -> R) -> R {
+        #[cfg(feature = "parallel")]
+        if let Some(pool) = &self.pool {
+            use core::sync::atomic::{AtomicBool, Ordering};
+            /// Ends the spinning when dropped: also if `f` panics (a
+            /// handler's panic), which would otherwise leave the scope
+            /// waiting for spinners that never stop.
+            struct Done<'a>(&'a AtomicBool);
+            impl Drop for Done<'_> {
+                fn drop(&mut self) {
+                    self.0.store(true, Ordering::Release);
+                }
+            }
+            let done = AtomicBool::new(false);
+            return pool.in_place_scope(|scope| {
+                for _ in 0..self.count {
+                    scope.spawn(|_| {
+                        while !done.load(Ordering::Acquire) {
+                            // Run the pool's work if there is any, else
+                            // give the core to whoever needs it.
+                            if rayon::yield_now() != Some(rayon::Yield::Executed) {
+                                std::thread::yield_now();
+                            }
+                        }
+                    });
+                }
+                let _done = Done(&done);
+                f()
+            });
+        }
+        f()
+    }
+
     /// Runs `f` in the pool (its [`join`]s then use the pool's threads),
     /// or on this thread.
     pub(crate) fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {

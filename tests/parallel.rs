@@ -64,3 +64,20 @@ fn every_thread_count_gives_the_bits_of_one_thread_at_every_step() {
         }
     }
 }
+
+/// A handler that panics while the pool's workers are kept awake: the
+/// panic reaches the caller (the workers stop spinning), never a hang.
+#[test]
+fn a_panicking_handler_with_threads_unwinds_and_does_not_hang() {
+    let mut world = tamias2d_scenes::builtin("pyramid_20")
+        .expect("a registered scene")
+        .build()
+        .expect("a valid scene");
+    world.space.set_threads(2).expect("threads start");
+    world
+        .space
+        .add_wildcard_handler(Default::default())
+        .pre_solve = Some(Box::new(|_| panic!("a game's bug")));
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| world.step()));
+    assert!(result.is_err(), "the handler's panic reached the caller");
+}

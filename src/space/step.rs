@@ -200,16 +200,21 @@ impl Space {
             self.update_shape_caches();
             self.find_pairs();
         }
-        let active = self.collide_pairs(); // 4, 5
-        self.load_solver_bodies(); // 6
-        self.pre_step(&active, &dtc, features); // 7
-        self.pre_step_constraints(dtc.dt, dtc.dt_inv); // 7: after the contacts
-        self.integrate_velocities(&dtc); // 8
-        if features.warm_starting {
-            self.warm_start(features); // 9
-            self.warm_start_constraints(); // 9: after the contacts
-        }
-        self.solve(features); // 10: contacts, then constraints, per iteration
+        // Stages 4-10 hold the parallel ones: the threads stay awake.
+        let threads = self.caches.threads.clone();
+        let active = threads.awake(|| {
+            let active = self.collide_pairs(); // 4, 5
+            self.load_solver_bodies(); // 6
+            self.pre_step(&active, &dtc, features); // 7
+            self.pre_step_constraints(dtc.dt, dtc.dt_inv); // 7: after the contacts
+            self.integrate_velocities(&dtc); // 8
+            if features.warm_starting {
+                self.warm_start(features); // 9
+                self.warm_start_constraints(); // 9: after the contacts
+            }
+            self.solve(features); // 10: contacts, then constraints, per iteration
+            active
+        });
         self.store_solver_results(); // 11
         self.store_constraint_impulses(); // 11
         self.count_saturated_bodies(); // 12
