@@ -9,7 +9,8 @@
 //! The root crate's tests build the engine with the feature (see the
 //! dev-dependencies). A debug build checks the first 60 steps of each
 //! scene (every step validated costs time there); release, the whole
-//! golden run.
+//! golden run. Also here, with threads: GGRS SyncTest, snapshot
+//! continuation across thread counts, and a panicking handler.
 use tamias2d_scenes::REGISTRY;
 
 const THREADS: [usize; 5] = [1, 2, 3, 4, 8];
@@ -80,4 +81,52 @@ fn a_panicking_handler_with_threads_unwinds_and_does_not_hang() {
         .pre_solve = Some(Box::new(|_| panic!("a game's bug")));
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| world.step()));
     assert!(result.is_err(), "the handler's panic reached the caller");
+}
+
+/// The colored solver on 2 threads under GGRS rollback: a `SyncTestSession`
+/// re-simulating the last 7 frames every frame agrees with itself and ends
+/// where a straight run on one thread ends.
+#[test]
+fn ggrs_synctest_on_two_threads_agrees_with_a_straight_run_on_one() {
+    use tamias2d_scenes::ggrs_game::{run_straight_on, run_synctest, Game};
+    let colored = |threads: usize| {
+        let mut game = Game::new();
+        let settings = tamias2d::space::Settings {
+            colored_solver: true,
+            ..game.space.settings().clone()
+        };
+        game.space.set_settings(settings).expect("valid settings");
+        game.space.set_threads(threads).expect("threads start");
+        game
+    };
+    let frames = if cfg!(debug_assertions) { 120 } else { 600 };
+    let mut game = colored(2);
+    run_synctest(&mut game, frames, 7, 3).expect("deterministic under rollback on 2 threads");
+    let straight = run_straight_on(colored(1), frames, 3, 0);
+    assert_eq!(game.space.checksum(), straight.space.checksum());
+}
+
+/// A frame snapshot saved on 2 threads and loaded into another space on 3
+/// continues exactly as the straight run on 1 (colored solver).
+#[test]
+fn snapshot_continuation_across_thread_counts() {
+    let build = |threads: usize| {
+        let mut desc = tamias2d_scenes::builtin("bowl_boxes_100").expect("a registered scene");
+        desc.settings.colored_solver = true;
+        let mut world = desc.build().expect("a valid scene");
+        world.space.set_threads(threads).expect("threads start");
+        world
+    };
+    let mut straight = build(1);
+    straight.step_n(120).expect("steps");
+    let mut first = build(2);
+    first.step_n(60).expect("steps");
+    let frame = tamias2d::snapshot::save_frame(&first.space);
+    let mut second = build(3);
+    second
+        .space
+        .load_frame_snapshot(&frame)
+        .expect("the frame loads");
+    second.step_n(60).expect("steps");
+    assert_eq!(second.space.checksum(), straight.space.checksum());
 }
