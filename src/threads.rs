@@ -7,6 +7,11 @@
 //! reads or writes (see [`solver::sweep`](crate::solver)). Without the
 //! feature, or with one thread, the halves run one after the other.
 
+/// The most threads a space may ask for: far beyond the cores of any
+/// machine a step would gain from, low enough that a mistaken count does
+/// not start a thread per body.
+pub(crate) const MAX_THREADS: usize = 256;
+
 /// A space's threads: a count, and with the `parallel` feature and more
 /// than one thread, the pool that runs them (shared by the space's clones).
 #[derive(Clone, Debug)]
@@ -27,9 +32,13 @@ impl Default for Threads {
 }
 
 impl Threads {
-    /// `n` threads (0 counts as 1). Without the `parallel` feature the
-    /// count is kept and the step runs on the calling thread.
+    /// `n` threads (0 counts as 1; more than [`MAX_THREADS`] is an error).
+    /// Without the `parallel` feature the count is kept and the step runs
+    /// on the calling thread.
     pub(crate) fn new(n: usize) -> Result<Threads, &'static str> {
+        if n > MAX_THREADS {
+            return Err("threads: at most 256 (Space::set_threads)");
+        }
         let count = n.max(1);
         #[cfg(feature = "parallel")]
         {

@@ -130,3 +130,15 @@ fn snapshot_continuation_across_thread_counts() {
     second.step_n(60).expect("steps");
     assert_eq!(second.space.checksum(), straight.space.checksum());
 }
+
+#[test]
+fn thread_counts_out_of_range_are_refused_or_clamped() {
+    let mut space = tamias2d::space::Space::new();
+    space.set_threads(0).expect("0 counts as 1");
+    assert_eq!(space.threads(), 1);
+    let err = space
+        .set_threads(100_000)
+        .expect_err("far too many threads");
+    assert!(err.to_string().contains("at most 256"), "{err}");
+    assert_eq!(space.threads(), 1, "an error changes nothing");
+}

@@ -160,8 +160,8 @@ fn solve_manifold_shared<const FRICTION: bool, const BIAS: bool>(
 const MIN_PIECE: usize = 16;
 
 /// The most pieces a color is split into: enough to balance 16 threads,
-/// few enough that a large color's pieces are long (each split costs a
-/// `join`, measured at 10–20 % of a 16-manifold piece).
+/// few enough that a large color's pieces are long (each split is a
+/// `join`, a hand-over between threads).
 const MAX_PIECES: usize = 16;
 
 /// The piece size for a color of `manifolds`: set by the count alone.
@@ -173,9 +173,9 @@ fn piece_size(manifolds: usize) -> usize {
 /// on the shared bodies: `starts` holds each manifold's first row
 /// (absolute, as in the scratch) and the end. A color's manifolds are
 /// split in halves down to pieces of [`piece_size`] (boundaries set by the
-/// count alone)
-/// and solved in parallel inside a pool ([`crate::threads::join`]); any
-/// split gives the same bits. `split = false` (the overflow): in order.
+/// count alone) and solved in parallel inside a pool
+/// ([`crate::threads::join`]); any split gives the same bits.
+/// `split = false` (the overflow): in order.
 pub(crate) fn solve_shared<const FRICTION: bool, const BIAS: bool>(
     rows: &mut [ContactConstraint],
     starts: &[u32],

@@ -428,7 +428,8 @@ impl Space {
         self.caches.step.dt_constants = [None, None];
     }
 
-    /// Lets the step use `n` threads (0 counts as 1; the default is 1).
+    /// Lets the step use `n` threads (0 counts as 1, more than 256 is an
+    /// error; the default is 1).
     /// Nothing a step computes depends on it: any count gives the bits of
     /// one thread. Without the `parallel` cargo feature the count is kept
     /// and the step runs on the calling thread. With it, the stages split
