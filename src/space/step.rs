@@ -470,10 +470,13 @@ impl Space {
                 self.retire(arb, &mut arbiters);
             }
             let existing = take_if(&mut old_iter, |key| key == (ia, ib));
+            // By reference: an info is 150-odd bytes, a move is a memcpy.
+            let computed;
             let info = if ahead {
-                infos.get_mut(k).and_then(Option::take)
+                infos.get(k).and_then(Option::as_ref)
             } else {
-                self.narrowphase(ia, ib, existing.as_ref())
+                computed = self.narrowphase(ia, ib, existing.as_ref());
+                computed.as_ref()
             };
             if let Some(mut arb) = self.collide_pair(ia, ib, info, existing, &mut arbiters) {
                 if self.run_contact_handlers(&mut arb) {
@@ -534,7 +537,7 @@ impl Space {
         &mut self,
         ia: u32,
         ib: u32,
-        info: Option<crate::collision::CollisionInfo>,
+        info: Option<&crate::collision::CollisionInfo>,
         existing: Option<Arbiter>,
         arbiters: &mut Vec<Arbiter>,
     ) -> Option<Arbiter> {
@@ -555,7 +558,7 @@ impl Space {
         let body_b = self.state.bodies.get(sb.body)?;
         let mut arb = existing.unwrap_or_else(|| Arbiter::new(ha, sa, hb, sb));
         let centers = (body_a.center(), body_b.center());
-        arb.touch(&info, sa, sb, centers, self.state.stamp);
+        arb.touch(info, sa, sb, centers, self.state.stamp);
         Some(arb)
     }
 
@@ -675,10 +678,44 @@ impl Space {
                 })
             });
         }
+        let use_blocks = s.block_solver;
+        let job = PrepareJob {
+            arbiters,
+            bodies: solver_bodies,
+            params: &params,
+            friction: features.friction,
+        };
+        contact_constraints.clear();
+        blocks.clear();
+        if !threads.parallel() {
+            // One thread: rows and blocks appended in order, each written
+            // once (the split below writes every row twice, placing first).
+            for &i in graph.order() {
+                let Some(arb) = arbiters.get(i as usize) else {
+                    continue;
+                };
+                let pair = pair_params(arb);
+                let block = use_blocks && arb.contacts().len() == 2;
+                let mut k_t = [Real::ZERO; 2];
+                for ((n, c), k) in arb.contacts().iter().enumerate().zip(&mut k_t) {
+                    let row;
+                    (row, *k) = prepare_row(&job, &pair, i, n, c, block);
+                    contact_constraints.push(row);
+                }
+                if let (true, [.., c1, c2]) = (block, contact_constraints.as_mut_slice()) {
+                    if let Some(b) = finish_block(&job, c1, c2, k_t) {
+                        blocks.push(b);
+                        // Its index + 1 (at most 2^32 blocks: rows are counted in u32).
+                        c1.block = blocks.len() as u32;
+                    }
+                }
+            }
+            self.caches.step.stats.solver_contacts = contact_constraints.len() as u32;
+            return;
+        }
         // Where each manifold's rows and block go, in one pass over the
         // arbiters: the manifolds can then be prepared in any order, and
         // split between threads.
-        let use_blocks = s.block_solver;
         manifold_rows.clear();
         manifold_blocks.clear();
         let (mut rows, mut block_count) = (0u32, 0u32);
@@ -695,16 +732,8 @@ impl Space {
         }
         manifold_rows.push(rows);
         manifold_blocks.push(block_count);
-        contact_constraints.clear();
         contact_constraints.resize(rows as usize, ContactConstraint::default());
-        blocks.clear();
         blocks.resize(block_count as usize, ManifoldBlock::default());
-        let job = PrepareJob {
-            arbiters,
-            bodies: solver_bodies,
-            params: &params,
-            friction: features.friction,
-        };
         let order = graph.order();
         let parts = ManifoldParts {
             order,
@@ -1108,9 +1137,7 @@ fn prepare_split(
 
 /// Stage 7 for arbiter `i` (`arb`): its rows into `out`, and with a block
 /// `slot` (a two-contact manifold, block solver on) its block, if its
-/// normal matrix is well conditioned ([`ManifoldBlock::new`]). A block's
-/// rows never get their tangent effective mass (its face friction has its
-/// own): the division is done only for rows solved on their own.
+/// normal matrix is well conditioned ([`finish_block`]).
 fn prepare_manifold(
     job: &PrepareJob<'_>,
     i: u32,
@@ -1118,36 +1145,72 @@ fn prepare_manifold(
     out: &mut [ContactConstraint],
     slot: Option<(&mut ManifoldBlock, u32)>,
 ) {
-    let pair = PairParams {
+    let pair = pair_params(arb);
+    let block = slot.is_some();
+    let mut k_t = [Real::ZERO; 2];
+    let rows = arb.contacts().iter().enumerate().zip(out.iter_mut());
+    for (((n, c), row), k) in rows.zip(&mut k_t) {
+        (*row, *k) = prepare_row(job, &pair, i, n, c, block);
+    }
+    let (Some((dst, id)), [c1, c2]) = (slot, out) else {
+        return;
+    };
+    if let Some(b) = finish_block(job, c1, c2, k_t) {
+        *dst = b;
+        c1.block = id;
+    }
+}
+
+/// What the rows of arbiter `arb` share.
+#[inline]
+fn pair_params(arb: &Arbiter) -> PairParams {
+    PairParams {
         a: arb.body_a.index(),
         b: arb.body_b.index(),
         n: arb.normal,
         e: arb.restitution,
         friction: arb.friction,
         surface_vr: arb.surface_velocity,
-    };
-    let block = slot.is_some();
-    let mut k_t = [Real::ZERO; 2];
-    for (n, (c, row)) in arb.contacts().iter().zip(out.iter_mut()).enumerate() {
-        let (mut sc, k) = ContactConstraint::prepare(c, job.bodies, &pair, job.params);
-        if let Some(slot_k) = k_t.get_mut(n).filter(|_| block) {
-            *slot_k = k;
-        } else {
-            sc.t_mass = effective_mass(k);
-        }
-        sc.arbiter = i;
-        // n < MAX_CONTACTS_PER_ARBITER.
-        sc.slot = n as u32;
-        *row = sc;
     }
-    let (Some((dst, id)), [c1, c2]) = (slot, out) else {
-        return;
-    };
-    if let Some(b) = ManifoldBlock::new(c1, c2, job.bodies, job.friction) {
-        *dst = b;
-        c1.block = id;
-    } else {
+}
+
+/// Stage 7 for contact `n` (`c`) of arbiter `i`: its row, and `k(t)`. A
+/// row of a `block` does not get its tangent effective mass (a division):
+/// the block's face friction has its own ([`finish_block`]).
+#[inline(always)]
+fn prepare_row(
+    job: &PrepareJob<'_>,
+    pair: &PairParams,
+    i: u32,
+    n: usize,
+    c: &crate::arbiter::ManifoldPoint,
+    block: bool,
+) -> (ContactConstraint, Real) {
+    let (mut row, k) = ContactConstraint::prepare(c, job.bodies, pair, job.params);
+    if !block {
+        row.t_mass = effective_mass(k);
+    }
+    row.arbiter = i;
+    // n < MAX_CONTACTS_PER_ARBITER.
+    row.slot = n as u32;
+    (row, k)
+}
+
+/// The block of a two-contact manifold's rows `c1`, `c2` if its normal
+/// matrix is well conditioned ([`ManifoldBlock::new`]); otherwise the rows
+/// are solved on their own and get their tangent effective masses from
+/// `k_t`. The caller stores the block and points `c1` at it.
+#[inline]
+fn finish_block(
+    job: &PrepareJob<'_>,
+    c1: &mut ContactConstraint,
+    c2: &mut ContactConstraint,
+    k_t: [Real; 2],
+) -> Option<ManifoldBlock> {
+    let b = ManifoldBlock::new(c1, c2, job.bodies, job.friction);
+    if b.is_none() {
         c1.t_mass = effective_mass(k_t[0]);
         c2.t_mass = effective_mass(k_t[1]);
     }
+    b
 }
