@@ -475,15 +475,28 @@ impl ContactConstraint {
     /// `dt_coef = min(dt/prev_dt, 1)` (see its stage 9). With a constant
     /// `dt`, `dt_coef` is exactly 1 and the scaling changes no bit.
     pub fn warm_start(&mut self, bodies: &mut [SolverBody], dt_coef: Real) {
-        self.scale_cached_impulses::<true>(dt_coef);
-        self.warm_start_with::<true>(bodies);
+        self.warm_start_at::<true>(bodies, dt_coef, (self.a, self.b));
     }
 
     /// [`warm_start`](Self::warm_start) of the normal impulse alone (friction
     /// off: `jt_acc` is 0).
     pub fn warm_start_normal(&mut self, bodies: &mut [SolverBody], dt_coef: Real) {
-        self.scale_cached_impulses::<false>(dt_coef);
-        self.warm_start_with::<false>(bodies);
+        self.warm_start_at::<false>(bodies, dt_coef, (self.a, self.b));
+    }
+
+    /// [`warm_start`](Self::warm_start) (`FRICTION`) or
+    /// [`warm_start_normal`](Self::warm_start_normal) with bodies `a` and
+    /// `b` at `bodies[ends.0]` and `bodies[ends.1]` (the solver's own
+    /// slots, or a copy of the two: see [`solve_prepared`](Self::solve_prepared)).
+    #[inline]
+    pub(crate) fn warm_start_at<const FRICTION: bool>(
+        &mut self,
+        bodies: &mut [SolverBody],
+        dt_coef: Real,
+        ends: (u32, u32),
+    ) {
+        self.scale_cached_impulses::<FRICTION>(dt_coef);
+        self.warm_start_with::<FRICTION>(bodies, ends);
     }
 
     /// `jn_acc ← jn_acc·dt_coef` (and `jt_acc` with friction), saturating.
@@ -498,29 +511,33 @@ impl ContactConstraint {
     /// Applies the accumulated impulses, fast path first as in
     /// [`solve_with`](Self::solve_with).
     #[inline]
-    fn warm_start_with<const FRICTION: bool>(&self, bodies: &mut [SolverBody]) {
-        let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
+    fn warm_start_with<const FRICTION: bool>(&self, bodies: &mut [SolverBody], ends: (u32, u32)) {
+        let Some((mut a, mut b)) = load_pair(bodies, ends.0, ends.1) else {
             return;
         };
         let mut fast = Unsaturated::new();
         self.warm_start_bodies::<_, FRICTION>(&mut a, &mut b, &mut fast);
         if fast.overflowed() {
             // The inputs are still in `bodies`: no copies kept.
-            self.warm_start_saturating::<FRICTION>(bodies);
+            self.warm_start_saturating::<FRICTION>(bodies, ends);
             return;
         }
-        store_pair(bodies, self.a, a, self.b, b);
+        store_pair(bodies, ends.0, a, ends.1, b);
     }
 
     /// The reference path of [`warm_start_with`](Self::warm_start_with).
     #[cold]
     #[inline(never)]
-    fn warm_start_saturating<const FRICTION: bool>(&self, bodies: &mut [SolverBody]) {
-        let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
+    fn warm_start_saturating<const FRICTION: bool>(
+        &self,
+        bodies: &mut [SolverBody],
+        ends: (u32, u32),
+    ) {
+        let Some((mut a, mut b)) = load_pair(bodies, ends.0, ends.1) else {
             return;
         };
         self.warm_start_bodies::<_, FRICTION>(&mut a, &mut b, &mut Saturating);
-        store_pair(bodies, self.a, a, self.b, b);
+        store_pair(bodies, ends.0, a, ends.1, b);
     }
 
     /// Applies the accumulated impulses to body copies.
@@ -1062,9 +1079,9 @@ mod tests {
         let mut c = c;
         c.scale_cached_impulses::<F>(dt_coef);
         let mut bodies = [a, b];
-        c.warm_start_with::<F>(&mut bodies);
+        c.warm_start_with::<F>(&mut bodies, (c.a, c.b));
         let mut ref_bodies = [a, b];
-        c.warm_start_saturating::<F>(&mut ref_bodies);
+        c.warm_start_saturating::<F>(&mut ref_bodies, (c.a, c.b));
         proptest::prop_assert_eq!(bodies, ref_bodies);
         Ok(())
     }

@@ -10,6 +10,7 @@
 use core::sync::atomic::{AtomicI64, Ordering::Relaxed};
 
 use super::block::{self, ManifoldBlock};
+use super::graph::{ConstraintGraph, COLORS};
 use super::{ContactConstraint, SolverBody};
 use crate::math::{Real, Vect};
 
@@ -112,17 +113,17 @@ pub(crate) fn unshare(shared: &[SharedBody], bodies: &mut [SolverBody]) {
     }
 }
 
-/// Solves one manifold's `rows` on a copy of its two bodies loaded from
-/// `shared`, and stores the movable ones back (a body the solver does not
-/// move comes back unchanged: not stored, so threads sharing it never
-/// write its cache line). Nothing where the in-place pass solves nothing
-/// (a body paired with itself, a slot out of range).
+/// Runs `kernel` on one manifold's `rows` with a copy of its two bodies
+/// loaded from `shared` (`a` at 0, `b` at 1), and stores the movable ones
+/// back (a body the solver does not move comes back unchanged: not
+/// stored, so threads sharing it never write its cache line). Nothing
+/// where the in-place pass does nothing (a body paired with itself, a
+/// slot out of range).
 #[inline]
-fn solve_manifold_shared<const FRICTION: bool, const BIAS: bool>(
-    rows: &mut [ContactConstraint],
-    blocks: &[ManifoldBlock],
-    shared: &[SharedBody],
-) {
+fn on_manifold_shared<K>(rows: &mut [ContactConstraint], shared: &[SharedBody], kernel: &K)
+where
+    K: Fn(&mut [ContactConstraint], &mut [SolverBody; 2]),
+{
     let Some(first) = rows.first() else {
         return;
     };
@@ -134,6 +135,23 @@ fn solve_manifold_shared<const FRICTION: bool, const BIAS: bool>(
         return;
     }
     let mut copy = [sa.load(), sb.load()];
+    kernel(rows, &mut copy);
+    for (s, body) in [sa, sb].into_iter().zip(&copy) {
+        if !body.m_inv.is_zero() || !body.i_inv.is_zero() {
+            s.store_velocities(body);
+        }
+    }
+}
+
+/// The iteration of one manifold's `rows` on a copy of its two bodies
+/// (a block's two rows together, every other row on its own): the kernel
+/// of the shared sweep, the same arithmetic as [`solve_rows`].
+#[inline(always)]
+pub(crate) fn solve_copy<const FRICTION: bool, const BIAS: bool>(
+    rows: &mut [ContactConstraint],
+    blocks: &[ManifoldBlock],
+    copy: &mut [SolverBody; 2],
+) {
     let mut i = 0usize;
     while let Some((c, tail)) = rows
         .get_mut(i..)
@@ -141,17 +159,25 @@ fn solve_manifold_shared<const FRICTION: bool, const BIAS: bool>(
     {
         let block = c.block.checked_sub(1).and_then(|k| blocks.get(k as usize));
         if let (Some(block), Some(c2)) = (block, tail.first_mut()) {
-            block::solve_prepared::<FRICTION, BIAS>(c, c2, block, &mut copy, (0, 1));
+            block::solve_prepared::<FRICTION, BIAS>(c, c2, block, copy, (0, 1));
             i = i.saturating_add(2);
         } else {
-            c.solve_prepared::<FRICTION, BIAS>(&mut copy, (0, 1));
+            c.solve_prepared::<FRICTION, BIAS>(copy, (0, 1));
             i = i.saturating_add(1);
         }
     }
-    for (s, body) in [sa, sb].into_iter().zip(&copy) {
-        if !body.m_inv.is_zero() || !body.i_inv.is_zero() {
-            s.store_velocities(body);
-        }
+}
+
+/// The warm start of one manifold's `rows` on a copy of its two bodies
+/// ([`ContactConstraint::warm_start_at`], in row order as stage 9).
+#[inline(always)]
+pub(crate) fn warm_start_copy<const FRICTION: bool>(
+    rows: &mut [ContactConstraint],
+    dt_coef: Real,
+    copy: &mut [SolverBody; 2],
+) {
+    for c in rows {
+        c.warm_start_at::<FRICTION>(copy, dt_coef, (0, 1));
     }
 }
 
@@ -169,37 +195,43 @@ fn piece_size(manifolds: usize) -> usize {
     manifolds.div_ceil(MAX_PIECES).max(MIN_PIECE)
 }
 
-/// Solves the manifolds `rows` of one color, or of the overflow in order,
-/// on the shared bodies: `starts` holds each manifold's first row
+/// Runs `kernel` (such as [`solve_copy`]) on each manifold of `rows`, one
+/// color's or the overflow's, with its bodies from `shared`
+/// ([`on_manifold_shared`]): `starts` holds each manifold's first row
 /// (absolute, as in the scratch) and the end. A color's manifolds are
 /// split in halves down to pieces of [`piece_size`] (boundaries set by the
-/// count alone) and solved in parallel inside a pool
-/// ([`crate::threads::join`]); any split gives the same bits.
-/// `split = false` (the overflow): in order.
-pub(crate) fn solve_shared<const FRICTION: bool, const BIAS: bool>(
+/// count alone) and run in parallel inside a pool
+/// ([`crate::threads::join`]); any split gives the same bits, as no two
+/// manifolds of a color share a movable body. `split = false` (the
+/// overflow): in order.
+pub(crate) fn for_each_shared<K>(
     rows: &mut [ContactConstraint],
     starts: &[u32],
-    blocks: &[ManifoldBlock],
     shared: &[SharedBody],
     split: bool,
-) {
+    kernel: &K,
+) where
+    K: Fn(&mut [ContactConstraint], &mut [SolverBody; 2]) + Sync,
+{
     let manifolds = starts.len().saturating_sub(1);
     let piece = if split {
         piece_size(manifolds)
     } else {
         usize::MAX
     };
-    solve_pieces::<FRICTION, BIAS>(rows, starts, blocks, shared, piece);
+    pieces(rows, starts, shared, piece, kernel);
 }
 
-/// [`solve_shared`] down to pieces of at most `piece` manifolds.
-fn solve_pieces<const FRICTION: bool, const BIAS: bool>(
+/// [`for_each_shared`] down to pieces of at most `piece` manifolds.
+fn pieces<K>(
     rows: &mut [ContactConstraint],
     starts: &[u32],
-    blocks: &[ManifoldBlock],
     shared: &[SharedBody],
     piece: usize,
-) {
+    kernel: &K,
+) where
+    K: Fn(&mut [ContactConstraint], &mut [SolverBody; 2]) + Sync,
+{
     let base = starts.first().copied().unwrap_or(0);
     let manifolds = starts.len().saturating_sub(1);
     if manifolds <= piece {
@@ -209,7 +241,7 @@ fn solve_pieces<const FRICTION: bool, const BIAS: bool>(
             };
             let range = s.wrapping_sub(base) as usize..e.wrapping_sub(base) as usize;
             if let Some(manifold) = rows.get_mut(range) {
-                solve_manifold_shared::<FRICTION, BIAS>(manifold, blocks, shared);
+                on_manifold_shared(manifold, shared, kernel);
             }
         }
         return;
@@ -225,7 +257,48 @@ fn solve_pieces<const FRICTION: bool, const BIAS: bool>(
         starts.get(mid..).unwrap_or(&[]),
     );
     crate::threads::join(
-        || solve_pieces::<FRICTION, BIAS>(left_rows, left_starts, blocks, shared, piece),
-        || solve_pieces::<FRICTION, BIAS>(right_rows, right_starts, blocks, shared, piece),
+        || pieces(left_rows, left_starts, shared, piece, kernel),
+        || pieces(right_rows, right_starts, shared, piece, kernel),
     );
+}
+
+/// Where the rows of each color are: the pre-step's placing pass.
+#[derive(Clone, Copy)]
+pub(crate) struct ColorLayout<'a> {
+    /// The manifolds of each color ([`ConstraintGraph::range`]).
+    pub(crate) graph: &'a ConstraintGraph,
+    /// Each color's first row, and the end.
+    pub(crate) color_rows: &'a [u32],
+    /// Each manifold's first row (in solve order), and the end.
+    pub(crate) manifold_rows: &'a [u32],
+}
+
+/// Runs `kernel` on every manifold of `rows` on the shared bodies, color
+/// after color (each split between threads) and the overflow last, in
+/// order ([`for_each_shared`]): one pass of the step's order.
+pub(crate) fn for_each_color<K>(
+    rows: &mut [ContactConstraint],
+    layout: ColorLayout<'_>,
+    shared: &[SharedBody],
+    kernel: &K,
+) where
+    K: Fn(&mut [ContactConstraint], &mut [SolverBody; 2]) + Sync,
+{
+    for c in 0..=COLORS {
+        let (Some(&start), Some(&end)) = (
+            layout.color_rows.get(c),
+            layout.color_rows.get(c.wrapping_add(1)),
+        ) else {
+            continue;
+        };
+        let Some(rows) = rows.get_mut(start as usize..end as usize) else {
+            continue;
+        };
+        let range = layout.graph.range(c);
+        let starts = layout
+            .manifold_rows
+            .get(range.start..=range.end)
+            .unwrap_or(&[]);
+        for_each_shared(rows, starts, shared, c < COLORS, kernel);
+    }
 }

@@ -303,12 +303,7 @@ impl Space {
         if self.caches.constraints.is_empty() {
             return;
         }
-        let prev = self.state.prev_dt;
-        let dt_coef = if prev.is_zero() {
-            Real::ZERO
-        } else {
-            (self.state.current_dt / prev).min(Real::ONE)
-        };
+        let dt_coef = self.warm_start_coef();
         self.caches
             .constraints
             .warm_start(&mut self.caches.solver.bodies, dt_coef);

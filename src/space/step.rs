@@ -46,7 +46,6 @@ use crate::broadphase::Proxy;
 use crate::collision::collide;
 use crate::math::{Real, Vect};
 use crate::solver::block::ManifoldBlock;
-use crate::solver::graph::COLORS;
 use crate::solver::{
     effective_mass, sweep, ContactConstraint, ContactFeatures, ContactParams, PairParams,
     SolverBody, SolverScratch,
@@ -208,11 +207,7 @@ impl Space {
             self.pre_step(&active, &dtc, features); // 7
             self.pre_step_constraints(dtc.dt, dtc.dt_inv); // 7: after the contacts
             self.integrate_velocities(&dtc); // 8
-            if features.warm_starting {
-                self.warm_start(features); // 9
-                self.warm_start_constraints(); // 9: after the contacts
-            }
-            self.solve(features); // 10: contacts, then constraints, per iteration
+            self.warm_start_and_solve(features); // 9, 10
             active
         });
         self.store_solver_results(); // 11
@@ -795,12 +790,7 @@ impl Space {
     /// unscaled. A shorter step scales it down, as before. For a constant
     /// `dt` the ratio is exactly 1 and no bit changes.
     fn warm_start(&mut self, features: ContactFeatures) {
-        let prev = self.state.prev_dt;
-        let dt_coef = if prev.is_zero() {
-            Real::ZERO
-        } else {
-            (self.state.current_dt / prev).min(Real::ONE)
-        };
+        let dt_coef = self.warm_start_coef();
         let SolverScratch {
             bodies: solver_bodies,
             constraints: contact_constraints,
@@ -817,10 +807,40 @@ impl Space {
         }
     }
 
-    /// Stage 10: the solver iterations, with the iteration routine of the
-    /// switched-on features chosen once (see [`ContactConstraint::solve_with`]).
-    fn solve(&mut self, features: ContactFeatures) {
+    /// `dt_coef = min(dt / prev_dt, 1)` of the warm start (stage 9), 0
+    /// after a step of no length.
+    pub(super) fn warm_start_coef(&self) -> Real {
+        let prev = self.state.prev_dt;
+        if prev.is_zero() {
+            Real::ZERO
+        } else {
+            (self.state.current_dt / prev).min(Real::ONE)
+        }
+    }
+
+    /// Stages 9 and 10: with warm starting on, the contacts' warm start
+    /// then the constraints'; then the solver iterations, with the
+    /// iteration routine of the switched-on features chosen once (see
+    /// [`ContactConstraint::solve_with`]). With more than one thread
+    /// ([`Space::set_threads`]) and the colored solver, both run color by
+    /// color on bodies the threads share ([`solver::sweep`]): the same bits.
+    fn warm_start_and_solve(&mut self, features: ContactFeatures) {
+        let split = self.caches.threads.parallel() && self.state.settings.colored_solver;
         let n = self.state.settings.iterations;
+        if split {
+            let warm = features.warm_starting.then(|| self.warm_start_coef());
+            match (features.friction, features.bias_impulses) {
+                (true, true) => self.solve_split::<true, true>(n, warm),
+                (true, false) => self.solve_split::<true, false>(n, warm),
+                (false, true) => self.solve_split::<false, true>(n, warm),
+                (false, false) => self.solve_split::<false, false>(n, warm),
+            }
+            return;
+        }
+        if features.warm_starting {
+            self.warm_start(features);
+            self.warm_start_constraints();
+        }
         match (features.friction, features.bias_impulses) {
             (true, true) => self.iterate::<true, true>(n),
             (true, false) => self.iterate::<true, false>(n),
@@ -829,14 +849,29 @@ impl Space {
         }
     }
 
-    /// `n` Gauss–Seidel passes over the active contacts, color by color
-    /// (see [`solver::graph`]; without colors all are in the overflow, in
-    /// canonical order), then the constraints (joints) in canonical order.
-    /// With more than one thread ([`Space::set_threads`]) each color is
-    /// split between them ([`solver::sweep`]): the same bits.
+    /// `n` Gauss–Seidel passes in place over the active contacts in solve
+    /// order (canonical, or color by color: see [`solver::graph`]), each
+    /// followed by the constraints (joints) in canonical order.
     fn iterate<const FRICTION: bool, const BIAS: bool>(&mut self, n: u32) {
+        let SolverScratch {
+            bodies,
+            constraints: rows,
+            blocks,
+            ..
+        } = &mut self.caches.solver;
+        let joints = &mut self.caches.constraints;
+        for _ in 0..n {
+            sweep::solve_rows::<FRICTION, BIAS>(rows, blocks, bodies);
+            joints.iterate(bodies);
+        }
+    }
+
+    /// Stages 9 (with `warm = Some(dt_coef)`) and 10 on threads: each color
+    /// split between them on shared bodies, the overflow in order on one,
+    /// the constraints (joints) on one with the bodies unshared. The order
+    /// of [`iterate`](Self::iterate) and of the serial warm start exactly.
+    fn solve_split<const FRICTION: bool, const BIAS: bool>(&mut self, n: u32, warm: Option<Real>) {
         let threads = &self.caches.threads;
-        let split = threads.parallel() && self.state.settings.colored_solver;
         let SolverScratch {
             bodies,
             constraints: rows,
@@ -847,31 +882,31 @@ impl Space {
             shared,
             ..
         } = &mut self.caches.solver;
+        let layout = sweep::ColorLayout {
+            graph,
+            color_rows,
+            manifold_rows,
+        };
         let joints = &mut self.caches.constraints;
-        if !split {
-            // One thread: the colors are contiguous, one pass in place.
-            for _ in 0..n {
-                sweep::solve_rows::<FRICTION, BIAS>(rows, blocks, bodies);
-                joints.iterate(bodies);
-            }
-            return;
-        }
         threads.install(|| {
             sweep::share(bodies, shared);
-            for _ in 0..n {
-                for c in 0..=COLORS {
-                    let (Some(&start), Some(&end)) =
-                        (color_rows.get(c), color_rows.get(c.wrapping_add(1)))
-                    else {
-                        continue;
-                    };
-                    let Some(rows) = rows.get_mut(start as usize..end as usize) else {
-                        continue;
-                    };
-                    let range = graph.range(c);
-                    let starts = manifold_rows.get(range.start..=range.end).unwrap_or(&[]);
-                    sweep::solve_shared::<FRICTION, BIAS>(rows, starts, blocks, shared, c < COLORS);
+            if let Some(dt_coef) = warm {
+                let kernel = |m: &mut [ContactConstraint], copy: &mut [SolverBody; 2]| {
+                    sweep::warm_start_copy::<FRICTION>(m, dt_coef, copy);
+                };
+                sweep::for_each_color(rows, layout, shared, &kernel);
+                if !joints.is_empty() {
+                    sweep::unshare(shared, bodies);
+                    joints.warm_start(bodies, dt_coef);
+                    sweep::share(bodies, shared);
                 }
+            }
+            let blocks = blocks.as_slice();
+            let kernel = |m: &mut [ContactConstraint], copy: &mut [SolverBody; 2]| {
+                sweep::solve_copy::<FRICTION, BIAS>(m, blocks, copy);
+            };
+            for _ in 0..n {
+                sweep::for_each_color(rows, layout, shared, &kernel);
                 if !joints.is_empty() {
                     sweep::unshare(shared, bodies);
                     joints.iterate(bodies);
