@@ -13,7 +13,9 @@
 pub(crate) const MAX_THREADS: usize = 256;
 
 /// A space's threads: a count, and with the `parallel` feature and more
-/// than one thread, the pool that runs them (shared by the space's clones).
+/// than one thread, the pool of the other `count - 1` (the thread that
+/// steps is the first: it takes part, see [`join`]), shared by the space's
+/// clones.
 #[derive(Clone, Debug)]
 pub(crate) struct Threads {
     count: usize,
@@ -44,8 +46,8 @@ impl Threads {
         {
             let pool = if count > 1 {
                 let pool = rayon::ThreadPoolBuilder::new()
-                    .num_threads(count)
-                    .thread_name(|i| format!("tamias2d-{i}"))
+                    .num_threads(count.saturating_sub(1))
+                    .thread_name(|i| format!("tamias2d-{}", i.saturating_add(1)))
                     .build()
                     .map_err(|_| "threads: the operating system refused to start the threads")?;
                 Some(std::sync::Arc::new(pool))
@@ -72,64 +74,183 @@ impl Threads {
         false
     }
 
-    /// Runs `f` (on this thread) with the pool's workers kept awake: each
-    /// spins, picking up the pool's work as it comes, until `f` returns.
-    /// Parallel stages a few milliseconds apart then start at once instead
-    /// of waking sleeping threads. Without a pool, just `f()`.
+    /// Runs `f` on this thread with the pool's workers kept awake, and
+    /// [`join`] handing work to them: each worker spins, picking up work
+    /// as it comes, until `f` returns. Parallel stages a few milliseconds
+    /// apart then start at once instead of waking sleeping threads, and
+    /// the calling thread works on its share with its caches warm instead
+    /// of sleeping while the pool works. Without a pool, just `f()`.
     pub(crate) fn awake<R>(&self, f: impl FnOnce() -> R) -> R {
         #[cfg(feature = "parallel")]
         if let Some(pool) = &self.pool {
             use core::sync::atomic::{AtomicBool, Ordering};
-            /// Ends the spinning when dropped: also if `f` panics (a
-            /// handler's panic), which would otherwise leave the scope
-            /// waiting for spinners that never stop.
-            struct Done<'a>(&'a AtomicBool);
-            impl Drop for Done<'_> {
-                fn drop(&mut self) {
-                    self.0.store(true, Ordering::Release);
-                }
-            }
             let done = AtomicBool::new(false);
             return pool.in_place_scope(|scope| {
-                for _ in 0..self.count {
-                    scope.spawn(|_| {
-                        while !done.load(Ordering::Acquire) {
-                            // Run the pool's work if there is any, else
-                            // give the core to whoever needs it.
-                            if rayon::yield_now() != Some(rayon::Yield::Executed) {
-                                std::thread::yield_now();
-                            }
+                // One spinner on every worker (a spinner spawned into the
+                // pool's queue could be picked up by a worker that already
+                // spins, inside its own loop, leaving another asleep).
+                scope.spawn_broadcast(|_, _| {
+                    while !done.load(Ordering::Acquire) {
+                        // Run the pool's work if there is any, else give
+                        // the core to whoever needs it.
+                        if rayon::yield_now() != Some(rayon::Yield::Executed) {
+                            std::thread::yield_now();
                         }
-                    });
-                }
-                let _done = Done(&done);
+                    }
+                });
+                // Ends the spinning and the hand-over when dropped: also
+                // if `f` panics (a handler's panic), which would otherwise
+                // leave the scope waiting for spinners that never stop.
+                let _stepping = main::Stepping::enter(pool, self.count.saturating_sub(1), &done);
                 f()
             });
         }
         f()
     }
-
-    /// Runs `f` in the pool (its [`join`]s then use the pool's threads),
-    /// or on this thread.
-    pub(crate) fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
-        #[cfg(feature = "parallel")]
-        if let Some(pool) = &self.pool {
-            return pool.install(f);
-        }
-        f()
-    }
 }
 
-/// Runs `a` and `b`, in parallel inside a pool's [`Threads::install`]
-/// (`rayon::join`), else one after the other.
+/// Runs `a` and `b`, in parallel where there are threads to share them:
+/// on a pool's worker by `rayon::join`; on the thread that steps, inside
+/// [`Threads::awake`], by handing `b` to a worker while it runs `a` (and
+/// runs `b` itself if no worker has taken it by then); elsewhere one after
+/// the other. Which thread runs which half never changes what they compute.
 #[inline]
 pub(crate) fn join<A: FnOnce() + Send, B: FnOnce() + Send>(a: A, b: B) {
-    // Outside a pool rayon would start its global one: never.
     #[cfg(feature = "parallel")]
-    if rayon::current_thread_index().is_some() {
-        rayon::join(a, b);
-        return;
+    {
+        // Outside a pool rayon would start its global one: never.
+        if rayon::current_thread_index().is_some() {
+            rayon::join(a, b);
+            return;
+        }
+        if let Some(pool) = main::free_worker() {
+            main::join(&pool, a, b);
+            return;
+        }
     }
     a();
     b();
+}
+
+/// The thread that steps, taking part in the parallel stages.
+#[cfg(feature = "parallel")]
+mod main {
+    use core::cell::RefCell;
+    use core::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::{Arc, Mutex, PoisonError};
+
+    /// While a step's parallel stages run on this thread: its pool, how
+    /// many workers it has, and how many halves [`join`] has handed to
+    /// them that are not yet done.
+    struct Handover {
+        pool: Arc<rayon::ThreadPool>,
+        workers: usize,
+        outstanding: usize,
+    }
+
+    std::thread_local! {
+        static HANDOVER: RefCell<Option<Handover>> = const { RefCell::new(None) };
+    }
+
+    /// Marks this thread as stepping with `pool` until dropped; the drop
+    /// also stops the spinners (`done`).
+    pub(super) struct Stepping<'a> {
+        done: &'a AtomicBool,
+    }
+
+    impl<'a> Stepping<'a> {
+        pub(super) fn enter(
+            pool: &Arc<rayon::ThreadPool>,
+            workers: usize,
+            done: &'a AtomicBool,
+        ) -> Stepping<'a> {
+            HANDOVER.with(|h| {
+                *h.borrow_mut() = Some(Handover {
+                    pool: Arc::clone(pool),
+                    workers,
+                    outstanding: 0,
+                });
+            });
+            Stepping { done }
+        }
+    }
+
+    impl Drop for Stepping<'_> {
+        fn drop(&mut self) {
+            HANDOVER.with(|h| h.borrow_mut().take());
+            self.done.store(true, Ordering::Release);
+        }
+    }
+
+    /// The pool, if this thread is stepping and a worker may be free (fewer
+    /// halves handed over than workers; with every worker busy, this thread
+    /// runs both halves itself).
+    pub(super) fn free_worker() -> Option<Arc<rayon::ThreadPool>> {
+        HANDOVER.with(|h| {
+            let mut h = h.borrow_mut();
+            let h = h.as_mut()?;
+            (h.outstanding < h.workers).then(|| {
+                h.outstanding = h.outstanding.saturating_add(1);
+                Arc::clone(&h.pool)
+            })
+        })
+    }
+
+    /// Sets its flag when dropped: when its half is done, or unwinding.
+    struct SetOnDrop<'a>(&'a AtomicBool);
+
+    impl Drop for SetOnDrop<'_> {
+        fn drop(&mut self) {
+            self.0.store(true, Ordering::Release);
+        }
+    }
+
+    /// `b` handed to `pool`, `a` here, then `b` here too if no worker has
+    /// claimed it yet; returns when both are done. The caller counted `b`
+    /// as outstanding ([`free_worker`]).
+    pub(super) fn join<A: FnOnce() + Send, B: FnOnce() + Send>(
+        pool: &rayon::ThreadPool,
+        a: A,
+        b: B,
+    ) {
+        let b = Mutex::new(Some(b));
+        let claimed = AtomicBool::new(false);
+        let done = AtomicBool::new(false);
+        let run_b = || {
+            let f = b.lock().unwrap_or_else(PoisonError::into_inner).take();
+            if let Some(f) = f {
+                f();
+            }
+        };
+        pool.in_place_scope(|scope| {
+            scope.spawn(|_| {
+                let _done = SetOnDrop(&done);
+                if !claimed.swap(true, Ordering::AcqRel) {
+                    run_b();
+                }
+            });
+            a();
+            if !claimed.swap(true, Ordering::AcqRel) {
+                run_b();
+            } else {
+                // A worker has it: wait, spinning briefly, then giving the
+                // core away (with more threads than cores, the worker may
+                // need this one).
+                let mut spins = 0u32;
+                while !done.load(Ordering::Acquire) {
+                    if spins < 128 {
+                        spins = spins.wrapping_add(1);
+                        core::hint::spin_loop();
+                    } else {
+                        std::thread::yield_now();
+                    }
+                }
+            }
+            HANDOVER.with(|h| {
+                if let Some(h) = h.borrow_mut().as_mut() {
+                    h.outstanding = h.outstanding.saturating_sub(1);
+                }
+            });
+        });
+    }
 }

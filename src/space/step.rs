@@ -519,9 +519,7 @@ impl Space {
             caches: &self.caches.shapes,
             constraints: &self.caches.constraints,
         };
-        self.caches.threads.install(|| {
-            collide_split(&view, pairs, &ids, infos);
-        });
+        collide_split(&view, pairs, &ids, infos);
     }
 
     /// Stage 4 for one candidate pair: the touched arbiter (the pair's
@@ -735,7 +733,7 @@ impl Space {
             rows: manifold_rows,
             blocks: manifold_blocks,
         };
-        threads.install(|| prepare_split(&job, parts, contact_constraints, blocks));
+        prepare_split(&job, parts, contact_constraints, blocks);
         for (c, first_row) in color_rows.iter_mut().enumerate() {
             let first_manifold = graph.range(c).start;
             *first_row = manifold_rows.get(first_manifold).copied().unwrap_or(0);
@@ -871,7 +869,6 @@ impl Space {
     /// the constraints (joints) on one with the bodies unshared. The order
     /// of [`iterate`](Self::iterate) and of the serial warm start exactly.
     fn solve_split<const FRICTION: bool, const BIAS: bool>(&mut self, n: u32, warm: Option<Real>) {
-        let threads = &self.caches.threads;
         let SolverScratch {
             bodies,
             constraints: rows,
@@ -888,33 +885,31 @@ impl Space {
             manifold_rows,
         };
         let joints = &mut self.caches.constraints;
-        threads.install(|| {
-            sweep::share(bodies, shared);
-            if let Some(dt_coef) = warm {
-                let kernel = |m: &mut [ContactConstraint], copy: &mut [SolverBody; 2]| {
-                    sweep::warm_start_copy::<FRICTION>(m, dt_coef, copy);
-                };
-                sweep::for_each_color(rows, layout, shared, &kernel);
-                if !joints.is_empty() {
-                    sweep::unshare(shared, bodies);
-                    joints.warm_start(bodies, dt_coef);
-                    sweep::share(bodies, shared);
-                }
-            }
-            let blocks = blocks.as_slice();
+        sweep::share(bodies, shared);
+        if let Some(dt_coef) = warm {
             let kernel = |m: &mut [ContactConstraint], copy: &mut [SolverBody; 2]| {
-                sweep::solve_copy::<FRICTION, BIAS>(m, blocks, copy);
+                sweep::warm_start_copy::<FRICTION>(m, dt_coef, copy);
             };
-            for _ in 0..n {
-                sweep::for_each_color(rows, layout, shared, &kernel);
-                if !joints.is_empty() {
-                    sweep::unshare(shared, bodies);
-                    joints.iterate(bodies);
-                    sweep::share(bodies, shared);
-                }
+            sweep::for_each_color(rows, layout, shared, &kernel);
+            if !joints.is_empty() {
+                sweep::unshare(shared, bodies);
+                joints.warm_start(bodies, dt_coef);
+                sweep::share(bodies, shared);
             }
-            sweep::unshare(shared, bodies);
-        });
+        }
+        let blocks = blocks.as_slice();
+        let kernel = |m: &mut [ContactConstraint], copy: &mut [SolverBody; 2]| {
+            sweep::solve_copy::<FRICTION, BIAS>(m, blocks, copy);
+        };
+        for _ in 0..n {
+            sweep::for_each_color(rows, layout, shared, &kernel);
+            if !joints.is_empty() {
+                sweep::unshare(shared, bodies);
+                joints.iterate(bodies);
+                sweep::share(bodies, shared);
+            }
+        }
+        sweep::unshare(shared, bodies);
     }
 
     /// Stage 11: copies solved velocities back into the bodies and
