@@ -32,6 +32,9 @@
 /// nothing.
 pub(crate) const COLORS: usize = 24;
 
+/// An arbiter end that is not a movable body (in `ends_of`).
+const NO_SLOT: u32 = u32::MAX;
+
 /// The colors of one step's arbiters, and the scratch that computes them.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct ConstraintGraph {
@@ -46,6 +49,9 @@ pub(crate) struct ConstraintGraph {
     /// Color (or [`COLORS`] for the overflow) of each arbiter of the
     /// input, in input order.
     color_of: Vec<u8>,
+    /// The movable body slots of each arbiter of the input (`NO_SLOT`:
+    /// none), in input order: looked up once, used again to clear.
+    ends_of: Vec<[u32; 2]>,
     /// The input arbiters in solve order: by color, the overflow last,
     /// input order within each.
     order: Vec<u32>,
@@ -74,12 +80,15 @@ impl ConstraintGraph {
             self.last.resize(body_slots, 0);
         }
         self.color_of.clear();
+        self.ends_of.clear();
         let mut counts = [0u32; COLORS + 1];
         for &i in arbiters {
             let ends = bodies(i).map(|(slot, movable)| {
-                let slot = slot as usize;
-                (movable && slot < body_slots).then_some(slot)
+                (movable && (slot as usize) < body_slots).then_some(slot as usize)
             });
+            // Slots below body_slots fit u32 (they came as u32).
+            self.ends_of
+                .push(ends.map(|e| e.map_or(NO_SLOT, |slot| slot as u32)));
             // Start after the highest color its bodies are taken in, so
             // that an arbiter sharing a body with earlier ones is solved
             // after them whenever the colors allow (the canonical order's
@@ -144,21 +153,19 @@ impl ConstraintGraph {
             }
         }
         // Clear what was taken, arbiter by arbiter (no pass over the bodies).
-        for (&i, &c) in arbiters.iter().zip(&self.color_of) {
+        for (ends, &c) in self.ends_of.iter().zip(&self.color_of) {
             let c = usize::from(c);
             if c >= COLORS {
                 continue;
             }
-            for (slot, movable) in bodies(i) {
+            for &slot in ends.iter().filter(|&&slot| slot != NO_SLOT) {
                 let slot = slot as usize;
-                if movable && slot < body_slots {
-                    let at = c.saturating_mul(words).saturating_add(slot / 64);
-                    if let Some(x) = self.taken.get_mut(at) {
-                        *x = 0;
-                    }
-                    if let Some(l) = self.last.get_mut(slot) {
-                        *l = 0;
-                    }
+                let at = c.saturating_mul(words).saturating_add(slot / 64);
+                if let Some(x) = self.taken.get_mut(at) {
+                    *x = 0;
+                }
+                if let Some(l) = self.last.get_mut(slot) {
+                    *l = 0;
                 }
             }
         }
