@@ -220,6 +220,9 @@ pub struct Broadphase {
     pub pairs: Vec<(u32, u32)>,
     /// Per moving shape slot: the trees' answer for its fat box.
     hits: Vec<StaticHits>,
+    /// With threads: the moving pairs each piece of the sweep found
+    /// (scratch, kept so that a warm step does not allocate).
+    pieces: Vec<Vec<(u32, u32)>>,
 }
 
 /// The static and sleeping proxies whose boxes touch `fat`, as the trees
@@ -291,6 +294,54 @@ impl StaticHits {
     }
 }
 
+/// The pairs of `a` with the boxes after it in sweep order (`later`)
+/// whose boxes overlap it: the scan stops at the first box that starts
+/// to the right of `a`.
+#[inline]
+fn sweep_one(a: &Proxy, later: &[Proxy], found: &mut Vec<(u32, u32)>) {
+    for b in later {
+        if b.bb.l > a.bb.r {
+            break;
+        }
+        if a.bb.b <= b.bb.t && b.bb.b <= a.bb.t {
+            found.push(ordered(a.index, b.index));
+        }
+    }
+}
+
+/// Sorted boxes per piece of the split sweep (each scans its neighbours:
+/// tens of µs of work in a pile); a few in unit tests, so that their small
+/// worlds are split too.
+#[cfg(not(test))]
+const SWEEP_PIECE: usize = 256;
+#[cfg(test)]
+const SWEEP_PIECE: usize = 3;
+
+/// [`sweep_one`] for the boxes of `sorted` from piece `first` on, one
+/// piece per entry of `out` (cleared first), halves in parallel.
+fn sweep_split(sorted: &[Proxy], first: usize, out: &mut [Vec<(u32, u32)>]) {
+    if let [found] = out {
+        found.clear();
+        let start = first.saturating_mul(SWEEP_PIECE);
+        let end = start.saturating_add(SWEEP_PIECE).min(sorted.len());
+        for k in start..end {
+            if let (Some(a), Some(later)) = (sorted.get(k), sorted.get(k.saturating_add(1)..)) {
+                sweep_one(a, later, found);
+            }
+        }
+        return;
+    }
+    if out.is_empty() {
+        return;
+    }
+    let mid = out.len() / 2;
+    let (left, right) = out.split_at_mut(mid);
+    crate::threads::join(
+        || sweep_split(sorted, first, left),
+        || sweep_split(sorted, first.saturating_add(mid), right),
+    );
+}
+
 /// No position (a slot without a box in this call).
 const NONE: u32 = u32::MAX;
 
@@ -307,8 +358,31 @@ impl Broadphase {
     /// `sleeping` holds the shapes of sleeping bodies: queried like
     /// `statics`, so they pair only with moving shapes.
     pub fn find_pairs(&mut self, moving: &[Proxy], statics: &StaticTree, sleeping: &StaticTree) {
+        self.find_pairs_with(moving, statics, sleeping, false);
+    }
+
+    /// [`find_pairs`](Self::find_pairs); with `split` (a step with
+    /// threads) the sweep of the moving boxes against each other runs in
+    /// pieces between them ([`crate::threads::join`]) before the static
+    /// queries. The same pairs: the order pairs are found in is put right
+    /// by [`canonical_pairs`](Self::canonical_pairs).
+    pub(crate) fn find_pairs_with(
+        &mut self,
+        moving: &[Proxy],
+        statics: &StaticTree,
+        sleeping: &StaticTree,
+        split: bool,
+    ) {
         self.sort_moving(moving);
         self.found.clear();
+        if split {
+            let pieces = self.sorted.len().div_ceil(SWEEP_PIECE);
+            self.pieces.resize_with(pieces, Vec::new);
+            sweep_split(&self.sorted, 0, &mut self.pieces);
+            for piece in &self.pieces {
+                self.found.extend_from_slice(piece);
+            }
+        }
         // The fat-box answers, by shape slot counted from the lowest moving
         // one (a level's static slots below take no room), when those slots
         // are dense (see `dense_limit`); otherwise every box queries the
@@ -335,13 +409,8 @@ impl Broadphase {
         let mut rest = sorted.as_slice();
         while let Some((a, later)) = rest.split_first() {
             rest = later;
-            for b in later {
-                if b.bb.l > a.bb.r {
-                    break;
-                }
-                if a.bb.b <= b.bb.t && b.bb.b <= a.bb.t {
-                    found.push(ordered(a.index, b.index));
-                }
+            if !split {
+                sweep_one(a, later, found);
             }
             if statics.is_empty() && sleeping.is_empty() {
                 continue;
@@ -672,7 +741,8 @@ mod tests {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
         /// Calls on one `Broadphase` whose boxes move a little, jump, appear,
         /// vanish, tie on their left edges or repeat an index give exactly the
-        /// pairs of a fresh full sort, in the same order.
+        /// pairs of a fresh full sort, in the same order; so does the sweep
+        /// split in pieces, empty worlds included.
         #[test]
         fn persistent_sweep_gives_the_full_sort_pairs(
             start in proptest::collection::vec((0u32..60, -20i32..20, -20i32..20), 0..60),
@@ -685,11 +755,15 @@ mod tests {
             let tree = StaticTree::build(statics.iter().map(|&(i, x, y)| proxy(i, x, y)).collect());
             let mut world: Vec<(u32, i32, i32)> = start;
             let mut bp = Broadphase::default();
+            let mut split = Broadphase::default();
             for step in moves {
                 apply_moves(&mut world, &step, 7);
                 let moving: Vec<Proxy> = world.iter().map(|&(i, x, y)| proxy(i, x, y)).collect();
                 bp.find_pairs(&moving, &tree, &StaticTree::default());
                 proptest::prop_assert_eq!(&bp.pairs, &find_pairs_full_sort(&moving, &tree));
+                // The sweep in pieces (as with threads) finds the same pairs.
+                split.find_pairs_with(&moving, &tree, &StaticTree::default(), true);
+                proptest::prop_assert_eq!(&split.pairs, &bp.pairs);
             }
         }
     }

@@ -186,22 +186,22 @@ impl Space {
         let dtc = self.dt_constants(dt);
         let features = self.contact_features();
 
-        self.record_sweep_starts(); // 1: bullets' start poses (ccd.rs)
-        self.integrate_positions(dt); // 1
-        self.update_shape_caches(); // 2
-        self.sweep_bullets(); // 2b: bullets to their time of impact (ccd.rs)
-        self.update_constraint_filter(); // 4: collide_bodies = false
-        self.find_pairs(); // 3
-                           // 3b: a moving shape touching a sleeping one wakes its island,
-                           // whose shapes then move too: stages 2-3 again (at most once per
-                           // island woken, so it ends).
-        while self.wake_touched_islands() {
-            self.update_shape_caches();
-            self.find_pairs();
-        }
-        // Stages 4-10 hold the parallel ones: the threads stay awake.
+        // Stages 1-10 hold the parallel ones: the threads stay awake.
         let threads = self.caches.threads.clone();
         let active = threads.awake(|| {
+            self.record_sweep_starts(); // 1: bullets' start poses (ccd.rs)
+            self.integrate_positions(dt); // 1
+            self.update_shape_caches(); // 2
+            self.sweep_bullets(); // 2b: bullets to their time of impact (ccd.rs)
+            self.update_constraint_filter(); // 4: collide_bodies = false
+            self.find_pairs(); // 3
+                               // 3b: a moving shape touching a sleeping one wakes its island,
+                               // whose shapes then move too: stages 2-3 again (at most once
+                               // per island woken, so it ends).
+            while self.wake_touched_islands() {
+                self.update_shape_caches();
+                self.find_pairs();
+            }
             let active = self.collide_pairs(); // 4, 5
             self.load_solver_bodies(); // 6
             self.pre_step(&active, &dtc, features); // 7
@@ -398,9 +398,10 @@ impl Space {
     fn find_pairs(&mut self) {
         self.update_static_tree();
         self.rebuild_sleeping_tree();
+        let split = self.caches.threads.parallel();
         let bp = &mut self.caches.broadphase;
         bp.sweep
-            .find_pairs(&bp.proxies, &bp.static_tree, &bp.sleeping_tree);
+            .find_pairs_with(&bp.proxies, &bp.static_tree, &bp.sleeping_tree, split);
     }
 
     /// The sleeping tree from this step's sleeping boxes, if they changed
