@@ -396,6 +396,28 @@ impl<T> Arena<T> {
         })
     }
 
+    /// Runs `f` on every live object, the slots in pieces of `piece` (at
+    /// least 1) split between threads ([`crate::threads::join`]): for work
+    /// on each object alone, whose result does not depend on the order.
+    pub(crate) fn for_each_value_split<F>(&mut self, piece: usize, f: &F)
+    where
+        T: Send,
+        F: Fn(&mut T) + Sync,
+    {
+        fn split<T: Send, F: Fn(&mut T) + Sync>(slots: &mut [Slot<T>], piece: usize, f: &F) {
+            if slots.len() <= piece {
+                slots
+                    .iter_mut()
+                    .filter_map(|s| s.value.as_mut())
+                    .for_each(f);
+                return;
+            }
+            let (left, right) = slots.split_at_mut(slots.len() / 2);
+            crate::threads::join(|| split(left, piece, f), || split(right, piece, f));
+        }
+        split(&mut self.slots, piece.max(1), f);
+    }
+
     /// Checks the internal invariants: the free list names exactly the empty
     /// slots, each once, and `len` counts the full ones. Used by snapshot
     /// loading and by tests; returns a description of the first violation.

@@ -78,6 +78,9 @@ pub(crate) struct StepCache {
     pub(crate) frame_forces: Vec<(BodyHandle, Vect, Real)>,
     /// Counters of the last (sub-)step.
     pub(crate) stats: StepStats,
+    /// With threads: the pieces of stage 2 and what each found (scratch,
+    /// kept so that a warm step does not allocate).
+    pub(crate) cache_pieces: Vec<CachePiece>,
 }
 
 /// The lengths of the `substeps` sub-steps of a step of `dt`, in order:
@@ -251,6 +254,28 @@ impl Space {
 
     /// Stage 1: `p += (v + v_bias)·dt` and the same for the angle.
     fn integrate_positions(&mut self, dt: Real) {
+        if self.caches.threads.parallel() && self.integrators.position.is_empty() {
+            // With threads and no custom integrator, body by body between
+            // them: what the loop below does then, the same bits.
+            let level_touched = core::sync::atomic::AtomicBool::new(false);
+            self.state
+                .bodies
+                .for_each_value_split(BODY_PIECE, &|body: &mut crate::body::Body| {
+                    if body.is_sleeping() {
+                        return;
+                    }
+                    if body.body_type() == BodyType::Static
+                        && (body.v_bias != crate::math::Vect::ZERO || !body.w_bias.is_zero())
+                    {
+                        level_touched.store(true, core::sync::atomic::Ordering::Relaxed);
+                    }
+                    body.update_position(dt);
+                });
+            if level_touched.into_inner() {
+                self.forget_level();
+            }
+            return;
+        }
         let custom = &mut self.integrators.position;
         let mut moved_static = false;
         let mut level_touched = false;
@@ -304,8 +329,10 @@ impl Space {
     fn update_shape_caches(&mut self) {
         let caches = &mut self.caches.shapes;
         let bp = &mut self.caches.broadphase;
-        let rewrite_statics = bp.statics_dirty;
-        let rewrite_sleepers = bp.sleepers_dirty;
+        let rewrite = Rewrite {
+            statics: bp.statics_dirty,
+            sleepers: bp.sleepers_dirty,
+        };
         bp.sleepers.clear();
         let mut statics_changed = false;
         let bodies = &self.state.bodies;
@@ -317,7 +344,7 @@ impl Space {
         // entry already: walk the other slots only, so a big level costs
         // nothing here (`space::level`; a change to the level flags the
         // statics, and the walk is then complete).
-        let level = if rewrite_statics {
+        let level = if rewrite.statics {
             None
         } else {
             Some(
@@ -328,59 +355,41 @@ impl Space {
             )
         };
         let skip: &[(u32, u32)] = level.as_ref().map_or(&[], |l| &l.shape_runs);
-        for i in crate::arena::outside_runs(skip, slots as u32) {
-            let Some(entry) = caches.get_mut(i as usize) else {
-                continue;
-            };
-            let i = i as usize;
-            let Some((s, body)) = shapes
-                .get_by_index(i as u32)
-                .and_then(|(_, s)| Some((s, bodies.get(s.body)?)))
-            else {
-                *entry = None;
-                continue;
-            };
-            let is_static = body.body_type() == BodyType::Static;
-            if is_static && !rewrite_statics && entry.as_ref().is_some_and(|c| c.is_static) {
-                continue;
-            }
-            // A sleeping body has not moved since its entry was written
-            // (anything that could move it wakes it and sets the flag).
-            let sleeping = body.is_sleeping();
-            if sleeping && !rewrite_sleepers && entry.as_ref().is_some_and(|c| !c.is_static) {
-                continue;
-            }
-            statics_changed |= is_static;
-            let (pos, rot) = (body.position(), body.rotation());
-            // Written over last step's entry where there is one.
-            let bb = match entry {
-                Some(c) => {
-                    s.geometry.write_world_into(pos, rot, &mut c.geometry);
-                    c.bb = c.geometry.bb();
-                    c.is_static = is_static;
-                    c.bb
-                }
-                None => {
-                    let geometry = s.geometry.to_world(pos, rot);
-                    let bb = geometry.bb();
-                    *entry = Some(ShapeCache {
-                        geometry,
-                        bb,
-                        is_static,
+        if self.caches.threads.parallel() {
+            // With threads: the slots outside the level in pieces, each
+            // listing its own boxes, joined in slot order as below.
+            let pieces = &mut self.caches.step.cache_pieces;
+            pieces.clear();
+            for gap in crate::arena::gaps(skip, slots as u32) {
+                let mut start = gap.start;
+                while start < gap.end {
+                    let end = start.saturating_add(SHAPE_PIECE).min(gap.end);
+                    pieces.push(CachePiece {
+                        slots: start..end,
+                        ..CachePiece::default()
                     });
-                    bb
+                    start = end;
                 }
-            };
-            if sleeping {
-                bp.sleepers.push(Proxy {
-                    index: i as u32,
-                    bb,
-                });
-            } else if !is_static {
-                bp.proxies.push(Proxy {
-                    index: i as u32,
-                    bb,
-                });
+            }
+            let view = (shapes, bodies, rewrite);
+            update_caches_split(&view, caches, 0, pieces);
+            for piece in pieces.iter() {
+                bp.proxies.extend_from_slice(&piece.proxies);
+                bp.sleepers.extend_from_slice(&piece.sleepers);
+                statics_changed |= piece.statics_changed;
+            }
+        } else {
+            for i in crate::arena::outside_runs(skip, slots as u32) {
+                let Some(entry) = caches.get_mut(i as usize) else {
+                    continue;
+                };
+                let written = update_cache_entry(entry, i, shapes, bodies, rewrite);
+                statics_changed |= written.static_entry;
+                match written.listed {
+                    Listed::Neither => {}
+                    Listed::Moving(p) => bp.proxies.push(p),
+                    Listed::Sleeping(p) => bp.sleepers.push(p),
+                }
             }
         }
         if statics_changed {
@@ -1025,6 +1034,163 @@ impl NarrowView<'_> {
         (info.count > 0).then_some(info)
     }
 }
+
+/// Which cache entries stage 2 rewrites even if written before.
+#[derive(Clone, Copy)]
+struct Rewrite {
+    /// Static shapes' (the statics changed).
+    statics: bool,
+    /// Sleeping shapes' (bodies fell asleep or woke).
+    sleepers: bool,
+}
+
+/// What stage 2 did with a shape slot: whether it wrote a static
+/// shape's entry (the statics changed), and the list its box goes to.
+struct Written {
+    static_entry: bool,
+    listed: Listed,
+}
+
+/// The list a written entry's box goes to.
+enum Listed {
+    /// None: nothing written, the slot cleared, or a static shape.
+    Neither,
+    /// A moving shape's: the sweep's.
+    Moving(Proxy),
+    /// A sleeping shape's: the sleeping tree's.
+    Sleeping(Proxy),
+}
+
+impl Written {
+    const NOTHING: Written = Written {
+        static_entry: false,
+        listed: Listed::Neither,
+    };
+}
+
+/// Stage 2 for shape slot `i` and its cache `entry`.
+#[inline]
+fn update_cache_entry(
+    entry: &mut Option<ShapeCache>,
+    i: u32,
+    shapes: &crate::arena::Arena<crate::shape::Shape>,
+    bodies: &crate::arena::Arena<crate::body::Body>,
+    rewrite: Rewrite,
+) -> Written {
+    let Some((s, body)) = shapes
+        .get_by_index(i)
+        .and_then(|(_, s)| Some((s, bodies.get(s.body)?)))
+    else {
+        *entry = None;
+        return Written::NOTHING;
+    };
+    let is_static = body.body_type() == BodyType::Static;
+    if is_static && !rewrite.statics && entry.as_ref().is_some_and(|c| c.is_static) {
+        return Written::NOTHING;
+    }
+    // A sleeping body has not moved since its entry was written
+    // (anything that could move it wakes it and sets the flag).
+    let sleeping = body.is_sleeping();
+    if sleeping && !rewrite.sleepers && entry.as_ref().is_some_and(|c| !c.is_static) {
+        return Written::NOTHING;
+    }
+    let (pos, rot) = (body.position(), body.rotation());
+    // Written over last step's entry where there is one.
+    let bb = match entry {
+        Some(c) => {
+            s.geometry.write_world_into(pos, rot, &mut c.geometry);
+            c.bb = c.geometry.bb();
+            c.is_static = is_static;
+            c.bb
+        }
+        None => {
+            let geometry = s.geometry.to_world(pos, rot);
+            let bb = geometry.bb();
+            *entry = Some(ShapeCache {
+                geometry,
+                bb,
+                is_static,
+            });
+            bb
+        }
+    };
+    let proxy = Proxy { index: i, bb };
+    Written {
+        static_entry: is_static,
+        listed: if sleeping {
+            Listed::Sleeping(proxy)
+        } else if !is_static {
+            Listed::Moving(proxy)
+        } else {
+            Listed::Neither
+        },
+    }
+}
+
+/// Shape slots per piece of the split stage 2 (a few µs of work).
+const SHAPE_PIECE: usize = 256;
+
+/// A piece of the split stage 2: its slots, and what it found.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct CachePiece {
+    slots: core::ops::Range<usize>,
+    proxies: Vec<Proxy>,
+    sleepers: Vec<Proxy>,
+    statics_changed: bool,
+}
+
+/// Stage 2 for `pieces` (in slot order), whose slots lie in `caches`
+/// from slot `base` on: halves in parallel, each piece writing its own
+/// entries and lists.
+fn update_caches_split(
+    view: &(
+        &crate::arena::Arena<crate::shape::Shape>,
+        &crate::arena::Arena<crate::body::Body>,
+        Rewrite,
+    ),
+    caches: &mut [Option<ShapeCache>],
+    base: usize,
+    pieces: &mut [CachePiece],
+) {
+    let (shapes, bodies, rewrite) = *view;
+    if let [piece] = pieces {
+        piece.proxies.clear();
+        piece.sleepers.clear();
+        piece.statics_changed = false;
+        let range = piece.slots.start.wrapping_sub(base)..piece.slots.end.wrapping_sub(base);
+        let Some(entries) = caches.get_mut(range) else {
+            return;
+        };
+        for (k, entry) in entries.iter_mut().enumerate() {
+            // Slots are counted in u32 (the arena's indices).
+            let i = piece.slots.start.wrapping_add(k) as u32;
+            let written = update_cache_entry(entry, i, shapes, bodies, rewrite);
+            piece.statics_changed |= written.static_entry;
+            match written.listed {
+                Listed::Neither => {}
+                Listed::Moving(p) => piece.proxies.push(p),
+                Listed::Sleeping(p) => piece.sleepers.push(p),
+            }
+        }
+        return;
+    }
+    if pieces.is_empty() {
+        return;
+    }
+    let mid = pieces.len() / 2;
+    let (left, right) = pieces.split_at_mut(mid);
+    let cut = right.first().map_or(base, |p| p.slots.start);
+    let Some((caches_l, caches_r)) = caches.split_at_mut_checked(cut.wrapping_sub(base)) else {
+        return;
+    };
+    crate::threads::join(
+        || update_caches_split(view, caches_l, base, left),
+        || update_caches_split(view, caches_r, cut, right),
+    );
+}
+
+/// Body slots per piece of the split position integration (a few µs).
+const BODY_PIECE: usize = 256;
 
 /// Pairs per piece of the split narrowphase (a few µs of work).
 const PAIR_PIECE: usize = 64;
