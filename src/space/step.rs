@@ -688,9 +688,9 @@ impl Space {
             params: &params,
             friction: features.friction,
         };
-        contact_constraints.clear();
-        blocks.clear();
         if !threads.parallel() {
+            contact_constraints.clear();
+            blocks.clear();
             // One thread: rows and blocks appended in order, each written
             // once (the split below writes every row twice, placing first).
             for &i in graph.order() {
@@ -735,7 +735,12 @@ impl Space {
         }
         manifold_rows.push(rows);
         manifold_blocks.push(block_count);
+        // Every row is written below, and a block slot is read only by the
+        // row that points at it once written: last step's contents stay
+        // where the lists were long enough (no 200-byte default per row).
+        contact_constraints.truncate(rows as usize);
         contact_constraints.resize(rows as usize, ContactConstraint::default());
+        blocks.truncate(block_count as usize);
         blocks.resize(block_count as usize, ManifoldBlock::default());
         let order = graph.order();
         let parts = ManifoldParts {
