@@ -90,6 +90,13 @@ impl Threads {
                 // pool's queue could be picked up by a worker that already
                 // spins, inside its own loop, leaving another asleep).
                 scope.spawn_broadcast(|_, _| {
+                    // A worker may take its spinner while waiting inside a
+                    // piece of work (rayon runs any job then, and a worker
+                    // can take a piece before its spinner): spinning there
+                    // would never finish the piece the step waits for.
+                    if main::is_working() {
+                        return;
+                    }
                     while !done.load(Ordering::Acquire) {
                         // Run the pool's work if there is any, else give
                         // the core to whoever needs it.
@@ -120,7 +127,7 @@ pub(crate) fn join<A: FnOnce() + Send, B: FnOnce() + Send>(a: A, b: B) {
     {
         // Outside a pool rayon would start its global one: never.
         if rayon::current_thread_index().is_some() {
-            rayon::join(a, b);
+            rayon::join(|| main::working(a), || main::working(b));
             return;
         }
         if let Some(pool) = main::free_worker() {
@@ -150,6 +157,27 @@ mod main {
 
     std::thread_local! {
         static HANDOVER: RefCell<Option<Handover>> = const { RefCell::new(None) };
+        /// How deep this thread is in pieces of a step's work.
+        static WORKING: core::cell::Cell<u32> = const { core::cell::Cell::new(0) };
+    }
+
+    /// Runs `f`, a piece of a step's work, marked as such on this thread
+    /// (also if it unwinds).
+    pub(super) fn working<R>(f: impl FnOnce() -> R) -> R {
+        struct Depth;
+        impl Drop for Depth {
+            fn drop(&mut self) {
+                WORKING.with(|w| w.set(w.get().saturating_sub(1)));
+            }
+        }
+        WORKING.with(|w| w.set(w.get().saturating_add(1)));
+        let _depth = Depth;
+        f()
+    }
+
+    /// Whether this thread is inside a piece of a step's work.
+    pub(super) fn is_working() -> bool {
+        WORKING.with(|w| w.get() > 0)
     }
 
     /// Marks this thread as stepping with `pool` until dropped; the drop
@@ -226,7 +254,7 @@ mod main {
             scope.spawn(|_| {
                 let _done = SetOnDrop(&done);
                 if !claimed.swap(true, Ordering::AcqRel) {
-                    run_b();
+                    working(run_b);
                 }
             });
             a();

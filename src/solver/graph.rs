@@ -32,6 +32,11 @@
 /// nothing.
 pub(crate) const COLORS: usize = 24;
 
+/// Bands of body slots a color's arbiters are ordered by (see
+/// [`ConstraintGraph::color`]); set by nothing but the slot count, so the
+/// order is the same for any thread count.
+const BANDS: usize = 64;
+
 /// An arbiter end that is not a movable body (in `ends_of`).
 const NO_SLOT: u32 = u32::MAX;
 
@@ -50,8 +55,10 @@ pub(crate) struct ConstraintGraph {
     /// input, in input order.
     color_of: Vec<u8>,
     /// The movable body slots of each arbiter of the input (`NO_SLOT`:
-    /// none), in input order: looked up once, used again to clear.
+    /// none), in input order: looked up once, used again to sort and clear.
     ends_of: Vec<[u32; 2]>,
+    /// The counting sort's buckets (scratch).
+    next: Vec<u32>,
     /// The input arbiters in solve order: by color, the overflow last,
     /// input order within each.
     order: Vec<u32>,
@@ -81,7 +88,6 @@ impl ConstraintGraph {
         }
         self.color_of.clear();
         self.ends_of.clear();
-        let mut counts = [0u32; COLORS + 1];
         for &i in arbiters {
             let ends = bodies(i).map(|(slot, movable)| {
                 (movable && (slot as usize) < body_slots).then_some(slot as usize)
@@ -125,33 +131,61 @@ impl ConstraintGraph {
                     }
                 }
             }
-            if let Some(n) = counts.get_mut(color) {
-                *n = n.saturating_add(1);
-            }
             // color ≤ COLORS = 24 fits a u8.
             self.color_of.push(color as u8);
         }
-        // Counting sort by color, stable: canonical order within a color.
-        let mut next = [0u32; COLORS + 1];
-        let mut start = 0u32;
-        for (c, &n) in counts.iter().enumerate() {
-            if let (Some(s), Some(x)) = (self.starts.get_mut(c), next.get_mut(c)) {
-                *s = start;
-                *x = start;
+        // Counting sort by color and, within a color, by the band of body
+        // slots of the arbiter's first movable body (`band`), stable: a
+        // color's arbiters share no movable body, so their order within
+        // the color changes no bit, and banded, the halves a color is
+        // split into between threads touch mostly the same bodies from one
+        // color to the next (a body's cache line stays with one thread).
+        // The overflow keeps the canonical order: its arbiters may share.
+        let band_of = |ends: &[u32; 2]| {
+            let slot = ends.iter().find(|&&e| e != NO_SLOT).copied().unwrap_or(0);
+            // slot < body_slots: the band is below BANDS.
+            (slot as usize)
+                .saturating_mul(BANDS)
+                .checked_div(body_slots)
+                .unwrap_or(0)
+        };
+        let bucket = |c: u8, ends: &[u32; 2]| {
+            let c = usize::from(c);
+            if c < COLORS {
+                c.saturating_mul(BANDS)
+                    .saturating_add(band_of(ends).min(BANDS - 1))
+            } else {
+                COLORS * BANDS
             }
-            start = start.saturating_add(n);
+        };
+        let mut next = core::mem::take(&mut self.next);
+        next.clear();
+        next.resize(COLORS * BANDS + 2, 0);
+        for (ends, &c) in self.ends_of.iter().zip(&self.color_of) {
+            if let Some(n) = next.get_mut(bucket(c, ends).saturating_add(1)) {
+                *n = n.saturating_add(1);
+            }
         }
-        self.starts[COLORS + 1] = start;
+        let mut sum = 0u32;
+        for n in next.iter_mut() {
+            sum = sum.saturating_add(*n);
+            *n = sum;
+        }
+        for (c, s) in self.starts.iter_mut().enumerate().take(COLORS + 1) {
+            *s = next.get(c.saturating_mul(BANDS)).copied().unwrap_or(0);
+        }
+        self.starts[COLORS + 1] = sum;
         self.order.clear();
         self.order.resize(arbiters.len(), 0);
-        for (&i, &c) in arbiters.iter().zip(&self.color_of) {
-            if let Some(at) = next.get_mut(usize::from(c)) {
+        for ((&i, ends), &c) in arbiters.iter().zip(&self.ends_of).zip(&self.color_of) {
+            if let Some(at) = next.get_mut(bucket(c, ends)) {
                 if let Some(slot) = self.order.get_mut(*at as usize) {
                     *slot = i;
                 }
                 *at = at.saturating_add(1);
             }
         }
+        self.next = next;
         // Clear what was taken, arbiter by arbiter (no pass over the bodies).
         for (ends, &c) in self.ends_of.iter().zip(&self.color_of) {
             let c = usize::from(c);
