@@ -38,8 +38,44 @@ fn the_feature_is_on_in_these_tests() {
     const { assert!(tamias2d::space::PARALLEL) };
 }
 
+/// Aborts the test binary, naming the run in progress (`at`), if the test
+/// holding this has not dropped it after `limit`: a hang of the parallel
+/// step shows as that message, not as CI's timeout.
+struct Watchdog {
+    at: std::sync::Arc<std::sync::Mutex<String>>,
+    _done: std::sync::mpsc::Sender<()>,
+}
+
+impl Watchdog {
+    fn new(limit: std::time::Duration) -> Watchdog {
+        let (done, wait) = std::sync::mpsc::channel::<()>();
+        let at = std::sync::Arc::new(std::sync::Mutex::new(String::new()));
+        let seen = std::sync::Arc::clone(&at);
+        std::thread::spawn(move || {
+            // The test's end drops the sender: the wait ends, no abort.
+            if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = wait.recv_timeout(limit) {
+                let at = seen.lock().map(|s| s.clone()).unwrap_or_default();
+                // Past the test harness's capture of `eprintln!`, which the
+                // abort would swallow.
+                let message = format!("tests/parallel.rs: no end in {limit:?}; at {at}: a hang\n");
+                let _ = std::io::Write::write_all(&mut std::io::stderr(), message.as_bytes());
+                std::process::abort();
+            }
+        });
+        Watchdog { at, _done: done }
+    }
+
+    fn at(&self, what: String) {
+        if let Ok(mut at) = self.at.lock() {
+            *at = what;
+        }
+    }
+}
+
 #[test]
 fn every_thread_count_gives_the_bits_of_one_thread_at_every_step() {
+    // About 10 s in release and a minute in debug on 2 cores.
+    let watchdog = Watchdog::new(std::time::Duration::from_secs(900));
     for info in REGISTRY {
         let Some(golden) = info.golden else { continue };
         let steps = if cfg!(debug_assertions) {
@@ -53,6 +89,10 @@ fn every_thread_count_gives_the_bits_of_one_thread_at_every_step() {
                 assert_eq!(one.last(), Some(&golden.checksum), "{}: golden", info.name);
             }
             for &threads in &THREADS[1..] {
+                watchdog.at(format!(
+                    "{} (colored {colored}) on {threads} threads",
+                    info.name
+                ));
                 let many = checksums(info.name, colored, threads, steps);
                 if let Some(n) = one.iter().zip(&many).position(|(a, b)| a != b) {
                     panic!(
