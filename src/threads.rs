@@ -5,7 +5,9 @@
 //! halves down to pieces whose boundaries depend only on the item count,
 //! and every piece writes only what no other piece of the same stage
 //! reads or writes (see [`solver::sweep`](crate::solver)). Without the
-//! feature, or with one thread, the halves run one after the other.
+//! feature, or with one thread, the halves run one after the other. With
+//! threads, the thread that steps is one of them ([`join`]), and the
+//! others spin through the step ([`Threads::awake`]).
 
 /// The most threads a space may ask for: far beyond the cores of any
 /// machine a step would gain from, low enough that a mistaken count does
@@ -124,16 +126,18 @@ impl Threads {
 #[inline]
 pub(crate) fn join<A: FnOnce() + Send, B: FnOnce() + Send>(a: A, b: B) {
     #[cfg(feature = "parallel")]
-    {
-        // Outside a pool rayon would start its global one: never.
-        if rayon::current_thread_index().is_some() {
+    match main::free_worker() {
+        // The stepping thread (even if it is a worker of some other pool,
+        // a game's own, that steps the space inside a task).
+        Some(Some(pool)) => return main::join(&pool, a, b),
+        Some(None) => {}
+        // A worker of the step's pool (outside a pool rayon would start
+        // its global one: never).
+        None if rayon::current_thread_index().is_some() => {
             rayon::join(|| main::working(a), || main::working(b));
             return;
         }
-        if let Some(pool) = main::free_worker() {
-            main::join(&pool, a, b);
-            return;
-        }
+        None => {}
     }
     a();
     b();
@@ -210,17 +214,18 @@ mod main {
         }
     }
 
-    /// The pool, if this thread is stepping and a worker may be free (fewer
-    /// halves handed over than workers; with every worker busy, this thread
-    /// runs both halves itself).
-    pub(super) fn free_worker() -> Option<Arc<rayon::ThreadPool>> {
+    /// `None` if this thread is not stepping; else the pool if a worker
+    /// may be free (fewer halves handed over than workers: counted as one
+    /// more), `Some(None)` if all are busy (this thread then runs both
+    /// halves itself).
+    pub(super) fn free_worker() -> Option<Option<Arc<rayon::ThreadPool>>> {
         HANDOVER.with(|h| {
             let mut h = h.borrow_mut();
             let h = h.as_mut()?;
-            (h.outstanding < h.workers).then(|| {
+            Some((h.outstanding < h.workers).then(|| {
                 h.outstanding = h.outstanding.saturating_add(1);
                 Arc::clone(&h.pool)
-            })
+            }))
         })
     }
 

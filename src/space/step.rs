@@ -198,9 +198,10 @@ impl Space {
             self.sweep_bullets(); // 2b: bullets to their time of impact (ccd.rs)
             self.update_constraint_filter(); // 4: collide_bodies = false
             self.find_pairs(); // 3
-                               // 3b: a moving shape touching a sleeping one wakes its island,
-                               // whose shapes then move too: stages 2-3 again (at most once
-                               // per island woken, so it ends).
+
+            // 3b: a moving shape touching a sleeping one wakes its island,
+            // whose shapes then move too: stages 2-3 again (at most once
+            // per island woken, so it ends).
             while self.wake_touched_islands() {
                 self.update_shape_caches();
                 self.find_pairs();
