@@ -182,3 +182,31 @@ fn thread_counts_out_of_range_are_refused_or_clamped() {
     assert!(err.to_string().contains("at most 256"), "{err}");
     assert_eq!(space.threads(), 1, "an error changes nothing");
 }
+
+/// A game that steps its world inside a task of its own rayon pool (a
+/// worker thread of another pool): the step still hands work to the
+/// space's pool (`threads::join` looks at the space's pool, not at the
+/// current one), ends, and gives the bits of one thread. Two worlds are
+/// stepped at once from two tasks of the game's pool, each with its own
+/// step pool.
+#[test]
+fn stepping_inside_another_rayon_pool_gives_the_bits_of_one_thread() {
+    let watchdog = Watchdog::new(std::time::Duration::from_secs(300));
+    let steps = if cfg!(debug_assertions) { 30 } else { 120 };
+    let run = |colored: bool, threads: usize| checksums("pyramid_20", colored, threads, steps);
+    let one = [run(false, 1), run(true, 1)];
+    let game_pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .expect("the game's pool starts");
+    watchdog.at("pyramid_20 on 2 and 3 threads inside a 2-thread game pool".into());
+    let (canonical, colored) = game_pool.install(|| rayon::join(|| run(false, 2), || run(true, 3)));
+    assert_eq!(
+        canonical, one[0],
+        "canonical order, 2 threads in a foreign pool"
+    );
+    assert_eq!(
+        colored, one[1],
+        "colored order, 3 threads in a foreign pool"
+    );
+}
