@@ -66,6 +66,20 @@ struct Axis {
     edge: usize,
 }
 
+impl Axis {
+    /// Takes face `edge` at separation `sep` if it is strictly further out
+    /// (the lower index wins a tie); true if the pair is then known apart
+    /// (`sep > limit`) and the search can stop.
+    #[inline(always)]
+    fn take(&mut self, sep: i128, edge: usize, limit: i128) -> bool {
+        if sep > self.sep {
+            *self = Axis { sep, edge };
+            return sep > limit;
+        }
+        false
+    }
+}
+
 /// `r`'s raw bits in units of 2^-64 (the units of `wide::dot`).
 #[inline]
 fn wide_of(r: Real) -> i128 {
@@ -90,8 +104,62 @@ fn min_dot(b: &Poly, n: Vect) -> i128 {
 /// The edge normal of `a` along which `b` is furthest out (lowest index on
 /// a tie), stopping early once a separation exceeds `limit` (the pair is then
 /// apart). `None` if `a` has a zero normal.
+///
+/// A box (four faces in two opposite pairs: normals 2 and 3 exactly `−n₀`
+/// and `−n₁`) gets the separations of a pair from one pass over `b`'s
+/// vertices, since `min (q · −n) = −max (q · n)` exactly; the answer is the
+/// same as [`max_separation_by_faces`]'s (checked by the tests).
 #[inline]
 fn max_separation(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
+    let (Ok(&[n0, n1, n2, n3]), Ok(&[p0, p1, p2, p3])) = (
+        <&[Vect; 4]>::try_from(a.normals()),
+        <&[Vect; 4]>::try_from(a.verts()),
+    ) else {
+        return max_separation_by_faces(a, b, limit);
+    };
+    // Within the unit square each product of a dot product stays below
+    // 2^95: nothing saturates, and negating a dot product is exact.
+    let within = |r: Real| (-Real::ONE..=Real::ONE).contains(&r);
+    let unit = |n: Vect| within(n.x) && within(n.y);
+    if n2 != -n0 || n3 != -n1 || !unit(n0) || !unit(n1) || n0 == Vect::ZERO || n1 == Vect::ZERO {
+        return max_separation_by_faces(a, b, limit);
+    }
+    let range = |n: Vect| {
+        b.verts()
+            .iter()
+            .fold((i128::MAX, i128::MIN), |(lo, hi), v| {
+                let d = wide::dot(*v, n);
+                (lo.min(d), hi.max(d))
+            })
+    };
+    let mut best = Axis {
+        sep: i128::MIN,
+        edge: 0,
+    };
+    // Face by face in index order, as `max_separation_by_faces`: the second
+    // pass only if the first face does not already show the pair apart. No
+    // vertices: `max` is i128::MIN, the minimum over none i128::MAX.
+    let (min0, max0) = range(n0);
+    if best.take(min0.saturating_sub(wide::dot(p0, n0)), 0, limit) {
+        return Some(best);
+    }
+    let (min1, max1) = range(n1);
+    let rest = [
+        (min1, n1, p1),
+        (max0.saturating_neg(), n2, p2),
+        (max1.saturating_neg(), n3, p3),
+    ];
+    for (edge, (min, n, p)) in (1..).zip(rest) {
+        if best.take(min.saturating_sub(wide::dot(p, n)), edge, limit) {
+            break;
+        }
+    }
+    Some(best)
+}
+
+/// [`max_separation`] face by face: one pass over `b`'s vertices per face.
+#[inline]
+fn max_separation_by_faces(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
     let mut best = Axis {
         sep: i128::MIN,
         edge: 0,
@@ -100,12 +168,8 @@ fn max_separation(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
         if *n == Vect::ZERO {
             return None;
         }
-        let sep = min_dot(b, *n).saturating_sub(wide::dot(*p, *n));
-        if sep > best.sep {
-            best = Axis { sep, edge: i };
-            if sep > limit {
-                break;
-            }
+        if best.take(min_dot(b, *n).saturating_sub(wide::dot(*p, *n)), i, limit) {
+            break;
         }
     }
     Some(best)
@@ -236,6 +300,68 @@ mod tests {
         let inner = rect(-1, -1, 1, 1, Real::ZERO);
         let s = max_separation(&inner, &outer, i128::MAX).unwrap();
         assert_eq!((real_of(s.sep), s.edge), (-Real::TWO, 1));
+    }
+
+    /// A box of half-extents `w × h` turned by `angle` (rounded: its
+    /// opposite normals may or may not be exact negatives; unturned, they
+    /// are, and the paired pass runs) and moved to `at`.
+    fn turned_box(w: i64, h: i64, angle: i64, at: Vect) -> Poly {
+        let rot = Vect::for_angle(Real::from_bits(angle));
+        let (w, h) = (Real::from_bits(w), Real::from_bits(h));
+        let corners =
+            [(w, -h), (w, h), (-w, h), (-w, -h)].map(|(x, y)| at + rot.rotate(Vect::new(x, y)));
+        Poly::from_ccw_unchecked(&corners, Real::ZERO)
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(20_000))]
+        /// The paired-face pass of a box gives what the face-by-face pass
+        /// gives, for any other polygon and any limit (turned boxes, boxes
+        /// far out, a triangle).
+        #[test]
+        fn box_pass_is_the_face_by_face_pass(
+            (w, h, angle) in (1i64..(1 << 36), 1i64..(1 << 36), proptest::prop_oneof![proptest::strategy::Just(0i64), -(14i64 << 30)..(14i64 << 30)]),
+            (bw, bh, bangle) in (1i64..(1 << 36), 1i64..(1 << 36), -(14i64 << 30)..(14i64 << 30)),
+            (ax, ay, bx, by) in (-(1i64 << 36)..(1 << 36), -(1i64 << 36)..(1 << 36), -(1i64 << 36)..(1 << 36), -(1i64 << 36)..(1 << 36)),
+            far in proptest::prelude::any::<bool>(),
+            triangle in proptest::prelude::any::<bool>(),
+            limit in proptest::prop_oneof![proptest::strategy::Just(i128::MAX), -(1i128 << 96)..(1i128 << 96)],
+        ) {
+            let shift = if far { Real::MAX - Real::from_int(8) } else { Real::ZERO };
+            let at_a = Vect::new(Real::from_bits(ax) + shift, Real::from_bits(ay));
+            let a = turned_box(w, h, angle, at_a);
+            let at_b = Vect::new(Real::from_bits(bx) + shift, Real::from_bits(by));
+            let b = if triangle {
+                let (p, q) = (Real::from_bits(bw), Real::from_bits(bh));
+                Poly::from_ccw_unchecked(
+                    &[at_b, at_b + Vect::new(p, Real::ZERO), at_b + Vect::new(Real::ZERO, q)],
+                    Real::ZERO,
+                )
+            } else {
+                turned_box(bw, bh, bangle, at_b)
+            };
+            let (got, want) = (max_separation(&a, &b, limit), max_separation_by_faces(&a, &b, limit));
+            proptest::prop_assert_eq!(got.map(|s| (s.sep, s.edge)), want.map(|s| (s.sep, s.edge)));
+            let (got, want) = (max_separation(&b, &a, limit), max_separation_by_faces(&b, &a, limit));
+            proptest::prop_assert_eq!(got.map(|s| (s.sep, s.edge)), want.map(|s| (s.sep, s.edge)));
+        }
+    }
+
+    #[test]
+    fn a_box_with_opposite_normals_takes_the_paired_pass() {
+        // An axis-aligned box's normals are exact negatives in pairs: the
+        // paired pass runs (and answers as the face-by-face one).
+        let a = rect(0, 0, 2, 2, Real::ZERO);
+        let n = a.normals();
+        assert!(n[2] == -n[0] && n[3] == -n[1]);
+        let b = rect(3, 1, 5, 4, Real::ZERO);
+        for limit in [i128::MAX, 0, 1 << 64] {
+            let (got, want) = (
+                max_separation(&a, &b, limit),
+                max_separation_by_faces(&a, &b, limit),
+            );
+            assert_eq!(got.map(|s| (s.sep, s.edge)), want.map(|s| (s.sep, s.edge)));
+        }
     }
 
     #[test]
