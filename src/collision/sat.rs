@@ -105,12 +105,27 @@ fn min_dot(b: &Poly, n: Vect) -> i128 {
 /// a tie), stopping early once a separation exceeds `limit` (the pair is then
 /// apart). `None` if `a` has a zero normal.
 ///
-/// A box (four faces in two opposite pairs: normals 2 and 3 exactly `−n₀`
-/// and `−n₁`) gets the separations of a pair from one pass over `b`'s
-/// vertices, since `min (q · −n) = −max (q · n)` exactly; the answer is the
-/// same as [`max_separation_by_faces`]'s (checked by the tests).
+/// A polygon of 4, 6 or 8 faces in opposite pairs (a box, a regular hexagon
+/// or octagon: normal `i + count/2` exactly `−nᵢ`) gets both separations of
+/// a pair from one pass over `b`'s vertices, since `min (q · −n) =
+/// −max (q · n)` exactly; the answer is the same as
+/// [`max_separation_by_faces`]'s (checked by the tests).
 #[inline]
 fn max_separation(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
+    let paired = match a.count() {
+        4 => Ok(max_separation_box(a, b, limit)),
+        6 => max_separation_paired::<6>(a, b, limit),
+        8 => max_separation_paired::<8>(a, b, limit),
+        _ => Err(()),
+    };
+    paired.unwrap_or_else(|()| max_separation_by_faces(a, b, limit))
+}
+
+/// [`max_separation`] for a box (four faces: normals 2 and 3 exactly
+/// `−n₀` and `−n₁`), written out: two passes, the second only if the first
+/// face does not already show the pair apart.
+#[inline]
+fn max_separation_box(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
     let (Ok(&[n0, n1, n2, n3]), Ok(&[p0, p1, p2, p3])) = (
         <&[Vect; 4]>::try_from(a.normals()),
         <&[Vect; 4]>::try_from(a.verts()),
@@ -155,6 +170,70 @@ fn max_separation(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
         }
     }
     Some(best)
+}
+
+/// [`max_separation`] for a polygon of `N` faces in opposite pairs; `Err`
+/// if `a`'s faces are not (then the caller goes face by face).
+#[inline(always)]
+fn max_separation_paired<const N: usize>(
+    a: &Poly,
+    b: &Poly,
+    limit: i128,
+) -> Result<Option<Axis>, ()> {
+    let (Ok(normals), Ok(verts)) = (
+        <&[Vect; N]>::try_from(a.normals()),
+        <&[Vect; N]>::try_from(a.verts()),
+    ) else {
+        return Err(());
+    };
+    let half = N / 2;
+    // Within the unit square each product of a dot product stays below
+    // 2^95: nothing saturates, and negating a dot product is exact.
+    let within = |r: Real| (-Real::ONE..=Real::ONE).contains(&r);
+    let paired = (0..half).all(
+        |i| match (normals.get(i), normals.get(i.wrapping_add(half))) {
+            (Some(n), Some(m)) => *m == -*n && within(n.x) && within(n.y),
+            _ => false,
+        },
+    );
+    if !paired {
+        return Err(());
+    }
+    let mut best = Axis {
+        sep: i128::MIN,
+        edge: 0,
+    };
+    // The minima of the pairs' second faces, known once the first face's
+    // pass has run (no vertices: `max` is i128::MIN, the minimum over none
+    // i128::MAX).
+    let mut opposite = [i128::MAX; N];
+    for (i, (n, p)) in normals.iter().zip(verts).enumerate() {
+        if *n == Vect::ZERO {
+            return Ok(None);
+        }
+        let min = if i < half {
+            let (min, max) = b
+                .verts()
+                .iter()
+                .fold((i128::MAX, i128::MIN), |(lo, hi), v| {
+                    let d = wide::dot(*v, *n);
+                    (lo.min(d), hi.max(d))
+                });
+            if let Some(o) = opposite.get_mut(i) {
+                *o = max.saturating_neg();
+            }
+            min
+        } else {
+            opposite
+                .get(i.wrapping_sub(half))
+                .copied()
+                .unwrap_or(i128::MAX)
+        };
+        if best.take(min.saturating_sub(wide::dot(*p, *n)), i, limit) {
+            break;
+        }
+    }
+    Ok(Some(best))
 }
 
 /// [`max_separation`] face by face: one pass over `b`'s vertices per face.
@@ -313,23 +392,47 @@ mod tests {
         Poly::from_ccw_unchecked(&corners, Real::ZERO)
     }
 
+    /// A regular polygon of `n` (even) vertices, radius `r`, turned by
+    /// `angle`, centrally symmetric in its local frame (vertex `k + n/2` is
+    /// exactly `−v_k`, so its opposite normals usually are exact negatives
+    /// and the paired pass runs), moved to `at`.
+    fn turned_regular(n: i32, r: i64, angle: i64, at: Vect) -> Poly {
+        let rot = Vect::for_angle(Real::from_bits(angle));
+        let step = Real::TAU / Real::from_int(n);
+        let half: Vec<Vect> = (0..n / 2)
+            .map(|k| rot.rotate(Vect::for_angle(step * Real::from_int(k)).mult(Real::from_bits(r))))
+            .collect();
+        let corners: Vec<Vect> = half
+            .iter()
+            .copied()
+            .chain(half.iter().map(|v| -*v))
+            .map(|v| at + v)
+            .collect();
+        Poly::from_ccw_unchecked(&corners, Real::ZERO)
+    }
+
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(20_000))]
-        /// The paired-face pass of a box gives what the face-by-face pass
-        /// gives, for any other polygon and any limit (turned boxes, boxes
-        /// far out, a triangle).
+        /// The paired-face passes (a box; a hexagon or octagon) give what
+        /// the face-by-face pass gives, for any other polygon and any limit
+        /// (turned, far out, against a box or a triangle).
         #[test]
         fn box_pass_is_the_face_by_face_pass(
             (w, h, angle) in (1i64..(1 << 36), 1i64..(1 << 36), proptest::prop_oneof![proptest::strategy::Just(0i64), -(14i64 << 30)..(14i64 << 30)]),
             (bw, bh, bangle) in (1i64..(1 << 36), 1i64..(1 << 36), -(14i64 << 30)..(14i64 << 30)),
             (ax, ay, bx, by) in (-(1i64 << 36)..(1 << 36), -(1i64 << 36)..(1 << 36), -(1i64 << 36)..(1 << 36), -(1i64 << 36)..(1 << 36)),
             far in proptest::prelude::any::<bool>(),
+            kind in 0u8..3,
             triangle in proptest::prelude::any::<bool>(),
             limit in proptest::prop_oneof![proptest::strategy::Just(i128::MAX), -(1i128 << 96)..(1i128 << 96)],
         ) {
             let shift = if far { Real::MAX - Real::from_int(8) } else { Real::ZERO };
             let at_a = Vect::new(Real::from_bits(ax) + shift, Real::from_bits(ay));
-            let a = turned_box(w, h, angle, at_a);
+            let a = match kind {
+                0 => turned_box(w, h, angle, at_a),
+                1 => turned_regular(6, w, angle, at_a),
+                _ => turned_regular(8, w, angle, at_a),
+            };
             let at_b = Vect::new(Real::from_bits(bx) + shift, Real::from_bits(by));
             let b = if triangle {
                 let (p, q) = (Real::from_bits(bw), Real::from_bits(bh));
