@@ -381,9 +381,10 @@ mod tests {
         assert_eq!((real_of(s.sep), s.edge), (-Real::TWO, 1));
     }
 
-    /// A box of half-extents `w × h` turned by `angle` (rounded: its
-    /// opposite normals may or may not be exact negatives; unturned, they
-    /// are, and the paired pass runs) and moved to `at`.
+    /// A box of half-extents `w × h` turned by `angle` and moved to `at`
+    /// (its corners are rotated one by one, so its opposite normals need
+    /// not be exact negatives; in every case tried they were, and the
+    /// paired pass ran).
     fn turned_box(w: i64, h: i64, angle: i64, at: Vect) -> Poly {
         let rot = Vect::for_angle(Real::from_bits(angle));
         let (w, h) = (Real::from_bits(w), Real::from_bits(h));
@@ -417,7 +418,7 @@ mod tests {
         /// the face-by-face pass gives, for any other polygon and any limit
         /// (turned, far out, against a box or a triangle).
         #[test]
-        fn box_pass_is_the_face_by_face_pass(
+        fn paired_passes_are_the_face_by_face_pass(
             (w, h, angle) in (1i64..(1 << 36), 1i64..(1 << 36), proptest::prop_oneof![proptest::strategy::Just(0i64), -(14i64 << 30)..(14i64 << 30)]),
             (bw, bh, bangle) in (1i64..(1 << 36), 1i64..(1 << 36), -(14i64 << 30)..(14i64 << 30)),
             (ax, ay, bx, by) in (-(1i64 << 36)..(1 << 36), -(1i64 << 36)..(1 << 36), -(1i64 << 36)..(1 << 36), -(1i64 << 36)..(1 << 36)),
