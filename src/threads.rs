@@ -185,9 +185,14 @@ mod main {
     }
 
     /// Marks this thread as stepping with `pool` until dropped; the drop
-    /// also stops the spinners (`done`).
+    /// also stops the spinners (`done`) and gives back the hand-over of the
+    /// step this one was nested in, if any: a thread that waits inside a
+    /// step (a worker of a game's own pool, stepping a world in a task) may
+    /// be given another world's step to run meanwhile, and the outer step
+    /// keeps its pool when that one ends.
     pub(super) struct Stepping<'a> {
         done: &'a AtomicBool,
+        outer: Option<Handover>,
     }
 
     impl<'a> Stepping<'a> {
@@ -196,20 +201,21 @@ mod main {
             workers: usize,
             done: &'a AtomicBool,
         ) -> Stepping<'a> {
-            HANDOVER.with(|h| {
-                *h.borrow_mut() = Some(Handover {
+            let outer = HANDOVER.with(|h| {
+                h.borrow_mut().replace(Handover {
                     pool: Arc::clone(pool),
                     workers,
                     outstanding: 0,
-                });
+                })
             });
-            Stepping { done }
+            Stepping { done, outer }
         }
     }
 
     impl Drop for Stepping<'_> {
         fn drop(&mut self) {
-            HANDOVER.with(|h| h.borrow_mut().take());
+            let outer = self.outer.take();
+            HANDOVER.with(|h| *h.borrow_mut() = outer);
             self.done.store(true, Ordering::Release);
         }
     }

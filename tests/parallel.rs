@@ -184,11 +184,12 @@ fn thread_counts_out_of_range_are_refused_or_clamped() {
 }
 
 /// A game that steps its world inside a task of its own rayon pool (a
-/// worker thread of another pool): the step still hands work to the
-/// space's pool (`threads::join` looks at the space's pool, not at the
-/// current one), ends, and gives the bits of one thread. Two worlds are
-/// stepped at once from two tasks of the game's pool, each with its own
-/// step pool.
+/// worker thread of another pool): the step ends and gives the bits of one
+/// thread. Two worlds are stepped at once from two tasks of the game's
+/// pool, each with its own step pool; while one waits inside its step, its
+/// thread may be given the other world's step to run (rayon runs the
+/// game's pending tasks then), a nested step that hands the outer one its
+/// pool back when it ends (`threads::main::Stepping`).
 #[test]
 fn stepping_inside_another_rayon_pool_gives_the_bits_of_one_thread() {
     let watchdog = Watchdog::new(std::time::Duration::from_secs(300));
