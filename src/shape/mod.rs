@@ -15,6 +15,7 @@ pub mod hull;
 pub mod mass;
 pub mod poly;
 pub mod query;
+mod reach;
 
 use core::fmt;
 

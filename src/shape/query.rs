@@ -31,7 +31,18 @@
 //!   within its edge's span it is the hit; otherwise it lies in a corner
 //!   region, where the only part of the grown shape is the circle around
 //!   that corner vertex (a line leaving a convex set never re-enters it), so
-//!   one ray–circle test decides.
+//!   one ray–circle test decides. A segment's two faces are measured from
+//!   one point with one rounded offset, so its slab is never inverted.
+//! * **Misses are judged exactly.** The clip uses rounded unit normals, so
+//!   for a shape with no thickness (a sharp segment) or a ray through a
+//!   sharp corner, rounding alone could turn a crossing into a miss. A miss
+//!   of the clip is therefore checked by `reach`, which decides in integers
+//!   (signs of dot and cross products on 128 and 256 bits) whether the
+//!   segment comes within the reach of the core; if it does, the clip is
+//!   run again with the reach grown by a bound on its rounding (2^-27 of
+//!   the query's distances plus 64 ulp) and that hit is reported. So a ray
+//!   that crosses or touches a shape is always a hit, and a hit is never
+//!   further than that margin from the surface.
 //!
 //! # Start inside
 //! When the query starts within reach (the point query at `a` gives a
@@ -57,6 +68,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::geometry::{next_index, Circle, Geometry, Poly, Segment};
+use super::reach;
 use crate::math::wide::{raw_sq, wide_mul};
 use crate::math::{Real, Vect};
 
@@ -103,26 +115,58 @@ pub fn segment_query(g: &Geometry, a: Vect, b: Vect, radius: Real) -> Option<Seg
     let radius = radius.max(Real::ZERO);
     let start = point_query(g, a);
     if start.distance <= radius {
-        return Some(SegmentQueryInfo {
-            point: start.point,
-            normal: start.gradient,
-            alpha: Real::ZERO,
-        });
+        return Some(start_hit(start));
     }
     let sweep = Sweep {
         a,
         d: b - a,
         radius,
+        margin: Real::ZERO,
     };
-    match g {
-        Geometry::Circle(c) => sweep.circle(c.offset, c.radius),
-        Geometry::Segment(s) => {
-            sweep.rounded_convex(&[s.a, s.b], &[s.normal, -s.normal], s.radius, Outline::Open)
-        }
-        Geometry::Poly(p) => {
-            sweep.rounded_convex(p.verts(), p.normals(), p.radius(), Outline::Closed)
-        }
+    if let Some(hit) = sweep.first_hit(g) {
+        return Some(hit);
     }
+    // The clip's unit normals are rounded: a ray through a shape with no
+    // thickness, or grazing a corner, can be clipped away by that rounding
+    // alone. The exact judge decides; a ray that reaches the shape is
+    // clipped again with the reach grown by a bound on the rounding.
+    if !reach::segment_reaches(g, a, b, radius) {
+        return None;
+    }
+    let margin = rounding_margin(g, a, sweep.d);
+    if start.distance <= radius + margin {
+        return Some(start_hit(start));
+    }
+    Sweep { margin, ..sweep }.first_hit(g)
+}
+
+/// The hit of a query that starts within reach: at `alpha = 0`, on the
+/// nearest surface point, facing out.
+fn start_hit(start: PointQueryInfo) -> SegmentQueryInfo {
+    SegmentQueryInfo {
+        point: start.point,
+        normal: start.gradient,
+        alpha: Real::ZERO,
+    }
+}
+
+/// A bound on how far the rounding of the clip (unit normals within a few
+/// ulp, one rounding per product) can move a plane of `g` as seen from a
+/// query starting at `a` and moving by `d`. The clip's errors come from
+/// unit vectors within 2 ulp per component, each applied once to a
+/// distance of the query (start to vertex, motion, hit to vertex): below
+/// 2^-29 of their sum. The margin is 2^-27 of a sum that exceeds it (the
+/// start's distances to the box's sides, the motion's components), plus 64
+/// ulp; a hit found with it lies within that margin of the surface.
+fn rounding_margin(g: &Geometry, a: Vect, d: Vect) -> Real {
+    let bb = g.bb();
+    let extent = (a.x - bb.l).abs()
+        + (a.x - bb.r).abs()
+        + (a.y - bb.b).abs()
+        + (a.y - bb.t).abs()
+        + d.x.abs()
+        + d.y.abs();
+    Real::from_bits(extent.to_bits() >> 27) + Real::from_bits(64)
 }
 
 /// Exact `|v|²` in units of 2^-64 (each square ≤ 2^126, the sum ≤ 2^127:
@@ -299,13 +343,30 @@ impl Fraction {
 }
 
 /// A circle of `radius` swept from `a` by `d` (a ray for radius 0).
+#[derive(Clone, Copy)]
 struct Sweep {
     a: Vect,
     d: Vect,
     radius: Real,
+    /// Added to the reach only (not to where the hit point is put): the
+    /// rounding bound of the exact judge's second clip, else zero.
+    margin: Real,
 }
 
 impl Sweep {
+    /// The first hit of `g`, for a start out of reach.
+    fn first_hit(&self, g: &Geometry) -> Option<SegmentQueryInfo> {
+        match g {
+            Geometry::Circle(c) => self.circle(c.offset, c.radius),
+            Geometry::Segment(s) => {
+                self.rounded_convex(&[s.a, s.b], &[s.normal, -s.normal], s.radius, Outline::Open)
+            }
+            Geometry::Poly(p) => {
+                self.rounded_convex(p.verts(), p.normals(), p.radius(), Outline::Closed)
+            }
+        }
+    }
+
     /// The sweep against a circle of `core_radius` around `centre`.
     ///
     /// With `u` the unit direction and `f = a − centre`, the moving centre
@@ -313,9 +374,9 @@ impl Sweep {
     /// when `s = −f·u ± √(reach² − h²)`, where `h = |f × u|` is the distance
     /// of `centre` from the line; the entry is the smaller root, and
     /// `reach² − h²` is formed as `(reach − h)(reach + h)` to stay exact-ish
-    /// near grazing and small for large values.
+    /// near grazing and small for large values (exact, then rooted once).
     fn circle(&self, centre: Vect, core_radius: Real) -> Option<SegmentQueryInfo> {
-        let reach = core_radius + self.radius;
+        let reach = core_radius + self.radius + self.margin;
         let (u, len) = self.d.normalize_with_length();
         if len.is_zero() {
             return None;
@@ -325,11 +386,20 @@ impl Sweep {
         if off > reach {
             return None;
         }
-        let half_chord = ((reach - off) * (reach + off)).sqrt();
+        // The exact product, rooted on 128 bits: a reach of a few ulp (the
+        // exact judge's margin) keeps its half chord instead of squaring to
+        // nothing.
+        let product = wide_mul((reach - off).to_bits(), (reach + off).to_bits());
+        let root = product.unsigned_abs().isqrt();
+        let half_chord = Real::from_bits(i64::try_from(root).unwrap_or(i64::MAX));
         let s = -f.dot(u) - half_chord;
-        if s.is_negative() || s > len {
+        // With a margin, rounding may put an entry at the very start or end
+        // a few ulp outside the motion: clamped (the margin covers it).
+        let slack = self.margin;
+        if s < -slack || s > len + slack {
             return None;
         }
+        let s = s.clamp(Real::ZERO, len);
         let normal = (f + u * s).normalize();
         // A zero-reach graze of the exact centre: face the ray.
         let normal = if normal == Vect::ZERO { -u } else { normal };
@@ -350,14 +420,26 @@ impl Sweep {
         core_radius: Real,
         outline: Outline,
     ) -> Option<SegmentQueryInfo> {
-        let reach = core_radius + self.radius;
+        let reach = core_radius + self.radius + self.margin;
         let n = verts.len();
+        // A segment's two sides are one line: both planes are measured from
+        // its first endpoint with one rounded offset, so the slab they bound
+        // is never inverted by rounding (empty for a sharp segment).
+        let open_offset = (outline == Outline::Open)
+            .then(|| verts.first().zip(normals.first()))
+            .flatten()
+            .map(|(&v, &normal)| (self.a - v).dot(normal));
         // Clip t ∈ [0, 1] against each pushed-out plane g(t) = num + t·den ≤ 0.
         let mut lower = Fraction::ZERO;
         let mut upper = Fraction::ONE;
         let mut entry: Option<usize> = None;
         for (i, (&v, &normal)) in verts.iter().zip(normals).enumerate() {
-            let num = (self.a - v).dot(normal) - reach;
+            let offset = match open_offset {
+                Some(h) if i == 0 => h,
+                Some(h) => -h,
+                None => (self.a - v).dot(normal),
+            };
+            let num = offset - reach;
             let den = self.d.dot(normal);
             if den.is_negative() {
                 let t = Fraction { num, den: -den };
@@ -400,9 +482,7 @@ impl Sweep {
         let tangent = normal.perp();
         let along = (centre - v0).dot(tangent);
         let within = !along.is_negative() && along <= (v1 - v0).dot(tangent);
-        // A sharp polygon's entry point is always on the entry edge; outside
-        // the span it can only be off by rounding, so it is still a face hit.
-        if within || (reach.is_zero() && outline == Outline::Closed) {
+        if within {
             return Some(SegmentQueryInfo {
                 point: centre - normal * self.radius,
                 normal,
@@ -410,6 +490,17 @@ impl Sweep {
             });
         }
         let corner = if along.is_negative() { v0 } else { v1 };
+        // A sharp polygon's entry point is always on the entry edge: outside
+        // the span it is off by rounding only (amplified at a sharp corner,
+        // where two nearly parallel planes meet), so it is a hit at the end
+        // of the edge it passed.
+        if reach.is_zero() && outline == Outline::Closed {
+            return Some(SegmentQueryInfo {
+                point: corner,
+                normal,
+                alpha: lower.to_alpha(),
+            });
+        }
         self.circle(corner, core_radius)
     }
 }
