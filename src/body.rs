@@ -541,6 +541,17 @@ impl Body {
         self.body_type == BodyType::Dynamic
     }
 
+    /// Whether the step can move this body: false for a dynamic body
+    /// without mass (an inverse mass of 0: no explicit mass and no shape
+    /// with mass or density, or a mass too large for its inverse), which
+    /// gravity would move and no contact could stop. The one rule behind
+    /// both [`Space::step`](crate::space::Space::step)'s refusal
+    /// (`SpaceError::MasslessDynamicBody`) and state validation, so that
+    /// every state that validates can step.
+    pub fn can_step(&self) -> bool {
+        self.body_type != BodyType::Dynamic || !self.mass_inv.is_zero()
+    }
+
     /// Mass (0 for kinematic and static bodies: their inverse mass is 0).
     pub fn mass(&self) -> Real {
         self.mass

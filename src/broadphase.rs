@@ -319,12 +319,17 @@ const SWEEP_PIECE: usize = 3;
 
 /// [`sweep_one`] for the boxes of `sorted` from piece `first` on, one
 /// piece per entry of `out` (cleared first), halves in parallel.
-fn sweep_split(sorted: &[Proxy], first: usize, out: &mut [Vec<(u32, u32)>]) {
+/// A piece stops once it holds more than `limit` pairs (the whole sweep
+/// is then over the limit).
+fn sweep_split(sorted: &[Proxy], first: usize, out: &mut [Vec<(u32, u32)>], limit: usize) {
     if let [found] = out {
         found.clear();
         let start = first.saturating_mul(SWEEP_PIECE);
         let end = start.saturating_add(SWEEP_PIECE).min(sorted.len());
         for k in start..end {
+            if found.len() > limit {
+                return;
+            }
             if let (Some(a), Some(later)) = (sorted.get(k), sorted.get(k.saturating_add(1)..)) {
                 sweep_one(a, later, found);
             }
@@ -337,8 +342,8 @@ fn sweep_split(sorted: &[Proxy], first: usize, out: &mut [Vec<(u32, u32)>]) {
     let mid = out.len() / 2;
     let (left, right) = out.split_at_mut(mid);
     crate::threads::join(
-        || sweep_split(sorted, first, left),
-        || sweep_split(sorted, first.saturating_add(mid), right),
+        || sweep_split(sorted, first, left, limit),
+        || sweep_split(sorted, first.saturating_add(mid), right, limit),
     );
 }
 
@@ -358,7 +363,7 @@ impl Broadphase {
     /// `sleeping` holds the shapes of sleeping bodies: queried like
     /// `statics`, so they pair only with moving shapes.
     pub fn find_pairs(&mut self, moving: &[Proxy], statics: &StaticTree, sleeping: &StaticTree) {
-        self.find_pairs_with(moving, statics, sleeping, false);
+        self.find_pairs_with(moving, statics, sleeping, false, usize::MAX);
     }
 
     /// [`find_pairs`](Self::find_pairs); with `split` (a step with
@@ -366,19 +371,25 @@ impl Broadphase {
     /// pieces between them ([`crate::threads::join`]) before the static
     /// queries. The same pairs: the order pairs are found in is put right
     /// by [`canonical_pairs`](Self::canonical_pairs).
+    ///
+    /// More than `limit` pairs (a budget for untrusted worlds, see
+    /// `crate::limits`) stops the search as soon as it is known, with the
+    /// work done bounded by the limit (per piece of a split sweep), and
+    /// returns `false`: the pairs are then incomplete and must not be used.
     pub(crate) fn find_pairs_with(
         &mut self,
         moving: &[Proxy],
         statics: &StaticTree,
         sleeping: &StaticTree,
         split: bool,
-    ) {
+        limit: usize,
+    ) -> bool {
         self.sort_moving(moving);
         self.found.clear();
         if split {
             let pieces = self.sorted.len().div_ceil(SWEEP_PIECE);
             self.pieces.resize_with(pieces, Vec::new);
-            sweep_split(&self.sorted, 0, &mut self.pieces);
+            sweep_split(&self.sorted, 0, &mut self.pieces, limit);
             for piece in &self.pieces {
                 self.found.extend_from_slice(piece);
             }
@@ -404,10 +415,16 @@ impl Broadphase {
             sorted,
             found,
             hits,
+            pairs,
             ..
         } = self;
         let mut rest = sorted.as_slice();
         while let Some((a, later)) = rest.split_first() {
+            if found.len() > limit {
+                found.clear();
+                pairs.clear();
+                return false;
+            }
             rest = later;
             if !split {
                 sweep_one(a, later, found);
@@ -434,7 +451,13 @@ impl Broadphase {
                 }
             }
         }
+        if found.len() > limit {
+            found.clear();
+            pairs.clear();
+            return false;
+        }
         self.canonical_pairs();
+        true
     }
 
     /// Leaves `moving` in `sorted`, sorted by [`sweep_key`]: last call's
@@ -762,7 +785,7 @@ mod tests {
                 bp.find_pairs(&moving, &tree, &StaticTree::default());
                 proptest::prop_assert_eq!(&bp.pairs, &find_pairs_full_sort(&moving, &tree));
                 // The sweep in pieces (as with threads) finds the same pairs.
-                split.find_pairs_with(&moving, &tree, &StaticTree::default(), true);
+                split.find_pairs_with(&moving, &tree, &StaticTree::default(), true, usize::MAX);
                 proptest::prop_assert_eq!(&split.pairs, &bp.pairs);
             }
         }

@@ -35,6 +35,7 @@ pub mod constraint;
 #[cfg(feature = "debug-draw")]
 pub mod debug_draw;
 pub mod framing;
+pub mod limits;
 pub mod math;
 pub mod replay;
 pub mod shape;

@@ -106,6 +106,7 @@
 //! counters), gives `body: None`; [`crate::snapshot::first_difference`]
 //! then tells more, given both worlds. Digests are only compared at the
 //! diverging frame: they are a diagnosis, not a second check.
+use crate::limits::{LimitError, Limits};
 use core::fmt;
 use std::path::Path;
 
@@ -488,6 +489,9 @@ pub enum ReplayError {
     },
     /// More than `u32::MAX - 1` frames.
     TooManyFrames,
+    /// Over one of the [`Limits`] (bytes or frames; the start's own limits
+    /// are those of the world it restores into, see [`Replay::verify_on`]).
+    OverLimit(LimitError),
 }
 
 impl fmt::Display for ReplayError {
@@ -541,6 +545,7 @@ impl fmt::Display for ReplayError {
                 }
             }
             ReplayError::TooManyFrames => f.write_str("a replay holds at most 2^32 - 1 frames"),
+            ReplayError::OverLimit(e) => write!(f, "replay over a limit: {e}"),
         }
     }
 }
@@ -673,10 +678,12 @@ impl Replay {
         self.verify_on(&mut GameStep { space, step })
     }
 
-    /// Verifies on any [`Simulation`]: checks the input log, restores
-    /// `world` to the start, checks its checksum, then advances it frame by
-    /// frame and checks every frame's checksum; the first difference is the
-    /// error.
+    /// Verifies on any [`Simulation`]: checks the frame count against the
+    /// world's [`Limits`] and the input log, restores `world` to the start
+    /// (for a plain space: [`Space::load_snapshot`], under the same limits),
+    /// checks its checksum, then advances it frame by frame (each step
+    /// bounded by those limits) and checks every frame's checksum; the
+    /// first difference is the error.
     pub fn verify_on<W: Simulation + ?Sized>(
         &self,
         world: &mut W,
@@ -684,6 +691,11 @@ impl Replay {
         if !self.dt.is_positive() {
             return Err(ReplayError::TimeStep);
         }
+        world
+            .space()
+            .limits()
+            .check_replay_frames(self.frames.len())
+            .map_err(ReplayError::OverLimit)?;
         self.check_inputs()?;
         world.restore(&self.start).map_err(ReplayError::Start)?;
         let actual = world.space().checksum();
@@ -736,9 +748,19 @@ impl Replay {
         out
     }
 
-    /// A replay from bytes. Checks the header, the payload digest and the
-    /// encoding; the content itself is checked by the verification.
+    /// A replay from bytes, under [`Limits::UNTRUSTED`]. Checks the header,
+    /// the payload digest and the encoding; the content itself is checked
+    /// by the verification.
     pub fn from_bytes(bytes: &[u8]) -> Result<Replay, ReplayError> {
+        Replay::from_bytes_with(bytes, &Limits::UNTRUSTED)
+    }
+
+    /// [`Replay::from_bytes`] under `limits`: its bytes, its frame count
+    /// and its start snapshot's bytes.
+    pub fn from_bytes_with(bytes: &[u8], limits: &Limits) -> Result<Replay, ReplayError> {
+        limits
+            .check_bytes(bytes.len())
+            .map_err(ReplayError::OverLimit)?;
         let frame = framing::open(bytes, &MAGIC, FORMAT_VERSION).map_err(|e| match e {
             FrameError::TooShort => ReplayError::TooShort,
             FrameError::BadMagic => ReplayError::BadMagic,
@@ -757,6 +779,9 @@ impl Replay {
                 "{trailing} bytes after the payload"
             )));
         }
+        limits
+            .check_replay_frames(replay.frames.len())
+            .map_err(ReplayError::OverLimit)?;
         Ok(replay)
     }
 

@@ -316,5 +316,8 @@ fn raw_space_dynamic_body_without_mass_is_refused_by_step() {
         Err(SpaceError::MasslessDynamicBody(ghost))
     );
     assert_eq!(space.stamp(), 0);
-    space.validate().unwrap_or_else(|e| panic!("{e}"));
+    // The same rule is a state invariant: validation refuses what the step
+    // refuses, so no loaded state can be one that never steps.
+    let why = space.validate().unwrap_err();
+    assert!(why.contains("without mass"), "{why}");
 }

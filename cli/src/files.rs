@@ -2,6 +2,7 @@
 //! `replay record` and `replay verify`.
 use std::path::Path;
 
+use tamias2d::limits::Limits;
 use tamias2d::replay::{Recorder, Replay, ReplayError};
 use tamias2d::snapshot;
 use tamias2d::Real;
@@ -62,15 +63,19 @@ pub fn snapshot_save(
 /// The world saved in `bytes`: a scripted world ([`ScriptedWorld::save`]),
 /// or a bare engine snapshot (`tamias2d::snapshot`), which loads with an
 /// empty script and steps by `dt` (its last step's, unless given).
-pub fn load_world(bytes: &[u8], dt: Option<Real>) -> Result<ScriptedWorld, String> {
+pub fn load_world(
+    bytes: &[u8],
+    dt: Option<Real>,
+    limits: &Limits,
+) -> Result<ScriptedWorld, String> {
     if ScriptedWorld::is_saved(bytes) {
-        let mut world = ScriptedWorld::load(bytes).map_err(|e| e.to_string())?;
+        let mut world = ScriptedWorld::load_with(bytes, limits).map_err(|e| e.to_string())?;
         if let Some(dt) = dt {
             world.dt = dt;
         }
         return Ok(world);
     }
-    let space = snapshot::load(bytes).map_err(|e| e.to_string())?;
+    let space = snapshot::load_with(bytes, limits).map_err(|e| e.to_string())?;
     let dt = match dt {
         Some(dt) => dt,
         None if space.current_time_step().is_positive() => space.current_time_step(),
@@ -125,19 +130,25 @@ pub fn replay_record(
 /// scripted world, a bare snapshot start with the default step); `replay ok
 /// (N frames)`, or an error naming the first frame whose inputs or
 /// checksum differ (and the first differing body).
-pub fn replay_verify(file: &Path) -> Result<(), String> {
+pub fn replay_verify(file: &Path, trusted: bool) -> Result<(), String> {
+    let limits = if trusted {
+        Limits::TRUSTED
+    } else {
+        Limits::UNTRUSTED
+    };
     let at = |e: ReplayError| format!("{}: {e}", file.display());
-    let replay = Replay::read_file(file).map_err(|e| match e {
-        // The library's I/O message already says "replay file: …".
-        ReplayError::Io(io) => format!("{}: {io}", file.display()),
-        e => at(e),
-    })?;
+    let bytes = std::fs::read(file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let replay = Replay::from_bytes_with(&bytes, &limits).map_err(at)?;
+    // The start and every step are held to the same limits, through the
+    // world's own (`Replay::verify_on`).
     let report = if ScriptedWorld::is_saved(&replay.start) {
-        let mut world = ScriptedWorld::load(&replay.start)
+        let mut world = ScriptedWorld::load_with(&replay.start, &limits)
             .map_err(|e| format!("{}: start: {e}", file.display()))?;
         replay.verify_on(&mut world)
     } else {
-        replay.verify()
+        let mut space = tamias2d::space::Space::new();
+        space.set_limits(limits);
+        replay.verify_on(&mut space)
     }
     .map_err(at)?;
     println!("replay ok ({} frames)", report.frames);

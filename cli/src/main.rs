@@ -94,6 +94,10 @@ struct SceneOpts {
     /// the order the threads can share; changes the results.
     #[arg(long)]
     colored_solver: bool,
+    /// Load a scene file without the limits for untrusted input (bytes,
+    /// bodies, shapes, solver passes, candidate pairs).
+    #[arg(long)]
+    trusted: bool,
 }
 
 impl SceneOpts {
@@ -102,6 +106,7 @@ impl SceneOpts {
             dt: self.dt,
             iterations: self.iterations,
             colored_solver: self.colored_solver,
+            trusted: self.trusted,
         }
     }
 }
@@ -192,6 +197,10 @@ enum SnapshotCommand {
         /// Solver iterations per step [default: the snapshot's].
         #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
         iterations: Option<u32>,
+        /// Load and step without the limits for untrusted input (the
+        /// default limits bound the bytes, the world and each step's work).
+        #[arg(long)]
+        trusted: bool,
         #[command(flatten)]
         render: RenderOpts,
     },
@@ -221,6 +230,10 @@ enum ReplayCommand {
     Verify {
         /// Replay file.
         file: PathBuf,
+        /// Verify without the limits for untrusted input (bytes, frames,
+        /// the start world, each step's work).
+        #[arg(long)]
+        trusted: bool,
     },
 }
 
@@ -255,6 +268,7 @@ fn main() -> ExitCode {
             steps,
             dt,
             iterations,
+            trusted,
             render,
         })) => run::snapshot_run(
             &file,
@@ -263,6 +277,7 @@ fn main() -> ExitCode {
                 dt,
                 iterations,
                 colored_solver: false,
+                trusted,
             },
             &render,
         ),
@@ -273,7 +288,9 @@ fn main() -> ExitCode {
             digests_every,
             opts,
         })) => files::replay_record(&scene, steps, &output, digests_every, opts.overrides()),
-        Some(Command::Replay(ReplayCommand::Verify { file })) => files::replay_verify(&file),
+        Some(Command::Replay(ReplayCommand::Verify { file, trusted })) => {
+            files::replay_verify(&file, trusted)
+        }
         Some(Command::Bench(args)) => bench::bench(&args),
         Some(Command::Web(args)) => web::web(&args),
     };

@@ -202,7 +202,7 @@ pub fn snapshot_run(
     render: &RenderOpts,
 ) -> Result<(), String> {
     let bytes = std::fs::read(file).map_err(|e| format!("{}: {e}", file.display()))?;
-    let mut sim = crate::files::load_world(&bytes, overrides.dt)
+    let mut sim = crate::files::load_world(&bytes, overrides.dt, &overrides.limits())
         .map_err(|e| format!("{}: {e}", file.display()))?;
     if let Some(n) = overrides.iterations {
         sim.space.set_iterations(n);

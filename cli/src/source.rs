@@ -2,6 +2,7 @@
 //! file), the command-line overrides of its settings, and the running world
 //! the commands step (a [`ScriptedWorld`]).
 use std::path::Path;
+use tamias2d::limits::Limits;
 
 use fixed::types::I32F32;
 use tamias2d::real;
@@ -45,6 +46,20 @@ pub struct Overrides {
     pub iterations: Option<u32>,
     /// `--colored-solver`.
     pub colored_solver: bool,
+    /// `--trusted`: files load without the untrusted-input limits.
+    pub trusted: bool,
+}
+
+impl Overrides {
+    /// The limits files load under: [`Limits::UNTRUSTED`] unless
+    /// `--trusted`.
+    pub fn limits(&self) -> Limits {
+        if self.trusted {
+            Limits::TRUSTED
+        } else {
+            Limits::UNTRUSTED
+        }
+    }
 }
 
 /// Every core of this machine (1 if the system will not say).
@@ -60,7 +75,15 @@ pub fn load(arg: &str, overrides: Overrides) -> Result<SceneDesc, String> {
     } else if arg == SHOWCASE {
         showcase()
     } else if Path::new(arg).is_file() || arg.ends_with(".json") {
-        read_scene_file(Path::new(arg))?
+        let desc = read_scene_file(Path::new(arg), &overrides.limits())?;
+        // A file may come from anywhere: the world it builds is held to
+        // the same limits as a snapshot.
+        let world = build(&desc)?;
+        overrides
+            .limits()
+            .check_state(world.space.state())
+            .map_err(|e| format!("{arg}: {e} (pass --trusted to lift the limits)"))?;
+        desc
     } else {
         return Err(format!(
             "unknown scene {arg:?}: not a built-in scene nor a file (`tamias list` shows the scenes)"
@@ -78,7 +101,18 @@ pub fn load(arg: &str, overrides: Overrides) -> Result<SceneDesc, String> {
 
 /// A scene description from a JSON file. serde_json's errors carry the line
 /// and column.
-pub fn read_scene_file(path: &Path) -> Result<SceneDesc, String> {
+pub fn read_scene_file(path: &Path, limits: &Limits) -> Result<SceneDesc, String> {
+    let len = std::fs::metadata(path)
+        .map_err(|e| format!("{}: {e}", path.display()))?
+        .len();
+    limits
+        .check_bytes(usize::try_from(len).unwrap_or(usize::MAX))
+        .map_err(|e| {
+            format!(
+                "{}: {e} (pass --trusted to lift the limits)",
+                path.display()
+            )
+        })?;
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     serde_json::from_str(&text).map_err(|e| format!("{}: invalid scene file: {e}", path.display()))
 }

@@ -106,6 +106,9 @@ impl Space {
     /// handlers and integrators, and discards pending post-step callbacks.
     /// On error nothing changes.
     pub fn load_frame_snapshot(&mut self, bytes: &[u8]) -> Result<(), SnapshotError> {
+        self.limits
+            .check_bytes(bytes.len())
+            .map_err(SnapshotError::OverLimit)?;
         let payload = open_frame(bytes)?;
         // Decoded into the world's spare frame: its buffers are reused.
         let mut frame = core::mem::take(&mut self.caches.spare_frame);
@@ -117,9 +120,10 @@ impl Space {
                         SpaceError::LevelMismatch { frame, world } => {
                             SnapshotError::LevelMismatch { frame, world }
                         }
-                        SpaceError::InvalidState(why) | SpaceError::FrameMismatch(why) => {
-                            SnapshotError::Invalid(why)
-                        }
+                        SpaceError::OverLimit(e) => SnapshotError::OverLimit(e),
+                        SpaceError::InvalidState(why)
+                        | SpaceError::RejectedState(why)
+                        | SpaceError::FrameMismatch(why) => SnapshotError::Invalid(why),
                         other => SnapshotError::Invalid(other.to_string()),
                     })
             });

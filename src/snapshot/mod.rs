@@ -230,6 +230,7 @@ pub use diff::{checksum_parts, first_difference, ChecksumParts, Difference, Subj
 pub use frame::{decode_frame, save_frame, save_frame_into, FRAME_FORMAT_VERSION, FRAME_MAGIC};
 
 use crate::framing::{self, FrameError};
+use crate::limits::{LimitError, Limits};
 use crate::space::{validate_state, Space, WorldState};
 
 /// First bytes of every snapshot.
@@ -294,6 +295,8 @@ pub enum SnapshotError {
     },
     /// The state decodes but breaks an invariant; names what is wrong.
     Invalid(String),
+    /// Over one of the loading [`Limits`]; names the limit and the value.
+    OverLimit(LimitError),
     /// A frame snapshot of another level: its level digest is not the
     /// world's (see [`Space::level_digest`]).
     LevelMismatch {
@@ -324,6 +327,7 @@ impl fmt::Display for SnapshotError {
                 "snapshot is corrupted: header checksum {stored:#018x}, payload checksum {computed:#018x}"
             ),
             SnapshotError::Invalid(why) => write!(f, "invalid snapshot: {why}"),
+            SnapshotError::OverLimit(e) => write!(f, "snapshot over a limit: {e}"),
             SnapshotError::LevelMismatch { frame, world } => write!(
                 f,
                 "frame snapshot of another level (level digest {frame:#018x}, this world's {world:#018x}): \
@@ -451,8 +455,19 @@ pub fn header(bytes: &[u8]) -> Result<Header, SnapshotError> {
     })
 }
 
-/// The state in `bytes`, after every check of [`load`].
+/// The state in `bytes`, after every check of [`load`], under
+/// [`Limits::UNTRUSTED`].
 pub fn decode_state(bytes: &[u8]) -> Result<WorldState, SnapshotError> {
+    decode_state_with(bytes, &Limits::UNTRUSTED)
+}
+
+/// [`decode_state`] under `limits` (see [`crate::limits`]): the byte count
+/// first, then every check, then the state's counts, settings and
+/// candidate pairs.
+pub fn decode_state_with(bytes: &[u8], limits: &Limits) -> Result<WorldState, SnapshotError> {
+    limits
+        .check_bytes(bytes.len())
+        .map_err(SnapshotError::OverLimit)?;
     let head = header(bytes)?;
     let payload = bytes.get(HEADER_LEN..).unwrap_or(&[]);
     let (state, read): (WorldState, usize) = bincode::serde::decode_from_slice(payload, CONFIG)
@@ -469,24 +484,36 @@ pub fn decode_state(bytes: &[u8]) -> Result<WorldState, SnapshotError> {
         });
     }
     validate_state(&state).map_err(SnapshotError::Invalid)?;
+    limits
+        .check_state(&state)
+        .map_err(SnapshotError::OverLimit)?;
     Ok(state)
 }
 
-/// A new space from a snapshot, after full validation (see the module docs).
-/// The space has no handlers, callbacks or custom integrators, and a new
-/// handle origin: re-attach handlers by collision type.
+/// A new space from a snapshot, after full validation (see the module docs),
+/// under [`Limits::UNTRUSTED`]. The space has no handlers, callbacks or
+/// custom integrators, and a new handle origin: re-attach handlers by
+/// collision type.
 pub fn load(bytes: &[u8]) -> Result<Space, SnapshotError> {
-    decode_state(bytes).map(Space::from_state)
+    load_with(bytes, &Limits::UNTRUSTED)
+}
+
+/// [`load`] under `limits`, which the new space keeps (for its step and
+/// what it loads next).
+pub fn load_with(bytes: &[u8], limits: &Limits) -> Result<Space, SnapshotError> {
+    let mut space = Space::from_state(decode_state_with(bytes, limits)?);
+    space.set_limits(*limits);
+    Ok(space)
 }
 
 impl Space {
     /// Replaces this world's state by the snapshot's, after full
     /// validation; handlers, custom integrators and the handle origin stay,
     /// pending post-step callbacks are discarded (as with
-    /// [`Space::restore_state`], which this calls). On error nothing
-    /// changes.
+    /// [`Space::restore_state`], which this calls). Under this space's
+    /// [`Limits`] ([`Space::set_limits`]). On error nothing changes.
     pub fn load_snapshot(&mut self, bytes: &[u8]) -> Result<(), SnapshotError> {
-        let state = decode_state(bytes)?;
+        let state = decode_state_with(bytes, &self.limits)?;
         self.restore_state(&state);
         Ok(())
     }

@@ -178,16 +178,22 @@ pub(crate) fn world_checksum(state: &WorldState, level: &LevelIndex) -> u64 {
 }
 
 impl Space {
+    /// Whether a body handed out by `body_mut` as dynamic or kinematic is
+    /// static now (see `space::level`): the static caches do not hold it.
+    pub(crate) fn suspect_turned_static(&self) -> bool {
+        self.caches.level_suspects.iter().any(|&(i, _)| {
+            self.state
+                .bodies
+                .get_by_index(i)
+                .is_some_and(|(_, b)| b.body_type() == BodyType::Static)
+        })
+    }
+
     /// Runs `f` on the level index, computing it first if the cache was
     /// dropped or a suspect body (see `space::level`) became static.
     pub(crate) fn with_level<R>(&self, f: impl FnOnce(&LevelIndex) -> R) -> R {
         let cached = self.caches.level.take();
-        let suspects_changed = self.caches.level_suspects.iter().any(|&(i, _)| {
-            self.state
-                .bodies
-                .get_by_index(i)
-                .is_some_and(|(_, b)| b.body_type() == crate::body::BodyType::Static)
-        });
+        let suspects_changed = self.suspect_turned_static();
         let level = match cached {
             Some(level) if !suspects_changed => level,
             _ => LevelIndex::of(&self.state),
@@ -232,13 +238,7 @@ impl Space {
     /// must be redone; stage 2 walks the level's slots only when statics
     /// are clean). The list stays for the step's settling.
     fn flag_level_suspects(&mut self) {
-        let bodies = &self.state.bodies;
-        let turned_static = self.caches.level_suspects.iter().any(|&(i, _)| {
-            bodies
-                .get_by_index(i)
-                .is_some_and(|(_, b)| b.body_type() == BodyType::Static)
-        });
-        if turned_static {
+        if self.suspect_turned_static() {
             self.caches.broadphase.statics_dirty = true;
             self.forget_level();
         }
@@ -386,7 +386,7 @@ impl Space {
     /// trusted: they are this world's, unchanged), and swaps back on any
     /// error, leaving the world exactly as it was.
     /// Errors: [`SpaceError::LevelMismatch`], [`SpaceError::FrameMismatch`],
-    /// or [`SpaceError::InvalidState`] naming the broken invariant.
+    /// or [`SpaceError::RejectedState`] naming the broken invariant.
     pub(crate) fn install_frame_validated(
         &mut self,
         frame: &mut FrameState,
@@ -394,6 +394,11 @@ impl Space {
     ) -> Result<(), SpaceError> {
         self.flag_level_suspects();
         self.check_frame_fits(frame)?;
+        if self.limits.same_settings && frame.settings != self.state.settings {
+            return Err(SpaceError::FrameMismatch(
+                "the frame's settings differ from this world's (Limits::same_settings)".into(),
+            ));
+        }
         let Some(level) = self.caches.level.take() else {
             return Err(SpaceError::FrameMismatch("level index missing".into()));
         };
@@ -409,7 +414,7 @@ impl Space {
             });
         if let Err(e) = bookkeeping {
             self.caches.level.set(Some(level));
-            return Err(SpaceError::InvalidState(e));
+            return Err(SpaceError::RejectedState(e));
         }
         let origin = self.origin;
         for s in frame.shapes.values_mut() {
@@ -418,13 +423,24 @@ impl Space {
         adopt_constraints(origin, &mut frame.constraints);
         swap_frame(&mut self.state, &level, frame);
         adopt_arbiters(&mut self.state, origin, complete);
-        let checked = super::validate_state_trusting_level(&self.state, &level);
+        let checked = super::validate_state_trusting_level(&self.state, &level)
+            .map_err(SpaceError::RejectedState)
+            .and_then(|()| {
+                // The level's static tree when it is current (the usual
+                // case: frames load around an unchanged level).
+                let bp = &self.caches.broadphase;
+                let statics =
+                    (!bp.statics_dirty && bp.static_builds > 0).then_some(&bp.static_tree);
+                self.limits
+                    .check_state_with(&self.state, statics)
+                    .map_err(SpaceError::OverLimit)
+            });
         if checked.is_err() {
             swap_frame(&mut self.state, &level, frame);
         }
         if let Err(e) = checked {
             self.caches.level.set(Some(level));
-            return Err(SpaceError::InvalidState(e));
+            return Err(e);
         }
         self.after_frame_install(&level);
         self.caches.level.set(Some(level));

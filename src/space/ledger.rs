@@ -142,9 +142,10 @@ const _SETTINGS: fn(&Settings) = |s| {
 
 const _BODY: fn(&Body) = |b| {
     let Body {
-        body_type: _,     // any; decides the mass checks below
-        mass: _,          // ≥ 0; 0 unless dynamic
-        mass_inv: _,      // derived: the engine's inverse of mass (0 for 0); 0 unless dynamic
+        body_type: _, // any; decides the mass checks below
+        mass: _,      // ≥ 0; 0 unless dynamic
+        mass_inv: _,  // derived: the engine's inverse of mass (0 for 0); 0 unless dynamic;
+        // positive for a dynamic body (Body::can_step, the step's precondition)
         moment: _,        // ≥ 0; 0 unless dynamic
         moment_inv: _,    // derived: the engine's inverse of moment; 0 unless dynamic
         explicit_mass: _, // false unless dynamic; for a dynamic body any value (the

@@ -22,6 +22,7 @@ mod settings;
 mod sleep;
 mod step;
 
+use crate::limits::{LimitError, Limits};
 use core::fmt;
 
 use serde::{Deserialize, Serialize};
@@ -79,6 +80,16 @@ pub enum SpaceError {
     /// the `validate` feature, which checks the state after every step
     /// (see [`VALIDATES_STEPS`]).
     InvalidState(String),
+    /// Over one of the space's [`Limits`]: a loaded state or frame (nothing
+    /// changed), or a step whose broadphase found more candidate pairs
+    /// than `max_pairs` (the step stopped after moving the bodies, before
+    /// any contact: the world is valid but between two frames; restore a
+    /// saved one).
+    OverLimit(LimitError),
+    /// A state given to [`Space::try_from_state`] or
+    /// [`Space::try_restore_state`] breaks an invariant of
+    /// [`validate_state`] (named in the message); nothing changed.
+    RejectedState(String),
     /// [`Space::step`] refused: this dynamic body has no mass (no explicit
     /// mass, and no shape with a mass or density), so no contact could stop
     /// it. Give it a mass (`Body::new`, `Body::set_mass`) or a shape a
@@ -123,6 +134,8 @@ impl fmt::Display for SpaceError {
             }
             SpaceError::ForeignHandle => f.write_str("handle belongs to another space"),
             SpaceError::InvalidState(why) => write!(f, "the step broke an invariant: {why}"),
+            SpaceError::RejectedState(why) => write!(f, "invalid world state: {why}"),
+            SpaceError::OverLimit(e) => write!(f, "over a limit: {e}"),
             SpaceError::MasslessDynamicBody(h) => write!(
                 f,
                 "dynamic body {h:?} has no mass: give it a mass or a shape with mass or density"
@@ -313,6 +326,9 @@ pub struct Space {
     /// state), keyed by constraint handle like the integrators.
     pub(crate) joint_callbacks: constraints::JointCallbacks,
     pub(crate) locked: bool,
+    /// What this space accepts from the bytes it loads, and the work of
+    /// its step (see [`crate::limits`]): configuration, not state.
+    pub(crate) limits: Limits,
     /// Tag put on the handles this space hands out (see [`Handle`]); shared
     /// by clones, so a game's handles keep working on its rollback copies.
     pub(crate) origin: u32,
@@ -362,8 +378,10 @@ impl Clone for Space {
     /// cloned (closures), the clone has none.
     fn clone(&self) -> Space {
         let mut space = Space::with_origin(self.state.clone(), self.origin);
-        // Not state: the same threads (a thread count changes no bit).
+        // Not state: the same threads (a thread count changes no bit) and
+        // limits.
         space.caches.threads = self.caches.threads.clone();
+        space.limits = self.limits;
         space
     }
 }
@@ -377,10 +395,19 @@ impl Space {
     /// A space from a state (handlers empty; caches rebuilt on the next step),
     /// with a new handle origin: the handles it hands out, including those
     /// stored in the state (a shape's body, an arbiter's shapes and bodies),
-    /// are its own. Callers that take untrusted input validate the state
-    /// first.
+    /// are its own. Not checked: for a state from an untrusted source use
+    /// [`Space::try_from_state`].
     pub fn from_state(state: WorldState) -> Space {
         Space::with_origin(state, new_origin())
+    }
+
+    /// [`Space::from_state`] for a state from an untrusted source: the
+    /// state is checked first ([`validate_state`], the same rule as snapshot
+    /// loading), and an invalid one is an error naming what is wrong. A
+    /// state that passes can step.
+    pub fn try_from_state(state: WorldState) -> Result<Space, SpaceError> {
+        validate_state(&state).map_err(SpaceError::RejectedState)?;
+        Ok(Space::from_state(state))
     }
 
     /// A space from a state whose handles get the origin tag `origin`.
@@ -397,6 +424,7 @@ impl Space {
             integrators: Integrators::default(),
             joint_callbacks: constraints::JointCallbacks::default(),
             locked: false,
+            limits: Limits::default(),
             origin,
         }
     }
@@ -408,6 +436,8 @@ impl Space {
 
     /// Replaces the simulation state in place (rollback). The handles in the
     /// state become this space's (the state may come from another space).
+    /// Not checked (a rollback restores the game's own saves): for a state
+    /// from an untrusted source use [`Space::try_restore_state`].
     ///
     /// Callbacks, which are not state: collision handlers (keyed by
     /// collision type) stay; custom integrators (keyed by body handle) and
@@ -426,6 +456,28 @@ impl Space {
         self.caches.broadphase.sleeping_count = None;
         self.caches.body_shapes.invalidate();
         self.caches.step.dt_constants = [None, None];
+    }
+
+    /// [`Space::restore_state`] for a state from an untrusted source: checked
+    /// first ([`validate_state`]); an invalid state is an error and leaves
+    /// this world untouched. A state that passes can step.
+    pub fn try_restore_state(&mut self, state: &WorldState) -> Result<(), SpaceError> {
+        validate_state(state).map_err(SpaceError::RejectedState)?;
+        self.restore_state(state);
+        Ok(())
+    }
+
+    /// The limits this space applies to what it loads and to its step's
+    /// candidate pairs ([`Limits::UNTRUSTED`] unless set).
+    pub fn limits(&self) -> &Limits {
+        &self.limits
+    }
+
+    /// Sets the limits (see [`crate::limits`]): [`Limits::TRUSTED`] lifts
+    /// them all. Configuration, not state: kept by restores and loads, not
+    /// saved, copied by `clone`.
+    pub fn set_limits(&mut self, limits: Limits) {
+        self.limits = limits;
     }
 
     /// Lets the step use `n` threads (0 counts as 1, more than 256 is an
@@ -1127,6 +1179,11 @@ fn validate_state_with(
         }
         b.validate_derived()
             .map_err(|e| format!("body {h:?}: {e}"))?;
+        if !b.can_step() {
+            return Err(format!(
+                "body {h:?}: a dynamic body without mass (inverse mass 0) cannot step"
+            ));
+        }
     }
     // Piles repeat one local geometry; checking each distinct run once
     // spares the polygon checks' square roots (exact either way).

@@ -106,11 +106,13 @@ impl Space {
     /// static shapes the static tree finds plus every shape of the other
     /// bodies (from the per-body lists). `None` when the static tree is
     /// stale or not built (a static shape or body changed since the last
-    /// step, a restored or new space) or the lists are not built: then the
-    /// caller scans every shape.
+    /// step, a restored or new space, or a body handed out by `body_mut`
+    /// was replaced by a static one: its shapes are in neither the tree nor
+    /// the lists) or the lists are not built: then the caller scans every
+    /// shape.
     fn broadphase_candidates(&self, bb: &BB, keep: impl Fn(&BB) -> bool) -> Option<Vec<u32>> {
         let bp = &self.caches.broadphase;
-        if bp.statics_dirty || bp.static_builds == 0 {
+        if bp.statics_dirty || bp.static_builds == 0 || self.suspect_turned_static() {
             return None;
         }
         let lists = &self.caches.body_shapes;

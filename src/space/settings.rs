@@ -90,10 +90,17 @@ pub struct Settings {
     /// Block solver (default on): the two contacts of a face (a
     /// two-point manifold) are solved together, normal and bias impulses
     /// as one 2×2 complementarity problem and friction as one row for the
-    /// face, instead of one contact after the other. It keeps symmetric
-    /// stacks symmetric (a scene and its mirror image evolve as exact
-    /// mirrors) and converges faster per iteration. Off: Chipmunk's
-    /// sequential contacts. See the `solver::block` module.
+    /// face, instead of one contact after the other. It converges faster
+    /// per iteration, and a face's two contacts no longer depend on which
+    /// is solved first: a scene whose mirror image maps every arbiter to
+    /// itself (a centred stack, a box tumbling or a ball rolling on the
+    /// ground) and that mirror evolve as exact mirrors, bit for bit.
+    /// Scenes where the mirror swaps bodies between arbiters (a pyramid, a
+    /// pile) do not: the solver still visits the arbiters one after the
+    /// other in canonical order, which a mirror does not map to itself, so
+    /// such a scene and its mirror agree only to the solver's convergence.
+    /// Off: Chipmunk's sequential contacts. See the `solver::block`
+    /// module.
     pub block_solver: bool,
     /// Colored solver (default off): the iterations solve the contacts
     /// color by color, where no two contacts of a color share a body the

@@ -132,19 +132,14 @@ impl Space {
         self.settle_level_suspects();
         // A body's mass is summed from shapes added after it, so the first
         // point where a missing mass is known for sure is the step.
-        if let Some((h, _)) = self
-            .state
-            .bodies
-            .iter()
-            .find(|(_, b)| b.body_type() == BodyType::Dynamic && b.mass_inv().is_zero())
-        {
+        if let Some((h, _)) = self.state.bodies.iter().find(|(_, b)| !b.can_step()) {
             return Err(SpaceError::MasslessDynamicBody(h.with_origin(self.origin)));
         }
         // 2^64 steps never happen: never saturates.
         self.state.steps = self.state.steps.saturating_add(1);
         let substeps = self.state.settings.substeps;
         if substeps <= 1 {
-            self.sub_step(dt);
+            self.sub_step(dt)?;
             return self.check_step_invariants();
         }
         // The split is fixed here: a post-step callback that changes the
@@ -162,7 +157,10 @@ impl Space {
             if i > 0 {
                 self.reapply_forces(&forces);
             }
-            self.sub_step(sub_dt);
+            if let Err(e) = self.sub_step(sub_dt) {
+                self.caches.step.frame_forces = forces;
+                return Err(e);
+            }
         }
         self.caches.step.frame_forces = forces;
         self.check_step_invariants()
@@ -179,8 +177,11 @@ impl Space {
         }
     }
 
-    /// Stages 1–14 for one (sub-)step of `dt > 0`.
-    fn sub_step(&mut self, dt: Real) {
+    /// Stages 1–14 for one (sub-)step of `dt > 0`. An error only when
+    /// the broadphase finds more candidate pairs than the space's limits
+    /// allow: the sub-step then stops after stage 3 (bodies moved, no
+    /// contact touched).
+    fn sub_step(&mut self, dt: Real) -> Result<(), SpaceError> {
         self.locked = true;
         // 2^64 sub-steps never happen: never saturates.
         self.state.stamp = self.state.stamp.saturating_add(1);
@@ -197,14 +198,18 @@ impl Space {
             self.update_shape_caches(); // 2
             self.sweep_bullets(); // 2b: bullets to their time of impact (ccd.rs)
             self.update_constraint_filter(); // 4: collide_bodies = false
-            self.find_pairs(); // 3
+            if !self.find_pairs() {
+                return None; // 3: over the pair limit
+            }
 
             // 3b: a moving shape touching a sleeping one wakes its island,
             // whose shapes then move too: stages 2-3 again (at most once
             // per island woken, so it ends).
             while self.wake_touched_islands() {
                 self.update_shape_caches();
-                self.find_pairs();
+                if !self.find_pairs() {
+                    return None;
+                }
             }
             let active = self.collide_pairs(); // 4, 5
             self.load_solver_bodies(); // 6
@@ -212,8 +217,17 @@ impl Space {
             self.pre_step_constraints(dtc.dt, dtc.dt_inv); // 7: after the contacts
             self.integrate_velocities(&dtc); // 8
             self.warm_start_and_solve(features); // 9, 10
-            active
+            Some(active)
         });
+        let Some(active) = active else {
+            self.locked = false;
+            let max = self.limits.max_pairs;
+            return Err(SpaceError::OverLimit(crate::limits::LimitError {
+                limit: "candidate pairs",
+                value: max.saturating_add(1),
+                max,
+            }));
+        };
         self.store_solver_results(); // 11
         self.store_constraint_impulses(); // 11
         self.count_saturated_bodies(); // 12
@@ -223,6 +237,7 @@ impl Space {
 
         self.locked = false;
         self.run_post_step_callbacks(); // 14
+        Ok(())
     }
 
     /// Per-`dt` constants, recomputed only when `dt` or the settings change.
@@ -404,14 +419,21 @@ impl Space {
 
     /// Stage 3: moving shapes are swept (their boxes listed by stage 2),
     /// static shapes come from the static tree (rebuilt only when statics
-    /// changed).
-    fn find_pairs(&mut self) {
+    /// changed). False, with no pairs, when there are more than the
+    /// space's limits allow.
+    fn find_pairs(&mut self) -> bool {
         self.update_static_tree();
         self.rebuild_sleeping_tree();
         let split = self.caches.threads.parallel();
+        let budget = self.limits.pair_budget();
         let bp = &mut self.caches.broadphase;
-        bp.sweep
-            .find_pairs_with(&bp.proxies, &bp.static_tree, &bp.sleeping_tree, split);
+        bp.sweep.find_pairs_with(
+            &bp.proxies,
+            &bp.static_tree,
+            &bp.sleeping_tree,
+            split,
+            budget,
+        )
     }
 
     /// The sleeping tree from this step's sleeping boxes, if they changed
@@ -626,7 +648,7 @@ impl Space {
                 // A sleeping body is solved as if static (it is never in
                 // an active contact: stage 3b woke whatever touches it).
                 let dynamic = body.body_type() == BodyType::Dynamic && !body.is_sleeping();
-                massless = massless.saturating_add(u32::from(dynamic && body.mass_inv().is_zero()));
+                massless = massless.saturating_add(u32::from(dynamic && !body.can_step()));
                 *slot = SolverBody {
                     v: body.velocity(),
                     w: body.angular_velocity(),

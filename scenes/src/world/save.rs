@@ -21,6 +21,7 @@
 use core::fmt;
 use std::collections::BTreeMap;
 use std::sync::atomic::Ordering;
+use tamias2d::limits::Limits;
 
 use serde::{Deserialize, Serialize};
 use tamias2d::body::BodyHandle;
@@ -208,7 +209,14 @@ impl ScriptedWorld {
     /// A world from [`ScriptedWorld::save`] bytes, continuing exactly where
     /// the saved one was (script included).
     pub fn load(bytes: &[u8]) -> Result<ScriptedWorld, LoadError> {
+        ScriptedWorld::load_with(bytes, &Limits::UNTRUSTED)
+    }
+
+    /// [`ScriptedWorld::load`] under `limits` (see `tamias2d::limits`),
+    /// which the world's space keeps for its step and later loads.
+    pub fn load_with(bytes: &[u8], limits: &Limits) -> Result<ScriptedWorld, LoadError> {
         let mut world = ScriptedWorld::empty();
+        world.space.set_limits(*limits);
         world.load_in_place(bytes)?;
         Ok(world)
     }
@@ -241,7 +249,8 @@ impl ScriptedWorld {
         let (snap, script) = rest.split_at(split);
         let script: ScriptWire =
             serde_json::from_slice(script).map_err(|e| LoadError::Script(e.to_string()))?;
-        let state = snapshot::decode_state(snap).map_err(LoadError::Snapshot)?;
+        let state =
+            snapshot::decode_state_with(snap, self.space.limits()).map_err(LoadError::Snapshot)?;
         // Checked against a scratch world first, so that an error leaves
         // `self` untouched.
         let scratch = Space::from_state(state.clone());
