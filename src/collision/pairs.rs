@@ -74,14 +74,86 @@ fn in_canonical_order(
     }
 }
 
-/// False if `n` (pointing from the segment toward the other shape when
-/// `seg_is_first`, the reverse otherwise) leaves endpoint `at` of `seg`
-/// towards that endpoint's neighbour.
-fn segment_allows(seg: &Segment, at: Vect, n: Vect, seg_is_first: bool) -> bool {
+/// The neighbour rule (see the module docs) for a contact that `seg` found
+/// at `at` with normal `n` (from the first shape toward the second;
+/// `seg_is_first` says which one `seg` is) and core distance `d`. Returns
+/// the normal to make the contact with, or `None` to leave it to the
+/// neighbour.
+///
+/// `toward` is any positive multiple of the direction from `at` to the
+/// other shape's centre (for polygons and segments the sum of their
+/// vertices minus `at` each; only its side of the segment's line matters).
+///
+/// Only a contact at a joint endpoint whose normal leaves the endpoint
+/// towards the neighbour (`outward · tangent > 0`) is touched:
+///
+/// * cores strictly apart (`d > 0`): the normal is then the true direction
+///   from the endpoint to the other shape's nearest point, and since it has
+///   a component along the neighbour, points of the neighbour next to the
+///   joint are strictly closer: the neighbour reports a contact of its own,
+///   nearer than this one. Rejected.
+/// * cores touching or overlapping (`d ≤ 0`): the normal is only the way
+///   out of this one segment (GJK's pick among equal answers when
+///   touching, EPA's shortest way out when overlapping), which may be off
+///   the end of the segment and into the neighbour, while the neighbour's
+///   own answer points off its end into this segment: each would leave the
+///   contact to the other and the body falls through. The contact is kept,
+///   with the normal moved to the nearest direction the chain allows at
+///   the joint on the other shape's side: this segment's own face normal
+///   at a flat or concave joint (the neighbour turns towards the other
+///   shape), the neighbour's face normal at a convex one (it falls away;
+///   between the two faces' normals is the joint's own range).
+fn seam_normal(
+    seg: &Segment,
+    at: Vect,
+    n: Vect,
+    seg_is_first: bool,
+    d: Real,
+    toward: Vect,
+) -> Option<Vect> {
     let outward = if seg_is_first { n } else { -n };
-    let into = |tangent: Vect| wide::dot(outward, tangent) > 0;
-    let rejected = (at == seg.a && into(seg.a_tangent)) || (at == seg.b && into(seg.b_tangent));
-    !rejected
+    let (tangent, along) = if at == seg.a {
+        (seg.a_tangent, seg.b - seg.a)
+    } else if at == seg.b {
+        (seg.b_tangent, seg.a - seg.b)
+    } else {
+        return Some(n);
+    };
+    if tangent == Vect::ZERO || wide::dot(outward, tangent) <= 0 {
+        return Some(n);
+    }
+    if d.is_positive() {
+        return None;
+    }
+    // The other shape's side of the segment's line: from its centre, else
+    // from the normal, else the segment's normal.
+    let side = match wide::dot(seg.normal, toward) {
+        0 => wide::dot(seg.normal, outward),
+        s => s,
+    };
+    let face = if side < 0 { -seg.normal } else { seg.normal };
+    let snapped = if wide::dot(face, tangent) < 0 {
+        // Convex: the neighbour's face normal on the side away from this
+        // segment (`along`), the edge of the joint's range nearest `n`.
+        let m = wide::unit_or(tangent.perp(), face);
+        if wide::dot(m, along) > 0 {
+            -m
+        } else {
+            m
+        }
+    } else {
+        face
+    };
+    if snapped == Vect::ZERO {
+        return Some(n);
+    }
+    Some(if seg_is_first { snapped } else { -snapped })
+}
+
+/// Sum of `points` minus `at` each: a positive multiple of the direction
+/// from `at` to their centroid.
+fn toward(points: &[Vect], at: Vect) -> Vect {
+    points.iter().fold(Vect::ZERO, |sum, p| sum + (*p - at))
 }
 
 /// MIS `CircleToCircle`: closed form, swap-exact (see the module docs).
@@ -146,12 +218,21 @@ pub fn circle_to_segment(a: &Circle, b: &Segment, info: &mut CollisionInfo) {
         };
         (n, Real::ZERO)
     });
-    if !segment_allows(b, closest, n, false) {
+    let Some(m) = seam_normal(b, closest, n, false, dist, a.offset - closest) else {
+        return;
+    };
+    // A snapped normal measures the separation along itself.
+    let dist = if m == n {
+        dist
+    } else {
+        (closest - a.offset).dot(m)
+    };
+    if dist > min_dist + CONTACT_TOLERANCE {
         return;
     }
-    info.normal = n;
-    let pa = a.offset + n.mult(a.radius);
-    let pb = closest - n.mult(b.radius);
+    info.normal = m;
+    let pa = a.offset + m.mult(a.radius);
+    let pb = closest - m.mult(b.radius);
     info.push_contact(pa, pb, dist - min_dist, 0);
 }
 
@@ -176,15 +257,34 @@ fn segment_to_segment_ordered(a: &Segment, b: &Segment, info: &mut CollisionInfo
     if points.d.is_zero() && a.normal != Vect::ZERO && wide::cross(a.b - a.a, b.b - b.a) == 0 {
         points.n = a.normal;
     }
-    let n = points.n;
-    if points.d <= a.radius + b.radius + CONTACT_TOLERANCE
-        && segment_allows(a, points.a, n, true)
-        && segment_allows(b, points.b, n, false)
-    {
-        let e1 = support_edge_for_segment(a, n);
-        let e2 = support_edge_for_segment(b, -n);
-        contact_points(&e1, &e2, &points, info);
+    if points.d > a.radius + b.radius + CONTACT_TOLERANCE {
+        return;
     }
+    let n = points.n;
+    let Some(na) = seam_normal(
+        a,
+        points.a,
+        n,
+        true,
+        points.d,
+        toward(&[b.a, b.b], points.a),
+    ) else {
+        return;
+    };
+    let Some(nb) = seam_normal(
+        b,
+        points.b,
+        n,
+        false,
+        points.d,
+        toward(&[a.a, a.b], points.b),
+    ) else {
+        return;
+    };
+    points.n = if na == n { nb } else { na };
+    let e1 = support_edge_for_segment(a, points.n);
+    let e2 = support_edge_for_segment(b, -points.n);
+    contact_points(&e1, &e2, &points, info);
 }
 
 /// MIS `CircleToPoly`: GJK from the centre to the polygon core; one contact.
@@ -203,15 +303,19 @@ pub fn circle_to_poly(a: &Circle, b: &Poly, info: &mut CollisionInfo) {
 
 /// MIS `SegmentToPoly`: GJK, the neighbour rule, then edge clipping.
 pub fn segment_to_poly(a: &Segment, b: &Poly, info: &mut CollisionInfo) {
-    let points = gjk(&SupportContext::new(a, b), info.warm_start_id);
+    let mut points = gjk(&SupportContext::new(a, b), info.warm_start_id);
     note(info, &points);
-    let n = points.n;
-    if points.d <= a.radius + b.radius() + CONTACT_TOLERANCE && segment_allows(a, points.a, n, true)
-    {
-        let e1 = support_edge_for_segment(a, n);
-        let e2 = support_edge_for_poly(b, -n);
-        contact_points(&e1, &e2, &points, info);
+    if points.d > a.radius + b.radius() + CONTACT_TOLERANCE {
+        return;
     }
+    let side = toward(b.verts(), points.a);
+    let Some(n) = seam_normal(a, points.a, points.n, true, points.d, side) else {
+        return;
+    };
+    points.n = n;
+    let e1 = support_edge_for_segment(a, n);
+    let e2 = support_edge_for_poly(b, -n);
+    contact_points(&e1, &e2, &points, info);
 }
 
 /// MIS `PolyToPoly`: separating axes over the stored edge normals, then
@@ -386,9 +490,69 @@ mod tests {
             -Vect::X,
             "the catch: a normal against the motion"
         );
+        // The chained segment lets it slide: the box's core overlaps the
+        // segment, so the contact is kept (it may be all that holds the box)
+        // but with the chain's own normal, which cannot push back.
         let mut info = CollisionInfo::new(0);
         segment_to_poly(&chained, &sunk, &mut info);
-        assert_eq!(info.count, 0, "chained segment lets it slide");
+        assert_eq!(info.count, 2, "chained segment holds the box");
+        assert_eq!(info.normal, Vect::Y, "straight up, not against the motion");
+        for c in info.contacts() {
+            assert_eq!(c.distance, real!(-0.1));
+            assert!(c.point_a.x >= Real::ZERO, "on the segment: {c:?}");
+        }
+        // Cores apart (a rounded box over the left neighbour, its core
+        // corner 0.1 before the joint and 0.2 up, radius 0.25): the normal is
+        // the true direction from the joint, the neighbour is nearer, so the
+        // contact is left to the neighbour.
+        let lifted = Poly::from_ccw_unchecked(
+            &crate_box
+                .verts()
+                .iter()
+                .map(|v| *v + Vect::new(real!(-0.1), real!(0.2)))
+                .collect::<Vec<_>>(),
+            real!(0.25),
+        );
+        let mut info = CollisionInfo::new(0);
+        segment_to_poly(&second, &lifted, &mut info);
+        assert!(info.count > 0, "free segment end touches the rounded box");
+        let mut info = CollisionInfo::new(0);
+        segment_to_poly(&chained, &lifted, &mut info);
+        assert_eq!(info.count, 0, "left to the neighbour");
+    }
+
+    #[test]
+    fn a_contact_both_segments_of_a_joint_would_leave_to_the_other_is_kept() {
+        // Flat chain (−2,0) → (0,0) → (2,0) and a unit box tilted by about
+        // −0.05 rad, its low corner on the joint, the box over the left
+        // segment and touching the chain only there (the box).
+        let left = Segment::new(Vect::from_ints(-2, 0), Vect::ZERO, Real::ZERO)
+            .with_neighbors(Vect::from_ints(-4, 0), Vect::from_ints(2, 0));
+        let right = Segment::new(Vect::ZERO, Vect::from_ints(2, 0), Real::ZERO)
+            .with_neighbors(Vect::from_ints(-2, 0), Vect::from_ints(4, 0));
+        let corners = [
+            Vect::ZERO,
+            Vect::new(real!(0.05), Real::ONE),
+            Vect::new(real!(-0.95), real!(1.05)),
+            Vect::new(-Real::ONE, real!(0.05)),
+        ];
+        let tilted = Poly::from_ccw_unchecked(&corners, Real::ZERO);
+        let mut held = 0;
+        for (seg, tangent) in [(&left, left.b_tangent), (&right, right.a_tangent)] {
+            // The mechanism: each segment's own answer (cores touching) is
+            // at the joint and leaves it towards the other segment, so the
+            // plain neighbour rule dropped both and the box fell.
+            let raw = gjk(&SupportContext::new(seg, &tilted), 0);
+            assert_eq!((raw.a, raw.d), (Vect::ZERO, Real::ZERO), "{raw:?}");
+            assert!(wide::dot(raw.n, tangent) > 0, "{raw:?}");
+            let mut info = CollisionInfo::new(0);
+            segment_to_poly(seg, &tilted, &mut info);
+            held += info.count;
+            if info.count > 0 {
+                assert_eq!(info.normal, Vect::Y, "the chain's normal: {info:?}");
+            }
+        }
+        assert!(held > 0, "a segment holds the box");
     }
 
     #[test]
