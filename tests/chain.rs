@@ -34,13 +34,15 @@
 //! by a seam turns much further (the loose segments below tip boxes over).
 //!
 //! What the chain leaves (measured, printed by the test): no speed lost at
-//! all, hops below 2·10^-4 of `v0`, and a rocking of up to 0.012 rad of a
-//! body that has landed or rides tilted. The rocking is Chipmunk's neighbour
-//! rule at work: the contact a slightly tilted body makes with the joint
-//! vertex has the body's own (tilted) normal; the segment whose side that
-//! normal points into drops it, so for a step the body rests on the joint
-//! and the neighbour only, pivots, and settles on the other side. An
-//! unbroken segment shows none (< 10^-6).
+//! all, hops below 2·10^-5 of `v0`, and a rocking of up to 0.01 rad of a
+//! body that has landed or rides tilted. The rocking comes from the joints
+//! (an unbroken segment shows none, < 10^-6): a contact at a joint vertex
+//! whose normal points into the neighbouring segment is left to the
+//! neighbour or given the chain's normal at the joint (the neighbour rule,
+//! `src/collision/pairs.rs`), so as a body crosses a joint its contacts
+//! move from one segment's to the other's and it can pivot slightly before
+//! it settles. That the joints never let a body through is
+//! `tests/regression_chain_fall_through.rs`.
 #![allow(clippy::float_arithmetic)]
 
 use tamias2d::body::{Body, BodyHandle};

@@ -20,8 +20,8 @@
 //! chain allows at the joint (`seam_normal` in `src/collision/pairs.rs`).
 //!
 //! The test: every shape kind (box, rounded box, polygon, circle, capsule)
-//! resting, landing, sliding and spinning over chain joints, at tilts from
-//! −0.2 to 0.2 rad and with the body's corner or centre over the joint, on
+//! resting, landing, sliding and spinning over chain joints, at 12 tilts
+//! from −0.3 to 0.25 rad and with the body's corner or centre over the joint, on
 //! open and loop chains with flat joints and with convex and concave ones
 //! (zig-zags: every other joint a Λ, the others a V, gentle and steep). A
 //! body is lost when it ends more than 1 m below the terrain; none may be.
@@ -40,7 +40,9 @@ use tamias2d::{real, Real, Vect};
 /// Joint spacing of every terrain (m).
 const SPACING: f64 = 2.0;
 /// Bodies per run: one per joint, each over its own joint.
-const TILTS: [f64; 7] = [-0.2, -0.1, -0.05, 0.0, 0.02, 0.05, 0.15];
+const TILTS: [f64; 12] = [
+    -0.3, -0.2, -0.1, -0.05, -0.02, -0.01, 0.0, 0.01, 0.03, 0.05, 0.1, 0.25,
+];
 /// Where the body's centre is, from the joint (m): a corner of the 1 m
 /// shapes over the joint, just past it, or the centre over it.
 const OFFSETS: [f64; 4] = [-0.5, -0.47, 0.0, 0.5];

@@ -10,11 +10,23 @@
 //! circle–poly (one contact at the closest points), clip the two support
 //! edges against each other for up to two contacts.
 //!
-//! Segments with neighbours (`a_tangent`/`b_tangent` non-zero) reject a
-//! contact found at an endpoint whose normal points into the neighbour: the
-//! other shape is then over the neighbouring segment, which reports the
-//! contact itself. Without this rule a body sliding along a chain of
-//! segments catches on every seam (Chipmunk's smooth-terrain rule).
+//! Segments with neighbours (`a_tangent`/`b_tangent` non-zero) apply the
+//! neighbour rule to a contact found at an endpoint whose normal leaves it
+//! towards the neighbour. Without the rule a body sliding along a chain of
+//! segments catches on every seam: the free end of the next segment pushes
+//! back against the motion. With the shapes' cores strictly apart, the
+//! normal is the true direction to the other shape's nearest point, so the
+//! neighbour is nearer and reports a contact of its own: this one is
+//! rejected (Chipmunk's smooth-terrain rule). With the cores touching or
+//! overlapping (sharp shapes resting on zero-radius segments) the normal is
+//! only this segment's way out and says nothing about the neighbour; both
+//! segments of a joint can each point into the other, so rejecting there
+//! could drop the only contact holding a body. That contact is kept, with
+//! its normal moved to the nearest one the chain allows at the joint (the
+//! ghost-vertex idea of Box2D's chain segments): the segment's own face
+//! normal at a flat or concave joint, the neighbour's at a convex one.
+//! Either way no contact at a joint pushes against motion along the chain,
+//! and a contact is rejected only when the neighbour will report one.
 //!
 //! The functions work in whatever frame they are given; [`collide`](super::collide)
 //! calls them on shapes moved next to the origin.

@@ -3,11 +3,17 @@
 //! A [`Chain`] is a polyline ([`ChainKind::Open`]) or a closed loop
 //! ([`ChainKind::Loop`]) of points. It becomes one segment shape per pair of
 //! consecutive points, each with its neighbours set (Chipmunk
-//! `segmentShapeSetNeighbors`): a contact found at a joint whose normal
-//! points into the neighbouring segment is left to that neighbour. Without
-//! neighbours, a box or capsule sliding along the segments catches on every
-//! seam: at the joint it touches the free end of the next segment, and that
-//! end pushes back against the motion. [`Space::add_chain`](crate::space::Space::add_chain)
+//! `segmentShapeSetNeighbors`). Without neighbours, a box or capsule
+//! sliding along the segments catches on every seam: at the joint it
+//! touches the free end of the next segment, and that end pushes back
+//! against the motion. With them, a contact found at a joint whose normal
+//! points into the neighbouring segment is either left to that neighbour,
+//! when the shapes' cores are apart (the neighbour is then nearer and
+//! reports its own contact), or kept with the normal the chain has at the
+//! joint, when they touch or overlap (there the normal does not say where
+//! the other shape is, and leaving the contact to the neighbour could
+//! leave it to nobody). So a joint never pushes against motion along the
+//! chain and never lets a body through. [`Space::add_chain`](crate::space::Space::add_chain)
 //! adds the segments to a body in one call.
 //!
 //! The ends of an open chain have no neighbour: a body reaching them meets

@@ -39,8 +39,10 @@ pub struct Segment {
     /// Rounding radius, ≥ 0.
     pub radius: Real,
     /// Tangent towards the previous neighbour (`prev − a`), or zero if none.
-    /// Contacts whose normal points into a neighbour are rejected, so a chain
-    /// of segments behaves like smooth terrain.
+    /// A contact at a joint whose normal points into the neighbour is left
+    /// to the neighbour (cores apart) or kept with the chain's normal at the
+    /// joint (cores touching), so a chain of segments behaves like smooth
+    /// terrain (see `collision::pairs`).
     pub a_tangent: Vect,
     /// Tangent towards the next neighbour (`next − b`), or zero if none.
     pub b_tangent: Vect,
