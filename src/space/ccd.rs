@@ -25,18 +25,21 @@
 //! Conservative advancement (Mirtich's, as Box2D v2.0 had it) along the
 //! separating normal, in `Real` (I32F32) only. Positions move linearly in
 //! the sweep parameter `t ∈ [0, 1]` and angles too (`rot(t) = rot₀ ·
-//! rot(Δθ·t)`). At the current `t`, [`separation`] gives the distance `d`
-//! between the two shapes and the direction `n` it is measured along; the
-//! separation along the fixed `n` cannot shrink faster than
-//! `rate = (Δp_a − Δp_b)·n + |Δθ_a|·r_a + |Δθ_b|·r_b` per unit of `t` (`r`:
-//! the largest distance of a core point from the centre of gravity), and
-//! the distance is never less than the separation along `n`. So `t` may
-//! advance by `(d + δ) / rate` (rounded down by one ulp) without the
-//! shapes overlapping by more than `δ`; the loop stops when `d ≤ 0` (the
-//! time of impact: the shapes overlap by at most `δ`), when `t` would pass
-//! 1 (no impact in this sub-step), or when `rate ≤ 0` (the shapes separate
-//! along `n` for the rest of the motion: no impact).
+//! rot(Δθ·t)`). At the current `t`, [`separation`] gives the signed
+//! distance `d` between the two shapes (negative when they overlap) and
+//! the direction `n` it is measured along; the separation along the fixed
+//! `n` cannot shrink faster than `rate = (Δp_a − Δp_b)·n + |Δθ_a|·r_a +
+//! |Δθ_b|·r_b` per unit of `t` (`r`: the largest distance of a core point
+//! from the centre of gravity), and the signed distance is never less than
+//! the separation along `n`. So `t` may advance by `(d − floor + δ) / rate`
+//! (rounded down by one ulp) without `d` falling more than `δ` below the
+//! `floor`; the loop stops when `d ≤ floor` (the time of impact), when `t`
+//! would pass 1 (no impact in this sub-step), or when `rate ≤ 0` (the
+//! shapes separate along `n` for the rest of the motion: no impact).
 //!
+//! * The `floor` is 0 for a pair apart at the start (`d > `
+//!   [`CONTACT_TOLERANCE`]): at the time of impact the shapes overlap by
+//!   at most `δ`. A pair that touches at the start is the next section's.
 //! * `δ` is `collision_slop / 4`, clamped to `[2^-20, 2^-10]` m, and at
 //!   least `2^-30` of the relative motion (so that one ulp of `t`, `2^-32`
 //!   of the motion, is always a small part of it: a step of `t` is never
@@ -47,25 +50,51 @@
 //!   few. Each iteration is one [`separation`] (a closed form or GJK, itself
 //!   capped). Nothing loops without a bound and nothing divides by zero
 //!   (`rate > 0` is checked).
-//! * **Error bound:** at the returned time the shapes overlap by at most
-//!   `δ` (plus the rounding of GJK and of the pose, a few ulp); if the loop
-//!   ran out of iterations or of resolution it returns a time at which the
-//!   shapes are still apart (`d > 0`): the bullet stops short of the wall
-//!   for this sub-step, never past it. No bullet whose shapes are wider
-//!   than `2δ` passes through a static or kinematic shape, at any speed
-//!   the step can represent.
+//! * **Error bound:** at the returned time `d` is at least `floor − δ`
+//!   (plus the rounding of GJK and of the pose, a few ulp); if the loop
+//!   ran out of iterations or of resolution it returns a time at which `d`
+//!   is still above the floor: the bullet stops short for this sub-step,
+//!   never past it.
+//!
+//! # The margin: slow pairs and touching pairs
+//! Each bullet shape has a margin, half its half thickness (the radius of
+//! the largest circle about an inner point that the shape contains: its
+//! radius for a circle or a capsule; Box2D v3's margin for the same
+//! purposes).
 //!
 //! A pair whose relative motion in the sub-step (the bound above) is less
-//! than half the bullet shape's half thickness (its radius, for a circle)
-//! is not swept: the shape's centre cannot get past the middle of what it
-//! hits, so the discrete contact catches it (Box2D v3 sweeps only bodies
-//! that move more than half their smallest extent, for the same reason).
-//! A bullet at rest or moving slowly costs one length per shape.
+//! than the margin is not swept: the shape's inner point cannot get past
+//! the middle of what it hits, so the discrete contact catches it (Box2D
+//! v3 sweeps only bodies that move more than half their smallest extent,
+//! for the same reason). A bullet at rest or moving slowly costs one length
+//! per shape.
 //!
 //! A pair that already touches at the start of the sweep (`d ≤`
-//! [`CONTACT_TOLERANCE`]) is skipped: the previous sub-step's narrowphase
-//! saw that pose and the solver already acted on that contact, and a
-//! bullet sliding along the ground must not be pinned at `t = 0`.
+//! [`CONTACT_TOLERANCE`]: typically a bullet this sweep put against a wall
+//! in the previous sub-step) is swept with the floor `−margin`: the motion
+//! may take the shapes up to the margin into each other (the solver
+//! already acts on that contact, and a bullet sliding or rolling along the
+//! ground must not be pinned), no further. That is what stops a bullet
+//! that turns about the point it touches with: a box that hits a wall
+//! with a corner leaves the impact spinning fast (a 0.2 × 0.1 m box at
+//! 450 m/s turned 0.3 rad: 1,800 rad/s, 30 rad in the next sub-step), and
+//! the straight-line interpolation of that turn carries it through the
+//! wall unless this pair is swept. An overlap of at most the margin keeps
+//! the shape's inner point more than the margin on its own side, so the
+//! narrowphase's contact normal pushes it back out the way it came (a
+//! deeper overlap could reverse it: the least push-out of an elongated
+//! shape spanning a thin wall can be through the wall). A pair that
+//! overlaps by more than the margin at the start is not swept: the sweep
+//! leaves a pair at most `δ` past the margin, which its contact pushes
+//! back out, so a pair that deep got there otherwise (a handler rejected
+//! the contact, or a slow motion) and the discrete step decides (a
+//! pre-solve handler that rejects the contact lets the bullet through
+//! this way).
+//!
+//! So no bullet shape wider than `2δ` passes a static or kinematic shape,
+//! at any speed the step can represent, any angle and spin: `tests/
+//! bullets.rs` and `tests/regression_bullet_tunnelling.rs` fire every
+//! shape kind at thin segments, thin static boxes and kinematic walls.
 //!
 //! # What is not swept
 //! Other dynamic bodies (bullets included): a sweep against moving dynamic
@@ -78,10 +107,13 @@
 //! obstacle's in one sub-step (see `docs/numerics.md`); mark them as
 //! bullets or raise the sub-steps. Sensors, shapes whose filters reject
 //! each other and bodies joined by a constraint with `collide_bodies =
-//! false` are not swept against, as they never make contacts. A pre-solve
-//! or begin handler that rejects the contact (a one-way platform) lets the
-//! bullet through in the next sub-step, since that pair then touches at
-//! the start of its sweep.
+//! false` are not swept against, as they never make contacts; nor is a
+//! pair whose begin handler rejected the contact (a one-way platform: the
+//! arbiter is ignored until the shapes separate), so the bullet goes
+//! through in the sub-step after the one that put it against the shape. A
+//! pre-solve handler that rejects the contact lets it through a sub-step
+//! or two later (the pair is swept down to the margin first).
+use crate::arbiter::Arbiter;
 use crate::body::{Body, BodyHandle, BodyType};
 use crate::collision::{separation, SupportShape, CONTACT_TOLERANCE};
 use crate::math::{Real, Rot, Vect, BB};
@@ -211,17 +243,34 @@ fn reach(local: &Geometry, cog: Vect) -> Real {
     r + Real::DELTA
 }
 
-/// Half the thickness of `local`: a radius of the largest circle about an
-/// inner point that it contains (its radius for a circle or a segment; for
-/// a polygon the least distance from an inner point to an edge, plus the
-/// rounding radius). A shape that moves less than this in a sub-step cannot
-/// pass anything: its centre never reaches the far side of what it hits.
+/// The inner point of `local` its core is centred on: a circle's centre,
+/// a segment's midpoint, a polygon's vertex average (inside it, as it is
+/// convex).
+fn inner_point(local: &Geometry) -> Vect {
+    match local {
+        Geometry::Circle(c) => c.offset,
+        Geometry::Segment(s) => s.center(),
+        Geometry::Poly(p) => {
+            let verts = p.verts();
+            let sum = verts.iter().fold(Vect::ZERO, |acc, &v| acc + v);
+            let n = i32::try_from(verts.len()).unwrap_or(1).max(1);
+            Vect::new(sum.x / Real::from_int(n), sum.y / Real::from_int(n))
+        }
+    }
+}
+
+/// Half the thickness of `local`: the radius of the largest circle about
+/// its [`inner_point`] that it contains (its radius for a circle or a
+/// segment; for a polygon the least distance from that point to an edge,
+/// plus the rounding radius). A shape that moves less than this in a
+/// sub-step cannot pass anything: its centre never reaches the far side of
+/// what it hits.
 fn half_thickness(local: &Geometry) -> Real {
     match local {
         Geometry::Circle(c) => c.radius,
         Geometry::Segment(s) => s.radius,
         Geometry::Poly(p) => {
-            let c = p.center();
+            let c = inner_point(local);
             let inner = p
                 .verts()
                 .iter()
@@ -269,23 +318,54 @@ fn target_overlap(slop: Real, full: Real) -> Real {
     base.max(Real::from_bits(full.to_bits() >> 30))
 }
 
-/// The time of impact of `a` and `b` over `[0, 1]` (see the module docs):
-/// `Some(t)` with `t < 1` if they come within contact during the motion,
-/// `None` if not (or if they touch already at `t = 0`, or if they move
-/// less than `slow` relative to each other: the discrete step handles that).
-fn time_of_impact(a: &Swept<'_>, b: &Swept<'_>, slop: Real, slow: Real) -> Option<Real> {
-    let dp = a.motion.dp - b.motion.dp;
-    let turn = a.turn_bound() + b.turn_bound();
-    // The ulp covers the rounding of the normal and of the poses.
-    let full = dp.length() + turn + Real::DELTA;
-    if full < slow {
+/// The time of impact of bullet shape `a` and `b` over `[0, 1]` (see the
+/// module docs; `margin` is half the half thickness of `a`): `Some(t)` with
+/// `t < 1` if they come within contact during the motion, `None` if not
+/// (or if they move less than `margin` relative to each other: the
+/// discrete step handles that). If they already touch at `t = 0`,
+/// `Some(t)` if they would overlap by more than `margin` (or, if they
+/// overlap by more already, by more than at `t = 0`).
+fn time_of_impact(a: &Swept<'_>, b: &Swept<'_>, slop: Real, margin: Real) -> Option<Real> {
+    let full = motion_bound(a, b);
+    if full < margin {
         return None;
     }
     let delta = target_overlap(slop, full);
-    let (mut d, mut n) = separation(&a.at(Real::ZERO), &b.at(Real::ZERO));
-    if d <= CONTACT_TOLERANCE {
+    let start = separation(&a.at(Real::ZERO), &b.at(Real::ZERO));
+    // Apart: up to contact. Touching: down to `margin` of overlap, the
+    // step's overshoot (at most `delta`) included. Deeper already: not
+    // swept (see the module docs).
+    let floor = if start.0 > CONTACT_TOLERANCE {
+        Real::ZERO
+    } else if start.0 >= -margin {
+        start.0.min(delta - margin)
+    } else {
         return None;
-    }
+    };
+    advance(a, b, start, floor, delta)
+}
+
+/// How far a point of `a` can move relative to `b` over `[0, 1]` (the
+/// ulp covers the rounding of the normal and of the poses).
+fn motion_bound(a: &Swept<'_>, b: &Swept<'_>) -> Real {
+    (a.motion.dp - b.motion.dp).length() + a.turn_bound() + b.turn_bound() + Real::DELTA
+}
+
+/// Conservative advancement of `a` toward `b` from `t = 0`, where their
+/// separation and its direction are `start`, until the separation is at
+/// most `floor` (overshooting it by at most `delta`): `Some(t)` with
+/// `t < 1`, or `None` if it stays above `floor` over `[0, 1]`.
+fn advance(
+    a: &Swept<'_>,
+    b: &Swept<'_>,
+    start: (Real, Vect),
+    floor: Real,
+    delta: Real,
+) -> Option<Real> {
+    let dp = a.motion.dp - b.motion.dp;
+    let turn = a.turn_bound() + b.turn_bound();
+    let full = motion_bound(a, b);
+    let (mut d, mut n) = start;
     let mut t = Real::ZERO;
     for _ in 0..MAX_TOI_ITERATIONS {
         let rate = if n == Vect::ZERO {
@@ -297,7 +377,7 @@ fn time_of_impact(a: &Swept<'_>, b: &Swept<'_>, slop: Real, slow: Real) -> Optio
             return None;
         }
         // Rounded down: the step never overshoots by rounding.
-        let step = (d + delta) / rate - Real::DELTA;
+        let step = (d - floor + delta) / rate - Real::DELTA;
         if !step.is_positive() {
             return Some(t);
         }
@@ -307,7 +387,7 @@ fn time_of_impact(a: &Swept<'_>, b: &Swept<'_>, slop: Real, slow: Real) -> Optio
         }
         t = next;
         (d, n) = separation(&a.at(t), &b.at(t));
-        if d <= Real::ZERO {
+        if d <= floor {
             return Some(t);
         }
     }
@@ -382,11 +462,12 @@ impl Space {
                 motion,
                 reach: reach(&sa.geometry, body.cog),
             };
-            // Slow: less than half its half thickness (Box2D v3's margin).
-            let slow = half_thickness(&sa.geometry) * Real::HALF;
+            // Half its half thickness (Box2D v3's margin): moving less is
+            // slow; no sweep takes it deeper into what it touches.
+            let margin = half_thickness(&sa.geometry) * Real::HALF;
             let bb = a.swept_bb(&end.bb, DELTA_MAX);
             candidates.clear();
-            if a.motion.dp.length() + a.turn_bound() >= slow {
+            if a.motion.dp.length() + a.turn_bound() >= margin {
                 self.caches
                     .broadphase
                     .static_tree
@@ -397,7 +478,7 @@ impl Space {
                     continue;
                 };
                 if self.pair_is_swept(ia, ib) {
-                    let toi = time_of_impact(&a, &b, slop, slow);
+                    let toi = time_of_impact(&a, &b, slop, margin);
                     best = earlier(best, toi.map(|t| Impact { t, carrier: None }));
                 }
             }
@@ -425,7 +506,7 @@ impl Space {
                     if b.swept_bb(&kend.bb, Real::ZERO).intersects(&bb)
                         && self.pair_is_swept(ia, ib)
                     {
-                        let toi = time_of_impact(&a, &b, slop, slow);
+                        let toi = time_of_impact(&a, &b, slop, margin);
                         let carrier = Some(kmotion);
                         best = earlier(best, toi.map(|t| Impact { t, carrier }));
                     }
@@ -448,7 +529,8 @@ impl Space {
     }
 
     /// True if shapes `ia` (a bullet's) and `ib` could make a contact: the
-    /// narrowphase's filter (different bodies, filters, sensors, joints).
+    /// narrowphase's filter (different bodies, filters, sensors, joints),
+    /// and not a pair a begin handler rejected (ignored until it separates).
     fn pair_is_swept(&self, ia: u32, ib: u32) -> bool {
         let (Some((_, sa)), Some((_, sb))) = (
             self.state.shapes.get_by_index(ia),
@@ -456,10 +538,18 @@ impl Space {
         ) else {
             return false;
         };
+        let key = (ia.min(ib), ia.max(ib));
+        let arbiters = &self.state.arbiters;
+        let ignored = arbiters
+            .binary_search_by_key(&key, Arbiter::key)
+            .ok()
+            .and_then(|k| arbiters.get(k))
+            .is_some_and(Arbiter::is_ignored);
         sa.body != sb.body
             && !sb.sensor
             && !sa.filter.rejects(&sb.filter)
             && !self.caches.constraints.rejects(sa.body, sb.body)
+            && !ignored
     }
 
     /// Puts bullet `h` at the time of `impact` on its path (carried on by
@@ -582,6 +672,10 @@ mod tests {
         }
     }
 
+    fn toi(a: &Swept<'_>, b: &Swept<'_>, margin: Real) -> Option<Real> {
+        time_of_impact(a, b, SLOP, margin)
+    }
+
     /// The separation of the pair at `t`.
     fn gap(a: &Swept<'_>, b: &Swept<'_>, t: Real) -> Real {
         separation(&a.at(t), &b.at(t)).0
@@ -593,37 +687,72 @@ mod tests {
         // 5 m of travel from 1 m before the wall: contact at t ≈ 0.19.
         let a = bullet(&c, Vect::from_ints(-1, 0), Vect::from_ints(5, 0));
         let b = fixed(&w);
-        let t = time_of_impact(&a, &b, SLOP, Real::ZERO).unwrap_or(Real::ONE);
+        let t = toi(&a, &b, Real::ZERO).unwrap_or(Real::ONE);
         let d = gap(&a, &b, t);
         assert!(d <= Real::ZERO && d >= -DELTA_MAX, "t {t:?} d {d:?}");
         assert!((t - real!(0.19)).abs() < real!(0.001), "{t:?}");
     }
 
     #[test]
-    fn misses_grazes_and_touching_starts_give_none() {
+    fn misses_grazes_and_sliding_give_none() {
         let (c, w) = (circle(), wall());
         let b = fixed(&w);
         // Moving away, parallel, or stopping short.
         for dp in [(-5, 0), (0, 3)] {
             let a = bullet(&c, Vect::from_ints(-1, 0), Vect::from_ints(dp.0, dp.1));
-            assert_eq!(time_of_impact(&a, &b, SLOP, Real::ZERO), None, "{dp:?}");
+            assert_eq!(toi(&a, &b, Real::ZERO), None, "{dp:?}");
         }
         let short = bullet(
             &c,
             Vect::from_ints(-1, 0),
             Vect::new(real!(0.9), Real::ZERO),
         );
-        assert_eq!(time_of_impact(&short, &b, SLOP, Real::ZERO), None);
-        // Touching at the start: the last step's contact handles it.
+        assert_eq!(toi(&short, &b, Real::ZERO), None);
+        // Touching at the start and sliding along or leaving: not pinned.
+        for dp in [(0, 5), (-5, 3)] {
+            let touching = bullet(
+                &c,
+                Vect::new(-real!(0.05), Real::ZERO),
+                Vect::from_ints(dp.0, dp.1),
+            );
+            assert_eq!(toi(&touching, &b, Real::ZERO), None, "{dp:?}");
+        }
+        // Slow: moving less than `slow` is left to the discrete step.
+        let a = bullet(&c, Vect::from_ints(-1, 0), Vect::from_ints(5, 0));
+        assert_eq!(toi(&a, &b, Real::from_int(6)), None);
+    }
+
+    #[test]
+    fn touching_at_the_start_it_gets_no_deeper_than_the_margin() {
+        let (c, w) = (circle(), wall());
+        let b = fixed(&w);
+        let margin = half_thickness(&c) * Real::HALF;
+        // Touching the wall and moving 5 m into it: stopped once it
+        // overlaps by the margin (0.025 m), t ≈ 0.025 / 5.
         let touching = bullet(
             &c,
             Vect::new(-real!(0.05), Real::ZERO),
             Vect::from_ints(5, 0),
         );
-        assert_eq!(time_of_impact(&touching, &b, SLOP, Real::ZERO), None);
-        // Slow: moving less than `slow` is left to the discrete step.
-        let a = bullet(&c, Vect::from_ints(-1, 0), Vect::from_ints(5, 0));
-        assert_eq!(time_of_impact(&a, &b, SLOP, Real::from_int(6)), None);
+        let t = toi(&touching, &b, margin).unwrap_or(Real::ONE);
+        let d = gap(&touching, &b, t);
+        assert!(d <= DELTA_MAX - margin && d >= -margin, "t {t:?} d {d:?}");
+        // Overlapping by less than the margin: down to the margin.
+        let part = bullet(
+            &c,
+            Vect::new(-real!(0.03), Real::ZERO),
+            Vect::from_ints(5, 0),
+        );
+        let t = toi(&part, &b, margin).unwrap_or(Real::ONE);
+        let d = gap(&part, &b, t);
+        assert!(d <= DELTA_MAX - margin && d >= -margin, "t {t:?} d {d:?}");
+        // Overlapping by more already: not swept (see the module docs).
+        let deep = bullet(
+            &c,
+            Vect::new(-real!(0.02), Real::ZERO),
+            Vect::from_ints(5, 0),
+        );
+        assert_eq!(toi(&deep, &b, margin), None);
     }
 
     #[test]
@@ -651,7 +780,7 @@ mod tests {
                 ),
                 reach: reach(&g, Vect::ZERO),
             };
-            let t = time_of_impact(&a, &b, SLOP, Real::ZERO);
+            let t = toi(&a, &b, Real::ZERO);
             let Some(t) = t else {
                 panic!("angle {k}/8: the box must hit the wall");
             };
