@@ -8,9 +8,10 @@
 //! * forged, refused at load: settings of 1,024 iterations × 64 sub-steps;
 //!   3,000 circles within 7 mm of each other (4.5 million candidate pairs);
 //! * forged, admitted: the lattice at the largest solver passes the limits
-//!   admit; a pile of circles all overlapping, as many as `max_pairs`
-//!   admits, at those passes; the lattice with velocities that bring every
-//!   circle to one point in one step (the step stops at the pair limit).
+//!   admit, as iterations and as sub-steps (each sub-step collides again);
+//!   a pile of circles all overlapping, as many as `max_pairs` admits, at
+//!   those passes; the lattice with velocities that bring every circle to
+//!   one point in one step (the step stops at the pair limit).
 //!
 //! Each is loaded as a full snapshot (`Space::load_snapshot`), as a frame
 //! (`Space::load_frame_snapshot`, around the floor as the level) and as the
@@ -18,13 +19,14 @@
 //! time is the median of 5 samples of load + step.
 use std::time::Instant;
 
-use tamias2d::body::Body;
+use tamias2d::body::{Body, BodyHandle};
 use tamias2d::limits::Limits;
 use tamias2d::math::{Real, Vect};
 use tamias2d::replay::{Recorder, Replay};
 use tamias2d::shape::Shape;
 use tamias2d::snapshot;
 use tamias2d::space::{Settings, Space};
+use tamias2d::Transform;
 
 fn dt() -> Real {
     Real::ratio(1, 60)
@@ -32,6 +34,36 @@ fn dt() -> Real {
 
 /// A floor and `n` circles placed by `at(i)`, each moving by `vel(i)`.
 fn world(n: u32, at: impl Fn(u32) -> Vect, vel: impl Fn(u32) -> Vect) -> Space {
+    world_of(n, at, vel, |b| {
+        Shape::circle_shape_new(b, Real::HALF, Vect::ZERO).expect("a circle")
+    })
+}
+
+/// An octagon of diameter about 1 m (8 vertices: the costliest polygon).
+fn octagon(b: BodyHandle) -> Shape {
+    let pts: Vec<Vect> = [
+        (2, 1),
+        (1, 2),
+        (-1, 2),
+        (-2, 1),
+        (-2, -1),
+        (-1, -2),
+        (1, -2),
+        (2, -1),
+    ]
+    .iter()
+    .map(|&(x, y)| Vect::new(Real::ratio(x, 4), Real::ratio(y, 4)))
+    .collect();
+    Shape::poly_shape_new(b, &pts, &Transform::IDENTITY, Real::ZERO).expect("an octagon")
+}
+
+/// [`world`] with the shape `shape` makes for each body.
+fn world_of(
+    n: u32,
+    at: impl Fn(u32) -> Vect,
+    vel: impl Fn(u32) -> Vect,
+    shape: impl Fn(BodyHandle) -> Shape,
+) -> Space {
     let mut w = Space::new();
     w.set_limits(Limits::TRUSTED);
     w.set_gravity(Vect::from_ints(0, -10));
@@ -51,8 +83,7 @@ fn world(n: u32, at: impl Fn(u32) -> Vect, vel: impl Fn(u32) -> Vect) -> Space {
         let body = w.body_mut(b).expect("the body");
         body.set_position(at(i));
         body.set_velocity(vel(i));
-        let circle = Shape::circle_shape_new(b, Real::HALF, Vect::ZERO).expect("a circle");
-        w.add_shape(circle).expect("circle added");
+        w.add_shape(shape(b)).expect("shape added");
     }
     w
 }
@@ -149,6 +180,9 @@ fn main() {
     let limits = Limits::UNTRUSTED;
     let n = u32::try_from(limits.max_bodies).unwrap_or(u32::MAX) - 1;
     let mut normal = world(n, lattice_at, |_| Vect::ZERO);
+    limits
+        .check_state(normal.state())
+        .expect("the limits admit the normal world");
     normal.step(dt()).expect("first step");
     let normal_ms = median_ms(|| {
         let mut w = normal.clone();
@@ -158,6 +192,8 @@ fn main() {
     println!("normal step, {n} circles in a lattice: {normal_ms:.1} ms");
 
     let passes = u32::try_from(limits.max_solver_passes).unwrap_or(u32::MAX);
+    let substeps = u32::try_from(limits.max_substeps).unwrap_or(u32::MAX);
+    let per_substep = passes / substeps;
     // Pile: k circles on one spot, k(k-1)/2 pairs within max_pairs.
     let mut k = 2u32;
     while u64::from(k + 1) * u64::from(k) / 2 <= limits.max_pairs {
@@ -193,6 +229,22 @@ fn main() {
         (
             format!("{k} circles on one spot at {passes} iterations"),
             with_passes(world(k, spot, |_| Vect::ZERO), passes, 1),
+        ),
+        (
+            format!("lattice at {substeps} sub-steps of {per_substep} iterations"),
+            with_passes(world(n, lattice_at, |_| Vect::ZERO), per_substep, substeps),
+        ),
+        (
+            format!("{k} circles on one spot at {substeps} sub-steps of {per_substep} iterations"),
+            with_passes(world(k, spot, |_| Vect::ZERO), per_substep, substeps),
+        ),
+        (
+            format!("{k} octagons on one spot at {substeps} sub-steps of {per_substep} iterations"),
+            with_passes(
+                world_of(k, spot, |_| Vect::ZERO, octagon),
+                per_substep,
+                substeps,
+            ),
         ),
         (
             "lattice converging on one point in one step".into(),

@@ -47,6 +47,9 @@ pub struct Limits {
     pub max_constraints: u64,
     /// Solver passes per step: `Settings::iterations × Settings::substeps`.
     pub max_solver_passes: u64,
+    /// Sub-steps per step (`Settings::substeps`): each one collides
+    /// again, so it costs about a whole step.
+    pub max_substeps: u64,
     /// Candidate pairs (overlapping bounding boxes with a body that moves)
     /// of a world as loaded and of each step's broadphase, and contact
     /// pairs (arbiters, live and dormant) a world holds. A step that finds
@@ -70,7 +73,8 @@ impl Limits {
         max_shapes: 65_536,
         max_constraints: 16_384,
         max_solver_passes: 64,
-        max_pairs: 98_304,
+        max_substeps: 4,
+        max_pairs: 65_536,
         max_replay_frames: 1 << 22,
         same_settings: false,
     };
@@ -82,6 +86,7 @@ impl Limits {
         max_shapes: u64::MAX,
         max_constraints: u64::MAX,
         max_solver_passes: u64::MAX,
+        max_substeps: u64::MAX,
         max_pairs: u64::MAX,
         max_replay_frames: u64::MAX,
         same_settings: false,
@@ -107,8 +112,9 @@ impl Limits {
         check("replay frames", n, self.max_replay_frames)
     }
 
-    /// Checks settings' solver passes.
+    /// Checks settings' sub-steps and solver passes.
     pub fn check_settings(&self, settings: &Settings) -> Result<(), LimitError> {
+        check("sub-steps", u64::from(settings.substeps), self.max_substeps)?;
         let passes = u64::from(settings.iterations).saturating_mul(u64::from(settings.substeps));
         check(
             "solver passes (iterations x sub-steps)",

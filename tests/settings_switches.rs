@@ -10,6 +10,7 @@
 //! `collision_bias = 1`), and by behaviour otherwise (warm starting).
 use std::cell::Cell;
 use std::rc::Rc;
+use tamias2d::limits::Limits;
 
 use tamias2d::body::Body;
 use tamias2d::math::{Real, Vect};
@@ -253,7 +254,12 @@ fn substeps_and_switches_survive_a_snapshot_round_trip() {
     let mut scene = build(&desc);
     scene.step_n(10).unwrap_or_else(|e| panic!("{e}"));
     let bytes = snapshot::save(&scene.space);
-    let mut loaded = snapshot::load(&bytes).unwrap_or_else(|e| panic!("{e}"));
+    // Five sub-steps are over the untrusted default (4): the game's own
+    // snapshot is trusted; an untrusting load refuses it by name.
+    let refused = snapshot::load(&bytes).err().map(|e| e.to_string());
+    assert!(refused.is_some_and(|e| e.contains("sub-steps: 5 over the limit of 4")));
+    let mut loaded =
+        snapshot::load_with(&bytes, &Limits::TRUSTED).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(loaded.settings(), scene.space.settings());
     assert_eq!(loaded.settings().substeps, 5);
     assert!(!loaded.settings().warm_starting && !loaded.settings().restitution);

@@ -28,12 +28,19 @@ fn world(n: u32, at: impl Fn(u32) -> Vect) -> Space {
     w.set_gravity(Vect::from_ints(0, -10));
     let floor = w.add_body(Body::new_static()).unwrap();
     w.add_shape(
-        Shape::segment_shape_new(floor, Vect::from_ints(-100, 0), Vect::from_ints(100, 0), Real::ZERO)
-            .unwrap(),
+        Shape::segment_shape_new(
+            floor,
+            Vect::from_ints(-100, 0),
+            Vect::from_ints(100, 0),
+            Real::ZERO,
+        )
+        .unwrap(),
     )
     .unwrap();
     for i in 0..n {
-        let b = w.add_body(Body::new(Real::ONE, Real::ONE).unwrap()).unwrap();
+        let b = w
+            .add_body(Body::new(Real::ONE, Real::ONE).unwrap())
+            .unwrap();
         w.body_mut(b).unwrap().set_position(at(i));
         w.add_shape(Shape::circle_shape_new(b, Real::HALF, Vect::ZERO).unwrap())
             .unwrap();
@@ -83,14 +90,24 @@ fn limit_of(e: &SnapshotError) -> &'static str {
 fn refused_everywhere(forged: &Space, limits: Limits, limit: &str) {
     let snap = snapshot::save(forged);
     let frame = snapshot::save_frame(forged);
-    assert_eq!(limit_of(&snapshot::load_with(&snap, &limits).unwrap_err()), limit);
-    assert_eq!(limit_of(&snapshot::decode_state_with(&snap, &limits).unwrap_err()), limit);
+    assert_eq!(
+        limit_of(&snapshot::load_with(&snap, &limits).unwrap_err()),
+        limit
+    );
+    assert_eq!(
+        limit_of(&snapshot::decode_state_with(&snap, &limits).unwrap_err()),
+        limit
+    );
     let mut live = receiver(limits);
     let before = live.checksum();
     let e = live.load_snapshot(&snap).unwrap_err();
     assert_eq!(limit_of(&e), limit);
     assert!(e.to_string().contains(limit), "{e}");
-    assert_eq!(live.checksum(), before, "a refused snapshot changed the world");
+    assert_eq!(
+        live.checksum(),
+        before,
+        "a refused snapshot changed the world"
+    );
     let e = live.load_frame_snapshot(&frame).unwrap_err();
     assert_eq!(limit_of(&e), limit);
     assert_eq!(live.checksum(), before, "a refused frame changed the world");
@@ -101,7 +118,10 @@ fn refused_everywhere(forged: &Space, limits: Limits, limit: &str) {
     let replay = Replay::from_bytes(&rec.finish().to_bytes()).unwrap();
     let mut verifier = Space::new();
     verifier.set_limits(limits);
-    assert!(matches!(replay.verify_on(&mut verifier), Err(ReplayError::Start(_))));
+    assert!(matches!(
+        replay.verify_on(&mut verifier),
+        Err(ReplayError::Start(_))
+    ));
     // Trusted, everything loads.
     snapshot::load_with(&snap, &Limits::TRUSTED).unwrap();
     let mut trusting = receiver(Limits::TRUSTED);
@@ -111,16 +131,35 @@ fn refused_everywhere(forged: &Space, limits: Limits, limit: &str) {
 
 #[test]
 fn settings_asking_for_too_many_solver_passes_are_refused() {
-    let forged = with_passes(row(3), 1024, 64);
-    refused_everywhere(&forged, Limits::UNTRUSTED, "solver passes (iterations x sub-steps)");
-    // At the limit is fine.
+    // The reported input: sub-steps are checked first (each one costs
+    // about a whole step), then iterations x sub-steps.
+    refused_everywhere(
+        &with_passes(row(3), 1024, 64),
+        Limits::UNTRUSTED,
+        "sub-steps",
+    );
     let passes = u32::try_from(Limits::UNTRUSTED.max_solver_passes).unwrap();
-    snapshot::load(&snapshot::save(&with_passes(row(3), passes, 1))).unwrap();
+    let substeps = u32::try_from(Limits::UNTRUSTED.max_substeps).unwrap();
+    for (iterations, substeps) in [
+        (1024, 1),
+        (passes / substeps + 1, substeps),
+        (passes + 1, 1),
+    ] {
+        refused_everywhere(
+            &with_passes(row(3), iterations, substeps),
+            Limits::UNTRUSTED,
+            "solver passes (iterations x sub-steps)",
+        );
+    }
+    // At the limits is fine.
+    for (iterations, substeps) in [(passes, 1), (passes / substeps, substeps)] {
+        snapshot::load(&snapshot::save(&with_passes(row(3), iterations, substeps))).unwrap();
+    }
 }
 
 #[test]
 fn a_pile_with_too_many_candidate_pairs_is_refused() {
-    // 600 circles on one spot: 179,700 pairs, over the default 98,304.
+    // 600 circles on one spot: 179,700 pairs, over the default 65,536.
     refused_everywhere(&pile(600), Limits::UNTRUSTED, "candidate pairs");
     // With a lower limit the count is exact: 20 circles, 190 pairs (+ none
     // with the floor, 5 m below).
@@ -140,15 +179,42 @@ fn a_pile_with_too_many_candidate_pairs_is_refused() {
 fn counts_and_bytes_over_their_limits_are_refused() {
     let forged = row(10);
     for (limits, limit) in [
-        (Limits { max_bodies: 10, ..Limits::UNTRUSTED }, "bodies"),
-        (Limits { max_shapes: 10, ..Limits::UNTRUSTED }, "shapes"),
-        (Limits { max_bytes: 100, ..Limits::UNTRUSTED }, "bytes"),
+        (
+            Limits {
+                max_bodies: 10,
+                ..Limits::UNTRUSTED
+            },
+            "bodies",
+        ),
+        (
+            Limits {
+                max_shapes: 10,
+                ..Limits::UNTRUSTED
+            },
+            "shapes",
+        ),
+        (
+            Limits {
+                max_bytes: 100,
+                ..Limits::UNTRUSTED
+            },
+            "bytes",
+        ),
     ] {
         refused_everywhere(&forged, limits, limit);
     }
-    let e = snapshot::load_with(&snapshot::save(&forged), &Limits { max_bodies: 10, ..Limits::UNTRUSTED })
-        .unwrap_err();
-    assert_eq!(e.to_string(), "snapshot over a limit: bodies: 11 over the limit of 10");
+    let e = snapshot::load_with(
+        &snapshot::save(&forged),
+        &Limits {
+            max_bodies: 10,
+            ..Limits::UNTRUSTED
+        },
+    )
+    .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "snapshot over a limit: bodies: 11 over the limit of 10"
+    );
 }
 
 #[test]
@@ -194,7 +260,9 @@ fn frames_with_other_settings_are_refused_when_asked() {
     assert!(e.to_string().contains("settings differ"), "{e}");
     assert_eq!(strict.checksum(), before);
     // The default accepts them (a game may change settings between frames).
-    receiver(Limits::UNTRUSTED).load_frame_snapshot(&frame).unwrap();
+    receiver(Limits::UNTRUSTED)
+        .load_frame_snapshot(&frame)
+        .unwrap();
 }
 
 #[test]
@@ -219,7 +287,10 @@ fn replays_over_the_frame_limit_are_refused() {
     let replay = Replay::from_bytes(&bytes).unwrap();
     let mut verifier = Space::new();
     verifier.set_limits(limits);
-    assert!(matches!(replay.verify_on(&mut verifier), Err(ReplayError::OverLimit(_))));
+    assert!(matches!(
+        replay.verify_on(&mut verifier),
+        Err(ReplayError::OverLimit(_))
+    ));
     let mut verifier = Space::new();
     assert_eq!(replay.verify_on(&mut verifier).unwrap().frames, 5);
 }

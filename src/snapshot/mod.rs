@@ -132,12 +132,14 @@
 //! Only then is the state handed out. Errors are [`SnapshotError`]s that
 //! say what is wrong.
 //!
-//! Validation accepts exactly what the API can produce, no less: a valid
-//! snapshot can still be expensive. Solver iterations are capped at
-//! [`MAX_ITERATIONS`](crate::space::MAX_ITERATIONS) (a forged snapshot asking
-//! for 4·10^9 would otherwise make one step run for hours), but a game that
-//! loads snapshots from untrusted peers still checks the body count against
-//! its own limits before stepping.
+//! Validation accepts exactly what the API can produce that can step, no
+//! less: a valid snapshot can still be expensive. Solver iterations are
+//! capped at [`MAX_ITERATIONS`](crate::space::MAX_ITERATIONS), and then the
+//! [`Limits`] bound what a valid world may ask of the receiver (bodies,
+//! shapes, solver passes, candidate pairs, bytes): [`load`] and
+//! [`decode_state`] apply [`Limits::UNTRUSTED`], [`load_with`] and
+//! [`decode_state_with`] the caller's, [`Space::load_snapshot`] the
+//! space's own ([`Space::set_limits`]).
 //!
 //! # Validation as a contract
 //! [`validate_state`] is the one statement of what a world state is:
