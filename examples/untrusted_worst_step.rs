@@ -24,7 +24,7 @@ use tamias2d::limits::Limits;
 use tamias2d::math::{Real, Vect};
 use tamias2d::replay::{Recorder, Replay};
 use tamias2d::shape::Shape;
-use tamias2d::snapshot;
+use tamias2d::snapshot::{self, SnapshotError};
 use tamias2d::space::{Settings, Space};
 use tamias2d::Transform;
 
@@ -141,30 +141,29 @@ fn attack(forged: &Space) -> Vec<(&'static str, f64, String)> {
         w.set_limits(Limits::UNTRUSTED);
         w
     };
+    type Load<'a> = Box<dyn Fn(&mut Space) -> Result<(), SnapshotError> + 'a>;
+    let loads: [(&'static str, Load); 2] = [
+        ("snapshot", Box::new(|w: &mut Space| w.load_snapshot(&snap))),
+        (
+            "frame",
+            Box::new(|w: &mut Space| w.load_frame_snapshot(&frame)),
+        ),
+    ];
     let mut out = Vec::new();
     let mut outcome = String::new();
-    let ms = median_ms(|| {
-        let mut w = receiver();
-        outcome = match w.load_snapshot(&snap) {
-            Err(e) => format!("refused: {e}"),
-            Ok(()) => match w.step(dt()) {
-                Ok(()) => "stepped".into(),
-                Err(e) => format!("step refused: {e}"),
-            },
-        };
-    });
-    out.push(("snapshot", ms, outcome.clone()));
-    let ms = median_ms(|| {
-        let mut w = receiver();
-        outcome = match w.load_frame_snapshot(&frame) {
-            Err(e) => format!("refused: {e}"),
-            Ok(()) => match w.step(dt()) {
-                Ok(()) => "stepped".into(),
-                Err(e) => format!("step refused: {e}"),
-            },
-        };
-    });
-    out.push(("frame", ms, outcome.clone()));
+    for (path, load) in &loads {
+        let ms = median_ms(|| {
+            let mut w = receiver();
+            outcome = match load(&mut w) {
+                Err(e) => format!("refused: {e}"),
+                Ok(()) => match w.step(dt()) {
+                    Ok(()) => "stepped".into(),
+                    Err(e) => format!("step refused: {e}"),
+                },
+            };
+        });
+        out.push((*path, ms, outcome.clone()));
+    }
     let ms = median_ms(|| {
         let mut w = receiver();
         outcome = match Replay::from_bytes(&replay_bytes).and_then(|r| r.verify_on(&mut w)) {

@@ -36,13 +36,13 @@
 //! * **Misses are judged exactly.** The clip uses rounded unit normals, so
 //!   for a shape with no thickness (a sharp segment) or a ray through a
 //!   sharp corner, rounding alone could turn a crossing into a miss. A miss
-//!   of the clip is therefore checked by `reach`, which decides in integers
-//!   (signs of dot and cross products on 128 and 256 bits) whether the
-//!   segment comes within the reach of the core; if it does, the clip is
-//!   run again with the reach grown by a bound on its rounding (2^-27 of
-//!   the query's distances plus 64 ulp) and that hit is reported. So a ray
-//!   that crosses or touches a shape is always a hit, and a hit is never
-//!   further than that margin from the surface.
+//!   of the clip is clipped again with the reach grown by a bound on its
+//!   rounding (2^-27 of the query's distances plus 64 ulp): still a miss
+//!   is a miss for certain; a hit then is judged by `reach`, which decides
+//!   in integers (signs of dot and cross products on 128 and 256 bits)
+//!   whether the segment comes within the reach of the core, and reported
+//!   if it does. So a ray that crosses or touches a shape is always a hit,
+//!   and a hit is never further than that margin from the surface.
 //!
 //! # Start inside
 //! When the query starts within reach (the point query at `a` gives a
@@ -128,16 +128,16 @@ pub fn segment_query(g: &Geometry, a: Vect, b: Vect, radius: Real) -> Option<Seg
     }
     // The clip's unit normals are rounded: a ray through a shape with no
     // thickness, or grazing a corner, can be clipped away by that rounding
-    // alone. The exact judge decides; a ray that reaches the shape is
-    // clipped again with the reach grown by a bound on the rounding.
-    if !reach::segment_reaches(g, a, b, radius) {
-        return None;
-    }
+    // alone. Clipped again with the reach grown by a bound on the rounding,
+    // a ray that misses still is a miss for certain (the usual case, at the
+    // cost of a second clip); one that now hits is judged exactly.
     let margin = rounding_margin(g, a, sweep.d);
-    if start.distance <= radius + margin {
-        return Some(start_hit(start));
-    }
-    Sweep { margin, ..sweep }.first_hit(g)
+    let grown = if start.distance <= radius + margin {
+        start_hit(start)
+    } else {
+        Sweep { margin, ..sweep }.first_hit(g)?
+    };
+    reach::segment_reaches(g, a, b, radius).then_some(grown)
 }
 
 /// The hit of a query that starts within reach: at `alpha = 0`, on the

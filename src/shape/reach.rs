@@ -5,12 +5,13 @@
 //! by the reach, using the stored *unit* normals, which are rounded. For a
 //! shape with no thickness (a sharp segment, whose two faces are one line)
 //! or a ray that grazes a corner, that rounding alone can decide between a
-//! hit and a miss. So a miss of the fast clip is checked here, with no
-//! rounding at all: every test is the sign of an integer expression of the
-//! raw coordinates (dot and cross products on 128 bits, their squares on
-//! 256). A ray that this module says reaches the shape is always reported
-//! as a hit (see `segment_query`); a ray it says misses never is, unless
-//! the fast clip already found it within its rounding.
+//! hit and a miss. So a ray that the fast clip misses but a clip grown by
+//! the rounding bound hits is judged here, with no rounding at all: every
+//! test is the sign of an integer expression of the raw coordinates (dot
+//! and cross products on 128 bits, their squares on 256). A ray that this
+//! module says reaches the shape is always reported as a hit (see
+//! `segment_query`); a ray it says misses never is, unless the fast clip
+//! already found it within its rounding.
 //!
 //! Exact for coordinates whose differences are representable (within
 //! ±2^31 m of each other); beyond that the saturated differences give a

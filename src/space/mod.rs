@@ -135,7 +135,7 @@ impl fmt::Display for SpaceError {
             SpaceError::ForeignHandle => f.write_str("handle belongs to another space"),
             SpaceError::InvalidState(why) => write!(f, "the step broke an invariant: {why}"),
             SpaceError::RejectedState(why) => write!(f, "invalid world state: {why}"),
-            SpaceError::OverLimit(e) => write!(f, "over a limit: {e}"),
+            SpaceError::OverLimit(e) => write!(f, "over a limit of the space (Space::set_limits): {e}"),
             SpaceError::MasslessDynamicBody(h) => write!(
                 f,
                 "dynamic body {h:?} has no mass: give it a mass or a shape with mass or density"
