@@ -426,13 +426,11 @@ impl Space {
         let checked = super::validate_state_trusting_level(&self.state, &level)
             .map_err(SpaceError::RejectedState)
             .and_then(|()| {
-                // The level's static tree when it is current (the usual
-                // case: frames load around an unchanged level).
-                let bp = &self.caches.broadphase;
-                let statics =
-                    (!bp.statics_dirty && bp.static_builds > 0).then_some(&bp.static_tree);
+                // Counts and settings only: a frame's candidate pairs are
+                // bounded by its first step (which stops at the limit), as
+                // a broadphase here would add about 40% to every load.
                 self.limits
-                    .check_state_with(&self.state, statics)
+                    .check_counts(&self.state)
                     .map_err(SpaceError::OverLimit)
             });
         if checked.is_err() {
