@@ -6,7 +6,8 @@
 //! millimetres of each other (4.5 million candidate pairs), takes seconds
 //! per step. [`Limits`] bounds what a world may hold (bytes, bodies,
 //! shapes, constraints, contact pairs), what its settings may ask
-//! (solver passes per step: iterations × sub-steps), how long a replay may
+//! (sub-steps, and solver passes per step: iterations × sub-steps), how
+//! long a replay may
 //! run, and the work of one step (candidate pairs found by the
 //! broadphase). Every loading path checks it before anything changes;
 //! over-limit input is an error naming the limit and the value
@@ -56,9 +57,10 @@ pub struct Limits {
     /// again, so it costs about a whole step.
     pub max_substeps: u64,
     /// Candidate pairs (overlapping bounding boxes with a body that moves)
-    /// of a world as loaded and of each step's broadphase, and contact
-    /// pairs (arbiters, live and dormant) a world holds. A step that finds
-    /// more stops with `SpaceError::OverLimit` (see `Space::step`).
+    /// of a world as loaded (full snapshots and replay starts) and of each
+    /// step's broadphase, and contact pairs (arbiters, live and dormant) a
+    /// world holds. A step that finds more stops with
+    /// `SpaceError::OverLimit` (see `Space::step`).
     pub max_pairs: u64,
     /// Frames of a replay.
     pub max_replay_frames: u64,
