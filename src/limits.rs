@@ -79,7 +79,7 @@ impl Limits {
         max_bodies: 16_384,
         max_shapes: 65_536,
         max_constraints: 16_384,
-        max_solver_passes: 64,
+        max_solver_passes: 48,
         max_substeps: 4,
         max_pairs: 65_536,
         max_replay_frames: 1 << 22,

@@ -3,6 +3,7 @@
 //! specific error, nothing panics, and a failed `load_snapshot` leaves the
 //! live world byte-identical.
 use super::*;
+use tamias2d::limits::Limits;
 
 /// `load` fails with an error `is_expected` accepts; `load_snapshot` fails
 /// the same way and leaves a live world byte-identical.
@@ -145,7 +146,8 @@ proptest! {
                 // What loads can step (a dynamic body without mass does not
                 // validate), and within the untrusted limits a step is
                 // bounded (a forged iteration count is refused at load).
-                prop_assert!(w.settings().iterations * w.settings().substeps <= 64);
+                let passes = u64::from(w.settings().iterations * w.settings().substeps);
+                prop_assert!(passes <= Limits::UNTRUSTED.max_solver_passes);
                 for _ in 0..3 {
                     if let Err(e) = w.step(dt()) {
                         return Err(TestCaseError::fail(format!("step: {e}")));
