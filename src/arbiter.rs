@@ -31,9 +31,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::body::BodyHandle;
 use crate::collision::{CollisionInfo, WarmStartId, MAX_CONTACTS_PER_ARBITER};
+use crate::compact;
 use crate::math::{Real, Vect};
 use crate::shape::{Shape, ShapeHandle};
-use crate::snapshot::compact;
 
 /// One point of an arbiter's contact manifold: the **persistent** state of
 /// one contact, kept in the arbiter from step to step (and serialized in

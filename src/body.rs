@@ -22,10 +22,10 @@ use core::fmt;
 use serde::{Deserialize, Serialize};
 
 use crate::arena::Handle;
+use crate::compact;
 use crate::math::real::FRAC_BITS;
 use crate::math::wide::{saturate_to_real, wide_mul, I256};
 use crate::math::{Real, Rot, Vect};
-use crate::snapshot::compact;
 
 /// Handle of a body in a [`Space`](crate::space::Space).
 pub type BodyHandle = Handle<Body>;

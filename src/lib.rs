@@ -31,6 +31,7 @@ pub mod body;
 pub mod broadphase;
 pub mod checksum;
 pub mod collision;
+mod compact;
 pub mod constraint;
 #[cfg(feature = "debug-draw")]
 pub mod debug_draw;

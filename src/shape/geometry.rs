@@ -9,8 +9,8 @@ use core::hash::Hash;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeError;
+use crate::compact;
 use crate::math::{Real, Rot, Vect, BB};
-use crate::snapshot::compact;
 
 /// The most vertices a polygon may have (Box2D uses the same bound). Inline
 /// storage keeps geometry `Copy` and the per-step world-space update free of

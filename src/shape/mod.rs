@@ -26,8 +26,8 @@ pub use geometry::{Circle, Geometry, Poly, Segment, ShapeKind, MAX_POLY_VERTICES
 
 use crate::arena::Handle;
 use crate::body::BodyHandle;
+use crate::compact;
 use crate::math::{Real, Vect, BB};
-use crate::snapshot::compact;
 
 /// A collision type: selects collision handlers (MIS `CollisionType`).
 pub type CollisionType = u32;

@@ -218,7 +218,6 @@
 //! `Shape::body()`, `Arbiter::shapes()`/`bodies()`, handler contexts), or
 //! build them with `Handle::from_raw_parts` (origin 0: accepted by every
 //! space).
-pub(crate) mod compact;
 pub mod diff;
 pub mod frame;
 mod frame_codec;
@@ -270,7 +269,7 @@ pub const MAX_SNAPSHOT_BYTES: usize = 1 << 30;
 /// The bincode configuration of the payload (see `docs/architecture.md`).
 type Config = Configuration<LittleEndian, Fixint, Limit<MAX_SNAPSHOT_BYTES>>;
 
-const CONFIG: Config = bincode::config::standard()
+pub(crate) const CONFIG: Config = bincode::config::standard()
     .with_fixed_int_encoding()
     .with_limit::<MAX_SNAPSHOT_BYTES>();
 

@@ -20,6 +20,7 @@ mod level;
 pub mod query;
 mod settings;
 mod sleep;
+mod state_limits;
 mod step;
 
 use crate::limits::{LimitError, Limits};

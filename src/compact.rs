@@ -22,7 +22,7 @@
 //! The encoding is canonical: a word whose mask bit is set must not be
 //! zero, a word written in 8 bytes must not fit 4 (where the type has a
 //! narrow mask), and head bits with no meaning must be clear; the decoder rejects
-//! anything else ([`SnapshotError::Decode`](super::SnapshotError::Decode)),
+//! anything else ([`SnapshotError::Decode`](crate::snapshot::SnapshotError::Decode)),
 //! so one state has one encoding. Decoding never panics and allocates
 //! nothing per object; what it builds is then validated like any state.
 use core::marker::PhantomData;
@@ -213,10 +213,10 @@ pub(crate) fn tuple<S: Serializer>(s: S, len: usize) -> Result<S::SerializeTuple
 
 #[cfg(test)]
 mod tests {
-    use super::super::CONFIG;
     use crate::body::Body;
     use crate::math::{Real, Vect, BB};
     use crate::shape::{Geometry, Poly, Segment};
+    use crate::snapshot::CONFIG;
 
     fn encode<T: serde::Serialize>(v: &T) -> Vec<u8> {
         bincode::serde::encode_to_vec(v, CONFIG).unwrap()

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Instructions per step of built-in scenes on one thread, under callgrind:
+# (I(2N steps) − I(N steps)) / N with the release CLI, so loading the scene
+# and the process's start cancel out. Instruction counts are the stable
+# figure on a shared VM (times are not).
+#
+#   scripts/instructions-per-step.sh [N] SCENE...
+#   scripts/instructions-per-step.sh 100 pyramid_20 bowl_boxes_500 chain_100
+#
+# Needs valgrind; builds the CLI (`cargo build --release -p tamias-cli`),
+# or runs the one that TAMIAS_BIN names (to compare two builds).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+n=100
+if [[ "${1:-}" =~ ^[0-9]+$ ]]; then n=$1; shift; fi
+bin=${TAMIAS_BIN:-}
+if [[ -z "$bin" ]]; then
+    cargo build --release -q -p tamias-cli
+    bin=target/release/tamias
+fi
+out=$(mktemp -d)
+total() { # total SCENE STEPS: the instructions of the whole run
+    valgrind --tool=callgrind --callgrind-out-file="$out/cg" "$bin" run "$1" --steps "$2" --threads 1 >/dev/null 2>&1
+    awk '/^summary:/ {print $2}' "$out/cg"
+}
+for scene in "$@"; do
+    a=$(total "$scene" "$n")
+    b=$(total "$scene" $((2 * n)))
+    echo "$scene: $(( (b - a) / n )) instructions per step (steps $n..$((2 * n)))"
+done
+rm -rf "$out"
