@@ -1,4 +1,4 @@
-//! The `bullets` scene three ways, for `docs/performance.md`: without the
+//! The `bullets` scene three ways, for `docs/tuning.md`: without the
 //! bullet flags at 1 sub-step (tunnels), without them at 64 sub-steps (the
 //! brute-force fix) and with them at 1 sub-step (continuous collision).
 //! Prints, per variant, the median wall-clock time per step over `RUNS`

@@ -1,9 +1,9 @@
-//! Issue 15's level figure as the issue states it: one box on a flat static
+//! The level figure of the rollback budget: one box on a flat static
 //! level of 30,000 unit segments against the same box on a level of 10,
 //! after 30 steps (it rests). Prints, for each, the median time of a step
 //! (the box awake: each sample starts from the same saved frame), of
 //! `snapshot::save_frame_into` and of `Space::checksum`, and their ratios
-//! (`docs/performance.md`, "Where issue 15 ends"):
+//! (`docs/performance.md`, "Rollback budget"):
 //! `cargo run --release --example level_ratio [big segments] [small segments]`.
 //! The `tamias bench --rollback` scenes `level_30000` and `level_300` differ
 //! from these in more than their size (ten movers, and terrain of another

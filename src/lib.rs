@@ -36,6 +36,10 @@ pub mod constraint;
 #[cfg(feature = "debug-draw")]
 pub mod debug_draw;
 pub mod framing;
+/// The guide to using the library (`docs/guide.md`): every example in it is a
+/// doctest.
+#[doc = include_str!("../docs/guide.md")]
+pub mod guide {}
 pub mod limits;
 pub mod math;
 pub mod replay;

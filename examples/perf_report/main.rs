@@ -1,10 +1,10 @@
-//! Regenerates every table and plot of `docs/performance.md`: Tamias2D beside
-//! Rapier2D on the standard scenes (time per step and the quality it buys),
-//! the accuracy scenes at default settings, the joint scenes beside Rapier's
-//! joints (time per step and joint error), settling scenes with sleeping
-//! on in both engines (awake and settled time per step), and the
-//! speed/accuracy trade curves over solver iterations, step size and
-//! sub-steps.
+//! Regenerates every table and plot of `docs/performance.md` and
+//! `docs/tuning.md`: Tamias2D beside Rapier2D on the standard scenes (time
+//! per step and the quality it buys), the accuracy scenes at default
+//! settings, the joint scenes beside Rapier's joints (time per step and
+//! joint error), settling scenes with sleeping on in both engines (awake and
+//! settled time per step), and the speed/accuracy trade curves over solver
+//! iterations, step size and sub-steps.
 //!
 //! ```text
 //! cargo run --release --example perf_report -- --out docs     # full run (5-9 min on 2 cores)
@@ -13,9 +13,9 @@
 //! cargo run --release --example perf_report -- --out docs --only sleep    # sleeping table only (~1 min)
 //! ```
 //! Options: `--out DIR` (default `target/perf_report`): the tables go into
-//! `DIR/performance.md` between its `<!-- BEGIN perf_report:… -->` /
-//! `<!-- END … -->` markers (the file is created with bare sections if it
-//! does not exist), plots into `DIR/images/perf_*.svg`, raw numbers into
+//! `DIR/performance.md` (the trade curves into `DIR/tuning.md`) between its
+//! `<!-- BEGIN perf_report:… -->` / `<!-- END … -->` markers (the file is
+//! created with bare sections if it does not exist), plots into `DIR/images/perf_*.svg`, raw numbers into
 //! `DIR/data/perf_*.csv`. `--quick` runs the CI-sized scenes and a shorter
 //! sweep. `--skip-side`, `--skip-sweep` leave parts out; `--scenes a,b`
 //! restricts both parts to the named scenes; `--skip-substeps` leaves the

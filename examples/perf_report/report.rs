@@ -662,8 +662,8 @@ impl Report {
         Ok(())
     }
 
-    /// Writes plots, CSV files and the marked sections of `performance.md`;
-    /// returns the markdown file's path.
+    /// Writes plots, CSV files and the marked sections of `performance.md`
+    /// (the trade curves: of `tuning.md`); returns `performance.md`'s path.
     pub fn write(
         &self,
         side: bool,
@@ -701,12 +701,23 @@ impl Report {
         if sweep {
             sections.push(("trade", self.trade_section()?));
         }
+        // The trade curves belong to the settings guide (`tuning.md`), the
+        // rest to `performance.md`.
         let path = self.out.join("performance.md");
+        let tuning = self.out.join("tuning.md");
         let mut doc = fs::read_to_string(&path).unwrap_or_default();
+        let mut tuning_doc = fs::read_to_string(&tuning).unwrap_or_default();
         for (key, body) in sections {
-            doc = replace_section(&doc, key, &body);
+            if key == "trade" {
+                tuning_doc = replace_section(&tuning_doc, key, &body);
+            } else {
+                doc = replace_section(&doc, key, &body);
+            }
         }
         fs::write(&path, doc)?;
+        if sweep {
+            fs::write(&tuning, tuning_doc)?;
+        }
         Ok(path)
     }
 }
