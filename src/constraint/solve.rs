@@ -323,3 +323,19 @@ impl ConstraintScratch {
         }
     }
 }
+
+/// The joints' rows, as the contact solver interleaves them with its own
+/// in every pass.
+impl crate::solver::contact_solver::JointRows for ConstraintScratch {
+    fn is_empty(&self) -> bool {
+        ConstraintScratch::is_empty(self)
+    }
+
+    fn warm_start(&mut self, bodies: &mut [SolverBody], dt_coef: Real) {
+        ConstraintScratch::warm_start(self, bodies, dt_coef);
+    }
+
+    fn iterate(&mut self, bodies: &mut [SolverBody]) {
+        ConstraintScratch::iterate(self, bodies);
+    }
+}

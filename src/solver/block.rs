@@ -775,7 +775,7 @@ mod tests {
                 slop: Real::ZERO,
                 bias_coef: Real::ZERO,
                 max_bias: Real::MAX,
-                features: super::super::ContactFeatures::ALL,
+                switches: super::super::SolverSwitches::ALL,
             };
             let point = |i: usize| crate::arbiter::ManifoldPoint {
                 r1: Vect::new(r[i], r[i + 1]),

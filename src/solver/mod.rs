@@ -55,7 +55,7 @@
 //!     bias impulses; they move positions in the next position update but
 //!     add no momentum, so resolving overlap does not make objects bounce;
 //!   - `jb_acc`: the accumulated bias impulse;
-//!   - `bias_impulses` (setting and [`ContactFeatures`] switch): whether the
+//!   - `bias_impulses` (setting and [`SolverSwitches`] switch): whether the
 //!     bias row runs at all (`BIAS` in the monomorphised iteration).
 //! * `bounce`: restitution target, `e · (vr·n)` at the start of the step, so
 //!   the normal impulse drives `vr·n` to `−bounce`.
@@ -66,13 +66,13 @@
 use core::fmt;
 
 pub mod block;
+pub(crate) mod contact_solver;
 pub(crate) mod graph;
 pub(crate) mod sweep;
 
 use crate::arbiter::ManifoldPoint;
 use crate::constraint::kernel::{self, neg};
 use crate::math::{below_2_62, Bounded, FixedArith, Real, Saturating, Unsaturated, Vect};
-use block::ManifoldBlock;
 
 /// The per-body data the iterations touch, stored contiguously.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -97,33 +97,6 @@ impl SolverBody {
     pub fn bias_is_zero(&self) -> bool {
         (self.v_bias.x.to_bits() | self.v_bias.y.to_bits() | self.w_bias.to_bits()) == 0
     }
-}
-
-/// The solver stages' scratch in the space (stages 6–11; not simulation
-/// state): the contiguous body array, indexed by body slot, and this step's
-/// contact constraints in solve order (by color, see [`graph`]).
-#[derive(Clone, Debug, Default)]
-pub(crate) struct SolverScratch {
-    /// Velocities and inverse masses of every body slot.
-    pub(crate) bodies: Vec<SolverBody>,
-    /// One row per contact of the solved arbiters.
-    pub(crate) constraints: Vec<ContactConstraint>,
-    /// The blocks of two-contact manifolds (see [`block`]), referred to by
-    /// their first row's [`ContactConstraint::block`].
-    pub(crate) blocks: Vec<ManifoldBlock>,
-    /// The arbiters' colors: the order the rows are built and solved in.
-    pub(crate) graph: graph::ConstraintGraph,
-    /// `color_rows[c]..color_rows[c + 1]`: the rows of color `c` (the
-    /// overflow's at `c = graph::COLORS`).
-    pub(crate) color_rows: [u32; graph::COLORS + 2],
-    /// The first row of each manifold in solve order, and the end: a
-    /// color's manifolds are the pieces [`sweep`] splits it into.
-    pub(crate) manifold_rows: Vec<u32>,
-    /// The first block slot of each manifold in solve order, and the end
-    /// (a two-contact manifold has one, used if it is solved as a block).
-    pub(crate) manifold_blocks: Vec<u32>,
-    /// The bodies while threads share them ([`sweep::SharedBody`]).
-    pub(crate) shared: Vec<sweep::SharedBody>,
 }
 
 /// MIS UnsolvableCollision: both bodies have infinite mass along the
@@ -218,7 +191,7 @@ pub fn k_scalar(
 /// the warm-start stage is not run, and the iterations use a routine
 /// compiled without the friction or bias row ([`ContactConstraint::solve_with`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ContactFeatures {
+pub struct SolverSwitches {
     /// Start from last step's impulses (otherwise from zero).
     pub warm_starting: bool,
     /// Friction impulses (otherwise as if every friction were 0).
@@ -229,9 +202,9 @@ pub struct ContactFeatures {
     pub bias_impulses: bool,
 }
 
-impl ContactFeatures {
+impl SolverSwitches {
     /// Everything on (the default settings).
-    pub const ALL: ContactFeatures = ContactFeatures {
+    pub const ALL: SolverSwitches = SolverSwitches {
         warm_starting: true,
         friction: true,
         restitution: true,
@@ -239,9 +212,9 @@ impl ContactFeatures {
     };
 }
 
-impl Default for ContactFeatures {
+impl Default for SolverSwitches {
     fn default() -> Self {
-        ContactFeatures::ALL
+        SolverSwitches::ALL
     }
 }
 
@@ -258,7 +231,7 @@ pub struct ContactParams {
     /// Largest bias velocity (Chipmunk's arbiter `maxBias`, unbounded by default).
     pub max_bias: Real,
     /// The parts of the model computed this step.
-    pub features: ContactFeatures,
+    pub switches: SolverSwitches,
 }
 
 /// The arbiter-wide inputs of a contact's pre-step.
@@ -348,7 +321,7 @@ impl ContactConstraint {
     /// `1/k`, bias `−bias_coef·min(0, dist + slop)/dt` and bounce
     /// `e·(vr·n)` from the velocities before gravity. The only divisions of
     /// the contact solver happen here. Parts switched off in
-    /// `params.features` are left at zero: without friction no tangent
+    /// `params.switches` are left at zero: without friction no tangent
     /// terms (and no tangent effective mass, a division), without
     /// restitution no bounce, without bias no bias target, without warm
     /// starting no cached impulses.
@@ -741,7 +714,7 @@ fn pre_step_terms<A: FixedArith>(
     params: &ContactParams,
     ar: &mut A,
 ) -> (ContactConstraint, [Real; 2]) {
-    let f = params.features;
+    let f = params.switches;
     let n = pair.n;
     let (r1, r2) = (c.r1, c.r2);
     // k along d: (m_a + (I_a⁻¹·(r1 × d))·(r1 × d)) + (m_b + …), as `k_scalar`.
@@ -930,7 +903,7 @@ mod tests {
             slop: Real::ZERO,
             bias_coef: Real::ZERO,
             max_bias: Real::MAX,
-            features: ContactFeatures::ALL,
+            switches: SolverSwitches::ALL,
         };
         let pair = PairParams {
             a: 0,
@@ -963,7 +936,7 @@ mod tests {
             slop: Real::ZERO,
             bias_coef: Real::ZERO,
             max_bias: Real::MAX,
-            features: ContactFeatures::ALL,
+            switches: SolverSwitches::ALL,
         };
         let pair = PairParams {
             a: 0,
@@ -1155,7 +1128,7 @@ mod tests {
             slop: Real::ZERO,
             bias_coef: Real::ratio(1, 10),
             max_bias: Real::MAX,
-            features: ContactFeatures::ALL,
+            switches: SolverSwitches::ALL,
         };
         let pair = PairParams {
             a: 0,
@@ -1391,7 +1364,7 @@ mod pre_step_tests {
         let zero = SolverBody::default();
         let a = bodies.get(pair.a as usize).unwrap_or(&zero);
         let b = bodies.get(pair.b as usize).unwrap_or(&zero);
-        let f = params.features;
+        let f = params.switches;
         let n = pair.n;
         let (rn_a, rn_b) = (c.r1.cross(n), c.r2.cross(n));
         let n_mass = k_scalar(a, b, c.r1, c.r2, n).map_or(Real::ZERO, Real::recip);
@@ -1473,7 +1446,7 @@ mod pre_step_tests {
             slop: r(14),
             bias_coef: r(15),
             max_bias: r(16),
-            features: ContactFeatures {
+            switches: SolverSwitches {
                 warm_starting: f[0],
                 friction: f[1],
                 restitution: f[2],

@@ -297,18 +297,6 @@ impl Space {
         );
     }
 
-    /// Stage 9, after the contacts: the constraints' warm start, scaled
-    /// like the contacts' by `min(dt / prev_dt, 1)`.
-    pub(super) fn warm_start_constraints(&mut self) {
-        if self.caches.constraints.is_empty() {
-            return;
-        }
-        let dt_coef = self.warm_start_coef();
-        self.caches
-            .constraints
-            .warm_start(&mut self.caches.solver.bodies, dt_coef);
-    }
-
     /// Stage 11, after the contacts: accumulated impulses into the state,
     /// then the post-solve callbacks (Chipmunk runs them right after the
     /// solver, before the arbiters' post-solve).

@@ -37,7 +37,7 @@ pub use settings::{
     DEFAULT_IDLE_SPEED_THRESHOLD, DEFAULT_SLEEP_TIME_THRESHOLD, MAX_ITERATIONS, MAX_SUBSTEPS,
     SLEEP_NEVER,
 };
-pub use step::sub_step_dts;
+pub use step::{sub_step_dts, Stage};
 
 use crate::arbiter::{Arbiter, ArbiterBuffers};
 use crate::arena::{Arena, Handle};
@@ -47,7 +47,7 @@ use crate::constraint::solve::ConstraintScratch;
 use crate::constraint::{Constraint, ConstraintError, ConstraintHandle};
 use crate::math::{Real, Vect, BB};
 use crate::shape::{CollisionType, Geometry, MassSpec, Shape, ShapeError};
-use crate::solver::SolverScratch;
+use crate::solver::contact_solver::ContactSolver;
 
 pub use crate::shape::ShapeHandle;
 
@@ -288,7 +288,7 @@ pub(crate) struct Caches {
     /// Stages 4–5 ([`crate::arbiter`]).
     pub(crate) arbiters: ArbiterBuffers,
     /// Stages 6–11 (`crate::solver`).
-    pub(crate) solver: SolverScratch,
+    pub(crate) solver: ContactSolver,
     /// Stages 4 (pair filter) and 7–11 of the constraints
     /// ([`crate::constraint`]).
     pub(crate) constraints: ConstraintScratch,

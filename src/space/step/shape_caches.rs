@@ -1,0 +1,246 @@
+//! [`Stage::ShapeCaches`](super::Stage::ShapeCaches): the world-space geometry and bounding box of
+//! every shape that moved, and the lists of moving and sleeping boxes the
+//! broadphase reads. A level's static shapes are skipped while it is
+//! unchanged (`space::level`). In pieces between the threads.
+use crate::arena::Arena;
+use crate::body::{Body, BodyType};
+use crate::broadphase::Proxy;
+use crate::shape::Shape;
+
+use super::super::{ShapeCache, Space};
+
+impl Space {
+    /// [`Stage::ShapeCaches`](super::Stage::ShapeCaches): world-space geometry and bounding box of every shape of a
+    /// non-static body; static shapes' entries are rewritten only when
+    /// `statics_dirty` says statics changed (the API calls that can add,
+    /// remove, move or reshape a static shape, `restore_state` and a new
+    /// space set it), otherwise kept from the step that wrote them. A live
+    /// slot whose body is static but whose entry was not written for a
+    /// static body (a body replaced in place through `body_mut`) is written
+    /// now and marks the statics dirty. Also lists the moving shapes' boxes,
+    /// in slot order, for the broadphase's sweep.
+    pub(super) fn update_shape_caches(&mut self) {
+        let caches = &mut self.caches.shapes;
+        let bp = &mut self.caches.broadphase;
+        let rewrite = Rewrite {
+            statics: bp.statics_dirty,
+            sleepers: bp.sleepers_dirty,
+        };
+        bp.sleepers.clear();
+        let mut statics_changed = false;
+        let bodies = &self.state.bodies;
+        let shapes = &self.state.shapes;
+        let slots = shapes.capacity_slots();
+        caches.resize(slots, None);
+        bp.proxies.clear();
+        // While the statics are clean, every level slot holds its static
+        // entry already: walk the other slots only, so a big level costs
+        // nothing here (`space::level`; a change to the level flags the
+        // statics, and the walk is then complete).
+        let level = if rewrite.statics {
+            None
+        } else {
+            Some(
+                self.caches
+                    .level
+                    .take()
+                    .unwrap_or_else(|| super::super::level::LevelIndex::of(&self.state)),
+            )
+        };
+        let skip: &[(u32, u32)] = level.as_ref().map_or(&[], |l| &l.shape_runs);
+        if self.caches.threads.parallel() {
+            // With threads: the slots outside the level in pieces, each
+            // listing its own boxes, joined in slot order as below.
+            let pieces = &mut self.caches.step.cache_pieces;
+            pieces.clear();
+            for gap in crate::arena::gaps(skip, slots as u32) {
+                let mut start = gap.start;
+                while start < gap.end {
+                    let end = start.saturating_add(SHAPE_PIECE).min(gap.end);
+                    pieces.push(CachePiece {
+                        slots: start..end,
+                        ..CachePiece::default()
+                    });
+                    start = end;
+                }
+            }
+            let view = (shapes, bodies, rewrite);
+            update_caches_split(&view, caches, 0, pieces);
+            for piece in pieces.iter() {
+                bp.proxies.extend_from_slice(&piece.proxies);
+                bp.sleepers.extend_from_slice(&piece.sleepers);
+                statics_changed |= piece.statics_changed;
+            }
+        } else {
+            for i in crate::arena::outside_runs(skip, slots as u32) {
+                let Some(entry) = caches.get_mut(i as usize) else {
+                    continue;
+                };
+                let written = update_cache_entry(entry, i, shapes, bodies, rewrite);
+                statics_changed |= written.static_entry;
+                match written.listed {
+                    Listed::Neither => {}
+                    Listed::Moving(p) => bp.proxies.push(p),
+                    Listed::Sleeping(p) => bp.sleepers.push(p),
+                }
+            }
+        }
+        if statics_changed {
+            bp.statics_dirty = true;
+            // Also a body made static in place (`body_mut`): the level changed.
+            self.caches.level.set(None);
+        } else if let Some(level) = level {
+            self.caches.level.set(Some(level));
+        }
+    }
+}
+
+/// Which cache entries the shape-cache stage rewrites even if written before.
+#[derive(Clone, Copy)]
+struct Rewrite {
+    /// Static shapes' (the statics changed).
+    statics: bool,
+    /// Sleeping shapes' (bodies fell asleep or woke).
+    sleepers: bool,
+}
+
+/// What the shape-cache stage did with a shape slot: whether it wrote a static
+/// shape's entry (the statics changed), and the list its box goes to.
+struct Written {
+    static_entry: bool,
+    listed: Listed,
+}
+
+/// The list a written entry's box goes to.
+enum Listed {
+    /// None: nothing written, the slot cleared, or a static shape.
+    Neither,
+    /// A moving shape's: the sweep's.
+    Moving(Proxy),
+    /// A sleeping shape's: the sleeping tree's.
+    Sleeping(Proxy),
+}
+
+impl Written {
+    const NOTHING: Written = Written {
+        static_entry: false,
+        listed: Listed::Neither,
+    };
+}
+
+/// [`Stage::ShapeCaches`](super::Stage::ShapeCaches) for shape slot `i` and its cache `entry`.
+#[inline]
+fn update_cache_entry(
+    entry: &mut Option<ShapeCache>,
+    i: u32,
+    shapes: &Arena<Shape>,
+    bodies: &Arena<Body>,
+    rewrite: Rewrite,
+) -> Written {
+    let Some((s, body)) = shapes
+        .get_by_index(i)
+        .and_then(|(_, s)| Some((s, bodies.get(s.body)?)))
+    else {
+        *entry = None;
+        return Written::NOTHING;
+    };
+    let is_static = body.body_type() == BodyType::Static;
+    if is_static && !rewrite.statics && entry.as_ref().is_some_and(|c| c.is_static) {
+        return Written::NOTHING;
+    }
+    // A sleeping body has not moved since its entry was written
+    // (anything that could move it wakes it and sets the flag).
+    let sleeping = body.is_sleeping();
+    if sleeping && !rewrite.sleepers && entry.as_ref().is_some_and(|c| !c.is_static) {
+        return Written::NOTHING;
+    }
+    let (pos, rot) = (body.position(), body.rotation());
+    // Written over last step's entry where there is one.
+    let bb = match entry {
+        Some(c) => {
+            s.geometry.write_world_into(pos, rot, &mut c.geometry);
+            c.bb = c.geometry.bb();
+            c.is_static = is_static;
+            c.bb
+        }
+        None => {
+            let geometry = s.geometry.to_world(pos, rot);
+            let bb = geometry.bb();
+            *entry = Some(ShapeCache {
+                geometry,
+                bb,
+                is_static,
+            });
+            bb
+        }
+    };
+    let proxy = Proxy { index: i, bb };
+    Written {
+        static_entry: is_static,
+        listed: if sleeping {
+            Listed::Sleeping(proxy)
+        } else if !is_static {
+            Listed::Moving(proxy)
+        } else {
+            Listed::Neither
+        },
+    }
+}
+
+/// Shape slots per piece of the split shape-cache stage (a few µs of work).
+const SHAPE_PIECE: usize = 256;
+
+/// A piece of the split shape-cache stage: its slots, and what it found.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct CachePiece {
+    slots: core::ops::Range<usize>,
+    proxies: Vec<Proxy>,
+    sleepers: Vec<Proxy>,
+    statics_changed: bool,
+}
+
+/// [`Stage::ShapeCaches`](super::Stage::ShapeCaches) for `pieces` (in slot order), whose slots lie in `caches`
+/// from slot `base` on: halves in parallel, each piece writing its own
+/// entries and lists.
+fn update_caches_split(
+    view: &(&Arena<Shape>, &Arena<Body>, Rewrite),
+    caches: &mut [Option<ShapeCache>],
+    base: usize,
+    pieces: &mut [CachePiece],
+) {
+    let (shapes, bodies, rewrite) = *view;
+    if let [piece] = pieces {
+        piece.proxies.clear();
+        piece.sleepers.clear();
+        piece.statics_changed = false;
+        let range = piece.slots.start.wrapping_sub(base)..piece.slots.end.wrapping_sub(base);
+        let Some(entries) = caches.get_mut(range) else {
+            return;
+        };
+        for (k, entry) in entries.iter_mut().enumerate() {
+            // Slots are counted in u32 (the arena's indices).
+            let i = piece.slots.start.wrapping_add(k) as u32;
+            let written = update_cache_entry(entry, i, shapes, bodies, rewrite);
+            piece.statics_changed |= written.static_entry;
+            match written.listed {
+                Listed::Neither => {}
+                Listed::Moving(p) => piece.proxies.push(p),
+                Listed::Sleeping(p) => piece.sleepers.push(p),
+            }
+        }
+        return;
+    }
+    if pieces.is_empty() {
+        return;
+    }
+    let mid = pieces.len() / 2;
+    let (left, right) = pieces.split_at_mut(mid);
+    let cut = right.first().map_or(base, |p| p.slots.start);
+    let Some((caches_l, caches_r)) = caches.split_at_mut_checked(cut.wrapping_sub(base)) else {
+        return;
+    };
+    crate::threads::join(
+        || update_caches_split(view, caches_l, base, left),
+        || update_caches_split(view, caches_r, cut, right),
+    );
+}
