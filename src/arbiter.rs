@@ -12,7 +12,7 @@
 //! order depends only on the state.
 //!
 //! # Lifecycle
-//! Every state change is a method here; the step (`space/step.rs`) only
+//! Every state change is a method here; the step (`space/step/`) only
 //! decides when to call which:
 //!
 //! | when (step stage) | method | state |
@@ -65,7 +65,7 @@ pub struct ManifoldPoint {
     pub jt_acc: Real,
 }
 
-/// The arbiter stage's buffers in the space (stages 4–5; not simulation
+/// The arbiter stage's buffers in the space (the narrowphase stage; not simulation
 /// state): the allocation of last step's arbiter list, reused for the next
 /// one, and the indices of the arbiters solved this step.
 #[derive(Clone, Debug, Default)]
@@ -76,7 +76,7 @@ pub(crate) struct ArbiterBuffers {
     /// step.
     pub(crate) active: Vec<u32>,
     /// The narrowphase's answer for each candidate pair when threads
-    /// compute them ahead of the merge (`space/step.rs`).
+    /// compute them ahead of the merge (`space/step/`).
     pub(crate) infos: Vec<Option<crate::collision::CollisionInfo>>,
 }
 

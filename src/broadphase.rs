@@ -622,7 +622,7 @@ fn insertion_sort_by<T: Copy>(v: &mut [T], budget: usize, after: impl Fn(&T, &T)
     true
 }
 
-/// The broadphase stage's buffers in the space (stage 3; not simulation
+/// The broadphase stage's buffers in the space (the broadphase stage; not simulation
 /// state: derived from the shapes and rebuilt as needed).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct BroadphaseCache {

@@ -368,3 +368,22 @@ fn no_source_files_import_each_other_in_a_circle() {
         described.join("\n")
     );
 }
+
+#[test]
+fn the_step_table_lists_the_stages_in_run_order() {
+    let doc = fs::read_to_string(Path::new(ROOT).join("docs/architecture.md")).unwrap();
+    let start = doc
+        .find("## The step")
+        .expect("the architecture doc has its step section");
+    let documented: Vec<&str> = doc[start..]
+        .lines()
+        .skip(1)
+        .take_while(|l| !l.starts_with("## "))
+        .filter_map(|l| l.strip_prefix("| **")?.split("**").next())
+        .collect();
+    let code: Vec<&str> = tamias2d::space::Stage::ALL
+        .iter()
+        .map(|s| s.name())
+        .collect();
+    assert_eq!(documented, code);
+}

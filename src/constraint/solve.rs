@@ -118,7 +118,7 @@ pub(crate) struct ConstraintScratch {
 }
 
 impl ConstraintScratch {
-    /// Stage 4's filter list: the body pairs whose shapes must not collide.
+    /// The joint-filter stage's list: the body pairs whose shapes must not collide.
     pub(crate) fn update_filter(&mut self, constraints: &Arena<Constraint>) {
         self.no_collide.clear();
         self.no_collide
@@ -241,7 +241,7 @@ impl ConstraintScratch {
 
     /// Warm start: each row re-applies last step's accumulated impulse
     /// scaled by `dt_coef = min(dt / prev_dt, 1)` (as the contacts do, see
-    /// the space's stage 9), which becomes the accumulator the iterations
+    /// the space's warm-start stage), which becomes the accumulator the iterations
     /// start from. Without this call (warm starting off) they start from 0.
     /// The cached impulse's scaling is saturating; its application runs on
     /// the fast path (module `kernel`).
@@ -294,7 +294,7 @@ impl ConstraintScratch {
         self.rows.is_empty()
     }
 
-    /// Stage 11: the accumulated impulses back into the constraints.
+    /// The store stage: the accumulated impulses back into the constraints.
     pub(crate) fn store(&self, constraints: &mut Arena<Constraint>) {
         for row in &self.rows {
             let Some((h, _)) = constraints.get_by_index(row.slot) else {

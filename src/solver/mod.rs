@@ -445,7 +445,7 @@ impl ContactConstraint {
     /// contact is pushed apart by 8× its cached impulse and the clamp can
     /// take back only 1×, which is how a pyramid stepped at alternating
     /// 1/240 and 1/30 s exploded.) The space passes
-    /// `dt_coef = min(dt/prev_dt, 1)` (see its stage 9). With a constant
+    /// `dt_coef = min(dt/prev_dt, 1)` (see the warm-start stage). With a constant
     /// `dt`, `dt_coef` is exactly 1 and the scaling changes no bit.
     pub fn warm_start(&mut self, bodies: &mut [SolverBody], dt_coef: Real) {
         self.warm_start_at::<true>(bodies, dt_coef, (self.a, self.b));

@@ -169,7 +169,7 @@ pub(crate) fn solve_copy<const FRICTION: bool, const BIAS: bool>(
 }
 
 /// The warm start of one manifold's `rows` on a copy of its two bodies
-/// ([`ContactConstraint::warm_start_at`], in row order as stage 9).
+/// ([`ContactConstraint::warm_start_at`], in row order as the warm-start stage).
 #[inline(always)]
 pub(crate) fn warm_start_copy<const FRICTION: bool>(
     rows: &mut [ContactConstraint],

@@ -1,23 +1,23 @@
-//! Continuous collision for bullets (stage 2b of the step, see `step.rs`).
+//! Continuous collision for bullets ([`Stage::Bullets`](super::Stage::Bullets), see `step/`).
 //!
 //! A body marked with [`Body::set_bullet`](crate::body::Body::set_bullet)
 //! is swept, in every (sub-)step, from where it was before position
-//! integration (stage 1) to where the integration put it, against every
+//! integration (the integrate-positions stage) to where the integration put it, against every
 //! static and kinematic shape its swept box reaches (the static tree and
 //! the kinematic bodies' shapes). If one of its shapes would reach another
 //! shape during the motion, the body is put back on its path at the
 //! earliest such time of impact, just touching: the narrowphase of the same
-//! sub-step (stage 4) finds the contact and the solver stops the bullet
+//! sub-step (the narrowphase stage) finds the contact and the solver stops the bullet
 //! there, instead of finding it already past a thin wall. Its velocity is
 //! not changed here (the contact does that).
 //!
 //! # Where in the step
-//! After stage 2 (every shape's world geometry at the integrated pose, the
+//! After the shape-cache stage (every shape's world geometry at the integrated pose, the
 //! static tree rebuilt if statics changed) and before the broadphase, so
 //! the sweep reads only caches rebuilt from the state in this sub-step (a
 //! restored world sweeps exactly as the straight run), and the pulled-back
 //! bullet's shape caches and broadphase boxes are rewritten before any
-//! pair is looked for. The start poses are recorded just before stage 1,
+//! pair is looked for. The start poses are recorded just before the integrate-positions stage,
 //! so whatever moved the body (the default integrator or a custom one) is
 //! swept. A world without bullets pays one flag test per body.
 //!
@@ -129,7 +129,7 @@ const DELTA_MAX: Real = Real::from_bits(1 << 22);
 /// Smallest target overlap `δ` (2^-20 m).
 const DELTA_MIN: Real = Real::from_bits(1 << 12);
 
-/// Where a body was before stage 1.
+/// Where a body was before the integrate-positions stage.
 #[derive(Clone, Copy, Debug)]
 struct Pose {
     p: Vect,
@@ -151,9 +151,9 @@ impl Pose {
 #[derive(Default)]
 pub(crate) struct CcdCache {
     /// Bullets (dynamic bodies with the flag) and their poses before
-    /// stage 1, in slot order.
+    /// the integrate-positions stage, in slot order.
     bullets: Vec<(BodyHandle, Pose)>,
-    /// Kinematic bodies and their poses before stage 1 (recorded only when
+    /// Kinematic bodies and their poses before the integrate-positions stage (recorded only when
     /// there is a bullet), in slot order.
     kinematic: Vec<(BodyHandle, Pose)>,
     /// Static shape slots the swept box reaches (scratch).
@@ -218,7 +218,7 @@ impl Motion {
         (self.end.p + self.end.rot.apply(local), a + turn, rot)
     }
 
-    /// `local` placed at `t` (as stage 2 places a shape: at the body
+    /// `local` placed at `t` (as the shape-cache stage places a shape: at the body
     /// origin `p − rot·cog`).
     fn geometry_at(&self, local: &Geometry, t: Real) -> Geometry {
         let (p, _, rot) = self.at(t);
@@ -395,7 +395,7 @@ fn advance(
 }
 
 impl Space {
-    /// Before stage 1: the poses of the bullets (and, if there is one, of
+    /// Before the integrate-positions stage: the poses of the bullets (and, if there is one, of
     /// the kinematic bodies) the sweep starts from.
     pub(super) fn record_sweep_starts(&mut self) {
         let ccd = &mut self.caches.ccd;
@@ -420,7 +420,7 @@ impl Space {
         );
     }
 
-    /// Stage 2b: sweeps each bullet and pulls it back to its earliest time
+    /// [`Stage::Bullets`](super::Stage::Bullets): sweeps each bullet and pulls it back to its earliest time
     /// of impact (see the module docs); rewrites its shapes' caches and
     /// broadphase boxes. Nothing to do without bullets.
     pub(super) fn sweep_bullets(&mut self) {
@@ -554,7 +554,7 @@ impl Space {
 
     /// Puts bullet `h` at the time of `impact` on its path (carried on by
     /// a kinematic body it hit for the rest of the sub-step) and rewrites
-    /// its shapes' caches and broadphase boxes (stage 2's work for the new
+    /// its shapes' caches and broadphase boxes (the shape-cache stage's work for the new
     /// pose).
     fn move_bullet(&mut self, h: BodyHandle, start: Pose, impact: Impact) {
         let Some(body) = self.state.bodies.get_mut(h) else {

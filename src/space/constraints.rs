@@ -1,5 +1,5 @@
 //! The constraints of a space (Chipmunk `cpSpaceAddConstraint` and
-//! friends) and their part of the step (stages 4 and 7–11, see
+//! friends) and their part of the step (the joint-filter stage and prepare to store, see
 //! [`crate::constraint`]).
 use std::collections::BTreeMap;
 
@@ -276,7 +276,7 @@ impl Space {
         }
     }
 
-    /// Stage 4's filter: the body pairs of constraints with
+    /// The joint-filter stage: the body pairs of constraints with
     /// `collide_bodies = false` (read by the narrowphase).
     pub(super) fn update_constraint_filter(&mut self) {
         self.caches
@@ -284,7 +284,7 @@ impl Space {
             .update_filter(&self.state.constraints);
     }
 
-    /// Stage 7, after the contacts: the pre-solve callbacks, then one
+    /// The prepare stage, after the contacts: the pre-solve callbacks, then one
     /// solver row per constraint.
     pub(super) fn pre_step_constraints(&mut self, dt: Real, dt_inv: Real) {
         self.run_constraint_callbacks(Phase::PreSolve);
@@ -297,7 +297,7 @@ impl Space {
         );
     }
 
-    /// Stage 11, after the contacts: accumulated impulses into the state,
+    /// The store stage, after the contacts: accumulated impulses into the state,
     /// then the post-solve callbacks (Chipmunk runs them right after the
     /// solver, before the arbiters' post-solve).
     pub(super) fn store_constraint_impulses(&mut self) {

@@ -235,7 +235,7 @@ impl Space {
     /// (for the frame installs, which must leave the world untouched when
     /// they fail): a suspect that is static now drops the level cache and
     /// flags the statics (its shapes' cache entries and the static tree
-    /// must be redone; stage 2 walks the level's slots only when statics
+    /// must be redone; the shape-cache stage walks the level's slots only when statics
     /// are clean). The list stays for the step's settling.
     fn flag_level_suspects(&mut self) {
         if self.suspect_turned_static() {

@@ -280,26 +280,26 @@ pub struct StepStats {
 /// each defined by the module of its stage.
 #[derive(Default)]
 pub(crate) struct Caches {
-    /// Stage 2: world-space geometry and box of each shape, indexed by shape
-    /// slot (`None` for free slots); read by stages 3 and 4.
+    /// The shape-cache stage: world-space geometry and box of each shape, indexed by shape
+    /// slot (`None` for free slots); read by the broadphase and narrowphase stages.
     pub(crate) shapes: Vec<Option<ShapeCache>>,
-    /// Stage 3 (`crate::broadphase`).
+    /// The broadphase stage (`crate::broadphase`).
     pub(crate) broadphase: BroadphaseCache,
-    /// Stages 4–5 ([`crate::arbiter`]).
+    /// The narrowphase stage ([`crate::arbiter`]).
     pub(crate) arbiters: ArbiterBuffers,
-    /// Stages 6–11 (`crate::solver`).
+    /// The solver stages, solver bodies to store (`crate::solver`).
     pub(crate) solver: ContactSolver,
-    /// Stages 4 (pair filter) and 7–11 of the constraints
+    /// The joint filter, and the joints' part of prepare to store
     /// ([`crate::constraint`]).
     pub(crate) constraints: ConstraintScratch,
-    /// The step driver's own (`space/step.rs`): `dt` constants, sub-step
+    /// The step driver's own (`space/step/`): `dt` constants, sub-step
     /// forces, counters.
     pub(crate) step: step::StepCache,
     /// Each body's shapes (not a stage: kept by the building operations).
     pub(crate) body_shapes: body_shapes::BodyShapes,
-    /// Stage 2b: the bullets' sweep (`space/ccd.rs`).
+    /// The bullets stage's sweep (`space/ccd.rs`).
     pub(crate) ccd: ccd::CcdCache,
-    /// Stage 13b's buffers (`space/sleep.rs`).
+    /// The sleep stage's buffers (`space/sleep.rs`).
     pub(crate) sleep: sleep::SleepScratch,
     /// The level's digest and slot runs (`space/level.rs`), computed on
     /// first use; `None` after a change to the level.
@@ -1067,7 +1067,7 @@ impl Space {
                     "the cached level index is not the state's".into(),
                 ));
             }
-            // Stage 2 skips the level's slots while statics are clean: each
+            // The shape-cache stage skips the level's slots while statics are clean: each
             // must hold its static entry.
             if !self.caches.broadphase.statics_dirty {
                 for i in fresh.shape_runs.iter().flat_map(|&(a, b)| a..b) {

@@ -6,7 +6,7 @@
 //!   the step (touching, not sensors, not ignored by a handler) and by
 //!   constraints. Static and kinematic bodies join no island: a floor under
 //!   two piles does not make them one island.
-//! * **Falling asleep** (stage 13b, after the solver): every awake dynamic
+//! * **Falling asleep** (the sleep stage, after the solver): every awake dynamic
 //!   body adds `dt` to its idle time while `|v|² + (I/m)·ω² ≤
 //!   idle_speed_threshold²`, and restarts from 0 otherwise (and while it
 //!   touches or is jointed to a moving kinematic body, or may not sleep). An
@@ -20,7 +20,7 @@
 //!   and sit in the broadphase's sleeping tree (queried by moving shapes
 //!   only, so sleeping shapes cost nothing against each other or statics),
 //!   it is not in the narrowphase or the solver. Queries still see it.
-//! * **Waking** (the whole island, in root order): stage 3b, when a moving
+//! * **Waking** (the whole island, in root order): the wake stage, when a moving
 //!   shape (an awake dynamic body's, or a kinematic body's that moves or was
 //!   changed through `body_mut`) touches a sleeping one (narrowphase, not
 //!   just boxes; sensors and pairs a handler ignores do not wake); and
@@ -46,7 +46,7 @@ use crate::body::{Body, BodyHandle, BodyType};
 use crate::collision::collide;
 use crate::math::Real;
 
-/// Buffers of stage 13b, kept between steps so that a step allocates
+/// Buffers of the sleep stage, kept between steps so that a step allocates
 /// nothing once they have grown (contents are rewritten every step).
 #[derive(Default)]
 pub(crate) struct SleepScratch {
@@ -106,7 +106,7 @@ fn moving_kinematic(b: &Body) -> bool {
 }
 
 impl Space {
-    /// Stage 13b: idle times, islands, and islands falling asleep. `active`
+    /// [`Stage::Sleep`](super::Stage::Sleep): idle times, islands, and islands falling asleep. `active`
     /// holds the indices of the arbiters solved in this sub-step.
     pub(super) fn update_sleep(&mut self, dt: Real, active: &[u32]) {
         let settings = &self.state.settings;
@@ -330,9 +330,9 @@ impl Space {
         self.wake_islands(&roots, self.state.stamp);
     }
 
-    /// Stage 3b: wakes the islands that a moving shape touches, found among
+    /// [`Stage::Wake`](super::Stage::Wake): wakes the islands that a moving shape touches, found among
     /// the broadphase's candidate pairs; true if any woke (the caller then
-    /// redoes stages 2–3 with their shapes moving).
+    /// redoes the shape-cache and broadphase stages with their shapes moving).
     pub(super) fn wake_touched_islands(&mut self) -> bool {
         if self.caches.broadphase.sleeping_tree.is_empty() {
             return false;
@@ -444,7 +444,7 @@ impl Space {
             .collect()
     }
 
-    /// Stage 1's part: a static or kinematic body that a custom position
+    /// The integrate-positions stage's part: a static or kinematic body that a custom position
     /// integrator moved wakes what touched it and what it now overlaps.
     pub(super) fn wake_for_moved(&mut self, h: BodyHandle) {
         let mut roots = self.roots_touching(h.index());

@@ -5,7 +5,7 @@ use crate::broadphase::Proxy;
 use super::super::Space;
 
 impl Space {
-    /// [`Stage::Broadphase`](super::Stage::Broadphase): moving shapes are swept (their boxes listed by stage 2),
+    /// [`Stage::Broadphase`](super::Stage::Broadphase): moving shapes are swept (their boxes listed by the shape-cache stage),
     /// static shapes come from the static tree (rebuilt only when statics
     /// changed). False, with no pairs, when there are more than the
     /// space's limits allow.
