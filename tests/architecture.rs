@@ -68,11 +68,51 @@ fn module_of(file: &Path) -> Vec<String> {
 }
 
 /// The library code of a file: its lines up to its test module, without
-/// comments (doc links may point anywhere).
-fn code_lines(text: &str) -> Vec<&str> {
-    text.lines()
+/// comments (doc links may point anywhere), each `use` declaration joined
+/// into one line and its braces expanded: `use a::{b, c::D};` becomes
+/// `use a::b;` and `use a::c::D;`.
+fn code_lines(text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut pending: Option<String> = None;
+    for line in text
+        .lines()
         .take_while(|l| !l.starts_with("#[cfg(test)]"))
         .filter(|l| !l.trim_start().starts_with("//"))
+    {
+        let t = line.trim();
+        let starts_use = ["use ", "pub use ", "pub(crate) use ", "pub(super) use "]
+            .iter()
+            .any(|p| t.starts_with(p));
+        match pending.as_mut() {
+            Some(p) => p.push_str(t),
+            None if starts_use => pending = Some(t.to_string()),
+            None => {
+                out.push(line.to_string());
+                continue;
+            }
+        }
+        if t.ends_with(';') {
+            out.extend(expand_use(&pending.take().unwrap_or_default()));
+        }
+    }
+    out
+}
+
+/// `use a::{b, c::D};` as `use a::b;` and `use a::c::D;` (one level of
+/// braces, as rustfmt writes them); other lines unchanged.
+fn expand_use(stmt: &str) -> Vec<String> {
+    let (Some(open), Some(close)) = (stmt.find('{'), stmt.rfind('}')) else {
+        return vec![stmt.to_string()];
+    };
+    let (head, items) = (&stmt[..open], &stmt[open + 1..close]);
+    items
+        .split(',')
+        .map(str::trim)
+        .filter(|i| !i.is_empty())
+        .map(|i| match i {
+            "self" => format!("{};", head.trim_end_matches("::")),
+            _ => format!("{head}{i};"),
+        })
         .collect()
 }
 
@@ -187,6 +227,7 @@ fn sources() -> Vec<Source> {
             let lines = code_lines(&text);
             let children: BTreeSet<String> = lines
                 .iter()
+                .map(String::as_str)
                 .filter_map(|l| {
                     let l = l.trim_start();
                     let l = l
@@ -200,7 +241,7 @@ fn sources() -> Vec<Source> {
                 .collect();
             let mut reexports = BTreeMap::new();
             let mut names = Vec::new();
-            for l in &lines {
+            for l in lines.iter().map(String::as_str) {
                 let found = named_paths(l, &module, &children);
                 let t = l.trim_start();
                 if t.starts_with("pub use ") || t.starts_with("pub(crate) use ") {
@@ -212,6 +253,27 @@ fn sources() -> Vec<Source> {
                     continue;
                 }
                 names.extend(found.into_iter().filter(|s| !s.is_empty()));
+            }
+            // A name the file hands on and also uses itself is an import.
+            let uses_word = |word: &str| {
+                lines
+                    .iter()
+                    .filter(|l| !l.contains(" use ") && !l.starts_with("use "))
+                    .any(|l| {
+                        l.match_indices(word).any(|(i, _)| {
+                            let before = l[..i].chars().next_back();
+                            let after = l[i + word.len()..].chars().next();
+                            let ident = |c: Option<char>| {
+                                c.is_some_and(|c| c.is_ascii_alphanumeric() || c == '_')
+                            };
+                            !ident(before) && !ident(after)
+                        })
+                    })
+            };
+            for (item, path) in &reexports {
+                if uses_word(item) {
+                    names.push(path.clone());
+                }
             }
             Source {
                 path,
@@ -344,22 +406,28 @@ fn no_source_files_import_each_other_in_a_circle() {
             visit(v, &edges, &mut st, &mut circles);
         }
     }
+    let name = |i: usize| {
+        srcs[i]
+            .path
+            .strip_prefix(ROOT)
+            .unwrap()
+            .display()
+            .to_string()
+    };
     let described: Vec<String> = circles
         .iter()
         .map(|c| {
-            let mut names: Vec<String> = c
+            let mut arrows: Vec<String> = c
                 .iter()
-                .map(|&i| {
-                    srcs[i]
-                        .path
-                        .strip_prefix(ROOT)
-                        .unwrap()
-                        .display()
-                        .to_string()
+                .flat_map(|&i| {
+                    edges[i]
+                        .iter()
+                        .filter(|j| c.contains(j))
+                        .map(move |&j| format!("  {} -> {}", name(i), name(j)))
                 })
                 .collect();
-            names.sort();
-            names.join(" ↔ ")
+            arrows.sort();
+            format!("a circle of {} files:\n{}", c.len(), arrows.join("\n"))
         })
         .collect();
     assert!(

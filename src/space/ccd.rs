@@ -119,7 +119,8 @@ use crate::collision::{separation, SupportShape, CONTACT_TOLERANCE};
 use crate::math::{Real, Rot, Vect, BB};
 use crate::shape::Geometry;
 
-use super::{ShapeCache, Space};
+use super::step::ShapeCache;
+use super::Space;
 
 /// Iteration cap of one time-of-impact search (see the module docs).
 pub const MAX_TOI_ITERATIONS: u32 = 20;

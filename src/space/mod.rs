@@ -11,8 +11,10 @@
 //!   (closures cannot be serialized; a game re-attaches them by collision
 //!   type after loading a snapshot).
 mod body_shapes;
+mod caches;
 mod ccd;
 mod constraints;
+mod error;
 mod frame;
 pub mod handlers;
 mod ledger;
@@ -20,13 +22,13 @@ mod level;
 pub mod query;
 mod settings;
 mod sleep;
+mod state;
 mod state_limits;
 mod step;
+mod validate;
 
-use crate::limits::{LimitError, Limits};
+use crate::limits::Limits;
 use core::fmt;
-
-use serde::{Deserialize, Serialize};
 
 pub use ccd::MAX_TOI_ITERATIONS;
 pub use constraints::{ConstraintContext, ConstraintFn};
@@ -39,282 +41,20 @@ pub use settings::{
 };
 pub use step::{sub_step_dts, Stage};
 
-use crate::arbiter::{Arbiter, ArbiterBuffers};
-use crate::arena::{Arena, Handle};
-use crate::body::{Body, BodyError, BodyHandle, BodyType};
+use crate::arbiter::Arbiter;
+use crate::arena::Handle;
+use crate::body::{Body, BodyHandle, BodyType};
 use crate::broadphase::BroadphaseCache;
-use crate::constraint::solve::ConstraintScratch;
-use crate::constraint::{Constraint, ConstraintError, ConstraintHandle};
-use crate::math::{Real, Vect, BB};
-use crate::shape::{CollisionType, Geometry, MassSpec, Shape, ShapeError};
-use crate::solver::contact_solver::ContactSolver;
+use crate::math::{Real, Vect};
+use crate::shape::{CollisionType, Shape, ShapeError};
 
 pub use crate::shape::ShapeHandle;
-
-/// Errors of space operations. Each leaves the space unchanged.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum SpaceError {
-    /// The body handle is stale or from another space.
-    StaleBody(BodyHandle),
-    /// The shape handle is stale or from another space.
-    StaleShape(ShapeHandle),
-    /// The constraint handle is stale or from another space.
-    StaleConstraint(ConstraintHandle),
-    /// A constraint's parameters are invalid.
-    Constraint(ConstraintError),
-    /// A body invariant is violated.
-    Body(BodyError),
-    /// A shape is invalid.
-    Shape(ShapeError),
-    /// `dt` was negative.
-    NegativeTimeStep,
-    /// A setting is out of its range.
-    InvalidSetting(&'static str),
-    /// An arena is full (2^32 − 1 objects).
-    Full,
-    /// The operation is not allowed while the step runs (use a post-step callback).
-    Locked,
-    /// The handle was made by another space.
-    ForeignHandle,
-    /// A step left the world breaking an invariant of [`validate_state`]
-    /// (named in the message): an engine bug. Only returned by builds with
-    /// the `validate` feature, which checks the state after every step
-    /// (see [`VALIDATES_STEPS`]).
-    InvalidState(String),
-    /// Over one of the space's [`Limits`]: a loaded state or frame (nothing
-    /// changed), or a step whose broadphase found more candidate pairs
-    /// than `max_pairs` (the step stopped after moving the bodies, before
-    /// any contact: the world is valid but between two frames; restore a
-    /// saved one).
-    OverLimit(LimitError),
-    /// A state given to [`Space::try_from_state`] or
-    /// [`Space::try_restore_state`] breaks an invariant of
-    /// [`validate_state`] (named in the message); nothing changed.
-    RejectedState(String),
-    /// [`Space::step`] refused: this dynamic body has no mass (no explicit
-    /// mass, and no shape with a mass or density), so no contact could stop
-    /// it. Give it a mass (`Body::new`, `Body::set_mass`) or a shape a
-    /// density (`Shape::set_density`). The first such body in slot order.
-    MasslessDynamicBody(BodyHandle),
-    /// A sleep request the rules refuse (see [`Space::sleep_body`]).
-    Sleep(&'static str),
-    /// A frame ([`FrameState`]) of another level: its level digest is not
-    /// the world's (the static bodies or their shapes differ, see
-    /// [`Space::level_digest`]).
-    LevelMismatch {
-        /// Level digest stored in the frame.
-        frame: u64,
-        /// Level digest of this world.
-        world: u64,
-    },
-    /// A frame whose slots do not fit around this world's level (named in
-    /// the message): not saved from a world with this level.
-    FrameMismatch(String),
-}
-
-impl fmt::Display for SpaceError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SpaceError::StaleBody(h) => {
-                write!(f, "body handle {h:?} is stale or from another space")
-            }
-            SpaceError::StaleShape(h) => {
-                write!(f, "shape handle {h:?} is stale or from another space")
-            }
-            SpaceError::StaleConstraint(h) => {
-                write!(f, "constraint handle {h:?} is stale or from another space")
-            }
-            SpaceError::Constraint(e) => write!(f, "{e}"),
-            SpaceError::Body(e) => write!(f, "{e}"),
-            SpaceError::Shape(e) => write!(f, "{e}"),
-            SpaceError::NegativeTimeStep => f.write_str("time step must not be negative"),
-            SpaceError::InvalidSetting(why) => write!(f, "invalid setting: {why}"),
-            SpaceError::Full => f.write_str("too many objects in the space"),
-            SpaceError::Locked => {
-                f.write_str("space is locked during the step; use a post-step callback")
-            }
-            SpaceError::ForeignHandle => f.write_str("handle belongs to another space"),
-            SpaceError::InvalidState(why) => write!(f, "the step broke an invariant: {why}"),
-            SpaceError::RejectedState(why) => write!(f, "invalid world state: {why}"),
-            SpaceError::OverLimit(e) => write!(f, "over a limit of the space (Space::set_limits): {e}"),
-            SpaceError::MasslessDynamicBody(h) => write!(
-                f,
-                "dynamic body {h:?} has no mass: give it a mass or a shape with mass or density"
-            ),
-            SpaceError::Sleep(why) => write!(f, "cannot sleep: {why}"),
-            SpaceError::LevelMismatch { frame, world } => write!(
-                f,
-                "the frame belongs to another level (level digest {frame:#018x}, this world's {world:#018x}): \
-                 the static bodies or their shapes changed since it was saved"
-            ),
-            SpaceError::FrameMismatch(why) => {
-                write!(f, "the frame does not fit this world's level: {why}")
-            }
-        }
-    }
-}
-
-impl std::error::Error for SpaceError {}
-
-impl From<BodyError> for SpaceError {
-    fn from(e: BodyError) -> Self {
-        SpaceError::Body(e)
-    }
-}
-
-impl From<ConstraintError> for SpaceError {
-    fn from(e: ConstraintError) -> Self {
-        SpaceError::Constraint(e)
-    }
-}
-
-impl From<ShapeError> for SpaceError {
-    fn from(e: ShapeError) -> Self {
-        SpaceError::Shape(e)
-    }
-}
-
-/// Everything that affects future steps: what a snapshot holds.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct WorldState {
-    /// Settings.
-    pub settings: Settings,
-    /// Bodies.
-    pub bodies: Arena<Body>,
-    /// Shapes.
-    pub shapes: Arena<Shape>,
-    /// Arbiters, sorted by `(shape_a, shape_b)` slot index.
-    pub arbiters: Vec<Arbiter>,
-    /// Number of sub-steps taken (MIS `stamp`: arbiters count in it).
-    pub stamp: u64,
-    /// Number of [`Space::step`] calls with `dt > 0` (each is `substeps`
-    /// sub-steps; scenes schedule spawns by it).
-    pub steps: u64,
-    /// `dt` of the last (sub-)step (0 before the first).
-    pub current_dt: Real,
-    /// `dt` of the (sub-)step before (scales warm starting).
-    pub prev_dt: Real,
-    /// Constraints (joints), in slot order (the order they are solved in).
-    pub constraints: Arena<Constraint>,
-    /// Arbiters of sleeping islands, sorted by pair key like `arbiters`
-    /// (no pair in both): kept with their contacts and impulses while the
-    /// island sleeps; their `stamp` holds their age (see `space::sleep`).
-    pub dormant_arbiters: Vec<Arbiter>,
-}
-
-/// The derive's hash (each field in declaration order), except that a
-/// constraint arena that never held a constraint (no slots) adds nothing:
-/// a world without joints has the checksum it had before constraints
-/// existed, so the committed goldens of joint-free scenes stay valid. An
-/// arena with slots (live or freed) is hashed whole, after the counters.
-impl core::hash::Hash for WorldState {
-    fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
-        // Every field named: a new one is a compile error until hashed.
-        let WorldState {
-            settings,
-            bodies,
-            shapes,
-            arbiters,
-            stamp,
-            steps,
-            current_dt,
-            prev_dt,
-            constraints,
-            dormant_arbiters,
-        } = self;
-        settings.hash(h);
-        bodies.hash(h);
-        shapes.hash(h);
-        arbiters.hash(h);
-        stamp.hash(h);
-        steps.hash(h);
-        current_dt.hash(h);
-        prev_dt.hash(h);
-        if constraints.capacity_slots() > 0 {
-            constraints.hash(h);
-        }
-        dormant_arbiters.hash(h);
-    }
-}
-
-/// Per-shape world-space cache: rewritten each step for shapes of
-/// non-static bodies, only when statics changed for static ones.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct ShapeCache {
-    pub(crate) geometry: Geometry,
-    pub(crate) bb: BB,
-    /// Written for a shape of a static body.
-    pub(crate) is_static: bool,
-}
-
-/// Counters of the last step, for diagnostics and benchmarks (not state).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct StepStats {
-    /// Shape pairs whose bounding boxes overlap (broadphase output).
-    pub candidate_pairs: u32,
-    /// Pairs that touch (narrowphase found contacts).
-    pub touching_pairs: u32,
-    /// Contacts sent to the solver.
-    pub solver_contacts: u32,
-    /// Narrowphase calls where GJK or EPA stopped at its iteration cap
-    /// (MIS WARN_GJK/WARN_EPA): the scene is outside the tested envelope.
-    pub iteration_cap_hits: u32,
-    /// Bodies that ended the step with a component of position, velocity
-    /// or angular velocity at `Real::MIN` or `Real::MAX`: saturated, i.e.
-    /// outside the representable range (see the safe envelope in
-    /// `docs/numerics.md`). Zero for every scene inside the envelope.
-    /// Sleeping bodies are not counted: they do not move, and were
-    /// counted in the steps before they fell asleep.
-    pub saturated_bodies: u32,
-    /// Dynamic bodies with infinite mass (no explicit mass and no shape
-    /// with mass or density): gravity moves them but no contact can stop
-    /// them, so they fall through everything — almost always a missing
-    /// density. [`Space::step`] refuses to start with one
-    /// ([`SpaceError::MasslessDynamicBody`]), so this is 0 unless a
-    /// post-step callback made one between two sub-steps of a step. Counted
-    /// when the solver loads the bodies.
-    pub massless_dynamic_bodies: u32,
-}
-
-/// Caches derived from the state, never serialized: one struct per stage,
-/// each defined by the module of its stage.
-#[derive(Default)]
-pub(crate) struct Caches {
-    /// The shape-cache stage: world-space geometry and box of each shape, indexed by shape
-    /// slot (`None` for free slots); read by the broadphase and narrowphase stages.
-    pub(crate) shapes: Vec<Option<ShapeCache>>,
-    /// The broadphase stage (`crate::broadphase`).
-    pub(crate) broadphase: BroadphaseCache,
-    /// The narrowphase stage ([`crate::arbiter`]).
-    pub(crate) arbiters: ArbiterBuffers,
-    /// The solver stages, solver bodies to store (`crate::solver`).
-    pub(crate) solver: ContactSolver,
-    /// The joint filter, and the joints' part of prepare to store
-    /// ([`crate::constraint`]).
-    pub(crate) constraints: ConstraintScratch,
-    /// The step driver's own (`space/step/`): `dt` constants, sub-step
-    /// forces, counters.
-    pub(crate) step: step::StepCache,
-    /// Each body's shapes (not a stage: kept by the building operations).
-    pub(crate) body_shapes: body_shapes::BodyShapes,
-    /// The bullets stage's sweep (`space/ccd.rs`).
-    pub(crate) ccd: ccd::CcdCache,
-    /// The sleep stage's buffers (`space/sleep.rs`).
-    pub(crate) sleep: sleep::SleepScratch,
-    /// The level's digest and slot runs (`space/level.rs`), computed on
-    /// first use; `None` after a change to the level.
-    pub(crate) level: core::cell::Cell<Option<level::LevelIndex>>,
-    /// Body slots given out by `body_mut` while not static since the level
-    /// was last settled (one may have been made static), each with whether
-    /// it was dynamic then (one may have been made static or kinematic).
-    pub(crate) level_suspects: Vec<(u32, bool)>,
-    /// The frame `snapshot::Space::load_frame_snapshot` decodes into and
-    /// swaps in (afterwards, the frame it replaced): its buffers are
-    /// reused from load to load.
-    pub(crate) spare_frame: FrameState,
-    /// The threads the step may use ([`Space::set_threads`]).
-    pub(crate) threads: crate::threads::Threads,
-}
+pub(crate) use caches::Caches;
+pub use error::SpaceError;
+pub use state::WorldState;
+pub use step::StepStats;
+pub use validate::validate_state;
+pub(crate) use validate::validate_state_trusting_level;
 
 /// The world: bodies, shapes, arbiters, settings and handlers.
 pub struct Space {
@@ -1116,172 +856,6 @@ fn adopt_handles(state: &mut WorldState, origin: u32) {
         arb.body_a = arb.body_a.with_origin(origin);
         arb.body_b = arb.body_b.with_origin(origin);
     }
-}
-
-/// Checks a [`WorldState`]'s invariants (see [`Space::validate`]): settings
-/// in range; step counters consistent (no `dt` before the first step, a
-/// positive one after it); arenas (free lists, lengths); every body's
-/// invariants and cached inverses; every shape's body link, geometry and
-/// mass specification; constraints (parameters, two different live
-/// bodies); arbiter order, references, contact counts (cleared slots past
-/// the count), states and stamps. Returns a description of the
-/// first violation. What it checks of each field of the state, or why it
-/// checks nothing, is listed in the field ledger (`space/ledger.rs`), which
-/// the compiler keeps complete.
-pub fn validate_state(state: &WorldState) -> Result<(), String> {
-    validate_state_with(state, None)
-}
-
-/// [`validate_state`] for a world whose level (static bodies and their
-/// shapes, in `level`'s slots) is known valid: a frame installed around
-/// this world's own level. The level objects' own checks and the arenas'
-/// free lists (checked on the frame's parts before installing,
-/// `ArenaPart::check_bookkeeping`) are skipped; a static body or a static
-/// body's shape outside the level's slots is an error; everything that
-/// refers to the level is checked as usual.
-pub(crate) fn validate_state_trusting_level(
-    state: &WorldState,
-    level: &level::LevelIndex,
-) -> Result<(), String> {
-    validate_state_with(state, Some(level))
-}
-
-fn validate_state_with(
-    state: &WorldState,
-    level: Option<&level::LevelIndex>,
-) -> Result<(), String> {
-    state
-        .settings
-        .validate()
-        .map_err(|e| format!("settings: {e}"))?;
-    validate_counters(state)?;
-    if level.is_none() {
-        state
-            .bodies
-            .validate()
-            .map_err(|e| format!("bodies: {e}"))?;
-        state
-            .shapes
-            .validate()
-            .map_err(|e| format!("shapes: {e}"))?;
-    }
-    // With a trusted level, its slots are skipped, and a frame slot may not
-    // add to the level (its digest would no longer be the world's).
-    let (body_runs, shape_runs) = level.map_or((&[][..], &[][..]), |l| {
-        (l.body_runs.as_slice(), l.shape_runs.as_slice())
-    });
-    let bodies = crate::arena::outside_runs(body_runs, state.bodies.capacity_slots() as u32)
-        .filter_map(|i| state.bodies.get_by_index(i));
-    for (h, b) in bodies {
-        if level.is_some() && b.body_type() == BodyType::Static {
-            return Err(format!(
-                "body {h:?}: a frame holds no static body (static bodies are the level)"
-            ));
-        }
-        b.validate_derived()
-            .map_err(|e| format!("body {h:?}: {e}"))?;
-        if !b.can_step() {
-            return Err(format!(
-                "body {h:?}: a dynamic body without mass (inverse mass 0) cannot step"
-            ));
-        }
-    }
-    // Piles repeat one local geometry; checking each distinct run once
-    // spares the polygon checks' square roots (exact either way).
-    let mut checked: Option<&Geometry> = None;
-    let shapes = crate::arena::outside_runs(shape_runs, state.shapes.capacity_slots() as u32)
-        .filter_map(|i| state.shapes.get_by_index(i));
-    for (h, s) in shapes {
-        let Some(body) = state.bodies.get(s.body) else {
-            return Err(format!("shape {h:?} names missing body {:?}", s.body));
-        };
-        if level.is_some() && body.body_type() == BodyType::Static {
-            return Err(format!(
-                "shape {h:?}: a frame holds no shape of a static body (they are the level)"
-            ));
-        }
-        if checked != Some(&s.geometry) {
-            s.geometry
-                .validate()
-                .map_err(|e| format!("shape {h:?}: {e}"))?;
-            checked = Some(&s.geometry);
-        }
-        s.material
-            .validate()
-            .map_err(|e| format!("shape {h:?}: {e}"))?;
-        if let MassSpec::Mass(v) | MassSpec::Density(v) = s.mass_spec {
-            if v.is_negative() {
-                return Err(format!("shape {h:?}: negative mass or density"));
-            }
-        }
-    }
-    crate::constraint::validate_constraints(&state.constraints, &state.bodies)?;
-    let mut prev: Option<(u32, u32)> = None;
-    for arb in &state.arbiters {
-        let key = arb.key();
-        if key.0 >= key.1 || prev.is_some_and(|p| p >= key) {
-            return Err(format!("arbiter {key:?} out of canonical order"));
-        }
-        prev = Some(key);
-        validate_arbiter(state, arb)?;
-    }
-    sleep::validate_sleep(state)
-}
-
-/// One arbiter's references, contact count, unused slots, state and
-/// stamp (live arbiters, and dormant ones with their age made a stamp).
-fn validate_arbiter(state: &WorldState, arb: &Arbiter) -> Result<(), String> {
-    let key = arb.key();
-    let (Some(a), Some(b)) = (state.shapes.get(arb.shape_a), state.shapes.get(arb.shape_b)) else {
-        return Err(format!("arbiter {key:?} names a missing shape"));
-    };
-    if a.body != arb.body_a || b.body != arb.body_b {
-        return Err(format!("arbiter {key:?} bodies do not match its shapes"));
-    }
-    if arb.count() != usize::from(arb.count) {
-        return Err(format!("arbiter {key:?} has too many contacts"));
-    }
-    // The narrowphase never pairs a body with itself or two bodies that
-    // cannot move, and neither a shape's body nor a body's type changes.
-    let dynamic = |h| state.bodies.get(h).is_some_and(Body::is_dynamic);
-    if arb.body_a == arb.body_b || !(dynamic(arb.body_a) || dynamic(arb.body_b)) {
-        return Err(format!("arbiter {key:?} pairs bodies that never collide"));
-    }
-    arb.validate(state.stamp)
-        .map_err(|e| format!("arbiter {key:?}: {e}"))?;
-    // The narrowphase clears the slots past the count, so that the state
-    // (and its checksum) does not depend on earlier contacts.
-    let unused = arb.contacts.get(arb.count()..).unwrap_or(&[]);
-    if unused.iter().any(|c| *c != Default::default()) {
-        return Err(format!("arbiter {key:?} has data past its contact count"));
-    }
-    Ok(())
-}
-
-/// Step counter and time steps: a step with `dt > 0` is the only thing that
-/// advances `stamp`, and it shifts `current_dt` into `prev_dt`.
-fn validate_counters(state: &WorldState) -> Result<(), String> {
-    let (cur, prev) = (state.current_dt, state.prev_dt);
-    let ok = match state.stamp {
-        0 => cur.is_zero() && prev.is_zero(),
-        1 => cur.is_positive() && prev.is_zero(),
-        _ => cur.is_positive() && prev.is_positive(),
-    };
-    if !ok {
-        return Err(format!(
-            "stamp {} with current dt {cur} and previous dt {prev}",
-            state.stamp
-        ));
-    }
-    // Every step has at least one sub-step (a positive dt has at least one
-    // non-empty sub-step), so there are never more steps than sub-steps.
-    if state.steps > state.stamp {
-        return Err(format!(
-            "{} steps but only {} sub-steps",
-            state.steps, state.stamp
-        ));
-    }
-    Ok(())
 }
 
 #[cfg(test)]

@@ -40,7 +40,7 @@
 //! Every choice is made in slot order from state alone, and the sleep
 //! records and dormant arbiters are world state (snapshots, checksum,
 //! `first_difference`, validation).
-use super::{Space, SpaceError, WorldState};
+use super::{Space, SpaceError};
 use crate::arbiter::Arbiter;
 use crate::body::{Body, BodyHandle, BodyType};
 use crate::collision::collide;
@@ -627,57 +627,4 @@ fn merge_by_key(a: Vec<Arbiter>, b: Vec<Arbiter>) -> Vec<Arbiter> {
         out.extend(next);
     }
     out
-}
-
-/// The sleep part of [`validate_state`](super::validate_state): every
-/// sleeping body's root is a sleeping body whose root is itself; dormant
-/// arbiters are sorted, share no pair with a live one, have no awake
-/// dynamic body, pass the arbiter checks with their age (`stamp`) at most
-/// the world's stamp, and are never mid-step first collisions.
-pub(super) fn validate_sleep(state: &WorldState) -> Result<(), String> {
-    for (h, b) in state.bodies.iter() {
-        let Some(root) = b.sleep.island else {
-            continue;
-        };
-        let root_ok = state
-            .bodies
-            .get_by_index(root)
-            .is_some_and(|(_, r)| r.sleep.island == Some(root));
-        if !root_ok {
-            return Err(format!(
-                "body {h:?} sleeps in island {root}, which is not a sleeping root"
-            ));
-        }
-    }
-    let mut prev: Option<(u32, u32)> = None;
-    for arb in &state.dormant_arbiters {
-        let key = arb.key();
-        if key.0 >= key.1 || prev.is_some_and(|p| p >= key) {
-            return Err(format!("dormant arbiter {key:?} out of canonical order"));
-        }
-        prev = Some(key);
-        if state
-            .arbiters
-            .binary_search_by_key(&key, Arbiter::key)
-            .is_ok()
-        {
-            return Err(format!("dormant arbiter {key:?} is also live"));
-        }
-        let awake = |h| state.bodies.get(h).is_some_and(awake_dynamic);
-        let asleep = |h| state.bodies.get(h).is_some_and(Body::is_sleeping);
-        if awake(arb.body_a) || awake(arb.body_b) || !(asleep(arb.body_a) || asleep(arb.body_b)) {
-            return Err(format!(
-                "dormant arbiter {key:?} does not rest between sleeping bodies"
-            ));
-        }
-        // Checked as if it touched `age` steps before the world's stamp.
-        let age = arb.stamp;
-        if age >= state.stamp {
-            return Err(format!("dormant arbiter {key:?} is older than the world"));
-        }
-        let mut as_live = arb.clone();
-        as_live.stamp = state.stamp.saturating_sub(age);
-        super::validate_arbiter(state, &as_live)?;
-    }
-    Ok(())
 }

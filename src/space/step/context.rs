@@ -1,11 +1,12 @@
 //! What a sub-step computes once and every stage reads: the per-`dt`
 //! constants, the solver switches and the contact solver's parameters
-//! ([`StepContext`]); and the step driver's own caches ([`StepCache`]).
+//! ([`StepContext`]); the step driver's own caches ([`StepCache`]) and the
+//! counters of the last step ([`StepStats`]).
 use crate::body::BodyHandle;
 use crate::math::{exp, Real, Vect};
 use crate::solver::{ContactParams, SolverSwitches};
 
-use super::super::{Settings, StepStats};
+use super::super::Settings;
 use super::shape_caches::CachePiece;
 
 /// The per-`dt` constants: the only `pow`, reciprocal and such of a step.
@@ -89,4 +90,33 @@ pub(crate) struct StepCache {
     /// With threads: the pieces of the shape-cache stage and what each
     /// found (scratch, kept so that a warm step does not allocate).
     pub(crate) cache_pieces: Vec<CachePiece>,
+}
+
+/// Counters of the last step, for diagnostics and benchmarks (not state).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StepStats {
+    /// Shape pairs whose bounding boxes overlap (broadphase output).
+    pub candidate_pairs: u32,
+    /// Pairs that touch (narrowphase found contacts).
+    pub touching_pairs: u32,
+    /// Contacts sent to the solver.
+    pub solver_contacts: u32,
+    /// Narrowphase calls where GJK or EPA stopped at its iteration cap
+    /// (MIS WARN_GJK/WARN_EPA): the scene is outside the tested envelope.
+    pub iteration_cap_hits: u32,
+    /// Bodies that ended the step with a component of position, velocity
+    /// or angular velocity at `Real::MIN` or `Real::MAX`: saturated, i.e.
+    /// outside the representable range (see the safe envelope in
+    /// `docs/numerics.md`). Zero for every scene inside the envelope.
+    /// Sleeping bodies are not counted: they do not move, and were
+    /// counted in the steps before they fell asleep.
+    pub saturated_bodies: u32,
+    /// Dynamic bodies with infinite mass (no explicit mass and no shape
+    /// with mass or density): gravity moves them but no contact can stop
+    /// them, so they fall through everything — almost always a missing
+    /// density. [`Space::step`](crate::space::Space::step) refuses to start with one
+    /// ([`SpaceError::MasslessDynamicBody`](crate::space::SpaceError::MasslessDynamicBody)), so this is 0 unless a
+    /// post-step callback made one between two sub-steps of a step. Counted
+    /// when the solver loads the bodies.
+    pub massless_dynamic_bodies: u32,
 }

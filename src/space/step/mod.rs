@@ -36,7 +36,9 @@ mod positions;
 mod shape_caches;
 mod stages;
 
+pub use context::StepStats;
 pub(crate) use context::{StepCache, StepContext};
+pub(crate) use shape_caches::ShapeCache;
 pub use stages::Stage;
 
 /// The lengths of the `substeps` sub-steps of a step of `dt`, in order:
@@ -202,6 +204,17 @@ impl Space {
     fn step_context(&mut self, dt: Real) -> StepContext {
         let cache = &mut self.caches.step.dt_constants;
         StepContext::new(dt, &self.state.settings, cache)
+    }
+
+    /// [`Stage::ShapeCaches`], on the space's parts it reads and writes.
+    fn update_shape_caches(&mut self) {
+        shape_caches::update_shape_caches(
+            &self.state,
+            &mut self.caches.shapes,
+            &mut self.caches.broadphase,
+            &self.caches.level,
+            &mut self.caches.step.cache_pieces,
+        );
     }
 
     /// [`Stage::SolverBodies`]: velocities and inverse masses into the

@@ -13,7 +13,9 @@ use crate::collision::{collide, CollisionInfo};
 use crate::constraint::solve::ConstraintScratch;
 use crate::shape::Shape;
 
-use super::super::{ShapeCache, Space, StepStats};
+use super::super::Space;
+use super::context::StepStats;
+use super::shape_caches::ShapeCache;
 
 impl Space {
     /// [`Stage::Narrowphase`](super::Stage::Narrowphase): narrowphase and arbiter matching. Old and new arbiters

@@ -2,96 +2,93 @@
 //! every shape that moved, and the lists of moving and sleeping boxes the
 //! broadphase reads. A level's static shapes are skipped while it is
 //! unchanged (`space::level`). In pieces between the threads.
+use core::cell::Cell;
+
 use crate::arena::Arena;
 use crate::body::{Body, BodyType};
-use crate::broadphase::Proxy;
-use crate::shape::Shape;
+use crate::broadphase::{BroadphaseCache, Proxy};
+use crate::math::BB;
+use crate::shape::{Geometry, Shape};
 
-use super::super::{ShapeCache, Space};
+use super::super::level::LevelIndex;
+use super::super::state::WorldState;
 
-impl Space {
-    /// [`Stage::ShapeCaches`](super::Stage::ShapeCaches): world-space geometry and bounding box of every shape of a
-    /// non-static body; static shapes' entries are rewritten only when
-    /// `statics_dirty` says statics changed (the API calls that can add,
-    /// remove, move or reshape a static shape, `restore_state` and a new
-    /// space set it), otherwise kept from the step that wrote them. A live
-    /// slot whose body is static but whose entry was not written for a
-    /// static body (a body replaced in place through `body_mut`) is written
-    /// now and marks the statics dirty. Also lists the moving shapes' boxes,
-    /// in slot order, for the broadphase's sweep.
-    pub(super) fn update_shape_caches(&mut self) {
-        let caches = &mut self.caches.shapes;
-        let bp = &mut self.caches.broadphase;
-        let rewrite = Rewrite {
-            statics: bp.statics_dirty,
-            sleepers: bp.sleepers_dirty,
-        };
-        bp.sleepers.clear();
-        let mut statics_changed = false;
-        let bodies = &self.state.bodies;
-        let shapes = &self.state.shapes;
-        let slots = shapes.capacity_slots();
-        caches.resize(slots, None);
-        bp.proxies.clear();
-        // While the statics are clean, every level slot holds its static
-        // entry already: walk the other slots only, so a big level costs
-        // nothing here (`space::level`; a change to the level flags the
-        // statics, and the walk is then complete).
-        let level = if rewrite.statics {
-            None
-        } else {
-            Some(
-                self.caches
-                    .level
-                    .take()
-                    .unwrap_or_else(|| super::super::level::LevelIndex::of(&self.state)),
-            )
-        };
-        let skip: &[(u32, u32)] = level.as_ref().map_or(&[], |l| &l.shape_runs);
-        if self.caches.threads.parallel() {
-            // With threads: the slots outside the level in pieces, each
-            // listing its own boxes, joined in slot order as below.
-            let pieces = &mut self.caches.step.cache_pieces;
-            pieces.clear();
-            for gap in crate::arena::gaps(skip, slots as u32) {
-                let mut start = gap.start;
-                while start < gap.end {
-                    let end = start.saturating_add(SHAPE_PIECE).min(gap.end);
-                    pieces.push(CachePiece {
-                        slots: start..end,
-                        ..CachePiece::default()
-                    });
-                    start = end;
-                }
-            }
-            let view = (shapes, bodies, rewrite);
-            update_caches_split(&view, caches, 0, pieces);
-            for piece in pieces.iter() {
-                bp.proxies.extend_from_slice(&piece.proxies);
-                bp.sleepers.extend_from_slice(&piece.sleepers);
-                statics_changed |= piece.statics_changed;
-            }
-        } else {
-            for i in crate::arena::outside_runs(skip, slots as u32) {
-                let Some(entry) = caches.get_mut(i as usize) else {
-                    continue;
-                };
-                let written = update_cache_entry(entry, i, shapes, bodies, rewrite);
-                statics_changed |= written.static_entry;
-                match written.listed {
-                    Listed::Neither => {}
-                    Listed::Moving(p) => bp.proxies.push(p),
-                    Listed::Sleeping(p) => bp.sleepers.push(p),
-                }
-            }
+/// Per-shape world-space cache: rewritten each step for shapes of
+/// non-static bodies, only when statics changed for static ones.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ShapeCache {
+    pub(crate) geometry: Geometry,
+    pub(crate) bb: BB,
+    /// Written for a shape of a static body.
+    pub(crate) is_static: bool,
+}
+
+/// [`Stage::ShapeCaches`](super::Stage::ShapeCaches): world-space geometry
+/// and bounding box of every shape of a non-static body into `caches`
+/// (indexed by shape slot); static shapes' entries are rewritten only when
+/// `bp.statics_dirty` says statics changed (the API calls that can add,
+/// remove, move or reshape a static shape, `restore_state` and a new space
+/// set it), otherwise kept from the step that wrote them. A live slot whose
+/// body is static but whose entry was not written for a static body (a
+/// body replaced in place through `body_mut`) is written now and marks the
+/// statics dirty (and forgets the `level`). Lists the moving and sleeping
+/// shapes' boxes, in slot order, in `bp` for the broadphase.
+///
+/// One path for any thread count: the slots outside the level in
+/// [`SHAPE_PIECE`]s, halves in parallel where there are threads (inline on
+/// one), each piece listing its own boxes, joined in slot order.
+pub(crate) fn update_shape_caches(
+    state: &WorldState,
+    caches: &mut Vec<Option<ShapeCache>>,
+    bp: &mut BroadphaseCache,
+    level_cache: &Cell<Option<LevelIndex>>,
+    pieces: &mut Vec<CachePiece>,
+) {
+    let rewrite = Rewrite {
+        statics: bp.statics_dirty,
+        sleepers: bp.sleepers_dirty,
+    };
+    bp.sleepers.clear();
+    bp.proxies.clear();
+    let (bodies, shapes) = (&state.bodies, &state.shapes);
+    let slots = shapes.capacity_slots();
+    caches.resize(slots, None);
+    // While the statics are clean, every level slot holds its static entry
+    // already: walk the other slots only, so a big level costs nothing here
+    // (`space::level`; a change to the level flags the statics, and the
+    // walk is then complete).
+    let level = if rewrite.statics {
+        None
+    } else {
+        Some(level_cache.take().unwrap_or_else(|| LevelIndex::of(state)))
+    };
+    let skip: &[(u32, u32)] = level.as_ref().map_or(&[], |l| &l.shape_runs);
+    pieces.clear();
+    for gap in crate::arena::gaps(skip, slots as u32) {
+        let mut start = gap.start;
+        while start < gap.end {
+            let end = start.saturating_add(SHAPE_PIECE).min(gap.end);
+            pieces.push(CachePiece {
+                slots: start..end,
+                ..CachePiece::default()
+            });
+            start = end;
         }
-        if statics_changed {
-            bp.statics_dirty = true;
-            // Also a body made static in place (`body_mut`): the level changed.
-            self.caches.level.set(None);
-        } else if let Some(level) = level {
-            self.caches.level.set(Some(level));
-        }
+    }
+    let view = (shapes, bodies, rewrite);
+    update_caches_split(&view, caches, 0, pieces);
+    let mut statics_changed = false;
+    for piece in pieces.iter() {
+        bp.proxies.extend_from_slice(&piece.proxies);
+        bp.sleepers.extend_from_slice(&piece.sleepers);
+        statics_changed |= piece.statics_changed;
+    }
+    if statics_changed {
+        bp.statics_dirty = true;
+        // Also a body made static in place (`body_mut`): the level changed.
+        level_cache.set(None);
+    } else if let Some(level) = level {
+        level_cache.set(Some(level));
     }
 }
 
