@@ -16,7 +16,8 @@
 //! Cost: `closest_points_new` does one 128-bit division (`closest_t`) and one
 //! multiply-only normalisation; `contact_points` at most eight `mul_div`s
 //! (only for clip points inside an edge). GJK and EPA call them once per pair.
-use super::{CollisionInfo, Edge, MinkowskiPoint, WarmStartId, CONTACT_TOLERANCE};
+use super::info::{CollisionInfo, WarmStartId, CONTACT_TOLERANCE};
+use super::support::{Edge, MinkowskiPoint};
 use crate::math::wide;
 use crate::math::{Real, Vect};
 

@@ -31,9 +31,11 @@
 //!   so far with `hit_iteration_cap` set.
 use super::contact::{closest_points_new, nearest_feature, ClosestPoints, Nearest};
 use super::support::{support, MinkowskiPoint, SupportContext, SupportShape};
-use super::WARN_EPA_ITERATIONS;
 use crate::math::wide;
 use crate::shape::geometry::next_index;
+
+/// EPA iteration cap (MIS `WARN_EPA_ITERATIONS`); the same reasoning as GJK.
+pub const WARN_EPA_ITERATIONS: u32 = 30;
 
 /// Hull capacity: the starting triangle plus one point per iteration.
 const HULL_CAP: usize = WARN_EPA_ITERATIONS as usize + 3;

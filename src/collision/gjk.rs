@@ -28,10 +28,16 @@
 //! indices of its edge; starting there usually ends GJK in one iteration.
 use super::contact::{closest_points_new, nearest_feature, pack_id, ClosestPoints, Nearest};
 use super::epa::epa;
+use super::info::WarmStartId;
 use super::support::{support, MinkowskiPoint, SupportContext, SupportPoint, SupportShape};
-use super::{WarmStartId, WARN_GJK_ITERATIONS};
 use crate::math::wide;
 use crate::math::Vect;
+
+/// GJK iteration cap (MIS `WARN_GJK_ITERATIONS`). Two polygons of at most 8
+/// vertices have a Minkowski difference of at most 16 vertices, and GJK on
+/// exact predicates visits each edge at most once, so 30 is never reached in
+/// practice; Chipmunk uses the same number as its hard limit.
+pub const WARN_GJK_ITERATIONS: u32 = 30;
 
 /// MIS `GJK`: closest points of the cores of `ctx.a` and `ctx.b`, or (through
 /// EPA) their penetration. `id` is the warm-start id of the previous answer for

@@ -41,12 +41,12 @@
 //! roundings depend on which shape is `a`); this is where exactness comes
 //! from. Two identical shapes are the same computation in both orders and
 //! cannot give opposite normals.
+use super::canonical::{compare_circles, compare_polys, compare_segments};
 use super::contact::{contact_points, ClosestPoints};
 use super::gjk::gjk;
+use super::info::{swap_id_shapes, CollisionInfo, CONTACT_TOLERANCE};
 use super::sat::poly_to_poly_sat;
 use super::support::{support_edge_for_poly, support_edge_for_segment, SupportContext};
-use super::{compare_circles, compare_polys, compare_segments, swap_id_shapes};
-use super::{CollisionInfo, CONTACT_TOLERANCE};
 use crate::math::wide;
 use crate::math::wide::raw_sq;
 use crate::math::{Real, Vect};

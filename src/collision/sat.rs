@@ -50,8 +50,8 @@
 //! Degenerate polygons (fewer than 3 vertices, or a zero stored normal, which
 //! only unchecked construction can produce) take the GJK path.
 use super::contact::{contact_points, ClosestPoints};
+use super::info::{CollisionInfo, CONTACT_TOLERANCE};
 use super::support::support_edge_for_poly;
-use super::{CollisionInfo, CONTACT_TOLERANCE};
 use crate::math::wide;
 use crate::math::{Real, Vect};
 use crate::shape::Poly;

@@ -14,7 +14,7 @@
 //! Support queries compare exact 128-bit dot products (`wide::dot`), and ties
 //! go to the lowest index, so the chosen vertex is the same on every platform
 //! and unaffected by rounding.
-use super::WarmStartId;
+use super::info::WarmStartId;
 use crate::math::wide;
 use crate::math::{Real, Vect};
 use crate::shape::geometry::next_index;

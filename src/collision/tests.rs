@@ -1,8 +1,10 @@
 //! Unit tests of the narrow phase entry: the circle and polygon kernels
 //! against the general path, swap and translation exactness, degenerate
 //! inputs.
+use super::canonical::flat;
 use super::*;
 use crate::real;
+use crate::shape::Segment;
 
 fn boxed(w: i32, h: i32, at: Vect) -> Geometry {
     let p = Poly::new_box(Real::from_int(w), Real::from_int(h), Real::ZERO)

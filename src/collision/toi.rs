@@ -17,9 +17,9 @@
 //! between the two bounding boxes, which never exceeds the true distance,
 //! and no direction (`Vect::ZERO`: the sweep then uses its full motion
 //! bound).
+use super::canonical::{anchor_of, is_empty, moved};
 use super::gjk::gjk;
 use super::support::{SupportContext, SupportShape};
-use super::{anchor_of, is_empty, moved};
 use crate::math::{Real, Vect};
 use crate::shape::Geometry;
 

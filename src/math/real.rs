@@ -17,6 +17,8 @@
 //!   value with the sign of the dividend otherwise (the limit of `a / ε`).
 //! * `sqrt`: floor of the exact root (integer square root on 128 bits, full
 //!   range); negative input gives `0`.
+//! * `sin_cos`, `atan2`: defined in [`trig`](super::trig), beside the integer
+//!   routines they call.
 //!
 //! Saturation is the only deviation from exact arithmetic, and it happens only
 //! outside the documented safe envelope.
@@ -451,19 +453,6 @@ impl Real {
     #[inline(always)]
     pub const fn floor_int(self) -> i64 {
         self.0 >> FRAC_BITS
-    }
-
-    /// Sine and cosine of an angle in radians, over the whole range.
-    /// See [`trig`](super::trig) for method and error bound.
-    #[inline]
-    pub fn sin_cos(self) -> (Real, Real) {
-        super::trig::sin_cos(self)
-    }
-
-    /// Four-quadrant arctangent of `self / x` in `[-π, π]`; `atan2(0, 0) = 0`.
-    #[inline]
-    pub fn atan2(self, x: Real) -> Real {
-        super::trig::atan2(self, x)
     }
 }
 

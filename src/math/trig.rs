@@ -295,6 +295,23 @@ pub fn atan2(y: Real, x: Real) -> Real {
     Real::from_bits(if yb < 0 { -r } else { r })
 }
 
+/// The trigonometric methods of [`Real`], defined here beside the routines
+/// they call so that `real.rs` stays below this module.
+impl Real {
+    /// Sine and cosine of an angle in radians, over the whole range.
+    /// See [`trig`](self) for method and error bound.
+    #[inline]
+    pub fn sin_cos(self) -> (Real, Real) {
+        sin_cos(self)
+    }
+
+    /// Four-quadrant arctangent of `self / x` in `[-π, π]`; `atan2(0, 0) = 0`.
+    #[inline]
+    pub fn atan2(self, x: Real) -> Real {
+        atan2(self, x)
+    }
+}
+
 #[cfg(test)]
 #[allow(clippy::float_arithmetic)]
 mod tests {

@@ -1,5 +1,6 @@
 //! Mass helpers of the MIS (Chipmunk `cpMomentFor*`, `cpAreaFor*`,
-//! `cpCentroidForPoly`) and the per-shape [`MassInfo`].
+//! `cpCentroidForPoly`) and the per-shape [`MassInfo`]
+//! ([`Shape::mass_info`]).
 //!
 //! # Exactness
 //! The formulas are Chipmunk 7's, but evaluated on integers: squares, cross
@@ -24,7 +25,7 @@
 //! with a mass of `density · w · h` the moment `m (w² + h²)/12` saturates
 //! above a side of ≈ 337 at density 1 (≈ 60 at density 1000): use metres,
 //! not pixels. Areas saturate above ≈ 46,340 × 46,340.
-use super::{Geometry, MassInfo, MassSpec};
+use super::{Geometry, MassInfo, MassSpec, Shape};
 use crate::math::wide::{raw_diff, raw_sq, raw_sum, saturate_to_real, I256};
 use crate::math::{Real, Vect, BB};
 
@@ -282,6 +283,16 @@ pub fn shape_mass_info(geometry: &Geometry, spec: MassSpec) -> MassInfo {
         moment_per_mass,
         cog,
         area,
+    }
+}
+
+/// The mass method of [`Shape`], defined here beside the formulas it uses
+/// so that the shape module itself does not call into this one.
+impl Shape {
+    /// Mass properties: area, centroid and moment per unit mass from the
+    /// geometry, mass from the mass specification.
+    pub fn mass_info(&self) -> MassInfo {
+        shape_mass_info(&self.geometry, self.mass_spec)
     }
 }
 

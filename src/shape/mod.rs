@@ -574,12 +574,6 @@ impl Shape {
         self.material = material;
         Ok(self)
     }
-
-    /// Mass properties: area, centroid and moment per unit mass from the
-    /// geometry, mass from the mass specification.
-    pub fn mass_info(&self) -> MassInfo {
-        mass::shape_mass_info(&self.geometry, self.mass_spec)
-    }
 }
 
 fn check_radius(radius: Real) -> Result<(), ShapeError> {
