@@ -139,8 +139,8 @@ fn named_paths(line: &str, module: &[String], children: &BTreeSet<String>) -> Ve
         segs
     };
     for (i, _) in line.match_indices("crate::") {
-        if line[..i].ends_with(|c: char| is_ident(c)) {
-            continue; // `$crate::`, `tamias2d_crate::`…
+        if line[..i].ends_with(|c: char| is_ident(c)) || line[..i].ends_with("pub(in ") {
+            continue; // `$crate::`, `tamias2d_crate::`, a visibility…
         }
         out.push(segments(&line[i + 7..]));
     }

@@ -8,9 +8,9 @@ use crate::solver::contact_solver::ContactSolver;
 
 use super::body_shapes::BodyShapes;
 use super::ccd::CcdCache;
-use super::frame::FrameState;
+use super::frame_state::FrameState;
+use super::islands::SleepScratch;
 use super::level::LevelIndex;
-use super::sleep::SleepScratch;
 use super::step::{ShapeCache, StepCache};
 
 /// Caches derived from the state, never serialized: one struct per stage,

@@ -113,33 +113,29 @@
 //! through in the sub-step after the one that put it against the shape. A
 //! pre-solve handler that rejects the contact lets it through a sub-step
 //! or two later (the pair is swept down to the margin first).
-use crate::arbiter::Arbiter;
-use crate::body::{Body, BodyHandle, BodyType};
+use crate::body::{Body, BodyHandle};
 use crate::collision::{separation, SupportShape, CONTACT_TOLERANCE};
 use crate::math::{Real, Rot, Vect, BB};
 use crate::shape::Geometry;
-
-use super::step::ShapeCache;
-use super::Space;
 
 /// Iteration cap of one time-of-impact search (see the module docs).
 pub const MAX_TOI_ITERATIONS: u32 = 20;
 
 /// Largest target overlap `δ` from the slop (2^-10 m, about 1 mm).
-const DELTA_MAX: Real = Real::from_bits(1 << 22);
+pub(super) const DELTA_MAX: Real = Real::from_bits(1 << 22);
 /// Smallest target overlap `δ` (2^-20 m).
 const DELTA_MIN: Real = Real::from_bits(1 << 12);
 
 /// Where a body was before the integrate-positions stage.
 #[derive(Clone, Copy, Debug)]
-struct Pose {
+pub(super) struct Pose {
     p: Vect,
     a: Real,
     rot: Rot,
 }
 
 impl Pose {
-    fn of(b: &Body) -> Pose {
+    pub(super) fn of(b: &Body) -> Pose {
         Pose {
             p: b.p,
             a: b.a,
@@ -153,32 +149,32 @@ impl Pose {
 pub(crate) struct CcdCache {
     /// Bullets (dynamic bodies with the flag) and their poses before
     /// the integrate-positions stage, in slot order.
-    bullets: Vec<(BodyHandle, Pose)>,
+    pub(super) bullets: Vec<(BodyHandle, Pose)>,
     /// Kinematic bodies and their poses before the integrate-positions stage (recorded only when
     /// there is a bullet), in slot order.
-    kinematic: Vec<(BodyHandle, Pose)>,
+    pub(super) kinematic: Vec<(BodyHandle, Pose)>,
     /// Static shape slots the swept box reaches (scratch).
-    candidates: Vec<u32>,
+    pub(super) candidates: Vec<u32>,
     /// Time-of-impact hits of the last sub-step (bullets pulled back).
     pub(crate) hits: u32,
 }
 
 /// A body's motion over the sub-step, `t ∈ [0, 1]`.
 #[derive(Clone, Copy, Debug)]
-struct Motion {
+pub(super) struct Motion {
     p0: Vect,
-    dp: Vect,
-    a0: Real,
-    da: Real,
-    rot0: Rot,
-    cog: Vect,
+    pub(super) dp: Vect,
+    pub(super) a0: Real,
+    pub(super) da: Real,
+    pub(super) rot0: Rot,
+    pub(super) cog: Vect,
     /// The pose at `t = 1` as the integration left it (`at(1)` may differ
     /// from it by rounding).
-    end: Pose,
+    pub(super) end: Pose,
 }
 
 impl Motion {
-    fn new(start: Pose, end: &Body) -> Motion {
+    pub(super) fn new(start: Pose, end: &Body) -> Motion {
         Motion {
             p0: start.p,
             dp: end.p - start.p,
@@ -191,12 +187,12 @@ impl Motion {
     }
 
     /// A body that does not move (a static one).
-    fn fixed(b: &Body) -> Motion {
+    pub(super) fn fixed(b: &Body) -> Motion {
         Motion::new(Pose::of(b), b)
     }
 
     /// Centre of gravity, angle and rotation at `t`.
-    fn at(&self, t: Real) -> (Vect, Real, Rot) {
+    pub(super) fn at(&self, t: Real) -> (Vect, Real, Rot) {
         let p = self.p0 + self.dp * t;
         if self.da.is_zero() {
             return (p, self.a0, self.rot0);
@@ -207,7 +203,7 @@ impl Motion {
 
     /// Where a point that is at `(p, a, rot)` at time `t` and moves with
     /// this body from then on is at `t = 1`.
-    fn carry(&self, t: Real, (p, a, rot): (Vect, Real, Rot)) -> (Vect, Real, Rot) {
+    pub(super) fn carry(&self, t: Real, (p, a, rot): (Vect, Real, Rot)) -> (Vect, Real, Rot) {
         let (q, b, r) = self.at(t);
         let local = r.apply_inv(p - q);
         let turn = self.end.a - b;
@@ -221,7 +217,7 @@ impl Motion {
 
     /// `local` placed at `t` (as the shape-cache stage places a shape: at the body
     /// origin `p − rot·cog`).
-    fn geometry_at(&self, local: &Geometry, t: Real) -> Geometry {
+    pub(super) fn geometry_at(&self, local: &Geometry, t: Real) -> Geometry {
         let (p, _, rot) = self.at(t);
         local.to_world(p - rot.apply(self.cog), rot)
     }
@@ -229,7 +225,7 @@ impl Motion {
 
 /// The largest distance of a core point of `local` from `cog`, rounded up:
 /// a point of the shape moves by at most this times the angle turned.
-fn reach(local: &Geometry, cog: Vect) -> Real {
+pub(super) fn reach(local: &Geometry, cog: Vect) -> Real {
     let far = |v: Vect| (v - cog).length();
     let r = match local {
         Geometry::Circle(c) => far(c.offset),
@@ -266,7 +262,7 @@ fn inner_point(local: &Geometry) -> Vect {
 /// plus the rounding radius). A shape that moves less than this in a
 /// sub-step cannot pass anything: its centre never reaches the far side of
 /// what it hits.
-fn half_thickness(local: &Geometry) -> Real {
+pub(super) fn half_thickness(local: &Geometry) -> Real {
     match local {
         Geometry::Circle(c) => c.radius,
         Geometry::Segment(s) => s.radius,
@@ -286,26 +282,26 @@ fn half_thickness(local: &Geometry) -> Real {
 
 /// One side of a swept pair: its shape in body coordinates, its motion
 /// and its reach.
-struct Swept<'a> {
-    local: &'a Geometry,
-    motion: Motion,
-    reach: Real,
+pub(super) struct Swept<'a> {
+    pub(super) local: &'a Geometry,
+    pub(super) motion: Motion,
+    pub(super) reach: Real,
 }
 
 impl Swept<'_> {
-    fn at(&self, t: Real) -> Geometry {
+    pub(super) fn at(&self, t: Real) -> Geometry {
         self.motion.geometry_at(self.local, t)
     }
 
     /// How far a point of the shape can move per unit of `t` by turning.
-    fn turn_bound(&self) -> Real {
+    pub(super) fn turn_bound(&self) -> Real {
         self.motion.da.abs() * self.reach
     }
 
     /// The swept box over `[0, 1]`: the boxes at both ends, grown by the
     /// turn bound (a turning point leaves the segment between its ends by
     /// at most that) and by `margin`.
-    fn swept_bb(&self, end: &BB, margin: Real) -> BB {
+    pub(super) fn swept_bb(&self, end: &BB, margin: Real) -> BB {
         self.at(Real::ZERO)
             .bb()
             .merge(end)
@@ -326,7 +322,12 @@ fn target_overlap(slop: Real, full: Real) -> Real {
 /// discrete step handles that). If they already touch at `t = 0`,
 /// `Some(t)` if they would overlap by more than `margin` (or, if they
 /// overlap by more already, by more than at `t = 0`).
-fn time_of_impact(a: &Swept<'_>, b: &Swept<'_>, slop: Real, margin: Real) -> Option<Real> {
+pub(super) fn time_of_impact(
+    a: &Swept<'_>,
+    b: &Swept<'_>,
+    slop: Real,
+    margin: Real,
+) -> Option<Real> {
     let full = motion_bound(a, b);
     if full < margin {
         return None;
@@ -393,230 +394,6 @@ fn advance(
         }
     }
     Some(t)
-}
-
-impl Space {
-    /// Before the integrate-positions stage: the poses of the bullets (and, if there is one, of
-    /// the kinematic bodies) the sweep starts from.
-    pub(super) fn record_sweep_starts(&mut self) {
-        let ccd = &mut self.caches.ccd;
-        ccd.bullets.clear();
-        ccd.kinematic.clear();
-        ccd.hits = 0;
-        let bodies = &self.state.bodies;
-        ccd.bullets.extend(
-            bodies
-                .iter()
-                .filter(|(_, b)| b.bullet && b.body_type == BodyType::Dynamic)
-                .map(|(h, b)| (h, Pose::of(b))),
-        );
-        if ccd.bullets.is_empty() {
-            return;
-        }
-        ccd.kinematic.extend(
-            bodies
-                .iter()
-                .filter(|(_, b)| b.body_type == BodyType::Kinematic)
-                .map(|(h, b)| (h, Pose::of(b))),
-        );
-    }
-
-    /// [`Stage::Bullets`](super::Stage::Bullets): sweeps each bullet and pulls it back to its earliest time
-    /// of impact (see the module docs); rewrites its shapes' caches and
-    /// broadphase boxes. Nothing to do without bullets.
-    pub(super) fn sweep_bullets(&mut self) {
-        if self.caches.ccd.bullets.is_empty() {
-            return;
-        }
-        self.update_static_tree();
-        self.update_constraint_filter();
-        let bullets = core::mem::take(&mut self.caches.ccd.bullets);
-        for &(h, start) in &bullets {
-            if let Some(impact) = self.bullet_impact(h, start) {
-                self.move_bullet(h, start, impact);
-            }
-        }
-        self.caches.ccd.bullets = bullets;
-    }
-
-    /// The earliest time of impact of bullet `h` (which started the
-    /// sub-step at `start`) with a static or kinematic shape.
-    fn bullet_impact(&mut self, h: BodyHandle, start: Pose) -> Option<Impact> {
-        let body = self.state.bodies.get(h)?;
-        let motion = Motion::new(start, body);
-        let slop = self.state.settings.collision_slop;
-        let own = self.caches.body_shapes.of(&self.state.shapes, h);
-        let mut candidates = core::mem::take(&mut self.caches.ccd.candidates);
-        let mut best: Option<Impact> = None;
-        for ia in own {
-            let Some((_, sa)) = self.state.shapes.get_by_index(ia) else {
-                continue;
-            };
-            let Some(end) = self.caches.shapes.get(ia as usize).and_then(Option::as_ref) else {
-                continue;
-            };
-            if sa.sensor {
-                continue;
-            }
-            let a = Swept {
-                local: &sa.geometry,
-                motion,
-                reach: reach(&sa.geometry, body.cog),
-            };
-            // Half its half thickness (Box2D v3's margin): moving less is
-            // slow; no sweep takes it deeper into what it touches.
-            let margin = half_thickness(&sa.geometry) * Real::HALF;
-            let bb = a.swept_bb(&end.bb, DELTA_MAX);
-            candidates.clear();
-            if a.motion.dp.length() + a.turn_bound() >= margin {
-                self.caches
-                    .broadphase
-                    .static_tree
-                    .query(&bb, |i| candidates.push(i));
-            }
-            for &ib in &candidates {
-                let Some(b) = self.static_target(ib) else {
-                    continue;
-                };
-                if self.pair_is_swept(ia, ib) {
-                    let toi = time_of_impact(&a, &b, slop, margin);
-                    best = earlier(best, toi.map(|t| Impact { t, carrier: None }));
-                }
-            }
-            for &(kh, kstart) in &self.caches.ccd.kinematic {
-                let Some(kbody) = self.state.bodies.get(kh) else {
-                    continue;
-                };
-                let kmotion = Motion::new(kstart, kbody);
-                let Some(kshapes) = self.caches.body_shapes.built(kh.index()) else {
-                    continue;
-                };
-                for &ib in kshapes {
-                    let Some((_, sb)) = self.state.shapes.get_by_index(ib) else {
-                        continue;
-                    };
-                    let Some(kend) = self.caches.shapes.get(ib as usize).and_then(Option::as_ref)
-                    else {
-                        continue;
-                    };
-                    let b = Swept {
-                        local: &sb.geometry,
-                        motion: kmotion,
-                        reach: reach(&sb.geometry, kbody.cog),
-                    };
-                    if b.swept_bb(&kend.bb, Real::ZERO).intersects(&bb)
-                        && self.pair_is_swept(ia, ib)
-                    {
-                        let toi = time_of_impact(&a, &b, slop, margin);
-                        let carrier = Some(kmotion);
-                        best = earlier(best, toi.map(|t| Impact { t, carrier }));
-                    }
-                }
-            }
-        }
-        self.caches.ccd.candidates = candidates;
-        best
-    }
-
-    /// The static shape in slot `i` as a sweep target.
-    fn static_target(&self, i: u32) -> Option<Swept<'_>> {
-        let (_, s) = self.state.shapes.get_by_index(i)?;
-        let body = self.state.bodies.get(s.body)?;
-        Some(Swept {
-            local: &s.geometry,
-            motion: Motion::fixed(body),
-            reach: Real::ZERO,
-        })
-    }
-
-    /// True if shapes `ia` (a bullet's) and `ib` could make a contact: the
-    /// narrowphase's filter (different bodies, filters, sensors, joints),
-    /// and not a pair a begin handler rejected (ignored until it separates).
-    fn pair_is_swept(&self, ia: u32, ib: u32) -> bool {
-        let (Some((_, sa)), Some((_, sb))) = (
-            self.state.shapes.get_by_index(ia),
-            self.state.shapes.get_by_index(ib),
-        ) else {
-            return false;
-        };
-        let key = (ia.min(ib), ia.max(ib));
-        let arbiters = &self.state.arbiters;
-        let ignored = arbiters
-            .binary_search_by_key(&key, Arbiter::key)
-            .ok()
-            .and_then(|k| arbiters.get(k))
-            .is_some_and(Arbiter::is_ignored);
-        sa.body != sb.body
-            && !sb.sensor
-            && !sa.filter.rejects(&sb.filter)
-            && !self.caches.constraints.rejects(sa.body, sb.body)
-            && !ignored
-    }
-
-    /// Puts bullet `h` at the time of `impact` on its path (carried on by
-    /// a kinematic body it hit for the rest of the sub-step) and rewrites
-    /// its shapes' caches and broadphase boxes (the shape-cache stage's work for the new
-    /// pose).
-    fn move_bullet(&mut self, h: BodyHandle, start: Pose, impact: Impact) {
-        let Some(body) = self.state.bodies.get_mut(h) else {
-            return;
-        };
-        let at = Motion::new(start, body).at(impact.t);
-        let (p, a, rot) = match impact.carrier {
-            Some(k) => k.carry(impact.t, at),
-            None => at,
-        };
-        body.p = p;
-        body.a = a;
-        body.rot = rot;
-        let (origin, rot) = (body.position(), body.rotation());
-        self.caches.ccd.hits = self.caches.ccd.hits.saturating_add(1);
-        let Some(own) = self.caches.body_shapes.built(h.index()) else {
-            return;
-        };
-        for &i in own {
-            let Some((_, s)) = self.state.shapes.get_by_index(i) else {
-                continue;
-            };
-            let geometry = s.geometry.to_world(origin, rot);
-            let bb = geometry.bb();
-            if let Some(entry) = self.caches.shapes.get_mut(i as usize) {
-                *entry = Some(ShapeCache {
-                    geometry,
-                    bb,
-                    is_static: false,
-                });
-            }
-            let proxies = &mut self.caches.broadphase.proxies;
-            if let Ok(k) = proxies.binary_search_by_key(&i, |p| p.index) {
-                if let Some(proxy) = proxies.get_mut(k) {
-                    proxy.bb = bb;
-                }
-            }
-        }
-    }
-}
-
-/// A bullet's earliest impact in a sub-step.
-#[derive(Clone, Copy, Debug)]
-struct Impact {
-    /// Time of impact, in `[0, 1)`.
-    t: Real,
-    /// The kinematic body hit (the bullet moves on with it after `t`, so
-    /// that the two are in the pose of the impact at the end of the
-    /// sub-step), or `None` for a static shape.
-    carrier: Option<Motion>,
-}
-
-/// The earlier of two impacts; the first one on a tie (candidates come in
-/// a fixed order: the bullet's shapes in slot order, for each the static
-/// shapes in tree order, then the kinematic bodies in slot order).
-fn earlier(a: Option<Impact>, b: Option<Impact>) -> Option<Impact> {
-    match (a, b) {
-        (Some(x), Some(y)) => Some(if y.t < x.t { y } else { x }),
-        (x, None) => x,
-        (None, y) => y,
-    }
 }
 
 #[cfg(test)]

@@ -1,34 +1,12 @@
 //! The constraints of a space (Chipmunk `cpSpaceAddConstraint` and
 //! friends) and their part of the step (the joint-filter stage and prepare to store, see
 //! [`crate::constraint`]).
-use std::collections::BTreeMap;
-
 use super::handlers::queue_post_step;
-use super::{PostStepFn, Space, SpaceError};
-use crate::arena::Arena;
+use super::world::{ConstraintContext, ConstraintFn, PostStepFn};
+use super::{Space, SpaceError};
 use crate::body::{Body, BodyHandle};
 use crate::constraint::{Constraint, ConstraintError, ConstraintHandle, PinJoint, PivotJoint};
 use crate::math::{Real, Vect};
-
-/// A constraint's pre-solve or post-solve callback (Chipmunk
-/// `cpConstraintPreSolveFunc` / `cpConstraintPostSolveFunc`). Not state:
-/// never saved, hashed or cloned; it must be deterministic (no floats, no
-/// outside state that differs between peers).
-pub type ConstraintFn = Box<dyn FnMut(&mut ConstraintContext<'_>)>;
-
-/// What a constraint callback sees: its constraint (mutable: a pre-solve
-/// callback may change parameters, e.g. a motor's rate, through the
-/// validating setters), the bodies (read-only) and the post-step queue
-/// (where structural changes go, e.g. removing a joint that broke).
-pub struct ConstraintContext<'a> {
-    /// The constraint's handle.
-    pub handle: ConstraintHandle,
-    /// The constraint.
-    pub constraint: &'a mut Constraint,
-    /// All bodies.
-    pub bodies: &'a Arena<Body>,
-    post_step: &'a mut Vec<(u64, PostStepFn)>,
-}
 
 impl ConstraintContext<'_> {
     /// A body of the constraint's space.
@@ -42,16 +20,6 @@ impl ConstraintContext<'_> {
         queue_post_step(self.post_step, key, f)
     }
 }
-
-/// The pre-solve and post-solve callbacks of one constraint.
-#[derive(Default)]
-pub(crate) struct Callbacks {
-    pre_solve: Option<ConstraintFn>,
-    post_solve: Option<ConstraintFn>,
-}
-
-/// Callbacks by constraint handle (sorted: they run in slot order).
-pub(crate) type JointCallbacks = BTreeMap<ConstraintHandle, Callbacks>;
 
 /// Which callback to run.
 #[derive(Clone, Copy)]

@@ -39,143 +39,15 @@
 //! or bias velocity set on a static body (the step clears them), or a
 //! custom integrator on one, changes the level at the next step. A body
 //! the game moves every frame belongs in the frame: make it kinematic.
-use serde::{Deserialize, Serialize};
-
 use crate::arbiter::Arbiter;
-use crate::arena::{Arena, ArenaPart};
+use crate::arena::Arena;
 use crate::body::{Body, BodyType};
-use crate::checksum::WordHasher;
 use crate::constraint::Constraint;
-use crate::math::{Real, Vect};
-use crate::shape::Shape;
-use core::hash::{Hash, Hasher};
+use crate::math::Vect;
 
+use super::frame_state::FrameState;
 use super::level::LevelIndex;
-use super::{Settings, Space, SpaceError, WorldState};
-
-/// The per-frame state of a world (see the module docs). Made by
-/// [`Space::save_frame`]; its fields are private: it is only ever a copy of
-/// a world's frame.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct FrameState {
-    pub(crate) level_digest: u64,
-    pub(crate) settings: Settings,
-    pub(crate) bodies: ArenaPart<Body>,
-    pub(crate) shapes: ArenaPart<Shape>,
-    pub(crate) arbiters: Vec<Arbiter>,
-    pub(crate) stamp: u64,
-    pub(crate) steps: u64,
-    pub(crate) current_dt: Real,
-    pub(crate) prev_dt: Real,
-    pub(crate) constraints: Arena<Constraint>,
-    pub(crate) dormant_arbiters: Vec<Arbiter>,
-}
-
-impl FrameState {
-    /// Digest of the level this frame belongs to.
-    pub fn level_digest(&self) -> u64 {
-        self.level_digest
-    }
-
-    /// Number of [`Space::step`] calls of the world it was saved from.
-    pub fn steps(&self) -> u64 {
-        self.steps
-    }
-
-    /// Number of body slots held (every body slot of the world outside
-    /// the level).
-    pub fn body_slots(&self) -> usize {
-        self.bodies.held()
-    }
-
-    /// [`Space::checksum`] of the world this frame was saved from (equal
-    /// by construction: one hashing sequence for both).
-    pub fn checksum(&self) -> u64 {
-        let mut h = WordHasher::default();
-        let FrameState {
-            level_digest,
-            settings,
-            bodies,
-            shapes,
-            arbiters,
-            stamp,
-            steps,
-            current_dt,
-            prev_dt,
-            constraints,
-            dormant_arbiters,
-        } = self;
-        h.write_u64(*level_digest);
-        settings.hash(&mut h);
-        bodies.hash_into(&mut h);
-        shapes.hash_into(&mut h);
-        hash_tail(
-            &mut h,
-            (arbiters, *stamp, *steps, *current_dt, *prev_dt),
-            constraints,
-            dormant_arbiters,
-        );
-        h.finish()
-    }
-}
-
-/// The fields after the arenas, hashed alike for a world and a frame.
-fn hash_tail(
-    h: &mut WordHasher,
-    (arbiters, stamp, steps, current_dt, prev_dt): (&Vec<Arbiter>, u64, u64, Real, Real),
-    constraints: &Arena<Constraint>,
-    dormant_arbiters: &Vec<Arbiter>,
-) {
-    arbiters.hash(h);
-    stamp.hash(h);
-    steps.hash(h);
-    current_dt.hash(h);
-    prev_dt.hash(h);
-    // A world that never had a constraint slot hashes none (as before
-    // joints existed).
-    if constraints.capacity_slots() > 0 {
-        constraints.hash(h);
-    }
-    dormant_arbiters.hash(h);
-}
-
-impl WorldState {
-    /// [`Space::checksum`] of a space holding this state (the level found
-    /// and hashed on the way: for a live space, `Space::checksum` is
-    /// cheaper, its level digest is cached).
-    pub fn checksum(&self) -> u64 {
-        world_checksum(self, &LevelIndex::of(self))
-    }
-}
-
-/// The world's checksum: the frame walk of [`FrameState::checksum`] over the
-/// live state.
-pub(crate) fn world_checksum(state: &WorldState, level: &LevelIndex) -> u64 {
-    let mut h = WordHasher::default();
-    let WorldState {
-        settings,
-        bodies,
-        shapes,
-        arbiters,
-        stamp,
-        steps,
-        current_dt,
-        prev_dt,
-        constraints,
-        dormant_arbiters,
-    } = state;
-    h.write_u64(level.digest);
-    settings.hash(&mut h);
-    bodies.hash_part(&level.body_runs, &mut h);
-    shapes.hash_part(&level.shape_runs, &mut h);
-    hash_tail(
-        &mut h,
-        (arbiters, *stamp, *steps, *current_dt, *prev_dt),
-        constraints,
-        dormant_arbiters,
-    );
-    h.finish()
-}
+use super::{Space, SpaceError, WorldState};
 
 impl Space {
     /// Whether a body handed out by `body_mut` as dynamic or kinematic is

@@ -14,8 +14,6 @@
 //!    handler).
 //!
 //! Handlers run in arbiter order (canonical), so they are deterministic too.
-use std::collections::BTreeMap;
-
 use crate::arbiter::Arbiter;
 use crate::arena::Arena;
 use crate::body::{Body, BodyHandle};
@@ -23,31 +21,9 @@ use crate::collision::{ContactPoint, ContactPointSet, MAX_CONTACTS_PER_ARBITER};
 use crate::math::Vect;
 use crate::shape::{CollisionType, Shape, WILDCARD_COLLISION_TYPE};
 
-use super::{ShapeHandle, Space};
-
-/// A callback that may reject the pair (`begin`, `pre_solve`).
-pub type FilterFn = Box<dyn FnMut(&mut ArbiterContext<'_>) -> bool>;
-/// A callback that only observes (`post_solve`, `separate`).
-pub type NotifyFn = Box<dyn FnMut(&mut ArbiterContext<'_>)>;
-/// A post-step callback: runs once after the step with the whole space.
-pub type PostStepFn = Box<dyn FnOnce(&mut Space)>;
-
-/// The four callbacks of a collision type pair (Chipmunk `cpCollisionHandler`).
-pub struct CollisionHandler {
-    /// Collision type of shape a as the callbacks see it.
-    pub type_a: CollisionType,
-    /// Collision type of shape b.
-    pub type_b: CollisionType,
-    /// First step of contact; `false` ignores the pair until it separates.
-    pub begin: Option<FilterFn>,
-    /// Every touching step before solving; `false` skips solving this step.
-    /// May change the arbiter's friction, restitution, surface velocity.
-    pub pre_solve: Option<FilterFn>,
-    /// After solving: sees the total impulse and energy.
-    pub post_solve: Option<NotifyFn>,
-    /// First step the shapes stop touching, or when one is removed.
-    pub separate: Option<NotifyFn>,
-}
+use super::world::HandlerTable;
+pub use super::world::{ArbiterContext, CollisionHandler, FilterFn, NotifyFn, PostStepFn};
+use super::ShapeHandle;
 
 /// MIS `collisionHandlerDoNothing`: wildcard types, no callbacks (accept all).
 pub fn collision_handler_do_nothing() -> CollisionHandler {
@@ -59,20 +35,6 @@ pub fn collision_handler_do_nothing() -> CollisionHandler {
         post_solve: None,
         separate: None,
     }
-}
-
-/// What a handler sees: the arbiter (mutable: friction, restitution and
-/// surface velocity may be changed in `pre_solve`), read access to bodies
-/// and shapes, and the post-step queue.
-pub struct ArbiterContext<'a> {
-    /// The arbiter, in canonical order (see [`ArbiterContext::swapped`]).
-    pub arbiter: &'a mut Arbiter,
-    /// All bodies.
-    pub bodies: &'a Arena<Body>,
-    /// All shapes.
-    pub shapes: &'a Arena<Shape>,
-    post_step: &'a mut Vec<(u64, PostStepFn)>,
-    swapped: bool,
 }
 
 impl ArbiterContext<'_> {
@@ -166,13 +128,6 @@ enum Event {
     PreSolve,
     PostSolve,
     Separate,
-}
-
-/// The registered handlers (not simulation state).
-#[derive(Default)]
-pub(crate) struct HandlerTable {
-    pairs: BTreeMap<(CollisionType, CollisionType), CollisionHandler>,
-    wildcards: BTreeMap<CollisionType, CollisionHandler>,
 }
 
 impl HandlerTable {

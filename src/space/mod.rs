@@ -16,7 +16,9 @@ mod ccd;
 mod constraints;
 mod error;
 mod frame;
+mod frame_state;
 pub mod handlers;
+mod islands;
 mod ledger;
 mod level;
 pub mod query;
@@ -26,20 +28,23 @@ mod state;
 mod state_limits;
 mod step;
 mod validate;
+mod world;
 
 use crate::limits::Limits;
 use core::fmt;
 
 pub use ccd::MAX_TOI_ITERATIONS;
-pub use constraints::{ConstraintContext, ConstraintFn};
-pub use frame::FrameState;
-pub use handlers::{ArbiterContext, CollisionHandler, PostStepFn};
+pub use frame_state::FrameState;
 pub use settings::{
     Settings, CHIPMUNK_COLLISION_SLOP, DEFAULT_COLLISION_BIAS, DEFAULT_COLLISION_SLOP,
     DEFAULT_IDLE_SPEED_THRESHOLD, DEFAULT_SLEEP_TIME_THRESHOLD, MAX_ITERATIONS, MAX_SUBSTEPS,
     SLEEP_NEVER,
 };
 pub use step::{sub_step_dts, Stage};
+pub(crate) use world::Integrators;
+pub use world::{ArbiterContext, CollisionHandler, PostStepFn, Space};
+pub use world::{ConstraintContext, ConstraintFn};
+pub use world::{PositionUpdateFn, VelocityUpdateFn};
 
 use crate::arbiter::Arbiter;
 use crate::arena::Handle;
@@ -55,42 +60,6 @@ pub use state::WorldState;
 pub use step::StepStats;
 pub use validate::validate_state;
 pub(crate) use validate::validate_state_trusting_level;
-
-/// The world: bodies, shapes, arbiters, settings and handlers.
-pub struct Space {
-    pub(crate) state: WorldState,
-    pub(crate) caches: Caches,
-    pub(crate) handlers: handlers::HandlerTable,
-    pub(crate) post_step: Vec<(u64, PostStepFn)>,
-    pub(crate) integrators: Integrators,
-    /// Per-constraint pre-solve and post-solve callbacks (closures: not
-    /// state), keyed by constraint handle like the integrators.
-    pub(crate) joint_callbacks: constraints::JointCallbacks,
-    pub(crate) locked: bool,
-    /// What this space accepts from the bytes it loads, and the work of
-    /// its step (see [`crate::limits`]): configuration, not state.
-    pub(crate) limits: Limits,
-    /// Tag put on the handles this space hands out (see [`Handle`]); shared
-    /// by clones, so a game's handles keep working on its rollback copies.
-    pub(crate) origin: u32,
-}
-
-/// Custom velocity integration (Chipmunk `cpBodySetVelocityUpdateFunc`):
-/// called instead of [`Body::update_velocity`] with the gravity, the
-/// per-step damping factor and `dt`. Must be deterministic (no floats, no
-/// outside state that differs between peers).
-pub type VelocityUpdateFn = Box<dyn FnMut(&mut Body, Vect, Real, Real)>;
-
-/// Custom position integration (Chipmunk `cpBodySetPositionUpdateFunc`):
-/// called instead of [`Body::update_position`] with `dt`.
-pub type PositionUpdateFn = Box<dyn FnMut(&mut Body, Real)>;
-
-/// Per-body custom integrators (closures: not simulation state).
-#[derive(Default)]
-pub(crate) struct Integrators {
-    pub(crate) velocity: std::collections::BTreeMap<BodyHandle, VelocityUpdateFn>,
-    pub(crate) position: std::collections::BTreeMap<BodyHandle, PositionUpdateFn>,
-}
 
 /// Source of origin tags: process-local, never part of the simulation.
 static NEXT_ORIGIN: core::sync::atomic::AtomicU32 = core::sync::atomic::AtomicU32::new(1);
@@ -160,10 +129,10 @@ impl Space {
                 broadphase: BroadphaseCache::dirty(),
                 ..Caches::default()
             },
-            handlers: handlers::HandlerTable::default(),
+            handlers: world::HandlerTable::default(),
             post_step: Vec::new(),
             integrators: Integrators::default(),
-            joint_callbacks: constraints::JointCallbacks::default(),
+            joint_callbacks: world::JointCallbacks::default(),
             locked: false,
             limits: Limits::default(),
             origin,
@@ -764,7 +733,7 @@ impl Space {
     /// cached), so the cost is that of the frame ([`FrameState`]): a big
     /// static level does not slow the per-frame checksum.
     pub fn checksum(&self) -> u64 {
-        self.with_level(|level| frame::world_checksum(&self.state, level))
+        self.with_level(|level| frame_state::world_checksum(&self.state, level))
     }
 
     /// Checks the space's invariants: arenas, shape→body links, arbiter

@@ -1,6 +1,8 @@
 //! [`WorldState`](super::WorldState): everything that affects future steps, and nothing
 //! else. Plain data (`Clone`, `Eq`, `Hash`, serde): what a snapshot
 //! serializes, what the checksum hashes, what a rollback copies.
+use core::hash::{Hash, Hasher};
+
 use serde::{Deserialize, Serialize};
 
 use crate::arbiter::Arbiter;
@@ -45,8 +47,8 @@ pub struct WorldState {
 /// a world without joints has the checksum it had before constraints
 /// existed, so the committed goldens of joint-free scenes stay valid. An
 /// arena with slots (live or freed) is hashed whole, after the counters.
-impl core::hash::Hash for WorldState {
-    fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
+impl Hash for WorldState {
+    fn hash<H: Hasher>(&self, h: &mut H) {
         // Every field named: a new one is a compile error until hashed.
         let WorldState {
             settings,
@@ -63,14 +65,32 @@ impl core::hash::Hash for WorldState {
         settings.hash(h);
         bodies.hash(h);
         shapes.hash(h);
-        arbiters.hash(h);
-        stamp.hash(h);
-        steps.hash(h);
-        current_dt.hash(h);
-        prev_dt.hash(h);
-        if constraints.capacity_slots() > 0 {
-            constraints.hash(h);
-        }
-        dormant_arbiters.hash(h);
+        hash_tail(
+            h,
+            (arbiters, *stamp, *steps, *current_dt, *prev_dt),
+            constraints,
+            dormant_arbiters,
+        );
     }
+}
+
+/// The fields after the arenas, hashed alike by the state's `Hash`, a
+/// frame's checksum and a world's checksum: one order, written once.
+pub(super) fn hash_tail<H: Hasher>(
+    h: &mut H,
+    (arbiters, stamp, steps, current_dt, prev_dt): (&Vec<Arbiter>, u64, u64, Real, Real),
+    constraints: &Arena<Constraint>,
+    dormant_arbiters: &Vec<Arbiter>,
+) {
+    arbiters.hash(h);
+    stamp.hash(h);
+    steps.hash(h);
+    current_dt.hash(h);
+    prev_dt.hash(h);
+    // A world that never had a constraint slot hashes none (as before
+    // joints existed).
+    if constraints.capacity_slots() > 0 {
+        constraints.hash(h);
+    }
+    dormant_arbiters.hash(h);
 }

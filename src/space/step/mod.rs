@@ -29,6 +29,7 @@ use crate::solver::contact_solver::RowOrder;
 
 use super::{Space, SpaceError};
 
+mod bullets;
 mod context;
 mod narrowphase;
 mod pairs;
