@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::kernel::{apply_angular, JointKernel};
-use super::solve::{inv_or_zero, Prep};
+use super::prep::{inv_or_zero, Prep};
 use super::{finite, non_negative, ConstraintError};
 use crate::math::{FixedArith, Real};
 use crate::solver::SolverBody;

@@ -4,8 +4,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::kernel::{add, apply_impulses, sub, JointKernel};
-use super::pivot::{clamp_len, KInv};
-use super::solve::Prep;
+use super::point::{clamp_len, KInv};
+use super::prep::Prep;
 use super::{finite_vect, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
 use crate::solver::SolverBody;

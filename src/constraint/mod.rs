@@ -70,6 +70,8 @@ mod groove;
 pub(crate) mod kernel;
 mod pin;
 mod pivot;
+mod point;
+mod prep;
 mod ratchet;
 mod rotary_limit;
 mod simple_motor;

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::kernel::{apply_impulses, mult, normal_relative_velocity, JointKernel};
-use super::solve::{inv_or_zero, Prep};
+use super::prep::{inv_or_zero, Prep};
 use super::{finite, finite_vect, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
 use crate::solver::{k_scalar_body, SolverBody};

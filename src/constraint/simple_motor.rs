@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::kernel::{apply_angular, neg, JointKernel};
-use super::solve::{inv_or_zero, Prep};
+use super::prep::{inv_or_zero, Prep};
 use super::{finite, ConstraintError};
 use crate::math::{FixedArith, Real};
 use crate::solver::SolverBody;

@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::kernel::{apply_impulses, mult, normal_relative_velocity, JointKernel};
-use super::solve::{inv_or_zero, Prep};
+use super::prep::{inv_or_zero, Prep};
 use super::{finite_vect, non_negative, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
 use crate::solver::{k_scalar_body, SolverBody};
