@@ -4,10 +4,11 @@
 //! its numerical damping).
 use serde::{Deserialize, Serialize};
 
-use super::kernel::{apply_angular, JointKernel};
+use super::kernel::JointKernel;
 use super::prep::{inv_or_zero, Prep};
 use super::{finite, non_negative, ConstraintError};
 use crate::math::{FixedArith, Real};
+use crate::solver::kernel::apply_angular;
 use crate::solver::SolverBody;
 
 /// A torsion spring holding `θ_a − θ_b` at `rest_angle` (Chipmunk's sign),

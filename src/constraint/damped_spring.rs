@@ -22,10 +22,11 @@
 //! `max_force` caps the spring force.
 use serde::{Deserialize, Serialize};
 
-use super::kernel::{apply_impulses, mult, neg, normal_relative_velocity, JointKernel};
+use super::kernel::JointKernel;
 use super::prep::{inv_or_zero, Prep};
 use super::{finite_vect, non_negative, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
+use crate::solver::kernel::{apply_impulses, mult, neg, normal_relative_velocity};
 use crate::solver::{k_scalar_body, SolverBody};
 
 /// A spring of natural length `rest_length`, stiffness `stiffness` (N/m)

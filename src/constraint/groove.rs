@@ -3,11 +3,12 @@
 //! or a piston.
 use serde::{Deserialize, Serialize};
 
-use super::kernel::{add, apply_impulses, sub, JointKernel};
+use super::kernel::JointKernel;
 use super::point::{clamp_len, KInv};
 use super::prep::Prep;
 use super::{finite_vect, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
+use crate::solver::kernel::{add, apply_impulses, sub};
 use crate::solver::SolverBody;
 
 /// The groove from `groove_a` to `groove_b` on body a and the pivot

@@ -13,14 +13,14 @@
 //! the outcome is the saturating one bit for bit, and ordinary scenes pay
 //! for no per-operation saturation checks.
 //!
-//! The kernels repeat the saturating code they replaced operation for
-//! operation (same products, same roundings, same order: `relative_velocity`
-//! below is `solver::relative_velocity`, and so on), which is what keeps the
-//! goldens. Operations that are not hot (a vector's length for the
+//! The kernels are built from the solver's fast-path arithmetic
+//! (`solver::kernel`), which repeats the saturating code it replaced
+//! operation for operation, which is what keeps the goldens. Operations that are not hot (a vector's length for the
 //! `max_force` clamp, a projection, a sign test) call the saturating `Real`
 //! and `Vect` functions directly: they are the same function in both modes,
 //! so they need no flag.
-use crate::math::{FixedArith, Real, Saturating, Unsaturated, Vect};
+use crate::math::{FixedArith, Real, Saturating, Unsaturated};
+use crate::solver::kernel::{load_pair, store_pair};
 use crate::solver::SolverBody;
 
 /// A joint row's impulse arithmetic, generic over the arithmetic mode.
@@ -157,124 +157,6 @@ fn apply_saturating<K: JointKernel>(
     store_pair(bodies, ia, a, ib, b);
 }
 
-/// Copies out solver bodies `a` and `b` (`None` if one is out of range;
-/// the rows' bodies differ: validated).
-#[inline(always)]
-fn load_pair(bodies: &[SolverBody], a: u32, b: u32) -> Option<(SolverBody, SolverBody)> {
-    Some((*bodies.get(a as usize)?, *bodies.get(b as usize)?))
-}
-
-/// Writes the copies back, a then b.
-#[inline(always)]
-fn store_pair(bodies: &mut [SolverBody], ia: u32, a: SolverBody, ib: u32, b: SolverBody) {
-    if let Some(slot) = bodies.get_mut(ia as usize) {
-        *slot = a;
-    }
-    if let Some(slot) = bodies.get_mut(ib as usize) {
-        *slot = b;
-    }
-}
-
-/// `−x` (saturating: `0 − x`, which is `Real`'s `−x` on every input, and
-/// raises the flag on `−Real::MIN`).
-#[inline(always)]
-pub(crate) fn neg<A: FixedArith>(x: Real, ar: &mut A) -> Real {
-    ar.sub(Real::ZERO, x)
-}
-
-/// `v·s` (`Vect::mult`).
-#[inline(always)]
-pub(crate) fn mult<A: FixedArith>(v: Vect, s: Real, ar: &mut A) -> Vect {
-    Vect::new(ar.mul(v.x, s), ar.mul(v.y, s))
-}
-
-/// `u + v`.
-#[inline(always)]
-pub(crate) fn add<A: FixedArith>(u: Vect, v: Vect, ar: &mut A) -> Vect {
-    Vect::new(ar.add(u.x, v.x), ar.add(u.y, v.y))
-}
-
-/// `u − v`.
-#[inline(always)]
-pub(crate) fn sub<A: FixedArith>(u: Vect, v: Vect, ar: &mut A) -> Vect {
-    Vect::new(ar.sub(u.x, v.x), ar.sub(u.y, v.y))
-}
-
-/// `solver::relative_velocity`: `(v_b + perp(r2)·ω_b) − (v_a + perp(r1)·ω_a)`.
-#[inline(always)]
-pub(crate) fn relative_velocity<A: FixedArith>(
-    a: &SolverBody,
-    b: &SolverBody,
-    r1: Vect,
-    r2: Vect,
-    ar: &mut A,
-) -> Vect {
-    let va = point_velocity(a, r1, ar);
-    let vb = point_velocity(b, r2, ar);
-    sub(vb, va, ar)
-}
-
-/// `v + perp(r)·ω`, with `perp(r) = (−r.y, r.x)`.
-#[inline(always)]
-fn point_velocity<A: FixedArith>(body: &SolverBody, r: Vect, ar: &mut A) -> Vect {
-    let perp = Vect::new(neg(r.y, ar), r.x);
-    let spin = mult(perp, body.w, ar);
-    add(body.v, spin, ar)
-}
-
-/// `solver::normal_relative_velocity`: `relative_velocity · n`.
-#[inline(always)]
-pub(crate) fn normal_relative_velocity<A: FixedArith>(
-    a: &SolverBody,
-    b: &SolverBody,
-    r1: Vect,
-    r2: Vect,
-    n: Vect,
-    ar: &mut A,
-) -> Real {
-    let vr = relative_velocity(a, b, r1, r2, ar);
-    ar.mul_add2(vr.x, n.x, vr.y, n.y)
-}
-
-/// `solver::apply_impulse`: `v += j·m⁻¹`, `ω += I⁻¹ (r × j)`.
-#[inline(always)]
-fn apply_impulse<A: FixedArith>(body: &mut SolverBody, j: Vect, r: Vect, ar: &mut A) {
-    let dv = mult(j, body.m_inv, ar);
-    body.v = add(body.v, dv, ar);
-    let torque = ar.mul_sub2(r.x, j.y, r.y, j.x);
-    let dw = ar.mul(body.i_inv, torque);
-    body.w = ar.add(body.w, dw);
-}
-
-/// `solver::apply_impulses`: `−j` on `a` at `r1`, `+j` on `b` at `r2`.
-#[inline(always)]
-pub(crate) fn apply_impulses<A: FixedArith>(
-    a: &mut SolverBody,
-    b: &mut SolverBody,
-    r1: Vect,
-    r2: Vect,
-    j: Vect,
-    ar: &mut A,
-) {
-    let minus_j = Vect::new(neg(j.x, ar), neg(j.y, ar));
-    apply_impulse(a, minus_j, r1, ar);
-    apply_impulse(b, j, r2, ar);
-}
-
-/// Angular impulse `−j` on a, `+j` on b: `ω_a −= j·I_a⁻¹`, `ω_b += j·I_b⁻¹`.
-#[inline(always)]
-pub(crate) fn apply_angular<A: FixedArith>(
-    a: &mut SolverBody,
-    b: &mut SolverBody,
-    j: Real,
-    ar: &mut A,
-) {
-    let dwa = ar.mul(j, a.i_inv);
-    a.w = ar.sub(a.w, dwa);
-    let dwb = ar.mul(j, b.i_inv);
-    b.w = ar.add(b.w, dwb);
-}
-
 #[cfg(test)]
 pub(crate) mod tests {
     //! Every kind's kernel: the fast path ([`solve`], [`warm_start`])
@@ -282,32 +164,10 @@ pub(crate) mod tests {
     //! fields need not be consistent: the fast path must match on any
     //! input), extremes and rounding ties included.
     use super::*;
+    use crate::math::Vect;
+    use crate::solver::kernel::tests::{any_real, moderate};
     use proptest::prelude::*;
     use proptest::test_runner::TestCaseError;
-
-    /// Raw values over the whole range: small (ordinary scenes), large
-    /// (near saturation), ties and the extremes.
-    pub(crate) fn any_real() -> impl Strategy<Value = Real> {
-        prop_oneof![
-            (-(1i64 << 40)..(1i64 << 40)).prop_map(Real::from_bits),
-            // Tiny raw values times multiples of ½: rounding ties.
-            (-64i64..64).prop_map(Real::from_bits),
-            (-8i64..8).prop_map(|k| Real::from_bits(k << 31)),
-            (any::<i64>(), 0u32..63).prop_map(|(v, s)| Real::from_bits(v >> s)),
-            Just(Real::MAX),
-            Just(Real::MIN),
-        ]
-    }
-
-    /// Raw values within ±16, ties among them: no kernel operation on
-    /// these can leave the range.
-    pub(crate) fn moderate() -> impl Strategy<Value = Real> {
-        prop_oneof![
-            (-(1i64 << 36)..(1i64 << 36)).prop_map(Real::from_bits),
-            (-64i64..64).prop_map(Real::from_bits),
-            (-8i64..8).prop_map(|k| Real::from_bits(k << 31)),
-        ]
-    }
 
     /// The free values a row is built from (`v[i]`, zero past the end).
     pub(crate) fn at(v: &[Real], i: usize) -> Real {

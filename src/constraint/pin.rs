@@ -2,10 +2,11 @@
 //! anchor points fixed, like a massless rod with a pin at each end.
 use serde::{Deserialize, Serialize};
 
-use super::kernel::{apply_impulses, mult, normal_relative_velocity, JointKernel};
+use super::kernel::JointKernel;
 use super::prep::{inv_or_zero, Prep};
 use super::{finite, finite_vect, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
+use crate::solver::kernel::{apply_impulses, mult, normal_relative_velocity};
 use crate::solver::{k_scalar_body, SolverBody};
 
 /// A rod of length `dist` between `anchor_a` on body a and `anchor_b` on

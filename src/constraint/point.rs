@@ -1,9 +1,9 @@
 //! The shared arithmetic of the point constraints (pivot and groove
 //! joints): the inverse of their 2×2 effective-mass matrix ([`KInv`]) and
 //! the root-free length clamp of their accumulated impulse ([`clamp_len`]).
-use super::kernel::{relative_velocity, sub};
 use crate::math::wide::int::{sum_sq, wide_mul_u64};
 use crate::math::{FixedArith, Real, Vect};
+use crate::solver::kernel::{relative_velocity, sub};
 use crate::solver::SolverBody;
 
 /// The inverse of the 2×2 effective-mass matrix of a point constraint
@@ -115,7 +115,7 @@ pub(crate) fn clamp_len(v: Vect, max: Real) -> Vect {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::constraint::kernel::tests::any_real;
+    use crate::solver::kernel::tests::any_real;
     use proptest::prelude::*;
 
     #[test]

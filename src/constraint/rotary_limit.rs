@@ -2,10 +2,11 @@
 //! angle `θ_b − θ_a` within `[min, max]` (an elbow, a door stop).
 use serde::{Deserialize, Serialize};
 
-use super::kernel::{apply_angular, neg, JointKernel};
+use super::kernel::JointKernel;
 use super::prep::{inv_or_zero, Prep};
 use super::{finite, ConstraintError};
 use crate::math::{FixedArith, Real};
+use crate::solver::kernel::{apply_angular, neg};
 use crate::solver::SolverBody;
 
 /// `θ_b − θ_a` kept within `[min, max]` (radians; the angles count turns,

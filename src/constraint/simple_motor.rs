@@ -2,10 +2,11 @@
 //! velocity of two bodies constant, with a torque bounded by `max_force`.
 use serde::{Deserialize, Serialize};
 
-use super::kernel::{apply_angular, neg, JointKernel};
+use super::kernel::JointKernel;
 use super::prep::{inv_or_zero, Prep};
 use super::{finite, ConstraintError};
 use crate::math::{FixedArith, Real};
+use crate::solver::kernel::{apply_angular, neg};
 use crate::solver::SolverBody;
 
 /// A motor turning body b relative to body a. As in Chipmunk, it drives

@@ -3,10 +3,11 @@
 //! rod.
 use serde::{Deserialize, Serialize};
 
-use super::kernel::{apply_impulses, mult, normal_relative_velocity, JointKernel};
+use super::kernel::JointKernel;
 use super::prep::{inv_or_zero, Prep};
 use super::{finite_vect, non_negative, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
+use crate::solver::kernel::{apply_impulses, mult, normal_relative_velocity};
 use crate::solver::{k_scalar_body, SolverBody};
 
 /// The distance between `anchor_a` on a and `anchor_b` on b (body

@@ -67,12 +67,13 @@ use core::fmt;
 
 pub mod block;
 pub(crate) mod graph;
+pub(crate) mod kernel;
 pub(crate) mod sweep;
 
 use crate::arbiter::ManifoldPoint;
-use crate::constraint::kernel::{self, neg};
 use crate::math::{below_2_62, Bounded, FixedArith, Real, Saturating, Unsaturated, Vect};
 use block::ManifoldBlock;
+use kernel::{load_pair, neg, store_pair};
 
 /// The per-body data the iterations touch, stored contiguously.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -852,25 +853,6 @@ fn move_bodies<A: FixedArith>(
     *wb = ar.add(*wb, dwb);
 }
 
-/// Copies out two distinct solver bodies (`None` if equal or out of range).
-#[inline(always)]
-fn load_pair(bodies: &[SolverBody], a: u32, b: u32) -> Option<(SolverBody, SolverBody)> {
-    if a == b {
-        return None;
-    }
-    Some((*bodies.get(a as usize)?, *bodies.get(b as usize)?))
-}
-
-#[inline(always)]
-fn store_pair(bodies: &mut [SolverBody], ia: u32, a: SolverBody, ib: u32, b: SolverBody) {
-    if let Some(slot) = bodies.get_mut(ia as usize) {
-        *slot = a;
-    }
-    if let Some(slot) = bodies.get_mut(ib as usize) {
-        *slot = b;
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1376,8 +1358,8 @@ mod pre_step_tests {
     //! replaced, kept here verbatim as the oracle: bit for bit on free
     //! inputs (the fields need not be consistent), extremes and rounding
     //! ties included, and on the fast path (no fallback) in range.
+    use super::kernel::tests::{any_real, moderate};
     use super::*;
-    use crate::constraint::kernel::tests::{any_real, moderate};
     use proptest::prelude::*;
 
     /// `ContactConstraint::new` as it was (saturating `Real` and `Vect`
