@@ -5,10 +5,10 @@
 use serde::{Deserialize, Serialize};
 
 use super::kernel::JointKernel;
-use super::prep::{inv_or_zero, Prep};
+use super::prep::Prep;
 use super::{finite, non_negative, ConstraintError};
 use crate::math::{FixedArith, Real};
-use crate::solver::kernel::apply_angular;
+use crate::solver::kernel::{apply_angular, effective_mass};
 use crate::solver::SolverBody;
 
 /// A torsion spring holding `θ_a − θ_b` at `rest_angle` (Chipmunk's sign),
@@ -91,7 +91,7 @@ impl RotarySpringRow {
         let error = p.body_a.a - p.body_b.a - j.rest_angle;
         let gamma = (p.dt * denom).recip();
         RotarySpringRow {
-            soft_mass: inv_or_zero(p.sa.i_inv + p.sb.i_inv + gamma),
+            soft_mass: effective_mass(p.sa.i_inv + p.sb.i_inv + gamma),
             gamma,
             beta: error.mul_div(j.stiffness, denom),
             j_acc: Real::ZERO,

@@ -23,10 +23,10 @@
 use serde::{Deserialize, Serialize};
 
 use super::kernel::JointKernel;
-use super::prep::{inv_or_zero, Prep};
+use super::prep::Prep;
 use super::{finite_vect, non_negative, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
-use crate::solver::kernel::{apply_impulses, mult, neg, normal_relative_velocity};
+use crate::solver::kernel::{apply_impulses, effective_mass, mult, neg, normal_relative_velocity};
 use crate::solver::{k_scalar_body, SolverBody};
 
 /// A spring of natural length `rest_length`, stiffness `stiffness` (N/m)
@@ -143,7 +143,7 @@ impl SpringRow {
             r1,
             r2,
             n,
-            soft_mass: inv_or_zero(k + gamma),
+            soft_mass: effective_mass(k + gamma),
             gamma,
             beta,
             j_acc: Real::ZERO,

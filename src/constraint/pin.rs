@@ -3,10 +3,10 @@
 use serde::{Deserialize, Serialize};
 
 use super::kernel::JointKernel;
-use super::prep::{inv_or_zero, Prep};
+use super::prep::Prep;
 use super::{finite, finite_vect, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
-use crate::solver::kernel::{apply_impulses, mult, normal_relative_velocity};
+use crate::solver::kernel::{apply_impulses, effective_mass, mult, normal_relative_velocity};
 use crate::solver::{k_scalar_body, SolverBody};
 
 /// A rod of length `dist` between `anchor_a` on body a and `anchor_b` on
@@ -90,7 +90,7 @@ impl PinRow {
             r1,
             r2,
             n,
-            n_mass: inv_or_zero(k),
+            n_mass: effective_mass(k),
             bias: p.bias(dist - j.dist),
             jn_acc: Real::ZERO,
         }

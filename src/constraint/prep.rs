@@ -1,19 +1,9 @@
-//! What every joint kind's pre-step reads ([`Prep`]) and the reciprocal
-//! its effective masses take: the leaf the kinds and the stages (module
-//! `solve`) share.
+//! What every joint kind's pre-step reads ([`Prep`]): the leaf the kinds
+//! and the stages (module `solve`) share. Their effective masses take the
+//! solver's reciprocal, `solver::kernel::effective_mass`.
 use crate::body::Body;
 use crate::math::{Real, Vect};
 use crate::solver::SolverBody;
-
-/// `1/k`, or 0 when `k ≤ 0` (neither body can move along the direction:
-/// no impulse).
-pub(crate) fn inv_or_zero(k: Real) -> Real {
-    if k.is_positive() {
-        k.recip()
-    } else {
-        Real::ZERO
-    }
-}
 
 /// What a kind's pre-step reads: both bodies (state and solver copy) and
 /// the sub-step's constants.

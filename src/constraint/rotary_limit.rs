@@ -3,10 +3,10 @@
 use serde::{Deserialize, Serialize};
 
 use super::kernel::JointKernel;
-use super::prep::{inv_or_zero, Prep};
+use super::prep::Prep;
 use super::{finite, ConstraintError};
 use crate::math::{FixedArith, Real};
-use crate::solver::kernel::{apply_angular, neg};
+use crate::solver::kernel::{apply_angular, effective_mass, neg};
 use crate::solver::SolverBody;
 
 /// `θ_b − θ_a` kept within `[min, max]` (radians; the angles count turns,
@@ -94,7 +94,7 @@ impl AngularLimitRow {
             } else {
                 0
             },
-            i_sum: inv_or_zero(p.sa.i_inv + p.sb.i_inv),
+            i_sum: effective_mass(p.sa.i_inv + p.sb.i_inv),
             bias: p.bias(pdist),
             j_acc: Real::ZERO,
         }

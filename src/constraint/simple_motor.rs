@@ -3,10 +3,10 @@
 use serde::{Deserialize, Serialize};
 
 use super::kernel::JointKernel;
-use super::prep::{inv_or_zero, Prep};
+use super::prep::Prep;
 use super::{finite, ConstraintError};
 use crate::math::{FixedArith, Real};
-use crate::solver::kernel::{apply_angular, neg};
+use crate::solver::kernel::{apply_angular, effective_mass, neg};
 use crate::solver::SolverBody;
 
 /// A motor turning body b relative to body a. As in Chipmunk, it drives
@@ -57,7 +57,7 @@ impl MotorRow {
     pub(crate) fn new(j: &SimpleMotor, p: &Prep<'_>) -> MotorRow {
         MotorRow {
             rate: j.rate,
-            i_sum: inv_or_zero(p.sa.i_inv + p.sb.i_inv),
+            i_sum: effective_mass(p.sa.i_inv + p.sb.i_inv),
             j_acc: Real::ZERO,
         }
     }

@@ -4,10 +4,10 @@
 use serde::{Deserialize, Serialize};
 
 use super::kernel::JointKernel;
-use super::prep::{inv_or_zero, Prep};
+use super::prep::Prep;
 use super::{finite_vect, non_negative, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
-use crate::solver::kernel::{apply_impulses, mult, normal_relative_velocity};
+use crate::solver::kernel::{apply_impulses, effective_mass, mult, normal_relative_velocity};
 use crate::solver::{k_scalar_body, SolverBody};
 
 /// The distance between `anchor_a` on a and `anchor_b` on b (body
@@ -107,7 +107,7 @@ impl SlideRow {
             r1,
             r2,
             n,
-            n_mass: inv_or_zero(k),
+            n_mass: effective_mass(k),
             bias: p.bias(pdist),
             jn_acc: Real::ZERO,
         }

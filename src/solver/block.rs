@@ -28,8 +28,8 @@
 //! arm: a corner on a corner), the block is not used and the two rows are
 //! solved sequentially as before; the condition guard is Box2D's
 //! `k_max² < 1000·det K`, evaluated exactly in 128-bit integers.
-use super::kernel::{load_pair, neg, store_pair};
-use super::{effective_mass, move_bodies, ContactConstraint, SolverBody, Velocity};
+use super::kernel::{effective_mass, load_pair, neg, store_pair};
+use super::{move_bodies, ContactConstraint, SolverBody, Velocity};
 use crate::math::wide::exact::saturate_to_real;
 use crate::math::wide::int::wide_mul;
 use crate::math::{below_2_62, Bounded, FixedArith, Real, Saturating, Unsaturated, Vect};

@@ -40,6 +40,35 @@ pub(crate) fn store_pair(
     }
 }
 
+/// `1/k` for `k > 0`, else 0: the effective mass of a direction (0 when
+/// both bodies have infinite mass along it, so the row applies nothing).
+/// The one reciprocal of the contact and joint pre-steps (the joints'
+/// former `inv_or_zero`, `k > 0 ? k.recip() : 0`, computed these bits on
+/// every input: `solver::pre_step_tests` checks it against that formula).
+///
+/// The same bits as [`Real::recip`] (round to nearest, ties away from
+/// zero, saturated) with one 64-bit division instead of a 128-bit one:
+/// `2^64 + ⌊k/2⌋ = q·k + (r + 1 + ⌊k/2⌋)` with `q, r` the quotient and
+/// remainder of `(2^64 − 1) / k`, and the last term is below `2k`, so the
+/// rounded quotient is `q` or `q + 1`.
+#[inline(always)]
+pub(crate) fn effective_mass(k: Real) -> Real {
+    let Ok(d) = u64::try_from(k.to_bits()) else {
+        return Real::ZERO;
+    };
+    // 1/k ≥ 2^63 ulps for k ≤ 2 ulps: saturated (and 0 for k = 0).
+    if d <= 2 {
+        return if d == 0 { Real::ZERO } else { Real::MAX };
+    }
+    let q = u64::MAX.checked_div(d).unwrap_or(0);
+    let r = u64::MAX.checked_rem(d).unwrap_or(0);
+    // r < d ≤ 2^63 − 1: the sum stays below 2^64; q < 2^63 (d ≥ 3), so
+    // q + 1 is a valid `i64`.
+    let rest = r.wrapping_add(1).wrapping_add(d >> 1);
+    let q = q.wrapping_add(u64::from(rest >= d));
+    Real::from_bits(q as i64)
+}
+
 /// `−x` (saturating: `0 − x`, which is `Real`'s `−x` on every input, and
 /// raises the flag on `−Real::MIN`).
 #[inline(always)]
