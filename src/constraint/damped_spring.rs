@@ -22,7 +22,7 @@
 //! `max_force` caps the spring force.
 use serde::{Deserialize, Serialize};
 
-use super::kernel::JointKernel;
+use super::kernel::{accumulate, JointKernel};
 use super::prep::Prep;
 use super::{finite_vect, non_negative, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
@@ -113,7 +113,6 @@ pub(crate) struct SpringRow {
     gamma: Real,
     /// `β = k·C/(c + dt·k)`.
     beta: Real,
-    pub(crate) j_acc: Real,
 }
 
 impl SpringRow {
@@ -133,7 +132,6 @@ impl SpringRow {
                 soft_mass: Real::ZERO,
                 gamma: Real::ZERO,
                 beta: Real::ZERO,
-                j_acc: Real::ZERO,
             };
         }
         let gamma = (p.dt * denom).recip();
@@ -146,23 +144,12 @@ impl SpringRow {
             soft_mass: effective_mass(k + gamma),
             gamma,
             beta,
-            j_acc: Real::ZERO,
         }
     }
 }
 
 impl JointKernel for SpringRow {
     type Impulse = Real;
-
-    #[inline(always)]
-    fn acc(&self) -> Real {
-        self.j_acc
-    }
-
-    #[inline(always)]
-    fn set_acc(&mut self, acc: Real) {
-        self.j_acc = acc;
-    }
 
     /// The impulse `n·j` at the anchors.
     #[inline(always)]
@@ -183,14 +170,12 @@ impl JointKernel for SpringRow {
         ar: &mut A,
     ) {
         let vrn = normal_relative_velocity(a, b, self.r1, self.r2, self.n, ar);
-        let old = *acc;
         let v_beta = ar.add(vrn, self.beta);
-        let soft = ar.mul(self.gamma, old);
+        let soft = ar.mul(self.gamma, *acc);
         let err = ar.add(v_beta, soft);
         let j = ar.mul(err, self.soft_mass);
         let j = neg(j, ar);
-        *acc = ar.add(old, j).clamp(-j_max, j_max);
-        let d = ar.sub(*acc, old);
+        let d = accumulate(acc, j, -j_max, j_max, ar);
         self.apply(a, b, d, ar);
     }
 }
@@ -207,7 +192,6 @@ impl SpringRow {
             soft_mass: at(v, 6),
             gamma: at(v, 7),
             beta: at(v, 8),
-            j_acc: Real::ZERO,
         }
     }
 }

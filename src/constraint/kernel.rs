@@ -24,16 +24,12 @@ use crate::solver::kernel::{load_pair, store_pair};
 use crate::solver::SolverBody;
 
 /// A joint row's impulse arithmetic, generic over the arithmetic mode.
+/// The accumulated impulse is not the row's: [`Accumulated`] holds it
+/// beside the row, and [`solve`] and [`warm_start`] pass it in.
 pub(crate) trait JointKernel {
     /// The accumulated impulse: a scalar along the row's direction, or a
-    /// vector for point constraints.
-    type Impulse: Copy;
-
-    /// The row's accumulated impulse.
-    fn acc(&self) -> Self::Impulse;
-
-    /// Sets the row's accumulated impulse.
-    fn set_acc(&mut self, acc: Self::Impulse);
+    /// vector for point constraints (zero by default).
+    type Impulse: Copy + Default;
 
     /// False for a row that does nothing this sub-step (a limit not
     /// reached): it is neither warm started nor iterated.
@@ -64,31 +60,67 @@ pub(crate) trait JointKernel {
     );
 }
 
-/// One iteration of row `k` on solver bodies `ia`, `ib`: fast path first,
+/// A row and its accumulated impulse for one sub-step: zero when built,
+/// last step's impulse after the warm start, then what the iterations
+/// accumulate (stored back into the constraint after the step).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Accumulated<K: JointKernel> {
+    pub(crate) row: K,
+    pub(crate) acc: K::Impulse,
+}
+
+impl<K: JointKernel> Accumulated<K> {
+    /// The row with a zero accumulator.
+    #[inline(always)]
+    pub(crate) fn new(row: K) -> Self {
+        Accumulated {
+            row,
+            acc: K::Impulse::default(),
+        }
+    }
+}
+
+/// The accumulate-clamp step of a scalar row: adds the impulse `j` to the
+/// accumulated impulse `acc`, clamps the sum to `[lo, hi]` and returns the
+/// change of `acc`, the impulse to apply.
+#[inline(always)]
+pub(crate) fn accumulate<A: FixedArith>(
+    acc: &mut Real,
+    j: Real,
+    lo: Real,
+    hi: Real,
+    ar: &mut A,
+) -> Real {
+    let old = *acc;
+    *acc = ar.add(old, j).clamp(lo, hi);
+    ar.sub(*acc, old)
+}
+
+/// One iteration of row `r` on solver bodies `ia`, `ib`: fast path first,
 /// the saturating reference only if something overflowed.
 #[inline(always)]
 pub(crate) fn solve<K: JointKernel>(
-    k: &mut K,
+    r: &mut Accumulated<K>,
     bodies: &mut [SolverBody],
     ia: u32,
     ib: u32,
     j_max: Real,
 ) {
-    if !k.is_active() {
+    if !r.row.is_active() {
         return;
     }
     let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
         return;
     };
-    let mut acc = k.acc();
+    let mut acc = r.acc;
     let mut fast = Unsaturated::new();
-    k.iterate(&mut a, &mut b, &mut acc, j_max, &mut fast);
+    r.row.iterate(&mut a, &mut b, &mut acc, j_max, &mut fast);
     if fast.overflowed() {
-        // The inputs are still in `bodies` and `k`: no copies kept.
-        solve_saturating(k, bodies, ia, ib, j_max);
+        // The inputs are still in `bodies` and `r`: no copies kept.
+        solve_saturating(r, bodies, ia, ib, j_max);
         return;
     }
-    k.set_acc(acc);
+    r.acc = acc;
     store_pair(bodies, ia, a, ib, b);
 }
 
@@ -97,7 +129,7 @@ pub(crate) fn solve<K: JointKernel>(
 #[cold]
 #[inline(never)]
 fn solve_saturating<K: JointKernel>(
-    k: &mut K,
+    r: &mut Accumulated<K>,
     bodies: &mut [SolverBody],
     ia: u32,
     ib: u32,
@@ -106,35 +138,36 @@ fn solve_saturating<K: JointKernel>(
     let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
         return;
     };
-    let mut acc = k.acc();
-    k.iterate(&mut a, &mut b, &mut acc, j_max, &mut Saturating);
-    k.set_acc(acc);
+    let mut acc = r.acc;
+    r.row
+        .iterate(&mut a, &mut b, &mut acc, j_max, &mut Saturating);
+    r.acc = acc;
     store_pair(bodies, ia, a, ib, b);
 }
 
-/// The warm start of row `k`: `acc` (last step's impulse, already scaled)
+/// The warm start of row `r`: `acc` (last step's impulse, already scaled)
 /// becomes the accumulator and is applied to solver bodies `ia`, `ib`, fast
 /// path first as in [`solve`]. An inactive row keeps its zero accumulator.
 #[inline(always)]
 pub(crate) fn warm_start<K: JointKernel>(
-    k: &mut K,
+    r: &mut Accumulated<K>,
     bodies: &mut [SolverBody],
     ia: u32,
     ib: u32,
     acc: K::Impulse,
 ) {
-    if !k.is_active() {
+    if !r.row.is_active() {
         return;
     }
-    k.set_acc(acc);
+    r.acc = acc;
     let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
         return;
     };
     let mut fast = Unsaturated::new();
-    k.apply(&mut a, &mut b, acc, &mut fast);
+    r.row.apply(&mut a, &mut b, acc, &mut fast);
     if fast.overflowed() {
         // The inputs are still in `bodies`: no copies kept.
-        apply_saturating(k, bodies, ia, ib, acc);
+        apply_saturating(&r.row, bodies, ia, ib, acc);
         return;
     }
     store_pair(bodies, ia, a, ib, b);
@@ -205,8 +238,7 @@ pub(crate) mod tests {
         K::Impulse: PartialEq + core::fmt::Debug,
     {
         // The iteration.
-        let mut fast = k;
-        fast.set_acc(acc);
+        let mut fast = Accumulated { row: k, acc };
         let mut bodies = [a, b];
         solve(&mut fast, &mut bodies, 0, 1, j_max);
         let (mut ra, mut rb, mut racc) = (a, b, acc);
@@ -214,19 +246,19 @@ pub(crate) mod tests {
             k.iterate(&mut ra, &mut rb, &mut racc, j_max, &mut Saturating);
         }
         prop_assert_eq!(bodies, [ra, rb]);
-        prop_assert_eq!(fast.acc(), racc);
+        prop_assert_eq!(fast.acc, racc);
 
         // The warm start.
-        let mut fast = k;
-        let before = k.acc();
+        let mut fast = Accumulated::new(k);
+        let before = fast.acc;
         let mut bodies = [a, b];
         warm_start(&mut fast, &mut bodies, 0, 1, acc);
         let (mut ra, mut rb) = (a, b);
         if k.is_active() {
             k.apply(&mut ra, &mut rb, acc, &mut Saturating);
-            prop_assert_eq!(fast.acc(), acc);
+            prop_assert_eq!(fast.acc, acc);
         } else {
-            prop_assert_eq!(fast.acc(), before);
+            prop_assert_eq!(fast.acc, before);
         }
         prop_assert_eq!(bodies, [ra, rb]);
 
@@ -260,9 +292,14 @@ pub(crate) mod tests {
         let (v, av, bv, acc, j_max) = case;
         let (a, b, j_max) = (solver_body(*av), solver_body(*bv), *j_max);
         use crate::constraint::{
-            damped_rotary_spring::RotarySpringRow, damped_spring::SpringRow, gear::GearRow,
-            groove::GrooveRow, pin::PinRow, pivot::PivotRow, rotary_limit::AngularLimitRow,
-            simple_motor::MotorRow, slide::SlideRow,
+            axis::{PinRow, SlideRow},
+            damped_rotary_spring::RotarySpringRow,
+            damped_spring::SpringRow,
+            gear::GearRow,
+            groove::GrooveRow,
+            pivot::PivotRow,
+            rotary_limit::AngularLimitRow,
+            simple_motor::MotorRow,
         };
         let fast = [
             check(PinRow::from_raw(v), acc.x, a, b, j_max)?,
@@ -280,7 +317,7 @@ pub(crate) mod tests {
 
     #[test]
     fn inactive_rows_are_skipped_and_keep_a_zero_accumulator() {
-        use crate::constraint::{rotary_limit::AngularLimitRow, slide::SlideRow};
+        use crate::constraint::{axis::SlideRow, rotary_limit::AngularLimitRow};
         // A slide joint inside its limits (n = 0) and a rotary limit inside
         // its range (sign 0), with free values elsewhere.
         let mut v = vec![Real::ONE; 16];
@@ -298,14 +335,14 @@ pub(crate) mod tests {
         let limit = AngularLimitRow::from_raw(&v);
         assert!(!slide.is_active() && !limit.is_active());
         for acc in [Real::ONE, Real::MIN, Real::MAX] {
-            let (mut s, mut l) = (slide, limit);
+            let (mut s, mut l) = (Accumulated::new(slide), Accumulated::new(limit));
             let mut bodies = [body, SolverBody::default()];
             warm_start(&mut s, &mut bodies, 0, 1, acc);
             warm_start(&mut l, &mut bodies, 0, 1, acc);
             solve(&mut s, &mut bodies, 0, 1, Real::MAX);
             solve(&mut l, &mut bodies, 0, 1, Real::MAX);
             assert_eq!(bodies, [body, SolverBody::default()]);
-            assert_eq!((s.acc(), l.acc()), (Real::ZERO, Real::ZERO));
+            assert_eq!((s.acc, l.acc), (Real::ZERO, Real::ZERO));
             let case = (
                 v.clone(),
                 [acc; 8],

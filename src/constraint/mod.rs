@@ -63,6 +63,7 @@
 //! two different bodies of that space.
 //!
 //! [`WorldState::constraints`]: crate::space::WorldState::constraints
+mod axis;
 mod damped_rotary_spring;
 mod damped_spring;
 mod gear;

@@ -59,7 +59,6 @@ pub(crate) struct PivotRow {
     r2: Vect,
     k: KInv,
     bias: Vect,
-    pub(crate) j_acc: Vect,
 }
 
 impl PivotRow {
@@ -71,28 +70,12 @@ impl PivotRow {
         let k = KInv::new(p.sa, p.sb, r1, r2);
         let delta = p.delta(r1, r2);
         let bias = clamp_len(delta * (-(p.bias_coef * p.dt_inv)), p.max_bias);
-        PivotRow {
-            r1,
-            r2,
-            k,
-            bias,
-            j_acc: Vect::ZERO,
-        }
+        PivotRow { r1, r2, k, bias }
     }
 }
 
 impl JointKernel for PivotRow {
     type Impulse = Vect;
-
-    #[inline(always)]
-    fn acc(&self) -> Vect {
-        self.j_acc
-    }
-
-    #[inline(always)]
-    fn set_acc(&mut self, acc: Vect) {
-        self.j_acc = acc;
-    }
 
     #[inline(always)]
     fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Vect, ar: &mut A) {
@@ -129,7 +112,6 @@ impl PivotRow {
             r2: vect_at(v, 2),
             k: KInv::from_raw(v.get(4..).unwrap_or_default()),
             bias: vect_at(v, 7),
-            j_acc: Vect::ZERO,
         }
     }
 }
