@@ -56,11 +56,9 @@ impl<const ONE_SIDED: bool> JointKernel for AxisRow<ONE_SIDED> {
         !ONE_SIDED || self.n != Vect::ZERO
     }
 
-    /// The impulse `n·j` at the anchors.
     #[inline(always)]
     fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Real, ar: &mut A) {
-        let p = mult(self.n, j, ar);
-        apply_impulses(a, b, self.r1, self.r2, p, ar);
+        apply_along(a, b, self.r1, self.r2, self.n, j, ar);
     }
 
     /// Drive the relative velocity along `n` to the bias, the accumulated
@@ -81,6 +79,23 @@ impl<const ONE_SIDED: bool> JointKernel for AxisRow<ONE_SIDED> {
         let d = accumulate(acc, jn, -j_max, hi, ar);
         self.apply(a, b, d, ar);
     }
+}
+
+/// The impulse `n·j` at the anchors `r1` of `a` (−) and `r2` of `b` (+):
+/// the warm start and the change of a row along one axis (the distance
+/// joints', the damped spring's).
+#[inline(always)]
+pub(crate) fn apply_along<A: FixedArith>(
+    a: &mut SolverBody,
+    b: &mut SolverBody,
+    r1: Vect,
+    r2: Vect,
+    n: Vect,
+    j: Real,
+    ar: &mut A,
+) {
+    let p = mult(n, j, ar);
+    apply_impulses(a, b, r1, r2, p, ar);
 }
 
 #[cfg(test)]

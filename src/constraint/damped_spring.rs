@@ -22,11 +22,12 @@
 //! `max_force` caps the spring force.
 use serde::{Deserialize, Serialize};
 
+use super::axis::apply_along;
 use super::kernel::{accumulate, JointKernel};
 use super::prep::Prep;
 use super::{finite_vect, non_negative, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
-use crate::solver::kernel::{apply_impulses, effective_mass, mult, neg, normal_relative_velocity};
+use crate::solver::kernel::{effective_mass, neg, normal_relative_velocity};
 use crate::solver::{k_scalar_body, SolverBody};
 
 /// A spring of natural length `rest_length`, stiffness `stiffness` (N/m)
@@ -151,11 +152,9 @@ impl SpringRow {
 impl JointKernel for SpringRow {
     type Impulse = Real;
 
-    /// The impulse `n·j` at the anchors.
     #[inline(always)]
     fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Real, ar: &mut A) {
-        let p = mult(self.n, j, ar);
-        apply_impulses(a, b, self.r1, self.r2, p, ar);
+        apply_along(a, b, self.r1, self.r2, self.n, j, ar);
     }
 
     /// `Δλ = −(v + β + γ·λ)·soft_mass`, accumulated impulse clamped to
