@@ -4,10 +4,11 @@
 //! its numerical damping).
 use serde::{Deserialize, Serialize};
 
-use super::kernel::{apply_angular, JointKernel};
-use super::solve::{inv_or_zero, Prep};
+use super::kernel::{accumulate, JointKernel};
+use super::prep::Prep;
 use super::{finite, non_negative, ConstraintError};
 use crate::math::{FixedArith, Real};
+use crate::solver::kernel::{apply_angular, effective_mass};
 use crate::solver::SolverBody;
 
 /// A torsion spring holding `θ_a − θ_b` at `rest_angle` (Chipmunk's sign),
@@ -73,7 +74,6 @@ pub(crate) struct RotarySpringRow {
     soft_mass: Real,
     gamma: Real,
     beta: Real,
-    pub(crate) j_acc: Real,
 }
 
 impl RotarySpringRow {
@@ -84,32 +84,20 @@ impl RotarySpringRow {
                 soft_mass: Real::ZERO,
                 gamma: Real::ZERO,
                 beta: Real::ZERO,
-                j_acc: Real::ZERO,
             };
         }
         let error = p.body_a.a - p.body_b.a - j.rest_angle;
         let gamma = (p.dt * denom).recip();
         RotarySpringRow {
-            soft_mass: inv_or_zero(p.sa.i_inv + p.sb.i_inv + gamma),
+            soft_mass: effective_mass(p.sa.i_inv + p.sb.i_inv + gamma),
             gamma,
             beta: error.mul_div(j.stiffness, denom),
-            j_acc: Real::ZERO,
         }
     }
 }
 
 impl JointKernel for RotarySpringRow {
     type Impulse = Real;
-
-    #[inline(always)]
-    fn acc(&self) -> Real {
-        self.j_acc
-    }
-
-    #[inline(always)]
-    fn set_acc(&mut self, acc: Real) {
-        self.j_acc = acc;
-    }
 
     #[inline(always)]
     fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Real, ar: &mut A) {
@@ -127,14 +115,12 @@ impl JointKernel for RotarySpringRow {
         j_max: Real,
         ar: &mut A,
     ) {
-        let old = *acc;
         let e_dot = ar.sub(a.w, b.w);
         let e_beta = ar.add(e_dot, self.beta);
-        let soft = ar.mul(self.gamma, old);
+        let soft = ar.mul(self.gamma, *acc);
         let err = ar.sub(e_beta, soft);
         let j = ar.mul(err, self.soft_mass);
-        *acc = ar.add(old, j).clamp(-j_max, j_max);
-        let d = ar.sub(*acc, old);
+        let d = accumulate(acc, j, -j_max, j_max, ar);
         apply_angular(a, b, d, ar);
     }
 }
@@ -148,7 +134,6 @@ impl RotarySpringRow {
             soft_mass: at(v, 0),
             gamma: at(v, 1),
             beta: at(v, 2),
-            j_acc: Real::ZERO,
         }
     }
 }

@@ -22,10 +22,12 @@
 //! `max_force` caps the spring force.
 use serde::{Deserialize, Serialize};
 
-use super::kernel::{apply_impulses, mult, neg, normal_relative_velocity, JointKernel};
-use super::solve::{inv_or_zero, Prep};
+use super::axis::apply_along;
+use super::kernel::{accumulate, JointKernel};
+use super::prep::Prep;
 use super::{finite_vect, non_negative, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
+use crate::solver::kernel::{effective_mass, neg, normal_relative_velocity};
 use crate::solver::{k_scalar_body, SolverBody};
 
 /// A spring of natural length `rest_length`, stiffness `stiffness` (N/m)
@@ -112,7 +114,6 @@ pub(crate) struct SpringRow {
     gamma: Real,
     /// `β = k·C/(c + dt·k)`.
     beta: Real,
-    pub(crate) j_acc: Real,
 }
 
 impl SpringRow {
@@ -132,7 +133,6 @@ impl SpringRow {
                 soft_mass: Real::ZERO,
                 gamma: Real::ZERO,
                 beta: Real::ZERO,
-                j_acc: Real::ZERO,
             };
         }
         let gamma = (p.dt * denom).recip();
@@ -142,10 +142,9 @@ impl SpringRow {
             r1,
             r2,
             n,
-            soft_mass: inv_or_zero(k + gamma),
+            soft_mass: effective_mass(k + gamma),
             gamma,
             beta,
-            j_acc: Real::ZERO,
         }
     }
 }
@@ -154,20 +153,8 @@ impl JointKernel for SpringRow {
     type Impulse = Real;
 
     #[inline(always)]
-    fn acc(&self) -> Real {
-        self.j_acc
-    }
-
-    #[inline(always)]
-    fn set_acc(&mut self, acc: Real) {
-        self.j_acc = acc;
-    }
-
-    /// The impulse `n·j` at the anchors.
-    #[inline(always)]
     fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Real, ar: &mut A) {
-        let p = mult(self.n, j, ar);
-        apply_impulses(a, b, self.r1, self.r2, p, ar);
+        apply_along(a, b, self.r1, self.r2, self.n, j, ar);
     }
 
     /// `Δλ = −(v + β + γ·λ)·soft_mass`, accumulated impulse clamped to
@@ -182,14 +169,12 @@ impl JointKernel for SpringRow {
         ar: &mut A,
     ) {
         let vrn = normal_relative_velocity(a, b, self.r1, self.r2, self.n, ar);
-        let old = *acc;
         let v_beta = ar.add(vrn, self.beta);
-        let soft = ar.mul(self.gamma, old);
+        let soft = ar.mul(self.gamma, *acc);
         let err = ar.add(v_beta, soft);
         let j = ar.mul(err, self.soft_mass);
         let j = neg(j, ar);
-        *acc = ar.add(old, j).clamp(-j_max, j_max);
-        let d = ar.sub(*acc, old);
+        let d = accumulate(acc, j, -j_max, j_max, ar);
         self.apply(a, b, d, ar);
     }
 }
@@ -206,7 +191,6 @@ impl SpringRow {
             soft_mass: at(v, 6),
             gamma: at(v, 7),
             beta: at(v, 8),
-            j_acc: Real::ZERO,
         }
     }
 }

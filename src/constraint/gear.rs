@@ -2,8 +2,8 @@
 //! a fixed ratio, like two meshed gears.
 use serde::{Deserialize, Serialize};
 
-use super::kernel::JointKernel;
-use super::solve::Prep;
+use super::kernel::{accumulate, JointKernel};
+use super::prep::Prep;
 use super::{finite, ConstraintError};
 use crate::math::{FixedArith, Real};
 use crate::solver::SolverBody;
@@ -60,7 +60,6 @@ pub(crate) struct GearRow {
     /// `1/(I_a⁻¹/ratio + ratio·I_b⁻¹)` (Chipmunk's `iSum`).
     i_sum: Real,
     bias: Real,
-    pub(crate) j_acc: Real,
 }
 
 impl GearRow {
@@ -79,23 +78,12 @@ impl GearRow {
             // effect on `ratio·ω_b − ω_a`); 0 only if neither body can turn.
             i_sum: if k.is_zero() { Real::ZERO } else { k.recip() },
             bias: p.bias(error),
-            j_acc: Real::ZERO,
         }
     }
 }
 
 impl JointKernel for GearRow {
     type Impulse = Real;
-
-    #[inline(always)]
-    fn acc(&self) -> Real {
-        self.j_acc
-    }
-
-    #[inline(always)]
-    fn set_acc(&mut self, acc: Real) {
-        self.j_acc = acc;
-    }
 
     /// `ω_a −= j·I_a⁻¹/ratio` (two roundings, in that order), `ω_b += j·I_b⁻¹`.
     #[inline(always)]
@@ -122,9 +110,7 @@ impl JointKernel for GearRow {
         let wr = ar.sub(wb, a.w);
         let err = ar.sub(self.bias, wr);
         let j = ar.mul(err, self.i_sum);
-        let old = *acc;
-        *acc = ar.add(old, j).clamp(-j_max, j_max);
-        let d = ar.sub(*acc, old);
+        let d = accumulate(acc, j, -j_max, j_max, ar);
         self.apply(a, b, d, ar);
     }
 }
@@ -139,7 +125,6 @@ impl GearRow {
             ratio_inv: at(v, 1),
             i_sum: at(v, 2),
             bias: at(v, 3),
-            j_acc: Real::ZERO,
         }
     }
 }

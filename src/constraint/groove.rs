@@ -3,11 +3,12 @@
 //! or a piston.
 use serde::{Deserialize, Serialize};
 
-use super::kernel::{add, apply_impulses, sub, JointKernel};
-use super::pivot::{clamp_len, KInv};
-use super::solve::Prep;
+use super::kernel::JointKernel;
+use super::point::{clamp_len, KInv};
+use super::prep::Prep;
 use super::{finite_vect, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
+use crate::solver::kernel::{add, apply_impulses, sub};
 use crate::solver::SolverBody;
 
 /// The groove from `groove_a` to `groove_b` on body a and the pivot
@@ -76,7 +77,6 @@ pub(crate) struct GrooveRow {
     clamp: i8,
     k: KInv,
     bias: Vect,
-    pub(crate) j_acc: Vect,
 }
 
 impl GrooveRow {
@@ -115,23 +115,12 @@ impl GrooveRow {
             clamp,
             k,
             bias,
-            j_acc: Vect::ZERO,
         }
     }
 }
 
 impl JointKernel for GrooveRow {
     type Impulse = Vect;
-
-    #[inline(always)]
-    fn acc(&self) -> Vect {
-        self.j_acc
-    }
-
-    #[inline(always)]
-    fn set_acc(&mut self, acc: Vect) {
-        self.j_acc = acc;
-    }
 
     #[inline(always)]
     fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Vect, ar: &mut A) {
@@ -190,7 +179,6 @@ impl GrooveRow {
             },
             k: KInv::from_raw(v.get(4..).unwrap_or_default()),
             bias: vect_at(v, 7),
-            j_acc: Vect::ZERO,
         }
     }
 }

@@ -13,27 +13,23 @@
 //! the outcome is the saturating one bit for bit, and ordinary scenes pay
 //! for no per-operation saturation checks.
 //!
-//! The kernels repeat the saturating code they replaced operation for
-//! operation (same products, same roundings, same order: `relative_velocity`
-//! below is `solver::relative_velocity`, and so on), which is what keeps the
-//! goldens. Operations that are not hot (a vector's length for the
+//! The kernels are built from the solver's fast-path arithmetic
+//! (`solver::kernel`), which repeats the saturating code it replaced
+//! operation for operation, which is what keeps the goldens. Operations that are not hot (a vector's length for the
 //! `max_force` clamp, a projection, a sign test) call the saturating `Real`
 //! and `Vect` functions directly: they are the same function in both modes,
 //! so they need no flag.
-use crate::math::{FixedArith, Real, Saturating, Unsaturated, Vect};
+use crate::math::{FixedArith, Real, Saturating, Unsaturated};
+use crate::solver::kernel::{load_pair, store_pair};
 use crate::solver::SolverBody;
 
 /// A joint row's impulse arithmetic, generic over the arithmetic mode.
+/// The accumulated impulse is not the row's: [`Accumulated`] holds it
+/// beside the row, and [`solve`] and [`warm_start`] pass it in.
 pub(crate) trait JointKernel {
     /// The accumulated impulse: a scalar along the row's direction, or a
-    /// vector for point constraints.
-    type Impulse: Copy;
-
-    /// The row's accumulated impulse.
-    fn acc(&self) -> Self::Impulse;
-
-    /// Sets the row's accumulated impulse.
-    fn set_acc(&mut self, acc: Self::Impulse);
+    /// vector for point constraints (zero by default).
+    type Impulse: Copy + Default;
 
     /// False for a row that does nothing this sub-step (a limit not
     /// reached): it is neither warm started nor iterated.
@@ -64,31 +60,67 @@ pub(crate) trait JointKernel {
     );
 }
 
-/// One iteration of row `k` on solver bodies `ia`, `ib`: fast path first,
+/// A row and its accumulated impulse for one sub-step: zero when built,
+/// last step's impulse after the warm start, then what the iterations
+/// accumulate (stored back into the constraint after the step).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Accumulated<K: JointKernel> {
+    pub(crate) row: K,
+    pub(crate) acc: K::Impulse,
+}
+
+impl<K: JointKernel> Accumulated<K> {
+    /// The row with a zero accumulator.
+    #[inline(always)]
+    pub(crate) fn new(row: K) -> Self {
+        Accumulated {
+            row,
+            acc: K::Impulse::default(),
+        }
+    }
+}
+
+/// The accumulate-clamp step of a scalar row: adds the impulse `j` to the
+/// accumulated impulse `acc`, clamps the sum to `[lo, hi]` and returns the
+/// change of `acc`, the impulse to apply.
+#[inline(always)]
+pub(crate) fn accumulate<A: FixedArith>(
+    acc: &mut Real,
+    j: Real,
+    lo: Real,
+    hi: Real,
+    ar: &mut A,
+) -> Real {
+    let old = *acc;
+    *acc = ar.add(old, j).clamp(lo, hi);
+    ar.sub(*acc, old)
+}
+
+/// One iteration of row `r` on solver bodies `ia`, `ib`: fast path first,
 /// the saturating reference only if something overflowed.
 #[inline(always)]
 pub(crate) fn solve<K: JointKernel>(
-    k: &mut K,
+    r: &mut Accumulated<K>,
     bodies: &mut [SolverBody],
     ia: u32,
     ib: u32,
     j_max: Real,
 ) {
-    if !k.is_active() {
+    if !r.row.is_active() {
         return;
     }
     let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
         return;
     };
-    let mut acc = k.acc();
+    let mut acc = r.acc;
     let mut fast = Unsaturated::new();
-    k.iterate(&mut a, &mut b, &mut acc, j_max, &mut fast);
+    r.row.iterate(&mut a, &mut b, &mut acc, j_max, &mut fast);
     if fast.overflowed() {
-        // The inputs are still in `bodies` and `k`: no copies kept.
-        solve_saturating(k, bodies, ia, ib, j_max);
+        // The inputs are still in `bodies` and `r`: no copies kept.
+        solve_saturating(r, bodies, ia, ib, j_max);
         return;
     }
-    k.set_acc(acc);
+    r.acc = acc;
     store_pair(bodies, ia, a, ib, b);
 }
 
@@ -97,7 +129,7 @@ pub(crate) fn solve<K: JointKernel>(
 #[cold]
 #[inline(never)]
 fn solve_saturating<K: JointKernel>(
-    k: &mut K,
+    r: &mut Accumulated<K>,
     bodies: &mut [SolverBody],
     ia: u32,
     ib: u32,
@@ -106,35 +138,36 @@ fn solve_saturating<K: JointKernel>(
     let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
         return;
     };
-    let mut acc = k.acc();
-    k.iterate(&mut a, &mut b, &mut acc, j_max, &mut Saturating);
-    k.set_acc(acc);
+    let mut acc = r.acc;
+    r.row
+        .iterate(&mut a, &mut b, &mut acc, j_max, &mut Saturating);
+    r.acc = acc;
     store_pair(bodies, ia, a, ib, b);
 }
 
-/// The warm start of row `k`: `acc` (last step's impulse, already scaled)
+/// The warm start of row `r`: `acc` (last step's impulse, already scaled)
 /// becomes the accumulator and is applied to solver bodies `ia`, `ib`, fast
 /// path first as in [`solve`]. An inactive row keeps its zero accumulator.
 #[inline(always)]
 pub(crate) fn warm_start<K: JointKernel>(
-    k: &mut K,
+    r: &mut Accumulated<K>,
     bodies: &mut [SolverBody],
     ia: u32,
     ib: u32,
     acc: K::Impulse,
 ) {
-    if !k.is_active() {
+    if !r.row.is_active() {
         return;
     }
-    k.set_acc(acc);
+    r.acc = acc;
     let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
         return;
     };
     let mut fast = Unsaturated::new();
-    k.apply(&mut a, &mut b, acc, &mut fast);
+    r.row.apply(&mut a, &mut b, acc, &mut fast);
     if fast.overflowed() {
         // The inputs are still in `bodies`: no copies kept.
-        apply_saturating(k, bodies, ia, ib, acc);
+        apply_saturating(&r.row, bodies, ia, ib, acc);
         return;
     }
     store_pair(bodies, ia, a, ib, b);
@@ -157,328 +190,5 @@ fn apply_saturating<K: JointKernel>(
     store_pair(bodies, ia, a, ib, b);
 }
 
-/// Copies out solver bodies `a` and `b` (`None` if one is out of range;
-/// the rows' bodies differ: validated).
-#[inline(always)]
-fn load_pair(bodies: &[SolverBody], a: u32, b: u32) -> Option<(SolverBody, SolverBody)> {
-    Some((*bodies.get(a as usize)?, *bodies.get(b as usize)?))
-}
-
-/// Writes the copies back, a then b.
-#[inline(always)]
-fn store_pair(bodies: &mut [SolverBody], ia: u32, a: SolverBody, ib: u32, b: SolverBody) {
-    if let Some(slot) = bodies.get_mut(ia as usize) {
-        *slot = a;
-    }
-    if let Some(slot) = bodies.get_mut(ib as usize) {
-        *slot = b;
-    }
-}
-
-/// `−x` (saturating: `0 − x`, which is `Real`'s `−x` on every input, and
-/// raises the flag on `−Real::MIN`).
-#[inline(always)]
-pub(crate) fn neg<A: FixedArith>(x: Real, ar: &mut A) -> Real {
-    ar.sub(Real::ZERO, x)
-}
-
-/// `v·s` (`Vect::mult`).
-#[inline(always)]
-pub(crate) fn mult<A: FixedArith>(v: Vect, s: Real, ar: &mut A) -> Vect {
-    Vect::new(ar.mul(v.x, s), ar.mul(v.y, s))
-}
-
-/// `u + v`.
-#[inline(always)]
-pub(crate) fn add<A: FixedArith>(u: Vect, v: Vect, ar: &mut A) -> Vect {
-    Vect::new(ar.add(u.x, v.x), ar.add(u.y, v.y))
-}
-
-/// `u − v`.
-#[inline(always)]
-pub(crate) fn sub<A: FixedArith>(u: Vect, v: Vect, ar: &mut A) -> Vect {
-    Vect::new(ar.sub(u.x, v.x), ar.sub(u.y, v.y))
-}
-
-/// `solver::relative_velocity`: `(v_b + perp(r2)·ω_b) − (v_a + perp(r1)·ω_a)`.
-#[inline(always)]
-pub(crate) fn relative_velocity<A: FixedArith>(
-    a: &SolverBody,
-    b: &SolverBody,
-    r1: Vect,
-    r2: Vect,
-    ar: &mut A,
-) -> Vect {
-    let va = point_velocity(a, r1, ar);
-    let vb = point_velocity(b, r2, ar);
-    sub(vb, va, ar)
-}
-
-/// `v + perp(r)·ω`, with `perp(r) = (−r.y, r.x)`.
-#[inline(always)]
-fn point_velocity<A: FixedArith>(body: &SolverBody, r: Vect, ar: &mut A) -> Vect {
-    let perp = Vect::new(neg(r.y, ar), r.x);
-    let spin = mult(perp, body.w, ar);
-    add(body.v, spin, ar)
-}
-
-/// `solver::normal_relative_velocity`: `relative_velocity · n`.
-#[inline(always)]
-pub(crate) fn normal_relative_velocity<A: FixedArith>(
-    a: &SolverBody,
-    b: &SolverBody,
-    r1: Vect,
-    r2: Vect,
-    n: Vect,
-    ar: &mut A,
-) -> Real {
-    let vr = relative_velocity(a, b, r1, r2, ar);
-    ar.mul_add2(vr.x, n.x, vr.y, n.y)
-}
-
-/// `solver::apply_impulse`: `v += j·m⁻¹`, `ω += I⁻¹ (r × j)`.
-#[inline(always)]
-fn apply_impulse<A: FixedArith>(body: &mut SolverBody, j: Vect, r: Vect, ar: &mut A) {
-    let dv = mult(j, body.m_inv, ar);
-    body.v = add(body.v, dv, ar);
-    let torque = ar.mul_sub2(r.x, j.y, r.y, j.x);
-    let dw = ar.mul(body.i_inv, torque);
-    body.w = ar.add(body.w, dw);
-}
-
-/// `solver::apply_impulses`: `−j` on `a` at `r1`, `+j` on `b` at `r2`.
-#[inline(always)]
-pub(crate) fn apply_impulses<A: FixedArith>(
-    a: &mut SolverBody,
-    b: &mut SolverBody,
-    r1: Vect,
-    r2: Vect,
-    j: Vect,
-    ar: &mut A,
-) {
-    let minus_j = Vect::new(neg(j.x, ar), neg(j.y, ar));
-    apply_impulse(a, minus_j, r1, ar);
-    apply_impulse(b, j, r2, ar);
-}
-
-/// Angular impulse `−j` on a, `+j` on b: `ω_a −= j·I_a⁻¹`, `ω_b += j·I_b⁻¹`.
-#[inline(always)]
-pub(crate) fn apply_angular<A: FixedArith>(
-    a: &mut SolverBody,
-    b: &mut SolverBody,
-    j: Real,
-    ar: &mut A,
-) {
-    let dwa = ar.mul(j, a.i_inv);
-    a.w = ar.sub(a.w, dwa);
-    let dwb = ar.mul(j, b.i_inv);
-    b.w = ar.add(b.w, dwb);
-}
-
 #[cfg(test)]
-pub(crate) mod tests {
-    //! Every kind's kernel: the fast path ([`solve`], [`warm_start`])
-    //! against the saturating reference alone, on free inputs (the rows'
-    //! fields need not be consistent: the fast path must match on any
-    //! input), extremes and rounding ties included.
-    use super::*;
-    use proptest::prelude::*;
-    use proptest::test_runner::TestCaseError;
-
-    /// Raw values over the whole range: small (ordinary scenes), large
-    /// (near saturation), ties and the extremes.
-    pub(crate) fn any_real() -> impl Strategy<Value = Real> {
-        prop_oneof![
-            (-(1i64 << 40)..(1i64 << 40)).prop_map(Real::from_bits),
-            // Tiny raw values times multiples of ½: rounding ties.
-            (-64i64..64).prop_map(Real::from_bits),
-            (-8i64..8).prop_map(|k| Real::from_bits(k << 31)),
-            (any::<i64>(), 0u32..63).prop_map(|(v, s)| Real::from_bits(v >> s)),
-            Just(Real::MAX),
-            Just(Real::MIN),
-        ]
-    }
-
-    /// Raw values within ±16, ties among them: no kernel operation on
-    /// these can leave the range.
-    pub(crate) fn moderate() -> impl Strategy<Value = Real> {
-        prop_oneof![
-            (-(1i64 << 36)..(1i64 << 36)).prop_map(Real::from_bits),
-            (-64i64..64).prop_map(Real::from_bits),
-            (-8i64..8).prop_map(|k| Real::from_bits(k << 31)),
-        ]
-    }
-
-    /// The free values a row is built from (`v[i]`, zero past the end).
-    pub(crate) fn at(v: &[Real], i: usize) -> Real {
-        v.get(i).copied().unwrap_or(Real::ZERO)
-    }
-
-    /// The free vector `(v[i], v[i + 1])`.
-    pub(crate) fn vect_at(v: &[Real], i: usize) -> Vect {
-        Vect::new(at(v, i), at(v, i.saturating_add(1)))
-    }
-
-    fn solver_body(v: [Real; 8]) -> SolverBody {
-        SolverBody {
-            v: Vect::new(v[0], v[1]),
-            w: v[2],
-            v_bias: Vect::new(v[3], v[4]),
-            w_bias: v[5],
-            m_inv: v[6].abs(),
-            i_inv: v[7].abs(),
-        }
-    }
-
-    /// [`solve`] and [`warm_start`] on row `k` against its saturating
-    /// `iterate` and `apply`: the same bodies and accumulator, bit for bit.
-    /// Returns whether both stayed on the fast path (no overflow).
-    pub(crate) fn check<K>(
-        k: K,
-        acc: K::Impulse,
-        a: SolverBody,
-        b: SolverBody,
-        j_max: Real,
-    ) -> Result<bool, TestCaseError>
-    where
-        K: JointKernel + Copy,
-        K::Impulse: PartialEq + core::fmt::Debug,
-    {
-        // The iteration.
-        let mut fast = k;
-        fast.set_acc(acc);
-        let mut bodies = [a, b];
-        solve(&mut fast, &mut bodies, 0, 1, j_max);
-        let (mut ra, mut rb, mut racc) = (a, b, acc);
-        if k.is_active() {
-            k.iterate(&mut ra, &mut rb, &mut racc, j_max, &mut Saturating);
-        }
-        prop_assert_eq!(bodies, [ra, rb]);
-        prop_assert_eq!(fast.acc(), racc);
-
-        // The warm start.
-        let mut fast = k;
-        let before = k.acc();
-        let mut bodies = [a, b];
-        warm_start(&mut fast, &mut bodies, 0, 1, acc);
-        let (mut ra, mut rb) = (a, b);
-        if k.is_active() {
-            k.apply(&mut ra, &mut rb, acc, &mut Saturating);
-            prop_assert_eq!(fast.acc(), acc);
-        } else {
-            prop_assert_eq!(fast.acc(), before);
-        }
-        prop_assert_eq!(bodies, [ra, rb]);
-
-        // Whether the fast path was enough.
-        let (mut fa, mut fb, mut facc) = (a, b, acc);
-        let mut u = Unsaturated::new();
-        if k.is_active() {
-            k.iterate(&mut fa, &mut fb, &mut facc, j_max, &mut u);
-            k.apply(&mut fa, &mut fb, acc, &mut u);
-        }
-        Ok(!u.overflowed())
-    }
-
-    /// The inputs of one case: the row's free values, two bodies, an
-    /// accumulator (as a vector; scalar rows take `x`) and `j_max`.
-    pub(crate) type Case = (Vec<Real>, [Real; 8], [Real; 8], Vect, Real);
-
-    pub(crate) fn any_case() -> impl Strategy<Value = Case> {
-        (
-            proptest::collection::vec(any_real(), 16),
-            proptest::array::uniform8(any_real()),
-            proptest::array::uniform8(any_real()),
-            (any_real(), any_real()).prop_map(|(x, y)| Vect::new(x, y)),
-            prop_oneof![any_real().prop_map(Real::abs), Just(Real::MAX)],
-        )
-    }
-
-    /// Runs [`check`] on every kind's row built from the case's values;
-    /// returns whether every kind stayed on the fast path.
-    pub(crate) fn check_all_kinds(case: &Case) -> Result<bool, TestCaseError> {
-        let (v, av, bv, acc, j_max) = case;
-        let (a, b, j_max) = (solver_body(*av), solver_body(*bv), *j_max);
-        use crate::constraint::{
-            damped_rotary_spring::RotarySpringRow, damped_spring::SpringRow, gear::GearRow,
-            groove::GrooveRow, pin::PinRow, pivot::PivotRow, rotary_limit::AngularLimitRow,
-            simple_motor::MotorRow, slide::SlideRow,
-        };
-        let fast = [
-            check(PinRow::from_raw(v), acc.x, a, b, j_max)?,
-            check(PivotRow::from_raw(v), *acc, a, b, j_max)?,
-            check(SpringRow::from_raw(v), acc.x, a, b, j_max)?,
-            check(MotorRow::from_raw(v), acc.x, a, b, j_max)?,
-            check(GearRow::from_raw(v), acc.x, a, b, j_max)?,
-            check(SlideRow::from_raw(v), acc.x, a, b, j_max)?,
-            check(AngularLimitRow::from_raw(v), acc.x, a, b, j_max)?,
-            check(RotarySpringRow::from_raw(v), acc.x, a, b, j_max)?,
-            check(GrooveRow::from_raw(v), *acc, a, b, j_max)?,
-        ];
-        Ok(fast.iter().all(|&f| f))
-    }
-
-    #[test]
-    fn inactive_rows_are_skipped_and_keep_a_zero_accumulator() {
-        use crate::constraint::{rotary_limit::AngularLimitRow, slide::SlideRow};
-        // A slide joint inside its limits (n = 0) and a rotary limit inside
-        // its range (sign 0), with free values elsewhere.
-        let mut v = vec![Real::ONE; 16];
-        let body = SolverBody {
-            v: Vect::new(Real::ONE, -Real::ONE),
-            w: Real::HALF,
-            m_inv: Real::ONE,
-            i_inv: Real::ONE,
-            ..SolverBody::default()
-        };
-        v[4] = Real::ZERO;
-        v[5] = Real::ZERO;
-        let slide = SlideRow::from_raw(&v);
-        v[0] = Real::ZERO;
-        let limit = AngularLimitRow::from_raw(&v);
-        assert!(!slide.is_active() && !limit.is_active());
-        for acc in [Real::ONE, Real::MIN, Real::MAX] {
-            let (mut s, mut l) = (slide, limit);
-            let mut bodies = [body, SolverBody::default()];
-            warm_start(&mut s, &mut bodies, 0, 1, acc);
-            warm_start(&mut l, &mut bodies, 0, 1, acc);
-            solve(&mut s, &mut bodies, 0, 1, Real::MAX);
-            solve(&mut l, &mut bodies, 0, 1, Real::MAX);
-            assert_eq!(bodies, [body, SolverBody::default()]);
-            assert_eq!((s.acc(), l.acc()), (Real::ZERO, Real::ZERO));
-            let case = (
-                v.clone(),
-                [acc; 8],
-                [acc; 8],
-                Vect::new(acc, acc),
-                Real::MAX,
-            );
-            assert!(check_all_kinds(&case).is_ok());
-        }
-    }
-
-    proptest! {
-        #![proptest_config(ProptestConfig::with_cases(3000))]
-        /// Every joint kernel's fast path is bit-identical to its
-        /// saturating reference on any input, extremes and ties included.
-        #[test]
-        fn fast_joint_kernels_equal_the_saturating_ones(case in any_case()) {
-            check_all_kinds(&case)?;
-        }
-
-        /// The same on moderate inputs (within ±16, `j_max` finite or
-        /// unbounded), where every kernel must stay on the fast path: the
-        /// first test alone could pass with a fallback that always runs.
-        #[test]
-        fn fast_joint_kernels_equal_the_saturating_ones_in_range(
-            v in proptest::collection::vec(moderate(), 16),
-            av in proptest::array::uniform8(moderate()),
-            bv in proptest::array::uniform8(moderate()),
-            (ax, ay) in (moderate(), moderate()),
-            j_max in prop_oneof![moderate().prop_map(Real::abs), Just(Real::MAX)],
-        ) {
-            let fast = check_all_kinds(&(v, av, bv, Vect::new(ax, ay), j_max))?;
-            prop_assert!(fast, "an in-range case left the fast path");
-        }
-    }
-}
+pub(crate) mod tests;

@@ -63,6 +63,7 @@
 //! two different bodies of that space.
 //!
 //! [`WorldState::constraints`]: crate::space::WorldState::constraints
+mod axis;
 mod damped_rotary_spring;
 mod damped_spring;
 mod gear;
@@ -70,6 +71,8 @@ mod groove;
 pub(crate) mod kernel;
 mod pin;
 mod pivot;
+mod point;
+mod prep;
 mod ratchet;
 mod rotary_limit;
 mod simple_motor;

@@ -4,8 +4,8 @@
 //! socket wrench.
 use serde::{Deserialize, Serialize};
 
+use super::prep::Prep;
 use super::rotary_limit::AngularLimitRow;
-use super::solve::Prep;
 use super::{finite, ConstraintError};
 use crate::math::Real;
 

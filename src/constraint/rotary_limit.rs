@@ -2,10 +2,11 @@
 //! angle `θ_b − θ_a` within `[min, max]` (an elbow, a door stop).
 use serde::{Deserialize, Serialize};
 
-use super::kernel::{apply_angular, neg, JointKernel};
-use super::solve::{inv_or_zero, Prep};
+use super::kernel::{accumulate, JointKernel};
+use super::prep::Prep;
 use super::{finite, ConstraintError};
 use crate::math::{FixedArith, Real};
+use crate::solver::kernel::{apply_angular, effective_mass, neg};
 use crate::solver::SolverBody;
 
 /// `θ_b − θ_a` kept within `[min, max]` (radians; the angles count turns,
@@ -75,7 +76,6 @@ pub(crate) struct AngularLimitRow {
     sign: i8,
     i_sum: Real,
     bias: Real,
-    pub(crate) j_acc: Real,
 }
 
 impl AngularLimitRow {
@@ -93,25 +93,14 @@ impl AngularLimitRow {
             } else {
                 0
             },
-            i_sum: inv_or_zero(p.sa.i_inv + p.sb.i_inv),
+            i_sum: effective_mass(p.sa.i_inv + p.sb.i_inv),
             bias: p.bias(pdist),
-            j_acc: Real::ZERO,
         }
     }
 }
 
 impl JointKernel for AngularLimitRow {
     type Impulse = Real;
-
-    #[inline(always)]
-    fn acc(&self) -> Real {
-        self.j_acc
-    }
-
-    #[inline(always)]
-    fn set_acc(&mut self, acc: Real) {
-        self.j_acc = acc;
-    }
 
     /// No limit violated: the row does nothing (zero accumulator).
     #[inline(always)]
@@ -140,14 +129,12 @@ impl JointKernel for AngularLimitRow {
         let err = ar.add(self.bias, wr);
         let j = ar.mul(err, self.i_sum);
         let j = neg(j, ar);
-        let old = *acc;
-        let sum = ar.add(old, j);
-        *acc = if self.sign > 0 {
-            sum.clamp(Real::ZERO, j_max)
+        let (lo, hi) = if self.sign > 0 {
+            (Real::ZERO, j_max)
         } else {
-            sum.clamp(-j_max, Real::ZERO)
+            (-j_max, Real::ZERO)
         };
-        let d = ar.sub(*acc, old);
+        let d = accumulate(acc, j, lo, hi, ar);
         apply_angular(a, b, d, ar);
     }
 }
@@ -168,7 +155,6 @@ impl AngularLimitRow {
             },
             i_sum: at(v, 1),
             bias: at(v, 2),
-            j_acc: Real::ZERO,
         }
     }
 }

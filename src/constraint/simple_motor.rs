@@ -2,10 +2,11 @@
 //! velocity of two bodies constant, with a torque bounded by `max_force`.
 use serde::{Deserialize, Serialize};
 
-use super::kernel::{apply_angular, neg, JointKernel};
-use super::solve::{inv_or_zero, Prep};
+use super::kernel::{accumulate, JointKernel};
+use super::prep::Prep;
 use super::{finite, ConstraintError};
 use crate::math::{FixedArith, Real};
+use crate::solver::kernel::{apply_angular, effective_mass, neg};
 use crate::solver::SolverBody;
 
 /// A motor turning body b relative to body a. As in Chipmunk, it drives
@@ -49,31 +50,19 @@ pub(crate) struct MotorRow {
     rate: Real,
     /// `1/(I_a⁻¹ + I_b⁻¹)`.
     i_sum: Real,
-    pub(crate) j_acc: Real,
 }
 
 impl MotorRow {
     pub(crate) fn new(j: &SimpleMotor, p: &Prep<'_>) -> MotorRow {
         MotorRow {
             rate: j.rate,
-            i_sum: inv_or_zero(p.sa.i_inv + p.sb.i_inv),
-            j_acc: Real::ZERO,
+            i_sum: effective_mass(p.sa.i_inv + p.sb.i_inv),
         }
     }
 }
 
 impl JointKernel for MotorRow {
     type Impulse = Real;
-
-    #[inline(always)]
-    fn acc(&self) -> Real {
-        self.j_acc
-    }
-
-    #[inline(always)]
-    fn set_acc(&mut self, acc: Real) {
-        self.j_acc = acc;
-    }
 
     #[inline(always)]
     fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Real, ar: &mut A) {
@@ -94,9 +83,7 @@ impl JointKernel for MotorRow {
         let wr = ar.add(dw, self.rate);
         let j = ar.mul(wr, self.i_sum);
         let j = neg(j, ar);
-        let old = *acc;
-        *acc = ar.add(old, j).clamp(-j_max, j_max);
-        let d = ar.sub(*acc, old);
+        let d = accumulate(acc, j, -j_max, j_max, ar);
         apply_angular(a, b, d, ar);
     }
 }
@@ -109,7 +96,6 @@ impl MotorRow {
         MotorRow {
             rate: at(v, 0),
             i_sum: at(v, 1),
-            j_acc: Real::ZERO,
         }
     }
 }

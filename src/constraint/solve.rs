@@ -3,83 +3,36 @@
 //! pre-step, warm started after the contacts, and iterated after the
 //! contacts in each solver iteration, in constraint slot order. Also the
 //! pair filter of `collide_bodies = false`.
+use super::axis::{PinRow, SlideRow};
 use super::damped_rotary_spring::RotarySpringRow;
 use super::damped_spring::SpringRow;
 use super::gear::GearRow;
 use super::groove::GrooveRow;
-use super::kernel;
-use super::pin::PinRow;
+use super::kernel::{self, Accumulated};
 use super::pivot::PivotRow;
+use super::prep::Prep;
 use super::rotary_limit::AngularLimitRow;
 use super::simple_motor::MotorRow;
-use super::slide::SlideRow;
 use super::{Constraint, JointKind};
 use crate::arena::Arena;
 use crate::body::{Body, BodyHandle};
 use crate::math::{exp, Real, Vect};
 use crate::solver::SolverBody;
 
-/// `1/k`, or 0 when `k ≤ 0` (neither body can move along the direction:
-/// no impulse).
-pub(crate) fn inv_or_zero(k: Real) -> Real {
-    if k.is_positive() {
-        k.recip()
-    } else {
-        Real::ZERO
-    }
-}
-
-/// What a kind's pre-step reads: both bodies (state and solver copy) and
-/// the sub-step's constants.
-pub(crate) struct Prep<'a> {
-    pub(crate) body_a: &'a Body,
-    pub(crate) body_b: &'a Body,
-    pub(crate) sa: &'a SolverBody,
-    pub(crate) sb: &'a SolverBody,
-    pub(crate) dt: Real,
-    pub(crate) dt_inv: Real,
-    /// `1 − error_bias^dt`.
-    pub(crate) bias_coef: Real,
-    pub(crate) max_bias: Real,
-}
-
-impl Prep<'_> {
-    /// The anchors relative to the centres of gravity, in world orientation
-    /// (Chipmunk's `r1`, `r2`).
-    pub(crate) fn arms(&self, anchor_a: Vect, anchor_b: Vect) -> (Vect, Vect) {
-        (
-            self.body_a.rot.apply(anchor_a - self.body_a.cog),
-            self.body_b.rot.apply(anchor_b - self.body_b.cog),
-        )
-    }
-
-    /// World anchor b minus world anchor a, from the difference of the
-    /// centres (exact in fixed point, so independent of where the pair is).
-    pub(crate) fn delta(&self, r1: Vect, r2: Vect) -> Vect {
-        (self.body_b.p - self.body_a.p) + (r2 - r1)
-    }
-
-    /// Chipmunk's bias velocity for a position error `error`:
-    /// `−bias_coef·error/dt`, clamped to `±max_bias`.
-    pub(crate) fn bias(&self, error: Real) -> Real {
-        (-(self.bias_coef * error) * self.dt_inv).clamp(-self.max_bias, self.max_bias)
-    }
-}
-
-/// A kind's solver row.
+/// A kind's solver row and its accumulated impulse.
 #[derive(Clone, Copy, Debug)]
 enum RowKind {
-    Pin(PinRow),
-    Pivot(PivotRow),
-    Spring(SpringRow),
-    Motor(MotorRow),
-    Gear(GearRow),
-    Slide(SlideRow),
-    RotaryLimit(AngularLimitRow),
-    RotarySpring(RotarySpringRow),
-    Groove(GrooveRow),
+    Pin(Accumulated<PinRow>),
+    Pivot(Accumulated<PivotRow>),
+    Spring(Accumulated<SpringRow>),
+    Motor(Accumulated<MotorRow>),
+    Gear(Accumulated<GearRow>),
+    Slide(Accumulated<SlideRow>),
+    RotaryLimit(Accumulated<AngularLimitRow>),
+    RotarySpring(Accumulated<RotarySpringRow>),
+    Groove(Accumulated<GrooveRow>),
     /// The row and the tooth angle the pre-step moved the ratchet to.
-    Ratchet(AngularLimitRow, Real),
+    Ratchet(Accumulated<AngularLimitRow>, Real),
 }
 
 /// One constraint's row for this sub-step.
@@ -181,39 +134,48 @@ impl ConstraintScratch {
                 max_bias: c.max_bias,
             };
             let (kind, cached) = match &c.kind {
-                JointKind::Pin(j) => (RowKind::Pin(PinRow::new(j, &p)), Cached::Scalar(j.jn_acc)),
+                JointKind::Pin(j) => (
+                    RowKind::Pin(Accumulated::new(PinRow::new(j, &p))),
+                    Cached::Scalar(j.jn_acc),
+                ),
                 JointKind::Pivot(j) => (
-                    RowKind::Pivot(PivotRow::new(j, &p)),
+                    RowKind::Pivot(Accumulated::new(PivotRow::new(j, &p))),
                     Cached::Vector(j.j_acc),
                 ),
                 JointKind::DampedSpring(j) => (
-                    RowKind::Spring(SpringRow::new(j, &p)),
+                    RowKind::Spring(Accumulated::new(SpringRow::new(j, &p))),
                     Cached::Scalar(j.j_acc),
                 ),
                 JointKind::SimpleMotor(j) => (
-                    RowKind::Motor(MotorRow::new(j, &p)),
+                    RowKind::Motor(Accumulated::new(MotorRow::new(j, &p))),
                     Cached::Scalar(j.j_acc),
                 ),
-                JointKind::Gear(j) => (RowKind::Gear(GearRow::new(j, &p)), Cached::Scalar(j.j_acc)),
+                JointKind::Gear(j) => (
+                    RowKind::Gear(Accumulated::new(GearRow::new(j, &p))),
+                    Cached::Scalar(j.j_acc),
+                ),
                 JointKind::Slide(j) => (
-                    RowKind::Slide(SlideRow::new(j, &p)),
+                    RowKind::Slide(Accumulated::new(SlideRow::new(j, &p))),
                     Cached::Scalar(j.jn_acc),
                 ),
                 JointKind::RotaryLimit(j) => (
-                    RowKind::RotaryLimit(AngularLimitRow::new(j.error(&p), &p)),
+                    RowKind::RotaryLimit(Accumulated::new(AngularLimitRow::new(j.error(&p), &p))),
                     Cached::Scalar(j.j_acc),
                 ),
                 JointKind::DampedRotarySpring(j) => (
-                    RowKind::RotarySpring(RotarySpringRow::new(j, &p)),
+                    RowKind::RotarySpring(Accumulated::new(RotarySpringRow::new(j, &p))),
                     Cached::Scalar(j.j_acc),
                 ),
                 JointKind::Groove(j) => (
-                    RowKind::Groove(GrooveRow::new(j, &p)),
+                    RowKind::Groove(Accumulated::new(GrooveRow::new(j, &p))),
                     Cached::Vector(j.j_acc),
                 ),
                 JointKind::Ratchet(j) => {
                     let (row, tooth) = j.row(&p);
-                    (RowKind::Ratchet(row, tooth), Cached::Scalar(j.j_acc))
+                    (
+                        RowKind::Ratchet(Accumulated::new(row), tooth),
+                        Cached::Scalar(j.j_acc),
+                    )
                 }
             };
             self.rows.push(Row {
@@ -304,17 +266,17 @@ impl ConstraintScratch {
                 continue;
             };
             match (&mut c.kind, &row.kind) {
-                (JointKind::Pin(j), RowKind::Pin(r)) => j.jn_acc = r.jn_acc,
-                (JointKind::Pivot(j), RowKind::Pivot(r)) => j.j_acc = r.j_acc,
-                (JointKind::DampedSpring(j), RowKind::Spring(r)) => j.j_acc = r.j_acc,
-                (JointKind::SimpleMotor(j), RowKind::Motor(r)) => j.j_acc = r.j_acc,
-                (JointKind::Gear(j), RowKind::Gear(r)) => j.j_acc = r.j_acc,
-                (JointKind::Slide(j), RowKind::Slide(r)) => j.jn_acc = r.jn_acc,
-                (JointKind::RotaryLimit(j), RowKind::RotaryLimit(r)) => j.j_acc = r.j_acc,
-                (JointKind::DampedRotarySpring(j), RowKind::RotarySpring(r)) => j.j_acc = r.j_acc,
-                (JointKind::Groove(j), RowKind::Groove(r)) => j.j_acc = r.j_acc,
+                (JointKind::Pin(j), RowKind::Pin(r)) => j.jn_acc = r.acc,
+                (JointKind::Pivot(j), RowKind::Pivot(r)) => j.j_acc = r.acc,
+                (JointKind::DampedSpring(j), RowKind::Spring(r)) => j.j_acc = r.acc,
+                (JointKind::SimpleMotor(j), RowKind::Motor(r)) => j.j_acc = r.acc,
+                (JointKind::Gear(j), RowKind::Gear(r)) => j.j_acc = r.acc,
+                (JointKind::Slide(j), RowKind::Slide(r)) => j.jn_acc = r.acc,
+                (JointKind::RotaryLimit(j), RowKind::RotaryLimit(r)) => j.j_acc = r.acc,
+                (JointKind::DampedRotarySpring(j), RowKind::RotarySpring(r)) => j.j_acc = r.acc,
+                (JointKind::Groove(j), RowKind::Groove(r)) => j.j_acc = r.acc,
                 (JointKind::Ratchet(j), RowKind::Ratchet(r, tooth)) => {
-                    j.j_acc = r.j_acc;
+                    j.j_acc = r.acc;
                     j.angle = *tooth;
                 }
                 // A row is built from its constraint's kind.

@@ -28,10 +28,8 @@
 //! arm: a corner on a corner), the block is not used and the two rows are
 //! solved sequentially as before; the condition guard is Box2D's
 //! `k_max² < 1000·det K`, evaluated exactly in 128-bit integers.
-use super::{
-    effective_mass, load_pair, move_bodies, store_pair, ContactConstraint, SolverBody, Velocity,
-};
-use crate::constraint::kernel::neg;
+use super::kernel::{effective_mass, load_pair, neg, store_pair};
+use super::{move_bodies, ContactConstraint, SolverBody, Velocity};
 use crate::math::wide::exact::saturate_to_real;
 use crate::math::wide::int::wide_mul;
 use crate::math::{below_2_62, Bounded, FixedArith, Real, Saturating, Unsaturated, Vect};
@@ -565,8 +563,8 @@ mod tests {
     //! The block's pre-step against the one it replaced, kept here verbatim
     //! as the oracle (saturating operators, 256-bit divisions).
     use super::*;
-    use crate::constraint::kernel::tests::{any_real, moderate};
     use crate::math::wide::int::I256;
+    use crate::solver::kernel::tests::{any_real, moderate};
     use proptest::prelude::*;
 
     /// `ManifoldBlock::new` as it was.

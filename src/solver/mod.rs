@@ -68,11 +68,13 @@ use core::fmt;
 pub mod block;
 pub(crate) mod contact_solver;
 pub(crate) mod graph;
+pub(crate) mod kernel;
 pub(crate) mod sweep;
 
 use crate::arbiter::ManifoldPoint;
-use crate::constraint::kernel::{self, neg};
 use crate::math::{below_2_62, Bounded, FixedArith, Real, Saturating, Unsaturated, Vect};
+pub(crate) use kernel::effective_mass;
+use kernel::{load_pair, neg, store_pair};
 
 /// The per-body data the iterations touch, stored contiguously.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -674,32 +676,6 @@ impl ContactConstraint {
     }
 }
 
-/// `1/k` for `k > 0`, else 0: the effective mass of a direction (0 when
-/// both bodies have infinite mass along it, so the row applies nothing).
-///
-/// The same bits as [`Real::recip`] (round to nearest, ties away from
-/// zero, saturated) with one 64-bit division instead of a 128-bit one:
-/// `2^64 + ⌊k/2⌋ = q·k + (r + 1 + ⌊k/2⌋)` with `q, r` the quotient and
-/// remainder of `(2^64 − 1) / k`, and the last term is below `2k`, so the
-/// rounded quotient is `q` or `q + 1`.
-#[inline(always)]
-pub(crate) fn effective_mass(k: Real) -> Real {
-    let Ok(d) = u64::try_from(k.to_bits()) else {
-        return Real::ZERO;
-    };
-    // 1/k ≥ 2^63 ulps for k ≤ 2 ulps: saturated (and 0 for k = 0).
-    if d <= 2 {
-        return if d == 0 { Real::ZERO } else { Real::MAX };
-    }
-    let q = u64::MAX.checked_div(d).unwrap_or(0);
-    let r = u64::MAX.checked_rem(d).unwrap_or(0);
-    // r < d ≤ 2^63 − 1: the sum stays below 2^64; q < 2^63 (d ≥ 3), so
-    // q + 1 is a valid `i64`.
-    let rest = r.wrapping_add(1).wrapping_add(d >> 1);
-    let q = q.wrapping_add(u64::from(rest >= d));
-    Real::from_bits(q as i64)
-}
-
 /// The pre-step arithmetic of one row in the arithmetic `ar`: the row
 /// without its effective masses, and `[k(n), k(t)]` (`k(t)` is zero
 /// without friction). The same operations, in the same order of rounding,
@@ -823,25 +799,6 @@ fn move_bodies<A: FixedArith>(
     *wa = ar.sub(*wa, dwa);
     *vb = Vect::new(ar.add(vb.x, pb.x), ar.add(vb.y, pb.y));
     *wb = ar.add(*wb, dwb);
-}
-
-/// Copies out two distinct solver bodies (`None` if equal or out of range).
-#[inline(always)]
-fn load_pair(bodies: &[SolverBody], a: u32, b: u32) -> Option<(SolverBody, SolverBody)> {
-    if a == b {
-        return None;
-    }
-    Some((*bodies.get(a as usize)?, *bodies.get(b as usize)?))
-}
-
-#[inline(always)]
-fn store_pair(bodies: &mut [SolverBody], ia: u32, a: SolverBody, ib: u32, b: SolverBody) {
-    if let Some(slot) = bodies.get_mut(ia as usize) {
-        *slot = a;
-    }
-    if let Some(slot) = bodies.get_mut(ib as usize) {
-        *slot = b;
-    }
 }
 
 #[cfg(test)]
@@ -1349,8 +1306,8 @@ mod pre_step_tests {
     //! replaced, kept here verbatim as the oracle: bit for bit on free
     //! inputs (the fields need not be consistent), extremes and rounding
     //! ties included, and on the fast path (no fallback) in range.
+    use super::kernel::tests::{any_real, moderate};
     use super::*;
-    use crate::constraint::kernel::tests::{any_real, moderate};
     use proptest::prelude::*;
 
     /// `ContactConstraint::new` as it was (saturating `Real` and `Vect`
