@@ -4,9 +4,9 @@
 //! its numerical damping).
 use serde::{Deserialize, Serialize};
 
+use super::error::{finite, non_negative, ConstraintError};
 use super::kernel::{accumulate, JointKernel};
 use super::prep::Prep;
-use super::{finite, non_negative, ConstraintError};
 use crate::math::{FixedArith, Real};
 use crate::solver::kernel::{apply_angular, effective_mass};
 use crate::solver::SolverBody;

@@ -23,9 +23,9 @@
 use serde::{Deserialize, Serialize};
 
 use super::axis::apply_along;
+use super::error::{finite_vect, non_negative, ConstraintError};
 use super::kernel::{accumulate, JointKernel};
 use super::prep::Prep;
-use super::{finite_vect, non_negative, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
 use crate::solver::kernel::{effective_mass, neg, normal_relative_velocity};
 use crate::solver::{k_scalar_body, SolverBody};

@@ -2,9 +2,9 @@
 //! a fixed ratio, like two meshed gears.
 use serde::{Deserialize, Serialize};
 
+use super::error::{finite, ConstraintError};
 use super::kernel::{accumulate, JointKernel};
 use super::prep::Prep;
-use super::{finite, ConstraintError};
 use crate::math::{FixedArith, Real};
 use crate::solver::SolverBody;
 

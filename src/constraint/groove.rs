@@ -3,10 +3,10 @@
 //! or a piston.
 use serde::{Deserialize, Serialize};
 
+use super::error::{finite_vect, ConstraintError};
 use super::kernel::JointKernel;
 use super::point::{clamp_len, KInv};
 use super::prep::Prep;
-use super::{finite_vect, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
 use crate::solver::kernel::{add, apply_impulses, sub};
 use crate::solver::SolverBody;

@@ -66,6 +66,7 @@
 mod axis;
 mod damped_rotary_spring;
 mod damped_spring;
+mod error;
 mod gear;
 mod groove;
 pub(crate) mod kernel;
@@ -79,12 +80,11 @@ mod simple_motor;
 mod slide;
 pub(crate) mod solve;
 
-use core::fmt;
-
 use serde::{Deserialize, Serialize};
 
 pub use damped_rotary_spring::DampedRotarySpring;
 pub use damped_spring::DampedSpring;
+pub use error::ConstraintError;
 pub use gear::GearJoint;
 pub use groove::GrooveJoint;
 pub use pin::PinJoint;
@@ -96,7 +96,7 @@ pub use slide::SlideJoint;
 
 use crate::arena::{Arena, Handle};
 use crate::body::{Body, BodyHandle};
-use crate::math::{Real, Vect};
+use crate::math::Real;
 
 /// Chipmunk's default `error_bias`, `0.9^60` (10 % of the error corrected
 /// per 1/60 s), computed exactly at compile time: the same value as the
@@ -114,67 +114,6 @@ pub const DEFAULT_ERROR_BIAS: Real = {
 
 /// Handle of a constraint in a space.
 pub type ConstraintHandle = Handle<Constraint>;
-
-/// A parameter of a constraint is out of its range.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ConstraintError {
-    /// The named parameter is negative where only values ≥ 0 mean something.
-    Negative(&'static str),
-    /// The named parameter must be positive (non-zero).
-    NotPositive(&'static str),
-    /// The named parameter must not be zero.
-    Zero(&'static str),
-    /// The named parameter is saturated (`Real::MIN` or `Real::MAX`), the
-    /// fixed-point form of an infinity or an overflow.
-    Saturated(&'static str),
-    /// `error_bias` is outside `[0, 1]`.
-    ErrorBiasRange,
-    /// Both bodies are the same body.
-    SameBody,
-}
-
-impl fmt::Display for ConstraintError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ConstraintError::Negative(p) => write!(f, "constraint parameter {p} is negative"),
-            ConstraintError::NotPositive(p) => {
-                write!(f, "constraint parameter {p} must be positive")
-            }
-            ConstraintError::Zero(p) => write!(f, "constraint parameter {p} must not be zero"),
-            ConstraintError::Saturated(p) => {
-                write!(f, "constraint parameter {p} is saturated (infinite)")
-            }
-            ConstraintError::ErrorBiasRange => f.write_str("error_bias must be in [0, 1]"),
-            ConstraintError::SameBody => f.write_str("a constraint joins two different bodies"),
-        }
-    }
-}
-
-impl std::error::Error for ConstraintError {}
-
-/// `Err(Saturated)` for a saturated value.
-pub(crate) fn finite(v: Real, name: &'static str) -> Result<Real, ConstraintError> {
-    if v.is_saturated() {
-        Err(ConstraintError::Saturated(name))
-    } else {
-        Ok(v)
-    }
-}
-
-/// A finite vector.
-pub(crate) fn finite_vect(v: Vect, name: &'static str) -> Result<Vect, ConstraintError> {
-    finite(v.x, name)?;
-    finite(v.y, name)?;
-    Ok(v)
-}
-
-/// A finite value ≥ 0.
-pub(crate) fn non_negative(v: Real, name: &'static str) -> Result<Real, ConstraintError> {
-    if v.is_negative() {
-        return Err(ConstraintError::Negative(name));
-    }
-    finite(v, name)
-}
 
 /// The kind of a constraint: its parameters and accumulated impulse.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

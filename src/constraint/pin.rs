@@ -3,8 +3,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::axis::PinRow;
+use super::error::{finite, finite_vect, ConstraintError};
 use super::prep::Prep;
-use super::{finite, finite_vect, ConstraintError};
 use crate::math::{Real, Vect};
 
 /// A rod of length `dist` between `anchor_a` on body a and `anchor_b` on

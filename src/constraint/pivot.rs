@@ -2,10 +2,10 @@
 //! at the same point, like a pin through both (a hinge).
 use serde::{Deserialize, Serialize};
 
+use super::error::{finite_vect, ConstraintError};
 use super::kernel::JointKernel;
 use super::point::{clamp_len, KInv};
 use super::prep::Prep;
-use super::{finite_vect, ConstraintError};
 use crate::math::{FixedArith, Real, Vect};
 use crate::solver::kernel::{add, apply_impulses, sub};
 use crate::solver::SolverBody;

@@ -4,9 +4,9 @@
 //! socket wrench.
 use serde::{Deserialize, Serialize};
 
+use super::error::{finite, ConstraintError};
 use super::prep::Prep;
 use super::rotary_limit::AngularLimitRow;
-use super::{finite, ConstraintError};
 use crate::math::Real;
 
 /// A ratchet of tooth spacing `ratchet` (radians; its sign is the free

@@ -2,9 +2,9 @@
 //! angle `θ_b − θ_a` within `[min, max]` (an elbow, a door stop).
 use serde::{Deserialize, Serialize};
 
+use super::error::{finite, ConstraintError};
 use super::kernel::{accumulate, JointKernel};
 use super::prep::Prep;
-use super::{finite, ConstraintError};
 use crate::math::{FixedArith, Real};
 use crate::solver::kernel::{apply_angular, effective_mass, neg};
 use crate::solver::SolverBody;

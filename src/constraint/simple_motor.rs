@@ -2,9 +2,9 @@
 //! velocity of two bodies constant, with a torque bounded by `max_force`.
 use serde::{Deserialize, Serialize};
 
+use super::error::{finite, ConstraintError};
 use super::kernel::{accumulate, JointKernel};
 use super::prep::Prep;
-use super::{finite, ConstraintError};
 use crate::math::{FixedArith, Real};
 use crate::solver::kernel::{apply_angular, effective_mass, neg};
 use crate::solver::SolverBody;

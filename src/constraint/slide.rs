@@ -4,8 +4,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::axis::SlideRow;
+use super::error::{finite_vect, non_negative, ConstraintError};
 use super::prep::Prep;
-use super::{finite_vect, non_negative, ConstraintError};
 use crate::math::{Real, Vect};
 
 /// The distance between `anchor_a` on a and `anchor_b` on b (body

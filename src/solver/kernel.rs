@@ -9,7 +9,7 @@
 //! [`relative_velocity`] is [`super::relative_velocity`], and so on), which
 //! is what keeps the goldens. The joints' driver over these is
 //! `constraint::kernel`.
-use super::SolverBody;
+use super::body::SolverBody;
 use crate::math::{FixedArith, Real, Vect};
 
 /// Copies out two distinct solver bodies (`None` if equal or out of range).

@@ -66,6 +66,7 @@
 use core::fmt;
 
 pub mod block;
+mod body;
 pub(crate) mod contact_solver;
 pub(crate) mod graph;
 pub(crate) mod kernel;
@@ -73,33 +74,9 @@ pub(crate) mod sweep;
 
 use crate::arbiter::ManifoldPoint;
 use crate::math::{below_2_62, Bounded, FixedArith, Real, Saturating, Unsaturated, Vect};
+pub use body::SolverBody;
 pub(crate) use kernel::effective_mass;
 use kernel::{load_pair, neg, store_pair};
-
-/// The per-body data the iterations touch, stored contiguously.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct SolverBody {
-    /// Linear velocity.
-    pub v: Vect,
-    /// Angular velocity.
-    pub w: Real,
-    /// Linear pseudo-velocity from bias impulses.
-    pub v_bias: Vect,
-    /// Angular pseudo-velocity from bias impulses.
-    pub w_bias: Real,
-    /// Inverse mass (0 for infinite mass).
-    pub m_inv: Real,
-    /// Inverse moment (0 for infinite moment).
-    pub i_inv: Real,
-}
-
-impl SolverBody {
-    /// No bias velocity, linear or angular (bit test, no arithmetic).
-    #[inline(always)]
-    pub fn bias_is_zero(&self) -> bool {
-        (self.v_bias.x.to_bits() | self.v_bias.y.to_bits() | self.w_bias.to_bits()) == 0
-    }
-}
 
 /// MIS UnsolvableCollision: both bodies have infinite mass along the
 /// direction, so no impulse can change their relative velocity.
