@@ -169,6 +169,13 @@ pub(crate) fn apply_angular<A: FixedArith>(
     b.w = ar.add(b.w, dwb);
 }
 
+/// MIS `k_scalar_body`: `m⁻¹ + I⁻¹ (r × n)²`.
+#[inline(always)]
+pub fn k_scalar_body(body: &SolverBody, r: Vect, n: Vect) -> Real {
+    let rcn = r.cross(n);
+    body.m_inv + body.i_inv * rcn * rcn
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     //! Value strategies the fast-path tests share (contacts and joints).
