@@ -26,8 +26,7 @@
 //! consecutive points equal (a loop's last point is joined to its first, so
 //! do not repeat the first point at the end), and no joint that turns
 //! straight back on the previous segment.
-use core::fmt;
-
+pub use super::error::ChainError;
 use super::{check_radius, CollisionType, Material, Segment, Shape, ShapeError, ShapeFilter};
 use crate::body::BodyHandle;
 use crate::math::wide;
@@ -41,48 +40,6 @@ pub enum ChainKind {
     /// A closed loop: `n` points make `n` segments, the last one from the
     /// last point back to the first.
     Loop,
-}
-
-/// Why a list of points does not make a chain.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ChainError {
-    /// Too few points: an open chain needs 2, a loop 3.
-    TooFewPoints {
-        /// Points given.
-        count: usize,
-        /// Points needed.
-        needed: usize,
-    },
-    /// Points `index` and the next one (the first one, after the last point
-    /// of a loop) are equal: the segment between them has no length.
-    RepeatedPoint {
-        /// Index of the first of the two points.
-        index: usize,
-    },
-    /// The chain turns straight back at point `index` (the segments before
-    /// and after it lie on one line, pointing opposite ways), so the
-    /// neighbour rule cannot tell the two sides of the joint apart.
-    FoldsBack {
-        /// Index of the joint.
-        index: usize,
-    },
-}
-
-impl fmt::Display for ChainError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ChainError::TooFewPoints { count, needed } => {
-                write!(f, "chain has {count} points, needs at least {needed}")
-            }
-            ChainError::RepeatedPoint { index } => write!(
-                f,
-                "chain point {index} equals the next point (a loop must not repeat its first point)"
-            ),
-            ChainError::FoldsBack { index } => {
-                write!(f, "chain turns straight back at point {index}")
-            }
-        }
-    }
 }
 
 /// A validated polyline or loop of points, with the data its segments share

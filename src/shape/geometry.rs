@@ -8,14 +8,10 @@ use core::hash::Hash;
 
 use serde::{Deserialize, Serialize};
 
+pub use super::error::MAX_POLY_VERTICES;
 use super::ShapeError;
 use crate::compact;
 use crate::math::{Real, Rot, Vect, BB};
-
-/// The most vertices a polygon may have (Box2D uses the same bound). Inline
-/// storage keeps geometry `Copy` and the per-step world-space update free of
-/// allocation; rounder shapes are better made of circles or rounded polygons.
-pub const MAX_POLY_VERTICES: usize = 8;
 
 /// A circle: centre offset from the body origin and radius.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

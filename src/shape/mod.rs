@@ -10,6 +10,7 @@
 //! `box_shape_new`, `box_shape_new2`) and validate their input: bad input is a
 //! [`ShapeError`], never a panic.
 pub mod chain;
+mod error;
 pub mod geometry;
 pub mod hull;
 pub mod mass;
@@ -17,12 +18,11 @@ pub mod poly;
 pub mod query;
 mod reach;
 
-use core::fmt;
-
 use serde::{Deserialize, Serialize};
 
-pub use chain::{Chain, ChainError, ChainKind};
-pub use geometry::{Circle, Geometry, Poly, Segment, ShapeKind, MAX_POLY_VERTICES};
+pub use chain::{Chain, ChainKind};
+pub use error::{ChainError, ShapeError, MAX_POLY_VERTICES};
+pub use geometry::{Circle, Geometry, Poly, Segment, ShapeKind};
 
 use crate::arena::Handle;
 use crate::body::BodyHandle;
@@ -150,68 +150,6 @@ pub enum MassSpec {
     /// Mass = density · area.
     Density(Real),
 }
-
-/// Errors of shape construction and the MIS getters/setters.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum ShapeError {
-    /// MIS NotCircleShape: a circle routine was given another kind.
-    NotCircleShape,
-    /// A segment routine was given another kind.
-    NotSegmentShape,
-    /// MIS NotPolyShape: a polygon routine was given another kind.
-    NotPolyShape,
-    /// MIS IndexOutOfBounds: vertex `index` of a polygon with `count` vertices.
-    IndexOutOfBounds {
-        /// Requested index.
-        index: usize,
-        /// Number of vertices.
-        count: usize,
-    },
-    /// A radius, size, mass, density, friction or elasticity was negative.
-    Negative(&'static str),
-    /// A value limited to [0, 1] (elasticity) was above 1.
-    AboveOne(&'static str),
-    /// The points span no area (fewer than 3 distinct, non-collinear points).
-    DegeneratePolygon,
-    /// The points' convex hull has more than [`MAX_POLY_VERTICES`] vertices.
-    TooManyVertices(usize),
-    /// `poly_shape_new_raw` input is not convex and counter-clockwise.
-    NotConvex,
-    /// A value saturated: the input is outside the representable range.
-    OutOfRange(&'static str),
-    /// The points do not make a chain (see [`Chain::new`]).
-    Chain(ChainError),
-}
-
-impl fmt::Display for ShapeError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ShapeError::NotCircleShape => f.write_str("shape is not a circle"),
-            ShapeError::NotSegmentShape => f.write_str("shape is not a segment"),
-            ShapeError::NotPolyShape => f.write_str("shape is not a polygon"),
-            ShapeError::IndexOutOfBounds { index, count } => {
-                write!(
-                    f,
-                    "vertex index {index} out of bounds for a polygon of {count} vertices"
-                )
-            }
-            ShapeError::Negative(what) => write!(f, "{what} must not be negative"),
-            ShapeError::AboveOne(what) => write!(f, "{what} must not be above 1"),
-            ShapeError::DegeneratePolygon => {
-                f.write_str("polygon needs at least 3 distinct, non-collinear points")
-            }
-            ShapeError::TooManyVertices(n) => write!(
-                f,
-                "polygon hull has {n} vertices, more than the maximum of {MAX_POLY_VERTICES}"
-            ),
-            ShapeError::NotConvex => f.write_str("vertices are not convex and counter-clockwise"),
-            ShapeError::OutOfRange(what) => write!(f, "{what} is outside the representable range"),
-            ShapeError::Chain(e) => write!(f, "{e}"),
-        }
-    }
-}
-
-impl std::error::Error for ShapeError {}
 
 /// A collision shape attached to a body.
 ///
