@@ -23,8 +23,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::arena::Handle;
 use crate::compact;
+use crate::math::exact::{saturate_to_real, wide_mul, I256};
 use crate::math::real::FRAC_BITS;
-use crate::math::wide::{saturate_to_real, wide_mul, I256};
 use crate::math::{Real, Rot, Vect};
 
 /// Handle of a body in a [`Space`](crate::space::Space).

@@ -21,7 +21,7 @@
 //!   order**. The solver is Gauss–Seidel, so
 //!   its order changes results; this order depends only on the shapes' slot
 //!   indices and positions, never on a hash or on the sweep's internals.
-use crate::math::wide::{raw_diff, raw_sum};
+use crate::math::exact::{raw_diff, raw_sum};
 use crate::math::BB;
 
 /// A box to sort, with the shape slot it belongs to.

@@ -35,7 +35,7 @@ mod compact;
 pub mod constraint;
 #[cfg(feature = "debug-draw")]
 pub mod debug_draw;
-pub mod framing;
+pub mod envelope;
 /// The guide to using the library (`docs/guide.md`): every example in it is a
 /// doctest.
 #[doc = include_str!("../docs/guide.md")]

@@ -115,7 +115,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::body::BodyHandle;
 use crate::checksum::checksum_of;
-use crate::framing::{self, FrameError};
+use crate::envelope::{self, EnvelopeError};
 use crate::math::{Real, Vect};
 use crate::snapshot::{self, SnapshotError};
 use crate::space::{Space, SpaceError};
@@ -133,7 +133,7 @@ pub const MAGIC: [u8; 8] = *b"TAMIASRP";
 pub const FORMAT_VERSION: u32 = 4;
 
 /// Bytes before the payload: magic, version, payload digest.
-pub const HEADER_LEN: usize = framing::HEADER_LEN;
+pub const HEADER_LEN: usize = envelope::HEADER_LEN;
 
 /// Largest payload decoded (1 GiB): a forged length prefix fails instead of
 /// making the decoder allocate.
@@ -738,13 +738,13 @@ impl Replay {
     /// The replay as bytes (see the module docs for the format).
     pub fn to_bytes(&self) -> Vec<u8> {
         let mut out = Vec::new();
-        framing::begin(&mut out, &MAGIC, FORMAT_VERSION);
+        envelope::begin(&mut out, &MAGIC, FORMAT_VERSION);
         // Encoding plain serde data into a Vec cannot fail; were it to, the
         // payload is left empty and `from_bytes` rejects it as undecodable.
         if bincode::serde::encode_into_std_write(self, &mut out, CONFIG).is_err() {
             out.truncate(HEADER_LEN);
         }
-        framing::seal(&mut out, 0, checksum_of);
+        envelope::seal(&mut out, 0, checksum_of);
         out
     }
 
@@ -761,10 +761,10 @@ impl Replay {
         limits
             .check_bytes(bytes.len())
             .map_err(ReplayError::OverLimit)?;
-        let frame = framing::open(bytes, &MAGIC, FORMAT_VERSION).map_err(|e| match e {
-            FrameError::TooShort => ReplayError::TooShort,
-            FrameError::BadMagic => ReplayError::BadMagic,
-            FrameError::UnsupportedVersion(v) => ReplayError::UnsupportedVersion(v),
+        let frame = envelope::open(bytes, &MAGIC, FORMAT_VERSION).map_err(|e| match e {
+            EnvelopeError::TooShort => ReplayError::TooShort,
+            EnvelopeError::BadMagic => ReplayError::BadMagic,
+            EnvelopeError::UnsupportedVersion(v) => ReplayError::UnsupportedVersion(v),
         })?;
         let (stored, payload) = (frame.digest, frame.payload);
         let computed = checksum_of(payload);

@@ -18,7 +18,7 @@
 //! (only for clip points inside an edge). GJK and EPA call them once per pair.
 use super::info::{CollisionInfo, WarmStartId, CONTACT_TOLERANCE};
 use super::support::{Edge, MinkowskiPoint};
-use crate::math::wide;
+use crate::math::exact;
 use crate::math::{Real, Vect};
 
 /// Closest points between two shape cores (MIS `ClosestPoints`).
@@ -49,8 +49,8 @@ pub struct ClosestPoints {
 #[inline]
 pub fn closest_t(a: Vect, b: Vect) -> Real {
     let delta = b - a;
-    let num = wide::dot(delta, a + b);
-    wide::unit_ratio(num.saturating_neg(), wide::len_sq(delta))
+    let num = exact::dot(delta, a + b);
+    exact::unit_ratio(num.saturating_neg(), exact::len_sq(delta))
 }
 
 /// MIS `lerpT`: `p(t) = a(1 − t)/2 + b(1 + t)/2` with `t` clamped to
@@ -84,9 +84,9 @@ pub(crate) enum Nearest {
 #[inline]
 pub(crate) fn nearest_feature(v0: Vect, v1: Vect) -> Nearest {
     let delta = v1 - v0;
-    if wide::dot(v0, delta) >= 0 {
+    if exact::dot(v0, delta) >= 0 {
         Nearest::V0
-    } else if wide::dot(v1, delta) <= 0 {
+    } else if exact::dot(v1, delta) <= 0 {
         Nearest::V1
     } else {
         Nearest::Interior
@@ -129,13 +129,13 @@ pub fn closest_points_new(v0: &MinkowskiPoint, v1: &MinkowskiPoint) -> ClosestPo
     // the rounded one is exactly ±1 and `p` exactly `v0` or `v1`: the side
     // test below is then the exact sign of `rperp(v1 − v0) · v0`.
     let interior = nearest_feature(v0.ab, v1.ab) == Nearest::Interior;
-    let behind = wide::dot(edge_normal, p) < 0;
+    let behind = exact::dot(edge_normal, p) < 0;
     let use_edge = edge_normal != Vect::ZERO && (interior || behind || p == Vect::ZERO);
     let (n, d) = if use_edge {
-        let n = wide::unit_or(edge_normal, Vect::X);
+        let n = exact::unit_or(edge_normal, Vect::X);
         (n, n.dot(p))
     } else {
-        wide::normalize(p).unwrap_or((Vect::X, Real::ZERO))
+        exact::normalize(p).unwrap_or((Vect::X, Real::ZERO))
     };
     ClosestPoints {
         a,
@@ -163,7 +163,7 @@ pub(crate) fn contact_id(fa: u32, fb: u32) -> u32 {
 fn point_on_edge(a: Vect, b: Vect, (sa, sb): (Real, Real), s: Real, toward: Vect) -> Vect {
     let (num, den) = (s - sa, sb - sa);
     if den.is_zero() {
-        if wide::dot(b - a, toward) > 0 {
+        if exact::dot(b - a, toward) > 0 {
             b
         } else {
             a

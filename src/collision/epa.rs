@@ -31,7 +31,7 @@
 //!   so far with `hit_iteration_cap` set.
 use super::contact::{closest_points_new, nearest_feature, ClosestPoints, Nearest};
 use super::support::{support, MinkowskiPoint, SupportContext, SupportShape};
-use crate::math::wide;
+use crate::math::exact;
 use crate::shape::geometry::next_index;
 
 /// EPA iteration cap (MIS `WARN_EPA_ITERATIONS`); the same reasoning as GJK.
@@ -54,11 +54,11 @@ const HULL_CAP: usize = WARN_EPA_ITERATIONS as usize + 3;
 #[inline]
 fn edge_key(x: &MinkowskiPoint, y: &MinkowskiPoint) -> u128 {
     match nearest_feature(x.ab, y.ab) {
-        Nearest::V0 => float_key(wide::len_sq(x.ab), 0),
-        Nearest::V1 => float_key(wide::len_sq(y.ab), 0),
+        Nearest::V0 => float_key(exact::len_sq(x.ab), 0),
+        Nearest::V1 => float_key(exact::len_sq(y.ab), 0),
         Nearest::Interior => line_key(
-            wide::cross(x.ab, y.ab).unsigned_abs(),
-            wide::len_sq(y.ab - x.ab),
+            exact::cross(x.ab, y.ab).unsigned_abs(),
+            exact::len_sq(y.ab - x.ab),
         ),
     }
 }
@@ -116,7 +116,7 @@ fn float_key(m: u128, e: i32) -> u128 {
 /// True if `q` is a strictly convex corner between `prev` and `next`.
 #[inline]
 fn convex(prev: &MinkowskiPoint, q: &MinkowskiPoint, next: &MinkowskiPoint) -> bool {
-    wide::cross(q.ab - prev.ab, next.ab - q.ab) > 0
+    exact::cross(q.ab - prev.ab, next.ab - q.ab) > 0
 }
 
 /// A counter-clockwise polygon of Minkowski points; `keys[i]` is the squared
@@ -247,7 +247,7 @@ pub(crate) fn epa_capped<A: SupportShape, B: SupportShape>(
     cap: u32,
 ) -> ClosestPoints {
     let [v0, mut v1, mut v2] = tri;
-    if wide::cross(v1.ab - v0.ab, v2.ab - v0.ab) < 0 {
+    if exact::cross(v1.ab - v0.ab, v2.ab - v0.ab) < 0 {
         core::mem::swap(&mut v1, &mut v2);
     }
     let mut hull = Hull::triangle(v0, v1, v2);
@@ -258,7 +258,7 @@ pub(crate) fn epa_capped<A: SupportShape, B: SupportShape>(
         let (e0, e1) = (hull.at(i), hull.at(hull.next(i)));
         let delta = e1.ab - e0.ab;
         let p = support(ctx, delta.rperp());
-        let beyond = wide::cross(delta, p.ab - e0.ab) < 0;
+        let beyond = exact::cross(delta, p.ab - e0.ab) < 0;
         if !beyond || p.id == e0.id || p.id == e1.id {
             // Reversed, so the origin is on the edge's left as
             // `closest_points_new` expects: n then points from A to B.

@@ -30,7 +30,7 @@ use super::contact::{closest_points_new, nearest_feature, pack_id, ClosestPoints
 use super::epa::epa;
 use super::info::WarmStartId;
 use super::support::{support, MinkowskiPoint, SupportContext, SupportPoint, SupportShape};
-use crate::math::wide;
+use crate::math::exact;
 use crate::math::Vect;
 
 /// GJK iteration cap (MIS `WARN_GJK_ITERATIONS`). Two polygons of at most 8
@@ -94,8 +94,8 @@ fn cold_start<A: SupportShape, B: SupportShape>(
 fn keep_first(v0: Vect, v1: Vect, p: Vect) -> bool {
     let (to_v0, to_v1) = (v0 - p, v1 - p);
     // Does the origin project onto the inside of each edge, seen from p?
-    let along_v0 = wide::dot(p, to_v0) < 0;
-    let along_v1 = wide::dot(p, to_v1) < 0;
+    let along_v0 = exact::dot(p, to_v0) < 0;
+    let along_v1 = exact::dot(p, to_v1) < 0;
     match (along_v0, along_v1) {
         (true, false) => true,
         (false, true) => false,
@@ -103,8 +103,8 @@ fn keep_first(v0: Vect, v1: Vect, p: Vect) -> bool {
         (false, false) => true,
         // Keep (v0, p) unless the origin is strictly on v1's side of line p v0.
         (true, true) => {
-            let v1_side = wide::cross(to_v0, to_v1).signum();
-            let o_side = wide::cross(p, to_v0).signum();
+            let v1_side = exact::cross(to_v0, to_v1).signum();
+            let o_side = exact::cross(p, to_v0).signum();
             // Signs in {−1, 0, 1}: the product never saturates.
             v1_side.saturating_mul(o_side) <= 0
         }
@@ -122,7 +122,7 @@ fn touching<A: SupportShape, B: SupportShape>(
     ClosestPoints {
         a: v.a,
         b: v.b,
-        n: wide::unit_or(ctx.b.center() - ctx.a.center(), Vect::X),
+        n: exact::unit_or(ctx.b.center() - ctx.a.center(), Vect::X),
         d: crate::math::Real::ZERO,
         warm_start_id: id,
         hit_iteration_cap: false,
@@ -144,7 +144,7 @@ pub(crate) fn gjk_capped<A: SupportShape, B: SupportShape>(
     };
     let mut iteration = 0;
     loop {
-        if wide::cross(v0.ab, v1.ab) < 0 {
+        if exact::cross(v0.ab, v1.ab) < 0 {
             core::mem::swap(&mut v0, &mut v1);
         }
         if iteration >= cap {
@@ -170,12 +170,12 @@ pub(crate) fn gjk_capped<A: SupportShape, B: SupportShape>(
             return touching(ctx, &v, pack_id(&v0, &v1));
         }
         let p = support(ctx, n);
-        if wide::cross(v1.ab, p.ab) > 0 && wide::cross(p.ab, v0.ab) > 0 {
+        if exact::cross(v1.ab, p.ab) > 0 && exact::cross(p.ab, v0.ab) > 0 {
             // (v0, v1, p) is counter-clockwise and holds the origin.
             return epa(ctx, v0, v1, p);
         }
-        let edge_reach = wide::dot(v0.ab, n).max(wide::dot(v1.ab, n));
-        if p.id == v0.id || p.id == v1.id || wide::dot(p.ab, n) <= edge_reach {
+        let edge_reach = exact::dot(v0.ab, n).max(exact::dot(v1.ab, n));
+        if p.id == v0.id || p.id == v1.id || exact::dot(p.ab, n) <= edge_reach {
             return closest_points_new(&v0, &v1);
         }
         if keep_first(v0.ab, v1.ab, p.ab) {

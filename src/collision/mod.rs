@@ -68,7 +68,7 @@ use canonical::{
 };
 use info::swap_id_shapes;
 
-use crate::math::{wide, Real, Vect};
+use crate::math::{exact, Real, Vect};
 use crate::shape::{Circle, Geometry, Poly};
 
 /// MIS `shapesCollide`: the contacts of two world-space geometries.
@@ -194,10 +194,10 @@ fn collide_circles(a: &Circle, b: &Circle, warm_start_id: WarmStartId) -> Collis
     let anchor = first.offset;
     let delta = second.offset - anchor;
     let min_dist = first.radius + second.radius;
-    if wide::len_sq(delta) > pairs::sq(min_dist + CONTACT_TOLERANCE) {
+    if exact::len_sq(delta) > pairs::sq(min_dist + CONTACT_TOLERANCE) {
         return info;
     }
-    let (n, dist) = wide::normalize(delta).unwrap_or((Vect::X, Real::ZERO));
+    let (n, dist) = exact::normalize(delta).unwrap_or((Vect::X, Real::ZERO));
     let on_first = n.mult(first.radius) + anchor;
     let on_second = (delta - n.mult(second.radius)) + anchor;
     let (normal, point_a, point_b) = if swap {

@@ -47,8 +47,8 @@ use super::gjk::gjk;
 use super::info::{swap_id_shapes, CollisionInfo, CONTACT_TOLERANCE};
 use super::sat::poly_to_poly_sat;
 use super::support::{support_edge_for_poly, support_edge_for_segment, SupportContext};
-use crate::math::wide;
-use crate::math::wide::raw_sq;
+use crate::math::exact;
+use crate::math::exact::raw_sq;
 use crate::math::{Real, Vect};
 use crate::shape::{Circle, Poly, Segment};
 use core::cmp::Ordering;
@@ -131,7 +131,7 @@ fn seam_normal(
     } else {
         return Some(n);
     };
-    if tangent == Vect::ZERO || wide::dot(outward, tangent) <= 0 {
+    if tangent == Vect::ZERO || exact::dot(outward, tangent) <= 0 {
         return Some(n);
     }
     if d.is_positive() {
@@ -139,16 +139,16 @@ fn seam_normal(
     }
     // The other shape's side of the segment's line: from its centre, else
     // from the normal, else the segment's normal.
-    let side = match wide::dot(seg.normal, toward) {
-        0 => wide::dot(seg.normal, outward),
+    let side = match exact::dot(seg.normal, toward) {
+        0 => exact::dot(seg.normal, outward),
         s => s,
     };
     let face = if side < 0 { -seg.normal } else { seg.normal };
-    let snapped = if wide::dot(face, tangent) < 0 {
+    let snapped = if exact::dot(face, tangent) < 0 {
         // Convex: the neighbour's face normal on the side away from this
         // segment (`along`), the edge of the joint's range nearest `n`.
-        let m = wide::unit_or(tangent.perp(), face);
-        if wide::dot(m, along) > 0 {
+        let m = exact::unit_or(tangent.perp(), face);
+        if exact::dot(m, along) > 0 {
             -m
         } else {
             m
@@ -192,10 +192,10 @@ pub fn circle_to_circle(a: &Circle, b: &Circle, info: &mut CollisionInfo) {
 pub(crate) fn circle_to_circle_ordered(a: &Circle, b: &Circle, info: &mut CollisionInfo) {
     let min_dist = a.radius + b.radius;
     let delta = b.offset - a.offset;
-    if wide::len_sq(delta) > sq(min_dist + CONTACT_TOLERANCE) {
+    if exact::len_sq(delta) > sq(min_dist + CONTACT_TOLERANCE) {
         return;
     }
-    let (n, dist) = wide::normalize(delta).unwrap_or((Vect::X, Real::ZERO));
+    let (n, dist) = exact::normalize(delta).unwrap_or((Vect::X, Real::ZERO));
     info.normal = n;
     let pa = a.offset + n.mult(a.radius);
     let pb = b.offset - n.mult(b.radius);
@@ -209,20 +209,20 @@ pub fn circle_to_segment(a: &Circle, b: &Segment, info: &mut CollisionInfo) {
     // Nearest point a + seg·t, t = (c − a)·seg / |seg|² from exact 128-bit
     // numerator and denominator, one rounding per component; the clamped
     // ends are exactly the endpoints (the neighbour rule tests for them).
-    let (num, den) = (wide::dot(a.offset - b.a, seg), wide::len_sq(seg));
+    let (num, den) = (exact::dot(a.offset - b.a, seg), exact::len_sq(seg));
     let closest = if num <= 0 {
         b.a
     } else if num.unsigned_abs() >= den {
         b.b
     } else {
-        b.a + wide::scale_by_ratio(seg, num, den)
+        b.a + exact::scale_by_ratio(seg, num, den)
     };
     let min_dist = a.radius + b.radius;
     let delta = closest - a.offset;
-    if wide::len_sq(delta) > sq(min_dist + CONTACT_TOLERANCE) {
+    if exact::len_sq(delta) > sq(min_dist + CONTACT_TOLERANCE) {
         return;
     }
-    let (n, dist) = wide::normalize(delta).unwrap_or_else(|| {
+    let (n, dist) = exact::normalize(delta).unwrap_or_else(|| {
         let n = if b.normal == Vect::ZERO {
             Vect::X
         } else {
@@ -266,7 +266,7 @@ fn segment_to_segment_ordered(a: &Segment, b: &Segment, info: &mut CollisionInfo
     // them at depth 0, so take the first segment's own normal: the answer no
     // longer depends on the start (fuzz finding, regression test
     // `collinear_overlapping_segments_agree_for_every_warm_start`).
-    if points.d.is_zero() && a.normal != Vect::ZERO && wide::cross(a.b - a.a, b.b - b.a) == 0 {
+    if points.d.is_zero() && a.normal != Vect::ZERO && exact::cross(a.b - a.a, b.b - b.a) == 0 {
         points.n = a.normal;
     }
     if points.d > a.radius + b.radius + CONTACT_TOLERANCE {
@@ -556,7 +556,7 @@ mod tests {
             // plain neighbour rule dropped both and the box fell.
             let raw = gjk(&SupportContext::new(seg, &tilted), 0);
             assert_eq!((raw.a, raw.d), (Vect::ZERO, Real::ZERO), "{raw:?}");
-            assert!(wide::dot(raw.n, tangent) > 0, "{raw:?}");
+            assert!(exact::dot(raw.n, tangent) > 0, "{raw:?}");
             let mut info = CollisionInfo::new(0);
             segment_to_poly(seg, &tilted, &mut info);
             held += info.count;

@@ -9,7 +9,7 @@
 //! *maximum* separation over both polygons is the axis of minimum
 //! penetration when the cores overlap (EPA's answer) and a lower bound of the
 //! core distance when they do not. Each separation is a dot-product minimum
-//! on exact 128-bit products (`wide::dot`): no division, no square root, no
+//! on exact 128-bit products (`exact::dot`): no division, no square root, no
 //! rounding in any decision.
 //!
 //! Which answer, and why it equals the old path's:
@@ -52,7 +52,7 @@
 use super::contact::{contact_points, ClosestPoints};
 use super::info::{CollisionInfo, CONTACT_TOLERANCE};
 use super::support::support_edge_for_poly;
-use crate::math::wide;
+use crate::math::exact;
 use crate::math::{Real, Vect};
 use crate::shape::Poly;
 use core::cmp::Ordering;
@@ -80,7 +80,7 @@ impl Axis {
     }
 }
 
-/// `r`'s raw bits in units of 2^-64 (the units of `wide::dot`).
+/// `r`'s raw bits in units of 2^-64 (the units of `exact::dot`).
 #[inline]
 fn wide_of(r: Real) -> i128 {
     i128::from(r.to_bits()) << 32
@@ -98,7 +98,7 @@ fn real_of(x: i128) -> Real {
 fn min_dot(b: &Poly, n: Vect) -> i128 {
     b.verts()
         .iter()
-        .fold(i128::MAX, |m, v| m.min(wide::dot(*v, n)))
+        .fold(i128::MAX, |m, v| m.min(exact::dot(*v, n)))
 }
 
 /// The edge normal of `a` along which `b` is furthest out (lowest index on
@@ -143,7 +143,7 @@ fn max_separation_box(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
         b.verts()
             .iter()
             .fold((i128::MAX, i128::MIN), |(lo, hi), v| {
-                let d = wide::dot(*v, n);
+                let d = exact::dot(*v, n);
                 (lo.min(d), hi.max(d))
             })
     };
@@ -155,7 +155,7 @@ fn max_separation_box(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
     // pass only if the first face does not already show the pair apart. No
     // vertices: `max` is i128::MIN, the minimum over none i128::MAX.
     let (min0, max0) = range(n0);
-    if best.take(min0.saturating_sub(wide::dot(p0, n0)), 0, limit) {
+    if best.take(min0.saturating_sub(exact::dot(p0, n0)), 0, limit) {
         return Some(best);
     }
     let (min1, max1) = range(n1);
@@ -165,7 +165,7 @@ fn max_separation_box(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
         (max1.saturating_neg(), n3, p3),
     ];
     for (edge, (min, n, p)) in (1..).zip(rest) {
-        if best.take(min.saturating_sub(wide::dot(p, n)), edge, limit) {
+        if best.take(min.saturating_sub(exact::dot(p, n)), edge, limit) {
             break;
         }
     }
@@ -216,7 +216,7 @@ fn max_separation_paired<const N: usize>(
                 .verts()
                 .iter()
                 .fold((i128::MAX, i128::MIN), |(lo, hi), v| {
-                    let d = wide::dot(*v, *n);
+                    let d = exact::dot(*v, *n);
                     (lo.min(d), hi.max(d))
                 });
             if let Some(o) = opposite.get_mut(i) {
@@ -229,7 +229,7 @@ fn max_separation_paired<const N: usize>(
                 .copied()
                 .unwrap_or(i128::MAX)
         };
-        if best.take(min.saturating_sub(wide::dot(*p, *n)), i, limit) {
+        if best.take(min.saturating_sub(exact::dot(*p, *n)), i, limit) {
             break;
         }
     }
@@ -247,7 +247,7 @@ fn max_separation_by_faces(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
         if *n == Vect::ZERO {
             return None;
         }
-        if best.take(min_dot(b, *n).saturating_sub(wide::dot(*p, *n)), i, limit) {
+        if best.take(min_dot(b, *n).saturating_sub(exact::dot(*p, *n)), i, limit) {
             break;
         }
     }
@@ -259,12 +259,12 @@ fn max_separation_by_faces(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
 /// then realises the core distance.
 #[inline]
 fn face_realises_distance(inc: &Poly, (p0, p1): (Vect, Vect), n: Vect, sep: i128) -> bool {
-    let base = wide::dot(p0, n);
+    let base = exact::dot(p0, n);
     let edge = p1 - p0;
-    let len_sq = wide::dot(edge, edge);
+    let len_sq = exact::dot(edge, edge);
     inc.verts().iter().any(|v| {
-        let along = wide::dot(*v - p0, edge);
-        wide::dot(*v, n).saturating_sub(base) == sep && along >= 0 && along <= len_sq
+        let along = exact::dot(*v - p0, edge);
+        exact::dot(*v, n).saturating_sub(base) == sep && along >= 0 && along <= len_sq
     })
 }
 
@@ -416,7 +416,7 @@ mod tests {
     /// pass's value for that face).
     fn face_sep(a: &Poly, b: &Poly, k: usize) -> i128 {
         let k = k % a.count().max(1);
-        min_dot(b, a.normal(k)).saturating_sub(wide::dot(a.vert(k), a.normal(k)))
+        min_dot(b, a.normal(k)).saturating_sub(exact::dot(a.vert(k), a.normal(k)))
     }
 
     proptest::proptest! {

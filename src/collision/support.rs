@@ -11,11 +11,11 @@
 //! endpoints, a polygon its vertices. Rounding radii are handled by the pair
 //! functions, which subtract them from the core distance (as Chipmunk does).
 //!
-//! Support queries compare exact 128-bit dot products (`wide::dot`), and ties
+//! Support queries compare exact 128-bit dot products (`exact::dot`), and ties
 //! go to the lowest index, so the chosen vertex is the same on every platform
 //! and unaffected by rounding.
 use super::info::WarmStartId;
-use crate::math::wide;
+use crate::math::exact;
 use crate::math::{Real, Vect};
 use crate::shape::geometry::next_index;
 use crate::shape::{Circle, Poly, Segment};
@@ -81,7 +81,7 @@ pub fn circle_support_point(circle: &Circle, _n: Vect) -> SupportPoint {
 /// MIS segment `SupportPoint`: the endpoint furthest along `n` (`b` on a tie).
 #[inline]
 pub fn segment_support_point(seg: &Segment, n: Vect) -> SupportPoint {
-    if wide::dot(seg.a, n) > wide::dot(seg.b, n) {
+    if exact::dot(seg.a, n) > exact::dot(seg.b, n) {
         SupportPoint { p: seg.a, index: 0 }
     } else {
         SupportPoint { p: seg.b, index: 1 }
@@ -95,7 +95,7 @@ pub fn poly_support_index(poly: &Poly, n: Vect) -> usize {
     let mut best = 0;
     let mut best_dot = i128::MIN;
     for (i, v) in poly.verts().iter().enumerate() {
-        let d = wide::dot(*v, n);
+        let d = exact::dot(*v, n);
         if d > best_dot {
             best = i;
             best_dot = d;
@@ -233,7 +233,7 @@ pub fn support_edge_for_poly(poly: &Poly, n: Vect) -> Edge {
     let m = count.max(1);
     let i0 = i1.checked_sub(1).unwrap_or(m.saturating_sub(1));
     let i2 = next_index(i1, m);
-    let (from, to) = if wide::dot(n, poly.normal(i0)) > wide::dot(n, poly.normal(i1)) {
+    let (from, to) = if exact::dot(n, poly.normal(i0)) > exact::dot(n, poly.normal(i1)) {
         (i0, i1)
     } else {
         (i1, i2)
@@ -258,7 +258,7 @@ pub fn support_edge_for_poly(poly: &Poly, n: Vect) -> Edge {
 pub fn support_edge_for_segment(seg: &Segment, n: Vect) -> Edge {
     let pa = EdgePoint { p: seg.a, index: 0 };
     let pb = EdgePoint { p: seg.b, index: 1 };
-    if wide::dot(seg.normal, n) > 0 {
+    if exact::dot(seg.normal, n) > 0 {
         Edge {
             a: pa,
             b: pb,

@@ -1,7 +1,7 @@
 //! The shared arithmetic of the point constraints (pivot and groove
 //! joints): the inverse of their 2×2 effective-mass matrix ([`KInv`]) and
 //! the root-free length clamp of their accumulated impulse ([`clamp_len`]).
-use crate::math::wide::int::{sum_sq, wide_mul_u64};
+use crate::math::exact::int::{sum_sq, wide_mul_u64};
 use crate::math::{FixedArith, Real, Vect};
 use crate::solver::kernel::{relative_velocity, sub};
 use crate::solver::SolverBody;

@@ -1,6 +1,7 @@
 //! Deterministic fixed-point math: the scalar [`Real`], vectors, rotations,
 //! affine transforms and bounding boxes.
 pub mod bb;
+pub(crate) mod exact;
 pub mod exp;
 pub mod real;
 pub mod rot;
@@ -8,7 +9,6 @@ pub mod transform;
 pub mod trig;
 pub mod unsaturated;
 pub mod vect;
-pub(crate) mod wide;
 
 pub use bb::BB;
 pub use real::{Real, RealError};

@@ -30,7 +30,7 @@ use core::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAss
 use fixed::types::I32F32;
 use serde::{Deserialize, Serialize};
 
-use super::wide::int::wide_mul;
+use super::exact::int::wide_mul;
 
 /// Number of fractional bits of [`Real`].
 pub const FRAC_BITS: u32 = 32;

@@ -74,7 +74,7 @@
 //! About 19 ns per `sin_cos` (independent of the angle's size) and 16 ns per
 //! `atan2` in release builds on the development machine (Xeon, x86-64):
 //! `cargo test --release --test math_trig -- --ignored --nocapture timing`.
-use super::wide::int::wide_mul;
+use super::exact::int::wide_mul;
 use super::Real;
 
 /// 2/π in Q64, rounded to nearest (< 2^64).

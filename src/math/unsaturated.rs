@@ -16,8 +16,8 @@
 //! version. `Bounded` goes one step further for kernels whose constants a
 //! range check (`below_2_62`) accepted once per step. The solver's fast
 //! path is tested against the saturating one on random and extreme inputs.
+use super::exact::int::wide_mul;
 use super::real::{Real, FRAC_BITS};
-use super::wide::int::wide_mul;
 
 /// `2^(FRAC_BITS − 1)`: the rounding half.
 const HALF: i128 = 1 << (FRAC_BITS - 1);

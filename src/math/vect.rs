@@ -12,8 +12,8 @@ use core::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
 
 use serde::{Deserialize, Serialize};
 
+use super::exact::int::{sum_sq, wide_mul};
 use super::real::{Real, FRAC_BITS};
-use super::wide::int::{sum_sq, wide_mul};
 
 /// A 2D vector (or point) of [`Real`]s.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]

@@ -29,7 +29,7 @@
 pub use super::error::ChainError;
 use super::{check_radius, CollisionType, Material, Segment, Shape, ShapeError, ShapeFilter};
 use crate::body::BodyHandle;
-use crate::math::wide;
+use crate::math::exact;
 use crate::math::{Real, Vect};
 
 /// Whether a chain's last point joins its first.
@@ -212,7 +212,7 @@ fn check_points(points: &[Vect], kind: ChainKind) -> Result<(), ChainError> {
         let p = at(j.saturating_add(n).saturating_sub(1));
         let (q, r) = (at(j), at(j.saturating_add(1)));
         let (d1, d2) = (q - p, r - q);
-        let (cross, dot) = (wide::cross(d1, d2), wide::dot(d1, d2));
+        let (cross, dot) = (exact::cross(d1, d2), exact::dot(d1, d2));
         if cross == 0 && dot < 0 {
             return Err(ChainError::FoldsBack { index: j });
         }

@@ -31,7 +31,7 @@
 //! (the value is saturated to `i128` only beyond 2^127, where just its sign
 //! and order matter). A fuzz-found case (extent ≥ 2^31 with saturated
 //! differences) produced a duplicated vertex before this.
-use crate::math::wide::{raw_diff, I256};
+use crate::math::exact::{raw_diff, I256};
 use crate::math::{Real, Vect};
 
 /// Exact orientation of the triangle `a, b, c`: `(b − a) × (c − a)` in units

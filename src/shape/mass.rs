@@ -26,7 +26,7 @@
 //! above a side of ≈ 337 at density 1 (≈ 60 at density 1000): use metres,
 //! not pixels. Areas saturate above ≈ 46,340 × 46,340.
 use super::{Geometry, MassInfo, MassSpec, Shape};
-use crate::math::wide::{raw_diff, raw_sq, raw_sum, saturate_to_real, I256};
+use crate::math::exact::{raw_diff, raw_sq, raw_sum, saturate_to_real, I256};
 use crate::math::{Real, Vect, BB};
 
 /// `m · num / den` where `num / den` is a per-unit-mass quantity in units of

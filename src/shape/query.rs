@@ -69,7 +69,7 @@ use serde::{Deserialize, Serialize};
 
 use super::geometry::{next_index, Circle, Geometry, Poly, Segment};
 use super::reach;
-use crate::math::wide::{raw_sq, wide_mul};
+use crate::math::exact::{raw_sq, wide_mul};
 use crate::math::{Real, Vect};
 
 /// The result of a point query (Chipmunk `cpPointQueryInfo`).

@@ -17,7 +17,7 @@
 //! ±2^31 m of each other); beyond that the saturated differences give a
 //! defined, not exact, answer.
 use super::geometry::{next_index, Geometry};
-use crate::math::wide::{cross, dot, len_sq, I256};
+use crate::math::exact::{cross, dot, len_sq, I256};
 use crate::math::{Real, Vect};
 
 /// Whether the segment `a → b` passes within `reach` (≥ 0) of the core of

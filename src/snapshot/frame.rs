@@ -34,7 +34,7 @@
 //! level objects' own (they are the world's, unchanged and valid). On any
 //! error the world is restored to exactly what it was.
 use super::{frame_codec, payload_checksum, SnapshotError};
-use crate::framing::{self, FrameError};
+use crate::envelope::{self, EnvelopeError};
 use crate::space::{FrameState, Space, SpaceError};
 
 /// First bytes of every frame snapshot.
@@ -52,12 +52,12 @@ pub const FRAME_FORMAT_VERSION: u32 = 8;
 /// `out` is left empty, which loading rejects.
 pub fn save_frame_into(space: &Space, out: &mut Vec<u8>) -> usize {
     out.clear();
-    framing::begin(out, &FRAME_MAGIC, FRAME_FORMAT_VERSION);
+    envelope::begin(out, &FRAME_MAGIC, FRAME_FORMAT_VERSION);
     if !frame_codec::encode(space, out) {
         out.clear();
         return 0;
     }
-    framing::seal(out, 0, payload_checksum);
+    envelope::seal(out, 0, payload_checksum);
     out.len()
 }
 
@@ -71,10 +71,10 @@ pub fn save_frame(space: &Space) -> Vec<u8> {
 /// The payload of frame bytes after the byte-level checks (header,
 /// payload checksum).
 fn open_frame(bytes: &[u8]) -> Result<&[u8], SnapshotError> {
-    let frame = framing::open(bytes, &FRAME_MAGIC, FRAME_FORMAT_VERSION).map_err(|e| match e {
-        FrameError::TooShort => SnapshotError::TooShort,
-        FrameError::BadMagic => SnapshotError::BadMagic,
-        FrameError::UnsupportedVersion(v) => SnapshotError::UnsupportedVersion(v),
+    let frame = envelope::open(bytes, &FRAME_MAGIC, FRAME_FORMAT_VERSION).map_err(|e| match e {
+        EnvelopeError::TooShort => SnapshotError::TooShort,
+        EnvelopeError::BadMagic => SnapshotError::BadMagic,
+        EnvelopeError::UnsupportedVersion(v) => SnapshotError::UnsupportedVersion(v),
     })?;
     let computed = payload_checksum(frame.payload);
     if computed != frame.digest {

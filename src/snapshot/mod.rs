@@ -230,7 +230,7 @@ use bincode::config::{Configuration, Fixint, Limit, LittleEndian};
 pub use diff::{checksum_parts, first_difference, ChecksumParts, Difference, Subject};
 pub use frame::{decode_frame, save_frame, save_frame_into, FRAME_FORMAT_VERSION, FRAME_MAGIC};
 
-use crate::framing::{self, FrameError};
+use crate::envelope::{self, EnvelopeError};
 use crate::limits::{LimitError, Limits};
 use crate::space::{validate_state, Space, WorldState};
 
@@ -255,8 +255,8 @@ pub const MAGIC: [u8; 8] = *b"TAMIAS2D";
 pub const FORMAT_VERSION: u32 = 7;
 
 /// Bytes before the bincode payload: magic, version, checksum (the frame
-/// every Tamias file shares, see [`crate::framing`]).
-pub const HEADER_LEN: usize = framing::HEADER_LEN;
+/// every Tamias file shares, see [`crate::envelope`]).
+pub const HEADER_LEN: usize = envelope::HEADER_LEN;
 
 /// Largest payload `load` decodes (1 GiB, about a million bodies): the
 /// decoder's byte limit. Memory is bounded by the data actually present: a
@@ -374,12 +374,12 @@ pub fn save_into(space: &Space, out: &mut Vec<u8>) -> usize {
 
 fn save_state_into(state: &WorldState, out: &mut Vec<u8>) -> usize {
     out.clear();
-    framing::begin(out, &MAGIC, FORMAT_VERSION);
+    envelope::begin(out, &MAGIC, FORMAT_VERSION);
     if bincode::serde::encode_into_std_write(state, out, CONFIG).is_err() {
         out.clear();
         return 0;
     }
-    framing::seal(out, 0, payload_checksum);
+    envelope::seal(out, 0, payload_checksum);
     out.len()
 }
 
@@ -445,10 +445,10 @@ fn size_hint(state: &WorldState) -> usize {
 
 /// The header of `bytes`: checks length, magic and version only.
 pub fn header(bytes: &[u8]) -> Result<Header, SnapshotError> {
-    let frame = framing::open(bytes, &MAGIC, FORMAT_VERSION).map_err(|e| match e {
-        FrameError::TooShort => SnapshotError::TooShort,
-        FrameError::BadMagic => SnapshotError::BadMagic,
-        FrameError::UnsupportedVersion(v) => SnapshotError::UnsupportedVersion(v),
+    let frame = envelope::open(bytes, &MAGIC, FORMAT_VERSION).map_err(|e| match e {
+        EnvelopeError::TooShort => SnapshotError::TooShort,
+        EnvelopeError::BadMagic => SnapshotError::BadMagic,
+        EnvelopeError::UnsupportedVersion(v) => SnapshotError::UnsupportedVersion(v),
     })?;
     Ok(Header {
         version: FORMAT_VERSION,

@@ -30,8 +30,8 @@
 //! `k_max² < 1000·det K`, evaluated exactly in 128-bit integers.
 use super::kernel::{effective_mass, load_pair, neg, store_pair};
 use super::{move_bodies, ContactConstraint, SolverBody, Velocity};
-use crate::math::wide::exact::saturate_to_real;
-use crate::math::wide::int::wide_mul;
+use crate::math::exact::int::wide_mul;
+use crate::math::exact::predicates::saturate_to_real;
 use crate::math::{below_2_62, Bounded, FixedArith, Real, Saturating, Unsaturated, Vect};
 
 /// Largest accepted condition estimate `k_max² / det K` (Box2D v2's value):
@@ -563,7 +563,7 @@ mod tests {
     //! The block's pre-step against the one it replaced, kept here verbatim
     //! as the oracle (saturating operators, 256-bit divisions).
     use super::*;
-    use crate::math::wide::int::I256;
+    use crate::math::exact::int::I256;
     use crate::solver::kernel::tests::{any_real, moderate};
     use proptest::prelude::*;
 

@@ -26,7 +26,7 @@ use tamias2d::limits::Limits;
 use serde::{Deserialize, Serialize};
 use tamias2d::body::BodyHandle;
 use tamias2d::checksum::checksum_of;
-use tamias2d::framing::{self, FrameError};
+use tamias2d::envelope::{self, EnvelopeError};
 use tamias2d::math::{Real, Vect};
 use tamias2d::replay::{apply_inputs, BoxError, Input, Simulation};
 use tamias2d::shape::CollisionType;
@@ -48,8 +48,8 @@ pub const MAGIC: [u8; 8] = *b"TAMIASSW";
 pub const FORMAT_VERSION: u32 = 2;
 
 /// Bytes before the payload: magic, version, payload digest (the engine's
-/// shared file frame, [`tamias2d::framing`]).
-pub const HEADER_LEN: usize = framing::HEADER_LEN;
+/// shared file frame, [`tamias2d::envelope`]).
+pub const HEADER_LEN: usize = envelope::HEADER_LEN;
 
 /// Why saved bytes do not load as a scripted world.
 #[derive(Debug)]
@@ -194,7 +194,7 @@ impl ScriptedWorld {
                 .saturating_add(snapshot.len())
                 .saturating_add(script.len()),
         );
-        framing::begin(&mut out, &MAGIC, FORMAT_VERSION);
+        envelope::begin(&mut out, &MAGIC, FORMAT_VERSION);
         out.extend_from_slice(
             &u64::try_from(snapshot.len())
                 .unwrap_or(u64::MAX)
@@ -202,7 +202,7 @@ impl ScriptedWorld {
         );
         out.extend_from_slice(&snapshot);
         out.extend_from_slice(&script);
-        framing::seal(&mut out, 0, checksum_of);
+        envelope::seal(&mut out, 0, checksum_of);
         out
     }
 
@@ -226,10 +226,10 @@ impl ScriptedWorld {
     /// [`Space::load_snapshot`]); the `begin` counters take the saved
     /// counts. On error nothing changes.
     pub fn load_in_place(&mut self, bytes: &[u8]) -> Result<(), LoadError> {
-        let frame = framing::open(bytes, &MAGIC, FORMAT_VERSION).map_err(|e| match e {
-            FrameError::TooShort => LoadError::TooShort,
-            FrameError::BadMagic => LoadError::BadMagic,
-            FrameError::UnsupportedVersion(v) => LoadError::UnsupportedVersion(v),
+        let frame = envelope::open(bytes, &MAGIC, FORMAT_VERSION).map_err(|e| match e {
+            EnvelopeError::TooShort => LoadError::TooShort,
+            EnvelopeError::BadMagic => LoadError::BadMagic,
+            EnvelopeError::UnsupportedVersion(v) => LoadError::UnsupportedVersion(v),
         })?;
         let (stored, payload) = (frame.digest, frame.payload);
         let computed = checksum_of(payload);

@@ -1,4 +1,4 @@
-//! The `Real`/`Vect` layer of [`math::wide`](super): exact sums and
+//! The `Real`/`Vect` layer of [`math::exact`](super): exact sums and
 //! squares of raw `Real` bits, the exact vector predicates and the precise
 //! normalisation of the collision code.
 use super::int::{sum_sq, wide_mul, wide_mul_u64};

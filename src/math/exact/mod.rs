@@ -1,11 +1,11 @@
-//! Wide integer arithmetic: everything the engine computes on more bits
+//! Exact integer arithmetic: everything the engine computes on more bits
 //! than a [`Real`](super::Real) holds, in one module with two layers.
 //!
 //! * [`int`], below `Real`: [`wide_mul`], the exact `i64 × i64 → i128`
 //!   product behind `Real`'s own multiplication, and [`I256`] for exact sums
 //!   of products of `i128`s (mass integrals, kinetic energy, the hull's
 //!   orientation far from the origin); the caller rounds once at the end.
-//! * [`exact`], above `Real` and `Vect`: raw sums, differences and squares of
+//! * [`predicates`], above `Real` and `Vect`: raw sums, differences and squares of
 //!   `Real` bits on `i128` ([`raw_sum`], [`raw_diff`], [`raw_sq`]), the exact
 //!   vector predicates ([`dot`], [`cross`], [`len_sq`]) and the precise
 //!   [`normalize`] of the collision code. Every decision GJK and EPA take
@@ -18,7 +18,7 @@
 //!   once each.
 //!
 //! The two layers keep the module graph free of circles: `Real` and `Vect`
-//! use `int`, and `exact` uses them.
+//! use `int`, and `predicates` uses them.
 //!
 //! Units: a raw product of two `Real`s is in units of 2^-64.
 //!
@@ -27,11 +27,11 @@
 //! and only give a defined result instead of a panic or a wrap if a future
 //! caller breaks the stated bound; the vector predicates' sums saturate only
 //! for operands near `Real::MIN`/`MAX`, far outside the envelope.
-pub(crate) mod exact;
 pub(crate) mod int;
+pub(crate) mod predicates;
 
-pub(crate) use exact::{
+pub(crate) use int::{wide_mul, I256};
+pub(crate) use predicates::{
     cross, dot, len_sq, normalize, raw_diff, raw_sq, raw_sum, saturate_to_real, scale_by_ratio,
     unit_or, unit_ratio,
 };
-pub(crate) use int::{wide_mul, I256};

@@ -1,5 +1,6 @@
-//! The frame every Tamias file shares: snapshots, replays and the fixtures
-//! crate's scripted worlds.
+//! The envelope every Tamias file shares (a header around the payload):
+//! snapshots, replays and the fixtures crate's scripted worlds. (A rollback
+//! *frame* is something else: `space::FrameState`.)
 //!
 //! ```text
 //! offset  size  content
@@ -22,7 +23,7 @@ const DIGEST: core::ops::Range<usize> = 12..HEADER_LEN;
 
 /// What is wrong with a header.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FrameError {
+pub enum EnvelopeError {
     /// Shorter than [`HEADER_LEN`] bytes.
     TooShort,
     /// The first 8 bytes are not the expected magic.
@@ -33,7 +34,7 @@ pub enum FrameError {
 
 /// A file split at its header, after the magic and version were checked.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Frame<'a> {
+pub struct Envelope<'a> {
     /// The digest the writer stored (not yet compared with the payload).
     pub digest: u64,
     /// The bytes after the header.
@@ -41,24 +42,28 @@ pub struct Frame<'a> {
 }
 
 /// Splits `bytes` at its header: checks the length, `magic` and `version`.
-pub fn open<'a>(bytes: &'a [u8], magic: &[u8; 8], version: u32) -> Result<Frame<'a>, FrameError> {
+pub fn open<'a>(
+    bytes: &'a [u8],
+    magic: &[u8; 8],
+    version: u32,
+) -> Result<Envelope<'a>, EnvelopeError> {
     let (Some(found_magic), Some(found_version), Some(digest), Some(payload)) = (
         bytes.get(0..8),
         bytes.get(8..12),
         bytes.get(DIGEST),
         bytes.get(HEADER_LEN..),
     ) else {
-        return Err(FrameError::TooShort);
+        return Err(EnvelopeError::TooShort);
     };
     if found_magic != magic {
-        return Err(FrameError::BadMagic);
+        return Err(EnvelopeError::BadMagic);
     }
     let found_version = u32::from_le_bytes(found_version.try_into().unwrap_or([0; 4]));
     if found_version != version {
-        return Err(FrameError::UnsupportedVersion(found_version));
+        return Err(EnvelopeError::UnsupportedVersion(found_version));
     }
     let digest = u64::from_le_bytes(digest.try_into().unwrap_or([0; 8]));
-    Ok(Frame { digest, payload })
+    Ok(Envelope { digest, payload })
 }
 
 /// Appends a header with a zero digest to `out`; write the payload after
@@ -69,7 +74,7 @@ pub fn begin(out: &mut Vec<u8>, magic: &[u8; 8], version: u32) {
     out.extend_from_slice(&[0; 8]);
 }
 
-/// Fills in the digest of the frame that starts at `out[start..]`: `digest`
+/// Fills in the digest of the envelope that starts at `out[start..]`: `digest`
 /// of its payload. Returns the digest.
 pub fn seal(out: &mut [u8], start: usize, digest: impl Fn(&[u8]) -> u64) -> u64 {
     let frame = out.get_mut(start..).unwrap_or(&mut []);
@@ -107,11 +112,11 @@ mod tests {
     fn open_rejects_short_foreign_and_newer_headers() {
         let bytes = framed(b"");
         assert_eq!(open(&bytes, &MAGIC, 3).unwrap().payload, b"");
-        assert_eq!(open(&bytes[..19], &MAGIC, 3), Err(FrameError::TooShort));
-        assert_eq!(open(&bytes, b"OTHERFIL", 3), Err(FrameError::BadMagic));
+        assert_eq!(open(&bytes[..19], &MAGIC, 3), Err(EnvelopeError::TooShort));
+        assert_eq!(open(&bytes, b"OTHERFIL", 3), Err(EnvelopeError::BadMagic));
         assert_eq!(
             open(&bytes, &MAGIC, 4),
-            Err(FrameError::UnsupportedVersion(3))
+            Err(EnvelopeError::UnsupportedVersion(3))
         );
     }
 }

@@ -1,4 +1,4 @@
-//! The integer layer of [`math::wide`](super): exact products of raw
+//! The integer layer of [`math::exact`](super): exact products of raw
 //! `i64` values on `i128` and a 256-bit integer for sums of products of
 //! `i128`s. Depends on nothing, so `Real` itself is built on it.
 
