@@ -363,14 +363,15 @@ impl Broadphase {
     /// `sleeping` holds the shapes of sleeping bodies: queried like
     /// `statics`, so they pair only with moving shapes.
     pub fn find_pairs(&mut self, moving: &[Proxy], statics: &StaticTree, sleeping: &StaticTree) {
-        self.find_pairs_with(moving, statics, sleeping, false, usize::MAX);
+        self.find_pairs_with(moving, statics, sleeping, usize::MAX);
     }
 
-    /// [`find_pairs`](Self::find_pairs); with `split` (a step with
-    /// threads) the sweep of the moving boxes against each other runs in
-    /// pieces between them ([`crate::threads::join`]) before the static
-    /// queries. The same pairs: the order pairs are found in is put right
-    /// by [`canonical_pairs`](Self::canonical_pairs).
+    /// [`find_pairs`](Self::find_pairs) with a pair budget. The sweep of
+    /// the moving boxes against each other runs in pieces, halves in
+    /// parallel where the step has threads ([`crate::threads::join`]; inline
+    /// on one), before the static queries. The same pairs on any thread
+    /// count: the order pairs are found in is put right by
+    /// [`canonical_pairs`](Self::canonical_pairs).
     ///
     /// More than `limit` pairs (a budget for untrusted worlds, see
     /// `crate::limits`) stops the search as soon as it is known, with the
@@ -381,18 +382,18 @@ impl Broadphase {
         moving: &[Proxy],
         statics: &StaticTree,
         sleeping: &StaticTree,
-        split: bool,
         limit: usize,
     ) -> bool {
         self.sort_moving(moving);
         self.found.clear();
-        if split {
-            let pieces = self.sorted.len().div_ceil(SWEEP_PIECE);
-            self.pieces.resize_with(pieces, Vec::new);
-            sweep_split(&self.sorted, 0, &mut self.pieces, limit);
-            for piece in &self.pieces {
-                self.found.extend_from_slice(piece);
-            }
+        // One path for any thread count: the sweep in pieces, halves in
+        // parallel where there are threads (inline on one), joined in
+        // order; then each box against the trees.
+        let pieces = self.sorted.len().div_ceil(SWEEP_PIECE);
+        self.pieces.resize_with(pieces, Vec::new);
+        sweep_split(&self.sorted, 0, &mut self.pieces, limit);
+        for piece in self.pieces.get(..pieces).unwrap_or(&[]) {
+            self.found.extend_from_slice(piece);
         }
         // The fat-box answers, by shape slot counted from the lowest moving
         // one (a level's static slots below take no room), when those slots
@@ -426,9 +427,6 @@ impl Broadphase {
                 return false;
             }
             rest = later;
-            if !split {
-                sweep_one(a, later, found);
-            }
             if statics.is_empty() && sleeping.is_empty() {
                 continue;
             }

@@ -104,16 +104,17 @@ impl ContactSolver {
     /// The rows of the `active` arbiters: the solve order (canonical, or by
     /// color: [`graph`]), then one row per manifold point with its
     /// effective masses, bias and bounce (every division of the contact
-    /// solver happens here). With `split`, a first pass places each
-    /// manifold's rows and block slot, so manifolds are prepared in pieces
-    /// on the threads. Returns the number of rows.
+    /// solver happens here). One path for any thread count: a first pass
+    /// places each manifold's rows and block slot, then the manifolds are
+    /// prepared in pieces, halves in parallel where there are threads
+    /// (inline on one), each writing only its own rows. Returns the number
+    /// of rows.
     pub(crate) fn prepare(
         &mut self,
         arbiters: &[Arbiter],
         active: &[u32],
         params: &ContactParams,
         order: RowOrder,
-        split: bool,
     ) -> u32 {
         let ContactSolver {
             bodies: solver_bodies,
@@ -147,33 +148,6 @@ impl ContactSolver {
             params,
             friction: params.switches.friction,
         };
-        if !split {
-            contact_constraints.clear();
-            blocks.clear();
-            // One thread: rows and blocks appended in order, each written
-            // once (the split below writes every row twice, placing first).
-            for &i in graph.order() {
-                let Some(arb) = arbiters.get(i as usize) else {
-                    continue;
-                };
-                let pair = pair_params(arb);
-                let block = use_blocks && arb.contacts().len() == 2;
-                let mut k_t = [Real::ZERO; 2];
-                for ((n, c), k) in arb.contacts().iter().enumerate().zip(&mut k_t) {
-                    let row;
-                    (row, *k) = prepare_row(&job, &pair, i, n, c, block);
-                    contact_constraints.push(row);
-                }
-                if let (true, [.., c1, c2]) = (block, contact_constraints.as_mut_slice()) {
-                    if let Some(b) = finish_block(&job, c1, c2, k_t) {
-                        blocks.push(b);
-                        // Its index + 1 (at most 2^32 blocks: rows are counted in u32).
-                        c1.block = blocks.len() as u32;
-                    }
-                }
-            }
-            return contact_constraints.len() as u32;
-        }
         // Where each manifold's rows and block go, in one pass over the
         // arbiters: the manifolds can then be prepared in any order, and
         // split between threads.

@@ -233,11 +233,10 @@ impl Space {
             colored: s.colored_solver,
             blocks: s.block_solver,
         };
-        let split = self.caches.threads.parallel();
-        let rows =
-            self.caches
-                .solver
-                .prepare(&self.state.arbiters, active, &ctx.contact, order, split);
+        let rows = self
+            .caches
+            .solver
+            .prepare(&self.state.arbiters, active, &ctx.contact, order);
         self.caches.step.stats.solver_contacts = rows;
     }
 

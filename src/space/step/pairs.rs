@@ -12,16 +12,10 @@ impl Space {
     pub(super) fn find_pairs(&mut self) -> bool {
         self.update_static_tree();
         self.rebuild_sleeping_tree();
-        let split = self.caches.threads.parallel();
         let budget = self.limits.pair_budget();
         let bp = &mut self.caches.broadphase;
-        bp.sweep.find_pairs_with(
-            &bp.proxies,
-            &bp.static_tree,
-            &bp.sleeping_tree,
-            split,
-            budget,
-        )
+        bp.sweep
+            .find_pairs_with(&bp.proxies, &bp.static_tree, &bp.sleeping_tree, budget)
     }
 
     /// The sleeping tree from this step's sleeping boxes, if they changed

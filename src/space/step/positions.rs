@@ -1,6 +1,6 @@
 //! [`Stage::IntegratePositions`](super::Stage::IntegratePositions): every awake body moves by its velocity
-//! and bias velocity (or its custom position integrator). Body by body
-//! between the threads when no custom integrator is set.
+//! and bias velocity (or its custom position integrator). Body by body,
+//! in pieces the threads share, when no custom integrator is set.
 use crate::body::BodyType;
 use crate::math::Real;
 
@@ -9,9 +9,12 @@ use super::super::Space;
 impl Space {
     /// [`Stage::IntegratePositions`](super::Stage::IntegratePositions): `p += (v + v_bias)·dt` and the same for the angle.
     pub(super) fn integrate_positions(&mut self, dt: Real) {
-        if self.caches.threads.parallel() && self.integrators.position.is_empty() {
-            // With threads and no custom integrator, body by body between
-            // them: what the loop below does then, the same bits.
+        if self.integrators.position.is_empty() {
+            // Without custom integrators, one path for any thread count:
+            // body by body in pieces, halves in parallel where there are
+            // threads (inline on one). The closures of custom integrators
+            // run on the stepping thread, in slot order (the loop below):
+            // the same bits, as each body moves alone.
             let level_touched = core::sync::atomic::AtomicBool::new(false);
             self.state
                 .bodies
