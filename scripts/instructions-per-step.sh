@@ -7,16 +7,18 @@
 #   scripts/instructions-per-step.sh [N] SCENE...
 #   scripts/instructions-per-step.sh 100 pyramid_20 bowl_boxes_500 chain_100
 #
-# Needs valgrind; builds the CLI (`cargo build --release -p tamias-cli`),
-# or runs the one that TAMIAS_BIN names (to compare two builds).
+# Needs valgrind; builds the CLI with the `measure` profile (release with
+# one codegen unit, so the count does not move with how the compiler splits
+# the crate into units), or runs the binary TAMIAS_BIN names (to compare
+# two builds).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 n=100
 if [[ "${1:-}" =~ ^[0-9]+$ ]]; then n=$1; shift; fi
 bin=${TAMIAS_BIN:-}
 if [[ -z "$bin" ]]; then
-    cargo build --release -q -p tamias-cli
-    bin=target/release/tamias
+    cargo build --profile measure -q -p tamias-cli
+    bin=target/measure/tamias
 fi
 out=$(mktemp -d)
 total() { # total SCENE STEPS: the instructions of the whole run

@@ -16,7 +16,7 @@
 //! passes the wall (`tamias run bullets` prints `tunnelled: 0`). The same
 //! scene with the flags cleared ([`without_bullets`]) tunnels 31 of the 32
 //! at one sub-step and none at 64 sub-steps (for 64 times the cost; the
-//! comparison is in `docs/performance.md`).
+//! comparison is in `docs/tuning.md`).
 use tamias2d::math::{Real, Vect};
 use tamias2d::real;
 use tamias2d::shape::ShapeFilter;

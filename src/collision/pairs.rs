@@ -537,7 +537,7 @@ mod tests {
     fn a_contact_both_segments_of_a_joint_would_leave_to_the_other_is_kept() {
         // Flat chain (−2,0) → (0,0) → (2,0) and a unit box tilted by about
         // −0.05 rad, its low corner on the joint, the box over the left
-        // segment and touching the chain only there (the box).
+        // segment and touching the chain only there (the box that fell through).
         let left = Segment::new(Vect::from_ints(-2, 0), Vect::ZERO, Real::ZERO)
             .with_neighbors(Vect::from_ints(-4, 0), Vect::from_ints(2, 0));
         let right = Segment::new(Vect::ZERO, Vect::from_ints(2, 0), Real::ZERO)

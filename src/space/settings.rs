@@ -1,5 +1,5 @@
 //! Simulation settings: Chipmunk's space parameters, sub-steps, and the
-//! solver switches ("pay only for what you use", see `docs/performance.md`).
+//! solver switches ("pay only for what you use", see `docs/tuning.md`).
 //! They are part of the simulation state (snapshots, checksums) and are
 //! checked by [`Settings::validate`] wherever they enter a space.
 use serde::{Deserialize, Serialize};
