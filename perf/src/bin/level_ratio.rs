@@ -4,7 +4,7 @@
 //! (the box awake: each sample starts from the same saved frame), of
 //! `snapshot::save_frame_into` and of `Space::checksum`, and their ratios
 //! (`docs/performance.md`, "Where issue 15 ends"):
-//! `cargo run --release --example level_ratio [big segments] [small segments]`.
+//! `cargo run --release -p tamias2d-perf --bin level_ratio [big segments] [small segments]`.
 //! The `tamias bench --rollback` scenes `level_30000` and `level_300` differ
 //! from these in more than their size (ten movers, and terrain of another
 //! phase under them), so their ratios answer a different question.

@@ -109,14 +109,16 @@ impl Machine {
             })
             .unwrap_or_else(|| "unknown".to_owned());
         let rapier = locked_version("rapier2d").unwrap_or_else(|| "?".to_owned());
+        // This program is a crate of its own (tamias2d-perf): the engine's
+        // version is the one locked, as Rapier's.
+        let tamias = locked_version("tamias2d").unwrap_or_else(|| "?".to_owned());
         Machine {
             date: command_output("date", &["-u", "+%Y-%m-%d"]).unwrap_or_default(),
             cores: std::thread::available_parallelism().map_or(0, |n| n.get()),
             model,
             rustc: command_output("rustc", &["-V"]).unwrap_or_else(|| "unknown".to_owned()),
             engines: format!(
-                "Tamias2D {} (I32F32); rapier2d {rapier} (f32, `enhanced-determinism`)",
-                env!("CARGO_PKG_VERSION")
+                "Tamias2D {tamias} (I32F32); rapier2d {rapier} (f32, `enhanced-determinism`)"
             ),
         }
     }

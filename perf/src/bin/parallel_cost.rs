@@ -18,8 +18,9 @@
 //! `--iterations N` runs every world at N solver iterations (a point of the
 //! trade curve: what the colored order needs to match the canonical one).
 //!
-//! Needs the `parallel` feature, which the crate's dev-dependencies turn
-//! on for examples: `cargo run --release --example parallel_cost`.
+//! Needs the `parallel` feature, which `perf/Cargo.toml` turns on:
+//! `cargo run --release -p tamias2d-perf --bin parallel_cost` (from the
+//! repository root).
 use std::time::Instant;
 
 use tamias2d::math::Real;

@@ -1,7 +1,7 @@
 //! The worst step a peer's bytes can cause under `Limits::UNTRUSTED`,
 //! through each loading path, beside a normal step of the largest world
 //! the limits admit (`docs/architecture.md`, "Untrusted input"):
-//! `cargo run --release --example untrusted_worst_step`.
+//! `cargo run --release -p tamias2d-perf --bin untrusted_worst_step`.
 //!
 //! * normal: a lattice of touching circles (radius 0.5, 1 m apart) on a
 //!   floor, as many as `max_bodies` admits, default settings;

@@ -5,7 +5,7 @@
 //! runs of the scene's 120 steps and the bullets beyond the wall.
 //!
 //! ```text
-//! cargo run --release --example bullets_cost
+//! cargo run --release -p tamias2d-perf --bin bullets_cost
 //! ```
 use std::time::Instant;
 

@@ -7,11 +7,12 @@
 //! sub-steps.
 //!
 //! ```text
-//! cargo run --release --example perf_report -- --out docs     # full run (5-9 min on 2 cores)
-//! cargo run --release --example perf_report -- --quick        # CI-sized scenes, short sweep (< 1 min)
-//! cargo run --release --example perf_report -- --out docs --only joints   # section D only (~1 min)
-//! cargo run --release --example perf_report -- --out docs --only sleep    # sleeping table only (~1 min)
+//! cargo run --release -p tamias2d-perf --bin perf_report -- --out docs     # full run (5-9 min on 2 cores)
+//! cargo run --release -p tamias2d-perf --bin perf_report -- --quick        # CI-sized scenes, short sweep (< 1 min)
+//! cargo run --release -p tamias2d-perf --bin perf_report -- --out docs --only joints   # section D only (~1 min)
+//! cargo run --release -p tamias2d-perf --bin perf_report -- --out docs --only sleep    # sleeping table only (~1 min)
 //! ```
+//! Run it from the repository root (it reads `Cargo.lock` there).
 //! Options: `--out DIR` (default `target/perf_report`): the tables go into
 //! `DIR/performance.md` between its `<!-- BEGIN perf_report:… -->` /
 //! `<!-- END … -->` markers (the file is created with bare sections if it
