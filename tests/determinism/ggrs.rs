@@ -1,7 +1,7 @@
 //! Rollback determinism through GGRS: a `SyncTestSession` re-simulates the
 //! last 7 frames on every frame and compares checksums (a mismatch is an
 //! error), and two `P2PSession` peers over loopback UDP must end with the
-//! same checksums. The game is `examples/ggrs_game` (bowl_boxes_100 with two
+//! same checksums. The game is `tamias2d_scenes::ggrs_game` (bowl_boxes_100 with two
 //! player balls).
 use tamias2d_scenes::ggrs_game;
 

@@ -7,15 +7,13 @@
 //! * **Degenerate input** (zero mass, zero area, points, needles, NaN,
 //!   out-of-range numbers) is an error or a defined behaviour, never a panic.
 //!
-//! The other parts: `extremes_translation.rs` (far from the origin),
-//! `extremes_scale.rs` (sizes and masses), `extremes_motion.rs` (speed,
-//! overlap, time steps), and `extremes.rs`, the envelope report behind
-//! `docs/numerics.md`. Shared helpers: `extremes_common/mod.rs`.
+//! The other parts: `translation.rs` (far from the origin),
+//! `scale.rs` (sizes and masses), `motion.rs` (speed,
+//! overlap, time steps), and `report.rs`, the envelope report behind
+//! `docs/numerics.md`. Shared helpers: `common.rs`.
 #![allow(clippy::float_arithmetic)]
 
-mod extremes_common;
-
-use extremes_common::{build, int, lone_ball, trace_x, Watch, FRICTION};
+use super::common::{build, int, lone_ball, trace_x, Watch, FRICTION};
 use tamias2d::body::Body;
 use tamias2d::math::{RealError, Transform};
 use tamias2d::real;
@@ -302,7 +300,7 @@ fn raw_space_dynamic_body_without_mass_is_refused_by_step() {
     // and the raw `Space` API accepts `Body::new(0, 0)` with only massless
     // shapes (a body may get its shapes later), but `step` refuses to run
     // it: with infinite mass it would fall through the ground (issue 18,
-    // see `tests/regression_massless_dynamic_body.rs`).
+    // see `tests/regressions/massless_dynamic_body.rs`).
     let mut space = Space::new();
     space.set_gravity(Vect::from_ints(0, -10));
     let ghost = space

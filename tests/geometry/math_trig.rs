@@ -3,8 +3,8 @@
 //! oracle evaluated at the exact input values.
 //!
 //! Measured maxima (quoted in the module docs of `src/math/trig.rs`):
-//! `cargo test --release --test math_trig -- --nocapture max_error`.
-//! Timing: `cargo test --release --test math_trig -- --ignored --nocapture timing`.
+//! `cargo test --release --test geometry -- --nocapture math_trig::max_error`.
+//! Timing: `cargo test --release --test geometry -- --ignored --nocapture math_trig::timing`.
 
 use proptest::prelude::*;
 use tamias2d::math::trig::{atan2, cos, sin, sin_cos};

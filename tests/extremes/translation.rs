@@ -14,9 +14,8 @@
 //! scene there; see `docs/numerics.md`.)
 //!
 //! Steps: 120 in debug builds, 600 (10 s) in release builds.
-mod extremes_common;
 
-use extremes_common::{compare_shifted, int, x_vect};
+use super::common::{compare_shifted, int, x_vect};
 use tamias2d::Vect;
 use tamias2d_scenes::{self as scenes, SceneDesc};
 

@@ -20,7 +20,7 @@
 //!   up, and only as far as needed). A seam that catches takes speed or
 //!   throws the player up; the bound is 1% of the walking speed, a 0.57°
 //!   deflection, far above the rounding of a flat contact (see
-//!   `tests/chain.rs`).
+//!   `tests/physics/chain.rs`).
 //! * **Jump height**: a take-off at `v` reaches `v²/(2g)` above the floor in
 //!   continuous time; the integrator's steps move the apex by less than one
 //!   step of travel at take-off speed, `v·dt`.

@@ -8,21 +8,19 @@
 //! ```
 //!
 //! The measurements are the ones the extreme-scene tests assert bounds on
-//! (`extremes_diagnostics.rs`, `extremes_translation.rs`,
-//! `extremes_scale.rs`, `extremes_motion.rs`; shared helpers in
-//! `extremes_common/mod.rs`). Everything except the timings is
+//! (`diagnostics.rs`, `translation.rs`,
+//! `scale.rs`, `motion.rs`; shared helpers in
+//! `common.rs`). Everything except the timings is
 //! deterministic, so a change in a pasted table means the engine's numbers
 //! changed. The format limits and the position resolution are cheap and
 //! follow from the format alone, so they are also checked here, on every
 //! `cargo test`, against their formulas.
 #![allow(clippy::float_arithmetic)]
 
-mod extremes_common;
-
 use std::hint::black_box;
 use std::time::Instant;
 
-use extremes_common::{
+use super::common::{
     box_body, build, coincident, compare_shifted, int, lone_ball, mass_ratio_pair,
     run_displacement, separate, similarity_error, stack_with_dt, trace_x, tunnel_count,
     worst_displacement, x_vect, Watch, FRICTION,
@@ -398,8 +396,8 @@ fn report_similarity() {
 /// the first step after which they differ by more than 10^-7 box sizes and
 /// the positive contact separations (ulp) of the unit scene before it.
 fn first_divergence_k2() -> (u32, Vec<i64>) {
-    let mut unit = build(&extremes_common::scaled_stack(5, Real::ONE, Real::ONE));
-    let mut two = build(&extremes_common::scaled_stack(5, Real::TWO, real!(0.25)));
+    let mut unit = build(&super::common::scaled_stack(5, Real::ONE, Real::ONE));
+    let mut two = build(&super::common::scaled_stack(5, Real::TWO, real!(0.25)));
     for i in 1..=600 {
         let kept: Vec<i64> = unit
             .space
@@ -595,7 +593,7 @@ fn report_long_rest() {
     println!("## stack_3 at rest for 10^5 steps\n");
     let mut s = build(&scenes::accuracy::stack(3));
     let w0 = Watch::run(&mut s, 10_000);
-    let settled = extremes_common::positions(&s.space);
+    let settled = super::common::positions(&s.space);
     let mut creep = 0.0f64;
     let mut ke = 0.0f64;
     let mut w = Watch::new(&s.space);

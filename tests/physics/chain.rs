@@ -42,7 +42,7 @@
 //! `src/collision/pairs.rs`), so as a body crosses a joint its contacts
 //! move from one segment's to the other's and it can pivot slightly before
 //! it settles. That the joints never let a body through is
-//! `tests/regression_chain_fall_through.rs`.
+//! `tests/regressions/chain_fall_through.rs`.
 #![allow(clippy::float_arithmetic)]
 
 use tamias2d::body::{Body, BodyHandle};

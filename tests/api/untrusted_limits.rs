@@ -10,7 +10,7 @@
 //! existed: settings of 1,024 iterations × 64 sub-steps (1.7–2.6 s per
 //! step), and circles piled within millimetres of each other (millions of
 //! candidate pairs, seconds per step). Their worst step times under the
-//! default limits are measured by `examples/untrusted_worst_step.rs`.
+//! default limits are measured by `perf/src/bin/untrusted_worst_step.rs`.
 use tamias2d::body::Body;
 use tamias2d::limits::{LimitError, Limits};
 use tamias2d::math::{Real, Vect};

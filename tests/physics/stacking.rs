@@ -136,7 +136,7 @@ fn stack_10_top_box_stays_within_drift_bounds() {
     //
     // Lateral: by symmetry the exact answer is x = 0, and with the block
     // solver (the default) it is exactly 0 at every step
-    // (tests/mirror_symmetry.rs). The sequential solver (`block_solver`
+    // (tests/physics/mirror_symmetry.rs). The sequential solver (`block_solver`
     // off) breaks the mirror symmetry (the two contacts of a face are
     // solved one after the other), and overlap within the slop is never
     // corrected, so the stack may sway; it still stands as long as each box

@@ -1,5 +1,5 @@
-//! Helpers shared by the extreme-scene tests (`tests/extremes*.rs`) and by
-//! the envelope report (`tests/extremes.rs`, `envelope_report`): scene
+//! Helpers shared by the extreme-scene tests (`tests/extremes/*.rs`) and by
+//! the envelope report (`report.rs`, `envelope_report`): scene
 //! transforms, a per-step watchdog, and the measurements whose results
 //! `docs/numerics.md` quotes. The tests assert bounds on these
 //! measurements; the report prints them.

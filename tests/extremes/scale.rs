@@ -8,9 +8,8 @@
 //! unchanged). The difference between the two, in box sizes, is what the
 //! number format costs at that scale. Measured values (release build) are
 //! quoted at each test; the bounds leave room for solver changes.
-mod extremes_common;
 
-use extremes_common::{
+use super::common::{
     box_body, build, int, mass_ratio_pair, run_displacement, similarity_error, Watch, FRICTION,
 };
 use tamias2d::real;

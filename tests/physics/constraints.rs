@@ -1424,7 +1424,7 @@ fn builtin_scene(name: &str) -> tamias2d_scenes::ScriptedWorld {
 /// A space that never sleeps. The closed-form checks here follow motion
 /// that slows towards rest (ring-down, drift, error correction) for many
 /// seconds, which sleeping would freeze once it is slower than the idle
-/// speed; sleeping has its own tests (`tests/sleep.rs`).
+/// speed; sleeping has its own tests (`tests/physics/sleep.rs`).
 fn awake_space() -> Space {
     let mut w = Space::new();
     let settings = tamias2d::space::Settings {

@@ -9,9 +9,7 @@
 //! 7–15 s in debug builds (depending on load), so it runs in both.
 #![allow(clippy::float_arithmetic)]
 
-mod extremes_common;
-
-use extremes_common::{
+use super::common::{
     build, coincident, positions, run_displacement, separate, stack_with_dt, tunnel_count,
     worst_displacement, Watch, SLOP,
 };
@@ -277,5 +275,5 @@ fn resting_stack_for_1e5_steps_neither_creeps_nor_gains_energy() {
     assert!(energy < 1e-9, "kinetic energy {energy} J after settling");
     // Gravity never pushes a settled box into its neighbour by more than
     // the slop.
-    assert!(extremes_common::deepest_contact(&s.space) > -SLOP.to_f64());
+    assert!(super::common::deepest_contact(&s.space) > -SLOP.to_f64());
 }

@@ -537,10 +537,18 @@ fn record_game() -> Replay {
 /// Runs `child_verifies_the_replay_in_TAMIAS_REPLAY_FILE` of this test
 /// binary in a new process on `file`; returns its result line.
 fn verify_in_second_process(file: &std::path::Path) -> String {
+    // The child's name as the harness knows it: its path in this test
+    // program, without the crate name (`replay::child_…` in the
+    // `determinism` program).
+    let child = "child_verifies_the_replay_in_tamias_replay_file";
+    let child = module_path!().split_once("::").map_or_else(
+        || child.to_owned(),
+        |(_, module)| format!("{module}::{child}"),
+    );
     let out = Command::new(std::env::current_exe().expect("test binary"))
         .args([
             "--exact",
-            "child_verifies_the_replay_in_tamias_replay_file",
+            child.as_str(),
             "--ignored",
             "--nocapture",
             "--test-threads=1",

@@ -7,7 +7,7 @@
 //! Agreement, when both pick the same face: the same contact count, normals
 //! within 2 ulp per component, distances and points within `8 + 2·L` ulp
 //! (L = the pair's largest coordinate relative to the anchor, in units, the
-//! bound `tests/collision.rs` uses for GJK/EPA). Two faces equally deep to
+//! bound `tests/geometry/collision.rs` uses for GJK/EPA). Two faces equally deep to
 //! within that bound may be chosen differently (EPA ranks by true distance,
 //! the new path by exact products on the stored normals, ties by a fixed
 //! rule): then both answers must have the same depth. A contact exactly at
