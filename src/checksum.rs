@@ -48,7 +48,7 @@
 //! each slot as its index then generation and occupancy in one word, see
 //! `arena::hash_part`) after the level's digest, itself a hash of the level
 //! objects under this hasher; a constraint arena that never had a slot adds
-//! nothing. `tests/mirrors.rs` changes every leaf of a world in turn
+//! nothing. `tests/determinism/desync_coverage.rs` changes every leaf of a world in turn
 //! (unused vertex and contact slots and normals included) and checks that
 //! the checksum changes.
 use core::hash::{Hash, Hasher};

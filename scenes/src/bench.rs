@@ -1,5 +1,5 @@
 //! Shared code of the Tamias2D-versus-Rapier benches and of the performance
-//! report (`benches/`, `examples/perf_report`), behind the feature `bench`
+//! report (`benches/`, `perf/src/bin/perf_report`), behind the feature `bench`
 //! (it pulls in Rapier). Not part of the fixtures proper: measurement
 //! helpers that the engine's benches and report share.
 //!

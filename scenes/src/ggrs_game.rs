@@ -1,5 +1,5 @@
 //! The little two-player game shared by the GGRS and rollback examples and
-//! by `tests/ggrs.rs` (feature `ggrs`): `bowl_boxes_100` (100 boxes dropped into a bowl) plus
+//! by `tests/determinism/ggrs.rs` (feature `ggrs`): `bowl_boxes_100` (100 boxes dropped into a bowl) plus
 //! two player balls, each driven by a `u8` button mask.
 //!
 //! Buttons decode deterministically into [`replay::Input`]s

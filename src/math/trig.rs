@@ -45,7 +45,7 @@
 //! 2^-31 … 2^30, random bits over the whole `i64` range, every magnitude, and
 //! the Reals nearest to `k·π/2` up to 2^31 rad (the hardest cases for range
 //! reduction), 2·10⁶ points per category, reproducible with
-//! `cargo test --release --test math_trig -- --nocapture max_error`
+//! `cargo test --release --test geometry -- --nocapture math_trig::max_error`
 //! (`TRIG_SWEEP_N=40000000` for the bigger sweep quoted here):
 //!
 //! | quantity                         | max error (ulp = 2^-32) |
@@ -73,7 +73,7 @@
 //! # Cost
 //! About 19 ns per `sin_cos` (independent of the angle's size) and 16 ns per
 //! `atan2` in release builds on the development machine (Xeon, x86-64):
-//! `cargo test --release --test math_trig -- --ignored --nocapture timing`.
+//! `cargo test --release --test geometry -- --ignored --nocapture math_trig::timing`.
 use super::exact::int::wide_mul;
 use super::Real;
 

@@ -63,7 +63,7 @@
 //! of its rotated normals. A segment-query hit point lies within
 //! `64 + 8·|b − a|` ulp of the surface (the hit time is rounded to 2^-32).
 //! Translating a shape and its query by any vector gives bit-identical,
-//! shifted answers. `tests/queries.rs` checks all of this against `f64`
+//! shifted answers. `tests/geometry/queries.rs` checks all of this against `f64`
 //! oracles.
 use serde::{Deserialize, Serialize};
 

@@ -93,7 +93,7 @@
 //!
 //! So no bullet shape wider than `2δ` passes a static or kinematic shape,
 //! at any speed the step can represent, any angle and spin: `tests/
-//! bullets.rs` and `tests/regression_bullet_tunnelling.rs` fire every
+//! physics/bullets.rs` and `tests/regressions/bullet_tunnelling.rs` fire every
 //! shape kind at thin segments, thin static boxes and kinematic walls.
 //!
 //! # What is not swept

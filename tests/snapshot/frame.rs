@@ -52,7 +52,7 @@ fn a_frame_holds_the_moving_part_only() {
         a.len(),
         b.len()
     );
-    // The goal for one moving box on a big level: ≤ 2 KB.
+    // The goal for one moving box on a big level: ≤ 2 KB.
     eprintln!(
         "one box on 3,000 segments: frame {} bytes, full snapshot {}",
         b.len(),

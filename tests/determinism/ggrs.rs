@@ -1,0 +1,98 @@
+//! Rollback determinism through GGRS: a `SyncTestSession` re-simulates the
+//! last 7 frames on every frame and compares checksums (a mismatch is an
+//! error), and two `P2PSession` peers over loopback UDP must end with the
+//! same checksums. The game is `tamias2d_scenes::ggrs_game` (bowl_boxes_100 with two
+//! player balls).
+use tamias2d_scenes::ggrs_game;
+
+use ggrs_game::{
+    run_p2p, run_straight, run_straight_on, run_synctest, scripted_buttons, Game, P2P_INPUT_DELAY,
+};
+
+/// 600 frames at check distance 7 (8 steps of a 103-body scene per frame).
+const SYNCTEST_FRAMES: u64 = 600;
+
+#[test]
+fn synctest_check_distance_7_agrees_with_a_straight_run() {
+    let mut game = Game::new();
+    run_synctest(&mut game, SYNCTEST_FRAMES, 7, 3).expect("deterministic under rollback");
+    assert_eq!(game.frame(), SYNCTEST_FRAMES);
+    assert!(game.loads >= SYNCTEST_FRAMES - 8, "rolled back every frame");
+    let straight = run_straight(SYNCTEST_FRAMES, 3, 0);
+    assert_eq!(game.space.checksum(), straight.space.checksum());
+    assert_eq!(game.space.state(), straight.space.state());
+}
+
+/// The joint scenes under rollback: `ragdolls_20` (pivot and
+/// rotary-limit joints, 2 sub-steps) and `car` (groove joints, damped
+/// springs, motors), their first two dynamic bodies driven by the players,
+/// 600 frames at check distance 7; the end state equals a straight run.
+#[test]
+fn synctest_on_the_joint_scenes_agrees_with_a_straight_run() {
+    for name in ["ragdolls_20", "car"] {
+        let mut game = Game::with_scene(name).unwrap_or_else(|| panic!("{name} is a game"));
+        run_synctest(&mut game, SYNCTEST_FRAMES, 7, 3)
+            .unwrap_or_else(|e| panic!("{name}: not deterministic under rollback: {e}"));
+        assert_eq!(game.frame(), SYNCTEST_FRAMES, "{name}");
+        assert!(
+            game.loads >= SYNCTEST_FRAMES - 8,
+            "{name}: rolled back every frame"
+        );
+        let fresh = Game::with_scene(name).unwrap_or_else(|| panic!("{name} is a game"));
+        let straight = run_straight_on(fresh, SYNCTEST_FRAMES, 3, 0);
+        assert_eq!(game.space.checksum(), straight.space.checksum(), "{name}");
+        assert_eq!(game.space.state(), straight.space.state(), "{name}");
+        assert!(
+            game.space.constraints().next().is_some(),
+            "{name} has joints"
+        );
+    }
+}
+
+/// Sleeping under rollback: `sleep_wake`'s players are two
+/// balls that the scripted buttons roll into the sleeping columns, which
+/// wake, scatter and fall asleep again. 600 frames at check distance 7;
+/// the end state equals a straight run, and the straight run did sleep and
+/// wake (counted frame by frame).
+#[test]
+fn synctest_across_sleep_and_wake_agrees_with_a_straight_run() {
+    let name = "sleep_wake";
+    let mut game = Game::with_scene(name).expect("sleep_wake is a game");
+    run_synctest(&mut game, SYNCTEST_FRAMES, 7, 3)
+        .unwrap_or_else(|e| panic!("{name}: not deterministic under rollback: {e}"));
+    let mut straight = Game::with_scene(name).expect("sleep_wake is a game");
+    let (mut asleep_frames, mut wakes, mut last) = (0u64, 0u64, 0usize);
+    for frame in 0..SYNCTEST_FRAMES {
+        straight.advance(&[scripted_buttons(0, frame, 3), scripted_buttons(1, frame, 3)]);
+        let now = straight.space.sleeping_bodies();
+        asleep_frames += u64::from(now > 0);
+        wakes += u64::from(now < last);
+        last = now;
+    }
+    assert_eq!(game.space.checksum(), straight.space.checksum());
+    assert_eq!(game.space.state(), straight.space.state());
+    println!("sleep_wake: {asleep_frames} frames with sleeping bodies, {wakes} wake-ups");
+    assert!(
+        asleep_frames > 100 && wakes > 0,
+        "{asleep_frames} frames asleep, {wakes} wakes"
+    );
+}
+
+#[test]
+fn synctest_catches_a_nondeterministic_game() {
+    let mut game = Game::new();
+    game.sabotage = true;
+    match run_synctest(&mut game, 60, 7, 3) {
+        Err(ggrs::GgrsError::MismatchedChecksum { .. }) => {}
+        other => panic!("expected a checksum mismatch, got {other:?}"),
+    }
+}
+
+#[test]
+fn p2p_two_peers_over_loopback_agree() {
+    let outcome = run_p2p(300, 4, std::time::Duration::from_secs(60)).expect("p2p run");
+    assert_eq!(outcome.first_mismatch, None, "{outcome:?}");
+    assert_eq!(outcome.checksums[0], outcome.checksums[1]);
+    let straight = run_straight(300, 4, P2P_INPUT_DELAY);
+    assert_eq!(outcome.checksums[0], straight.space.checksum());
+}
