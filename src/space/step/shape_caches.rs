@@ -63,18 +63,25 @@ pub(crate) fn update_shape_caches(
         Some(level_cache.take().unwrap_or_else(|| LevelIndex::of(state)))
     };
     let skip: &[(u32, u32)] = level.as_ref().map_or(&[], |l| &l.shape_runs);
-    pieces.clear();
+    // The pieces are kept from step to step with their lists, so that a
+    // warm step allocates nothing: only their ranges are rewritten.
+    let mut count = 0;
     for gap in crate::arena::gaps(skip, slots as u32) {
         let mut start = gap.start;
         while start < gap.end {
             let end = start.saturating_add(SHAPE_PIECE).min(gap.end);
-            pieces.push(CachePiece {
-                slots: start..end,
-                ..CachePiece::default()
-            });
+            match pieces.get_mut(count) {
+                Some(piece) => piece.slots = start..end,
+                None => pieces.push(CachePiece {
+                    slots: start..end,
+                    ..CachePiece::default()
+                }),
+            }
+            count = count.saturating_add(1);
             start = end;
         }
     }
+    pieces.truncate(count);
     let view = (shapes, bodies, rewrite);
     update_caches_split(&view, caches, 0, pieces);
     let mut statics_changed = false;
