@@ -17,7 +17,9 @@ use super::dec;
 pub use super::joints::{ConstraintDesc, JointType};
 use tamias2d::math::{Real, Vect};
 use tamias2d::shape::{CollisionType, ShapeFilter};
-use tamias2d::space::{Settings, DEFAULT_IDLE_SPEED_THRESHOLD, DEFAULT_SLEEP_TIME_THRESHOLD};
+use tamias2d::space::{
+    Settings, SoftStep, Solver, DEFAULT_IDLE_SPEED_THRESHOLD, DEFAULT_SLEEP_TIME_THRESHOLD,
+};
 
 /// A whole scene: settings, time step, bodies and scripted events.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -106,6 +108,106 @@ pub struct SettingsDesc {
         skip_serializing_if = "is_default_idle_speed"
     )]
     pub idle_speed_threshold: Real,
+    /// The solver (see [`Settings::solver`]): `"sequential"` (the default,
+    /// omitted) or `{"soft": {…}}` with any of [`SoftStepDesc`]'s fields.
+    #[serde(skip_serializing_if = "SolverDesc::is_sequential")]
+    pub solver: SolverDesc,
+}
+
+/// [`Solver`] in a scene file.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum SolverDesc {
+    /// Sequential impulses.
+    #[default]
+    Sequential,
+    /// The soft step.
+    Soft(SoftStepDesc),
+}
+
+impl SolverDesc {
+    /// The soft step at its defaults.
+    pub const SOFT: SolverDesc = SolverDesc::Soft(SoftStepDesc(SoftStep::DEFAULT));
+
+    fn is_sequential(&self) -> bool {
+        *self == SolverDesc::Sequential
+    }
+}
+
+/// [`SoftStep`] with decimal reals; missing fields take its defaults.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(from = "SoftStepFields", into = "SoftStepFields")]
+pub struct SoftStepDesc(pub SoftStep);
+
+/// The serialized fields of [`SoftStepDesc`].
+#[derive(Clone, Copy, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+struct SoftStepFields {
+    substeps: u32,
+    #[serde(with = "dec::real")]
+    contact_hertz: Real,
+    #[serde(with = "dec::real")]
+    contact_damping_ratio: Real,
+    #[serde(with = "dec::real")]
+    joint_hertz: Real,
+    #[serde(with = "dec::real")]
+    joint_damping_ratio: Real,
+    #[serde(with = "dec::real")]
+    push_out_speed: Real,
+    #[serde(with = "dec::real")]
+    restitution_threshold: Real,
+}
+
+impl Default for SoftStepFields {
+    fn default() -> Self {
+        SoftStepDesc(SoftStep::DEFAULT).into()
+    }
+}
+
+impl From<SoftStepFields> for SoftStepDesc {
+    fn from(f: SoftStepFields) -> Self {
+        SoftStepDesc(SoftStep {
+            substeps: f.substeps,
+            contact_hertz: f.contact_hertz,
+            contact_damping_ratio: f.contact_damping_ratio,
+            joint_hertz: f.joint_hertz,
+            joint_damping_ratio: f.joint_damping_ratio,
+            push_out_speed: f.push_out_speed,
+            restitution_threshold: f.restitution_threshold,
+        })
+    }
+}
+
+impl From<SoftStepDesc> for SoftStepFields {
+    fn from(SoftStepDesc(s): SoftStepDesc) -> Self {
+        SoftStepFields {
+            substeps: s.substeps,
+            contact_hertz: s.contact_hertz,
+            contact_damping_ratio: s.contact_damping_ratio,
+            joint_hertz: s.joint_hertz,
+            joint_damping_ratio: s.joint_damping_ratio,
+            push_out_speed: s.push_out_speed,
+            restitution_threshold: s.restitution_threshold,
+        }
+    }
+}
+
+impl From<Solver> for SolverDesc {
+    fn from(s: Solver) -> Self {
+        match s {
+            Solver::Sequential => SolverDesc::Sequential,
+            Solver::Soft(soft) => SolverDesc::Soft(SoftStepDesc(soft)),
+        }
+    }
+}
+
+impl From<SolverDesc> for Solver {
+    fn from(s: SolverDesc) -> Self {
+        match s {
+            SolverDesc::Sequential => Solver::Sequential,
+            SolverDesc::Soft(SoftStepDesc(soft)) => Solver::Soft(soft),
+        }
+    }
 }
 
 fn default_sleep_time() -> Real {
@@ -153,6 +255,7 @@ impl From<&Settings> for SettingsDesc {
             colored_solver,
             sleep_time_threshold,
             idle_speed_threshold,
+            solver,
         } = *s;
         SettingsDesc {
             gravity,
@@ -170,6 +273,7 @@ impl From<&Settings> for SettingsDesc {
             colored_solver,
             sleep_time_threshold,
             idle_speed_threshold,
+            solver: solver.into(),
         }
     }
 }
@@ -192,6 +296,7 @@ impl From<&SettingsDesc> for Settings {
             colored_solver,
             sleep_time_threshold,
             idle_speed_threshold,
+            solver,
         } = *s;
         Settings {
             iterations,
@@ -209,6 +314,7 @@ impl From<&SettingsDesc> for Settings {
             colored_solver,
             sleep_time_threshold,
             idle_speed_threshold,
+            solver: solver.into(),
         }
     }
 }
@@ -222,6 +328,9 @@ impl Default for SettingsDesc {
     fn default() -> SettingsDesc {
         SettingsDesc {
             collision_slop: tamias2d::space::CHIPMUNK_COLLISION_SLOP,
+            // Scene files written before the solver was a setting name none:
+            // they keep the solver they ran on.
+            solver: SolverDesc::Sequential,
             ..SettingsDesc::from(&Settings::default())
         }
     }

@@ -260,7 +260,7 @@ pub fn first_difference(a: &Space, b: &Space) -> Option<Difference> {
         iterations, gravity, damping, collision_slop, collision_bias, collision_persistence,
         substeps, warm_starting, friction, restitution, bias_impulses, block_solver,
         colored_solver,
-        sleep_time_threshold, idle_speed_threshold)
+        sleep_time_threshold, idle_speed_threshold, solver)
     .map(|f| diff(Subject::Settings, f));
     found
         .or_else(|| first_slot_difference(bodies, &sb.bodies, Subject::Body, body_fields))

@@ -44,7 +44,9 @@ pub const FRAME_MAGIC: [u8; 8] = *b"TAMIASFR";
 /// used the full snapshots' serde form through version 6; version 7 is the
 /// hand-written coding of `snapshot::frame_codec`, versioned on its own
 /// from then on. Version 8: the settings gained `colored_solver`.
-pub const FRAME_FORMAT_VERSION: u32 = 8;
+/// Version 9: the settings end with `solver` (see the full snapshots'
+/// version 8).
+pub const FRAME_FORMAT_VERSION: u32 = 9;
 
 /// The frame of `space` as bytes into `out` (cleared first, its allocation
 /// reused); returns the length. Cost: the frame's objects, not the level's.

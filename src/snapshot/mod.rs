@@ -251,8 +251,10 @@ pub const MAGIC: [u8; 8] = *b"TAMIAS2D";
 /// mask, only the non-zero words (a body's or arbiter's in 4 bytes when
 /// they fit); no inverse mass or moment, no normals,
 /// no unused polygon vertices or contact slots (recomputed on decode).
-/// Version 7: `colored_solver` (one byte) after `block_solver`.
-pub const FORMAT_VERSION: u32 = 7;
+/// Version 7: `colored_solver` (one byte) after `block_solver`. Version 8:
+/// the settings end with `solver` (a u32 variant index, then for the soft
+/// step its `substeps` and six reals).
+pub const FORMAT_VERSION: u32 = 8;
 
 /// Bytes before the bincode payload: magic, version, checksum (the frame
 /// every Tamias file shares, see [`crate::envelope`]).

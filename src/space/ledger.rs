@@ -137,6 +137,7 @@ const _SETTINGS: fn(&Settings) = |s| {
         colored_solver: _,        // any value
         sleep_time_threshold: _,  // ≥ 0 (SLEEP_NEVER: off)
         idle_speed_threshold: _,  // ≥ 0
+        solver: _,                // soft: SoftStep::validate's ranges
     } = s;
 };
 

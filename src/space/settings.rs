@@ -27,7 +27,7 @@ use crate::math::{Real, Vect};
 /// gravity to `(0, −9.8 · k)`. Keep in mind the numeric envelope of
 /// `docs/numerics.md` is stated in metres: fixed point has the same absolute
 /// resolution whatever the unit.
-#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Settings {
     /// Solver iterations per step (Chipmunk default 10).
     pub iterations: u32,
@@ -127,7 +127,168 @@ pub struct Settings {
     /// 1/60 s in metres and changes with the step). Scale it with the
     /// length unit like [`collision_slop`](Self::collision_slop).
     pub idle_speed_threshold: Real,
+    /// The solver a step runs (default [`Solver::Sequential`]): the MIS's
+    /// sequential impulses, or the soft step ([`SoftStep`]). See
+    /// `docs/tuning.md` for the trade between them.
+    pub solver: Solver,
 }
+
+/// The derive's hash of every field in declaration order, except that the
+/// sequential solver adds nothing: a world on the sequential solver keeps
+/// the checksum it had before the solver was a setting (its committed
+/// goldens stay valid), and any other solver is hashed.
+impl core::hash::Hash for Settings {
+    fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
+        // Every field named: a new one is a compile error until hashed.
+        let Settings {
+            iterations,
+            gravity,
+            damping,
+            collision_slop,
+            collision_bias,
+            collision_persistence,
+            substeps,
+            warm_starting,
+            friction,
+            restitution,
+            bias_impulses,
+            block_solver,
+            colored_solver,
+            sleep_time_threshold,
+            idle_speed_threshold,
+            solver,
+        } = self;
+        iterations.hash(h);
+        gravity.hash(h);
+        damping.hash(h);
+        collision_slop.hash(h);
+        collision_bias.hash(h);
+        collision_persistence.hash(h);
+        substeps.hash(h);
+        warm_starting.hash(h);
+        friction.hash(h);
+        restitution.hash(h);
+        bias_impulses.hash(h);
+        block_solver.hash(h);
+        colored_solver.hash(h);
+        sleep_time_threshold.hash(h);
+        idle_speed_threshold.hash(h);
+        if let Solver::Soft(soft) = solver {
+            soft.hash(h);
+        }
+    }
+}
+
+/// The solver of a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+pub enum Solver {
+    /// Sequential impulses with a velocity-level bias (the MIS's Collision
+    /// Solver, Chipmunk's scheme): every sub-step collides, then runs
+    /// [`Settings::iterations`] passes over the contacts and joints, and
+    /// corrects overlap and joint drift by a fraction per step
+    /// ([`Settings::collision_bias`], each joint's `error_bias`).
+    #[default]
+    Sequential,
+    /// The soft step (Box2D v3's scheme, in fixed point): collide once per
+    /// step, then [`SoftStep::substeps`] sub-steps of one solve with soft
+    /// constraints, a position update and a relax pass without bias; a
+    /// restitution pass at the end. [`Settings::iterations`],
+    /// [`Settings::collision_bias`], [`Settings::bias_impulses`] and
+    /// [`Settings::block_solver`] do not apply; `docs/solver.md` says what
+    /// does.
+    Soft(SoftStep),
+}
+
+impl Solver {
+    /// The soft step with its defaults ([`SoftStep::default`]).
+    pub const SOFT: Solver = Solver::Soft(SoftStep::DEFAULT);
+
+    /// True for the soft step.
+    pub fn is_soft(&self) -> bool {
+        matches!(self, Solver::Soft(_))
+    }
+}
+
+/// The soft step's parameters. Stiffness is a frequency (hertz) and a
+/// damping ratio, as a spring's: the solver corrects overlap and joint
+/// drift like a damped spring of that frequency would, never faster than
+/// [`push_out_speed`](Self::push_out_speed) for contacts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct SoftStep {
+    /// Sub-steps per step (default 4, valid `1..=`[`MAX_SUBSTEPS`]):
+    /// velocities, the solve, positions and the relax pass run this many
+    /// times on the contacts found once per step.
+    pub substeps: u32,
+    /// Contact stiffness in hertz (default 30), capped at a quarter of the
+    /// sub-step rate; contacts with a static or kinematic body use twice it.
+    pub contact_hertz: Real,
+    /// Contact damping ratio (default 10: heavily over-damped, no bounce
+    /// from the push-out).
+    pub contact_damping_ratio: Real,
+    /// Joint stiffness in hertz (default 60), capped at a quarter of the
+    /// sub-step rate: stiff enough to behave rigid.
+    pub joint_hertz: Real,
+    /// Joint damping ratio (default 2).
+    pub joint_damping_ratio: Real,
+    /// Largest speed at which overlap is pushed out, a length per second
+    /// (default 3 m/s; scale it with the length unit).
+    pub push_out_speed: Real,
+    /// Approach speed above which restitution applies, a length per second
+    /// (default 1 m/s; scale it with the length unit).
+    pub restitution_threshold: Real,
+}
+
+impl SoftStep {
+    /// The defaults, Box2D v3's: 4 sub-steps, contacts 30 Hz with damping
+    /// ratio 10, joints 60 Hz with ratio 2, push-out 3 m/s, restitution
+    /// from 1 m/s.
+    pub const DEFAULT: SoftStep = SoftStep {
+        substeps: 4,
+        contact_hertz: Real::lit("30"),
+        contact_damping_ratio: Real::lit("10"),
+        joint_hertz: Real::lit("60"),
+        joint_damping_ratio: Real::lit("2"),
+        push_out_speed: Real::lit("3"),
+        restitution_threshold: Real::lit("1"),
+    };
+
+    /// The ranges [`Settings::validate`] enforces: sub-steps in
+    /// `1..=`[`MAX_SUBSTEPS`], every frequency and ratio in `[0, 10⁶]`, the
+    /// speeds ≥ 0.
+    pub fn validate(&self) -> Result<(), SpaceError> {
+        if self.substeps == 0 || self.substeps > MAX_SUBSTEPS {
+            return Err(SpaceError::InvalidSetting(
+                "soft step substeps must be in 1..=64",
+            ));
+        }
+        let bounded = |x: Real| !x.is_negative() && x <= MAX_SOFT_PARAMETER;
+        if !(bounded(self.contact_hertz)
+            && bounded(self.contact_damping_ratio)
+            && bounded(self.joint_hertz)
+            && bounded(self.joint_damping_ratio))
+        {
+            return Err(SpaceError::InvalidSetting(
+                "soft step frequencies and damping ratios must be in [0, 1e6]",
+            ));
+        }
+        if self.push_out_speed.is_negative() || self.restitution_threshold.is_negative() {
+            return Err(SpaceError::InvalidSetting(
+                "soft step push-out speed and restitution threshold must be ≥ 0",
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl Default for SoftStep {
+    fn default() -> Self {
+        SoftStep::DEFAULT
+    }
+}
+
+/// Largest soft-step frequency or damping ratio: far above any useful
+/// value, low enough that the soft coefficients never saturate.
+pub const MAX_SOFT_PARAMETER: Real = Real::lit("1000000");
 
 /// [`Settings::sleep_time_threshold`] that turns sleeping off.
 pub const SLEEP_NEVER: Real = Real::MAX;
@@ -198,6 +359,9 @@ impl Settings {
                 "idle speed threshold must be ≥ 0",
             ));
         }
+        if let Solver::Soft(soft) = &self.solver {
+            soft.validate()?;
+        }
         Ok(())
     }
 
@@ -236,6 +400,7 @@ impl Default for Settings {
             colored_solver: false,
             sleep_time_threshold: DEFAULT_SLEEP_TIME_THRESHOLD,
             idle_speed_threshold: DEFAULT_IDLE_SPEED_THRESHOLD,
+            solver: Solver::Sequential,
         }
     }
 }

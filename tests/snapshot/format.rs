@@ -11,7 +11,7 @@ fn format_layout_is_pinned() {
     assert_eq!(&empty[8..12], &FORMAT_VERSION.to_le_bytes());
     let sum = snapshot::payload_checksum(&empty[HEADER_LEN..]);
     assert_eq!(&empty[12..20], &sum.to_le_bytes());
-    assert_eq!(FORMAT_VERSION, 7);
+    assert_eq!(FORMAT_VERSION, 8);
     // The empty world, field by field (little-endian, fixed-width ints,
     // every Real as its raw i64, lengths as u64, enum tags as u32).
     let expected = [
@@ -31,6 +31,7 @@ fn format_layout_is_pinned() {
         "00",               // colored_solver: false
         "0000008000000000", // sleep_time_threshold: 0.5
         "cdcccc0c00000000", // idle_speed_threshold: 0.05 (rounded)
+        "00000000",         // solver: Sequential (variant 0)
         "0000000000000000", // bodies.slots: length 0
         "0000000000000000", // bodies.free: length 0
         "00000000",         // bodies.len: 0
@@ -352,7 +353,7 @@ fn frame_fuzz_seeds_are_current_frames() {
 
 #[test]
 fn frame_layout_is_pinned() {
-    // The empty world's frame (format 8, hand-written): header, level
+    // The empty world's frame (format 9, hand-written): header, level
     // digest, stamp, steps and the two dts (5 × 8), then the settings and
     // the constraint arena each as a byte count and their bincode bytes
     // (as in a full snapshot), then the empty body and shape parts (four
@@ -362,7 +363,7 @@ fn frame_layout_is_pinned() {
     let frame = snapshot::save_frame(&Space::new());
     assert_eq!(&frame[..8], b"TAMIASFR");
     assert_eq!(&frame[8..12], &FRAME_FORMAT_VERSION.to_le_bytes());
-    assert_eq!(FRAME_FORMAT_VERSION, 8);
+    assert_eq!(FRAME_FORMAT_VERSION, 9);
     assert_eq!(
         &frame[HEADER_LEN..HEADER_LEN + 8],
         &Space::new().level_digest().to_le_bytes()
