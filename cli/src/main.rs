@@ -94,6 +94,11 @@ struct SceneOpts {
     /// the order the threads can share; changes the results.
     #[arg(long)]
     colored_solver: bool,
+    /// The solver: `sequential` (the MIS's sequential impulses) or `soft`
+    /// (the soft step at its defaults, its speeds and slop scaled to the
+    /// scene's length unit) [default: the scene's].
+    #[arg(long, value_name = "KIND")]
+    solver: Option<source::SolverChoice>,
     /// Load a scene file without the limits for untrusted input (bytes,
     /// bodies, shapes, solver passes, candidate pairs).
     #[arg(long)]
@@ -106,6 +111,7 @@ impl SceneOpts {
             dt: self.dt,
             iterations: self.iterations,
             colored_solver: self.colored_solver,
+            solver: self.solver,
             trusted: self.trusted,
         }
     }
@@ -277,6 +283,7 @@ fn main() -> ExitCode {
                 dt,
                 iterations,
                 colored_solver: false,
+                solver: None,
                 trusted,
             },
             &render,

@@ -46,6 +46,8 @@ pub struct Overrides {
     pub iterations: Option<u32>,
     /// `--colored-solver`.
     pub colored_solver: bool,
+    /// `--solver`.
+    pub solver: Option<SolverChoice>,
     /// `--trusted`: files load without the untrusted-input limits.
     pub trusted: bool,
 }
@@ -58,6 +60,34 @@ impl Overrides {
             Limits::TRUSTED
         } else {
             Limits::UNTRUSTED
+        }
+    }
+}
+
+/// `--solver`'s values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SolverChoice {
+    /// Sequential impulses (the MIS's solver).
+    Sequential,
+    /// The soft step.
+    Soft,
+}
+
+impl SolverChoice {
+    /// The solver for a scene with `settings`: the soft step's speeds
+    /// and slop scaled by the scene's length unit, read off its gravity
+    /// (`|g| / 10` units per metre when that exceeds 1: the pixel scenes'
+    /// 100 is 10 units per metre).
+    pub fn solver(self, settings: &scenes::SettingsDesc) -> scenes::SolverDesc {
+        match self {
+            SolverChoice::Sequential => scenes::SolverDesc::Sequential,
+            SolverChoice::Soft => {
+                let g = settings.gravity.length();
+                let unit = (g / Real::from_int(10) + Real::lit("0.5")).floor().max(Real::ONE);
+                scenes::SolverDesc::Soft(scenes::SoftStepDesc(
+                    tamias2d::space::SoftStep::DEFAULT.scaled(unit),
+                ))
+            }
         }
     }
 }
@@ -93,6 +123,9 @@ pub fn load(arg: &str, overrides: Overrides) -> Result<SceneDesc, String> {
         desc.dt = dt;
     }
     desc.settings.colored_solver |= overrides.colored_solver;
+    if let Some(choice) = overrides.solver {
+        desc.settings.solver = choice.solver(&desc.settings);
+    }
     if let Some(n) = overrides.iterations {
         desc.settings.iterations = n;
     }

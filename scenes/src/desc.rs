@@ -156,6 +156,8 @@ struct SoftStepFields {
     push_out_speed: Real,
     #[serde(with = "dec::real")]
     restitution_threshold: Real,
+    #[serde(with = "dec::real")]
+    slop: Real,
 }
 
 impl Default for SoftStepFields {
@@ -174,6 +176,7 @@ impl From<SoftStepFields> for SoftStepDesc {
             joint_damping_ratio: f.joint_damping_ratio,
             push_out_speed: f.push_out_speed,
             restitution_threshold: f.restitution_threshold,
+            slop: f.slop,
         })
     }
 }
@@ -188,6 +191,7 @@ impl From<SoftStepDesc> for SoftStepFields {
             joint_damping_ratio: s.joint_damping_ratio,
             push_out_speed: s.push_out_speed,
             restitution_threshold: s.restitution_threshold,
+            slop: s.slop,
         }
     }
 }

@@ -66,7 +66,8 @@ mod world;
 
 pub use desc::{
     BodyDesc, BodyKind, ConstraintDesc, CounterDesc, ForceDesc, GeometryDesc, JointType, MassDesc,
-    Neighbors, SceneDesc, SettingsDesc, ShapeDesc, ShapeMassDesc, SpawnDesc,
+    Neighbors, SceneDesc, SettingsDesc, ShapeDesc, ShapeMassDesc, SoftStepDesc, SolverDesc,
+    SpawnDesc,
 };
 pub use registry::{builtin, find, Golden, SceneInfo, Section, REGISTRY};
 pub use world::{BodyPath, LoadError, SceneError, ScriptedWorld};

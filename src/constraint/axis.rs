@@ -2,10 +2,11 @@
 //! along one axis `n` between two anchors. They differ only in the clamp
 //! of the accumulated impulse (and so in whether a row can be inactive),
 //! chosen at compile time by `ONE_SIDED`.
-use super::kernel::{accumulate, JointKernel};
+use super::kernel::{accumulate, soften, JointKernel};
 use super::prep::Prep;
 use crate::math::{FixedArith, Real, Vect};
 use crate::solver::kernel::{apply_impulses, effective_mass, mult, normal_relative_velocity};
+use crate::solver::softness::Softness;
 use crate::solver::{k_scalar_body, SolverBody};
 
 /// The row of a distance along `n` for one sub-step. A pin joint's
@@ -57,6 +58,11 @@ impl<const ONE_SIDED: bool> JointKernel for AxisRow<ONE_SIDED> {
     }
 
     #[inline(always)]
+    fn relax(&mut self) {
+        self.bias = Real::ZERO;
+    }
+
+    #[inline(always)]
     fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Real, ar: &mut A) {
         apply_along(a, b, self.r1, self.r2, self.n, j, ar);
     }
@@ -70,11 +76,12 @@ impl<const ONE_SIDED: bool> JointKernel for AxisRow<ONE_SIDED> {
         b: &mut SolverBody,
         acc: &mut Real,
         j_max: Real,
+        soft: Softness,
         ar: &mut A,
     ) {
         let vrn = normal_relative_velocity(a, b, self.r1, self.r2, self.n, ar);
         let err = ar.sub(self.bias, vrn);
-        let jn = ar.mul(err, self.n_mass);
+        let jn = soften(ar.mul(err, self.n_mass), *acc, soft, ar);
         let hi = if ONE_SIDED { Real::ZERO } else { j_max };
         let d = accumulate(acc, jn, -j_max, hi, ar);
         self.apply(a, b, d, ar);

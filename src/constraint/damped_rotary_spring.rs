@@ -9,6 +9,7 @@ use super::kernel::{accumulate, JointKernel};
 use super::prep::Prep;
 use crate::math::{FixedArith, Real};
 use crate::solver::kernel::{apply_angular, effective_mass};
+use crate::solver::softness::Softness;
 use crate::solver::SolverBody;
 
 /// A torsion spring holding `θ_a − θ_b` at `rest_angle` (Chipmunk's sign),
@@ -113,6 +114,7 @@ impl JointKernel for RotarySpringRow {
         b: &mut SolverBody,
         acc: &mut Real,
         j_max: Real,
+        _soft: Softness,
         ar: &mut A,
     ) {
         let e_dot = ar.sub(a.w, b.w);

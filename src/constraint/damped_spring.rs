@@ -28,6 +28,7 @@ use super::kernel::{accumulate, JointKernel};
 use super::prep::Prep;
 use crate::math::{FixedArith, Real, Vect};
 use crate::solver::kernel::{effective_mass, neg, normal_relative_velocity};
+use crate::solver::softness::Softness;
 use crate::solver::{k_scalar_body, SolverBody};
 
 /// A spring of natural length `rest_length`, stiffness `stiffness` (N/m)
@@ -166,6 +167,7 @@ impl JointKernel for SpringRow {
         b: &mut SolverBody,
         acc: &mut Real,
         j_max: Real,
+        _soft: Softness,
         ar: &mut A,
     ) {
         let vrn = normal_relative_velocity(a, b, self.r1, self.r2, self.n, ar);

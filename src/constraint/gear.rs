@@ -3,9 +3,10 @@
 use serde::{Deserialize, Serialize};
 
 use super::error::{finite, ConstraintError};
-use super::kernel::{accumulate, JointKernel};
+use super::kernel::{accumulate, soften, JointKernel};
 use super::prep::Prep;
 use crate::math::{FixedArith, Real};
+use crate::solver::softness::Softness;
 use crate::solver::SolverBody;
 
 /// Keeps `ratio·θ_b − θ_a = phase` (Chipmunk's definition), so that
@@ -85,6 +86,11 @@ impl GearRow {
 impl JointKernel for GearRow {
     type Impulse = Real;
 
+    #[inline(always)]
+    fn relax(&mut self) {
+        self.bias = Real::ZERO;
+    }
+
     /// `ω_a −= j·I_a⁻¹/ratio` (two roundings, in that order), `ω_b += j·I_b⁻¹`.
     #[inline(always)]
     fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Real, ar: &mut A) {
@@ -104,12 +110,13 @@ impl JointKernel for GearRow {
         b: &mut SolverBody,
         acc: &mut Real,
         j_max: Real,
+        soft: Softness,
         ar: &mut A,
     ) {
         let wb = ar.mul(b.w, self.ratio);
         let wr = ar.sub(wb, a.w);
         let err = ar.sub(self.bias, wr);
-        let j = ar.mul(err, self.i_sum);
+        let j = soften(ar.mul(err, self.i_sum), *acc, soft, ar);
         let d = accumulate(acc, j, -j_max, j_max, ar);
         self.apply(a, b, d, ar);
     }

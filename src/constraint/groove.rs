@@ -4,11 +4,12 @@
 use serde::{Deserialize, Serialize};
 
 use super::error::{finite_vect, ConstraintError};
-use super::kernel::JointKernel;
+use super::kernel::{soften_vect, JointKernel};
 use super::point::{clamp_len, KInv};
 use super::prep::Prep;
 use crate::math::{FixedArith, Real, Vect};
 use crate::solver::kernel::{add, apply_impulses, sub};
+use crate::solver::softness::Softness;
 use crate::solver::SolverBody;
 
 /// The groove from `groove_a` to `groove_b` on body a and the pivot
@@ -107,7 +108,7 @@ impl GrooveRow {
         };
         let k = KInv::new(p.sa, p.sb, r1, r2);
         let delta = pivot - r1;
-        let bias = clamp_len(delta * (-(p.bias_coef * p.dt_inv)), p.max_bias);
+        let bias = clamp_len(delta * (-p.bias_rate()), p.max_bias);
         GrooveRow {
             r1,
             r2,
@@ -121,6 +122,11 @@ impl GrooveRow {
 
 impl JointKernel for GrooveRow {
     type Impulse = Vect;
+
+    #[inline(always)]
+    fn relax(&mut self) {
+        self.bias = Vect::ZERO;
+    }
 
     #[inline(always)]
     fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Vect, ar: &mut A) {
@@ -138,9 +144,11 @@ impl JointKernel for GrooveRow {
         b: &mut SolverBody,
         acc: &mut Vect,
         j_max: Real,
+        soft: Softness,
         ar: &mut A,
     ) {
         let j = self.k.point_impulse(a, b, self.r1, self.r2, self.bias, ar);
+        let j = soften_vect(j, *acc, soft, ar);
         let old = *acc;
         let sum = add(old, j, ar);
         let against_end = match self.clamp {

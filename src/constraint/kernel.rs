@@ -19,7 +19,8 @@
 //! `max_force` clamp, a projection, a sign test) call the saturating `Real`
 //! and `Vect` functions directly: they are the same function in both modes,
 //! so they need no flag.
-use crate::math::{FixedArith, Real, Saturating, Unsaturated};
+use crate::math::{FixedArith, Real, Saturating, Unsaturated, Vect};
+use crate::solver::softness::Softness;
 use crate::solver::kernel::{load_pair, store_pair};
 use crate::solver::SolverBody;
 
@@ -49,15 +50,48 @@ pub(crate) trait JointKernel {
     );
 
     /// One iteration on body copies `a`, `b` and the accumulated impulse
-    /// `acc`, which is clamped by `j_max = max_force·dt`.
+    /// `acc`, which is clamped by `j_max = max_force·dt`. A row with a
+    /// position bias applies `soft` to its impulse ([`soften`]); the
+    /// sequential solver passes [`Softness::RIGID`], which changes no bit.
     fn iterate<A: FixedArith>(
         &self,
         a: &mut SolverBody,
         b: &mut SolverBody,
         acc: &mut Self::Impulse,
         j_max: Real,
+        soft: Softness,
         ar: &mut A,
     );
+
+    /// Drops the row's position bias (the soft step's relax pass); rows
+    /// without one do nothing.
+    #[inline(always)]
+    fn relax(&mut self) {}
+}
+
+/// The soft impulse of a row whose rigid impulse is `j` and whose
+/// accumulated impulse is `acc`: `mass_scale·j − impulse_scale·acc`
+/// (module `solver::softness`); `j` itself, untouched, for a rigid row.
+#[inline(always)]
+pub(crate) fn soften<A: FixedArith>(j: Real, acc: Real, soft: Softness, ar: &mut A) -> Real {
+    if soft.is_rigid() {
+        return j;
+    }
+    let scaled = ar.mul(j, soft.mass_scale);
+    let back = ar.mul(soft.impulse_scale, acc);
+    ar.sub(scaled, back)
+}
+
+/// [`soften`] of a point constraint's impulse, component by component.
+#[inline(always)]
+pub(crate) fn soften_vect<A: FixedArith>(j: Vect, acc: Vect, soft: Softness, ar: &mut A) -> Vect {
+    if soft.is_rigid() {
+        return j;
+    }
+    Vect::new(
+        soften(j.x, acc.x, soft, ar),
+        soften(j.y, acc.y, soft, ar),
+    )
 }
 
 /// A row and its accumulated impulse for one sub-step: zero when built,
@@ -105,6 +139,7 @@ pub(crate) fn solve<K: JointKernel>(
     ia: u32,
     ib: u32,
     j_max: Real,
+    soft: Softness,
 ) {
     if !r.row.is_active() {
         return;
@@ -114,10 +149,10 @@ pub(crate) fn solve<K: JointKernel>(
     };
     let mut acc = r.acc;
     let mut fast = Unsaturated::new();
-    r.row.iterate(&mut a, &mut b, &mut acc, j_max, &mut fast);
+    r.row.iterate(&mut a, &mut b, &mut acc, j_max, soft, &mut fast);
     if fast.overflowed() {
         // The inputs are still in `bodies` and `r`: no copies kept.
-        solve_saturating(r, bodies, ia, ib, j_max);
+        solve_saturating(r, bodies, ia, ib, j_max, soft);
         return;
     }
     r.acc = acc;
@@ -134,13 +169,14 @@ fn solve_saturating<K: JointKernel>(
     ia: u32,
     ib: u32,
     j_max: Real,
+    soft: Softness,
 ) {
     let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
         return;
     };
     let mut acc = r.acc;
     r.row
-        .iterate(&mut a, &mut b, &mut acc, j_max, &mut Saturating);
+        .iterate(&mut a, &mut b, &mut acc, j_max, soft, &mut Saturating);
     r.acc = acc;
     store_pair(bodies, ia, a, ib, b);
 }

@@ -3,11 +3,12 @@
 use serde::{Deserialize, Serialize};
 
 use super::error::{finite_vect, ConstraintError};
-use super::kernel::JointKernel;
+use super::kernel::{soften_vect, JointKernel};
 use super::point::{clamp_len, KInv};
 use super::prep::Prep;
 use crate::math::{FixedArith, Real, Vect};
 use crate::solver::kernel::{add, apply_impulses, sub};
+use crate::solver::softness::Softness;
 use crate::solver::SolverBody;
 
 /// Anchors `anchor_a` on body a and `anchor_b` on body b (body
@@ -69,13 +70,18 @@ impl PivotRow {
         let (r1, r2) = p.arms(j.anchor_a, j.anchor_b);
         let k = KInv::new(p.sa, p.sb, r1, r2);
         let delta = p.delta(r1, r2);
-        let bias = clamp_len(delta * (-(p.bias_coef * p.dt_inv)), p.max_bias);
+        let bias = clamp_len(delta * (-p.bias_rate()), p.max_bias);
         PivotRow { r1, r2, k, bias }
     }
 }
 
 impl JointKernel for PivotRow {
     type Impulse = Vect;
+
+    #[inline(always)]
+    fn relax(&mut self) {
+        self.bias = Vect::ZERO;
+    }
 
     #[inline(always)]
     fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Vect, ar: &mut A) {
@@ -92,9 +98,11 @@ impl JointKernel for PivotRow {
         b: &mut SolverBody,
         acc: &mut Vect,
         j_max: Real,
+        soft: Softness,
         ar: &mut A,
     ) {
         let j = self.k.point_impulse(a, b, self.r1, self.r2, self.bias, ar);
+        let j = soften_vect(j, *acc, soft, ar);
         let old = *acc;
         *acc = clamp_len(add(old, j, ar), j_max);
         let d = sub(*acc, old, ar);

@@ -17,6 +17,9 @@ pub(crate) struct Prep<'a> {
     /// `1 − error_bias^dt`.
     pub(crate) bias_coef: Real,
     pub(crate) max_bias: Real,
+    /// The soft step's bias rate (1/s): the bias is `−rate·error`
+    /// instead of Chipmunk's.
+    pub(crate) soft_rate: Option<Real>,
 }
 
 impl Prep<'_> {
@@ -38,6 +41,19 @@ impl Prep<'_> {
     /// Chipmunk's bias velocity for a position error `error`:
     /// `−bias_coef·error/dt`, clamped to `±max_bias`.
     pub(crate) fn bias(&self, error: Real) -> Real {
-        (-(self.bias_coef * error) * self.dt_inv).clamp(-self.max_bias, self.max_bias)
+        let v = match self.soft_rate {
+            Some(rate) => -(rate * error),
+            None => -(self.bias_coef * error) * self.dt_inv,
+        };
+        v.clamp(-self.max_bias, self.max_bias)
+    }
+
+    /// The bias velocity per unit of position error: Chipmunk's
+    /// `bias_coef/dt`, or the soft step's rate.
+    pub(crate) fn bias_rate(&self) -> Real {
+        match self.soft_rate {
+            Some(rate) => rate,
+            None => self.bias_coef * self.dt_inv,
+        }
     }
 }

@@ -3,10 +3,11 @@
 use serde::{Deserialize, Serialize};
 
 use super::error::{finite, ConstraintError};
-use super::kernel::{accumulate, JointKernel};
+use super::kernel::{accumulate, soften, JointKernel};
 use super::prep::Prep;
 use crate::math::{FixedArith, Real};
 use crate::solver::kernel::{apply_angular, effective_mass, neg};
+use crate::solver::softness::Softness;
 use crate::solver::SolverBody;
 
 /// `θ_b − θ_a` kept within `[min, max]` (radians; the angles count turns,
@@ -109,6 +110,11 @@ impl JointKernel for AngularLimitRow {
     }
 
     #[inline(always)]
+    fn relax(&mut self) {
+        self.bias = Real::ZERO;
+    }
+
+    #[inline(always)]
     fn apply<A: FixedArith>(&self, a: &mut SolverBody, b: &mut SolverBody, j: Real, ar: &mut A) {
         apply_angular(a, b, j, ar);
     }
@@ -123,12 +129,13 @@ impl JointKernel for AngularLimitRow {
         b: &mut SolverBody,
         acc: &mut Real,
         j_max: Real,
+        soft: Softness,
         ar: &mut A,
     ) {
         let wr = ar.sub(b.w, a.w);
         let err = ar.add(self.bias, wr);
         let j = ar.mul(err, self.i_sum);
-        let j = neg(j, ar);
+        let j = soften(neg(j, ar), *acc, soft, ar);
         let (lo, hi) = if self.sign > 0 {
             (Real::ZERO, j_max)
         } else {

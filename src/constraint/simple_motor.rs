@@ -7,6 +7,7 @@ use super::kernel::{accumulate, JointKernel};
 use super::prep::Prep;
 use crate::math::{FixedArith, Real};
 use crate::solver::kernel::{apply_angular, effective_mass, neg};
+use crate::solver::softness::Softness;
 use crate::solver::SolverBody;
 
 /// A motor turning body b relative to body a. As in Chipmunk, it drives
@@ -77,6 +78,7 @@ impl JointKernel for MotorRow {
         b: &mut SolverBody,
         acc: &mut Real,
         j_max: Real,
+        _soft: Softness,
         ar: &mut A,
     ) {
         let dw = ar.sub(b.w, a.w);

@@ -17,6 +17,7 @@ use super::{Constraint, JointKind};
 use crate::arena::Arena;
 use crate::body::{Body, BodyHandle};
 use crate::math::{exp, Real, Vect};
+use crate::solver::softness::Softness;
 use crate::solver::SolverBody;
 
 /// A kind's solver row and its accumulated impulse.
@@ -68,6 +69,9 @@ pub(crate) struct ConstraintScratch {
     /// share the default error bias, and `pow` is the pre-step's costliest
     /// operation.
     bias_memo: Option<(Real, Real, Real)>,
+    /// The softness the iterations apply ([`Softness::RIGID`] for the
+    /// sequential solver and the soft step's relax pass).
+    soft: Softness,
 }
 
 impl ConstraintScratch {
@@ -98,6 +102,9 @@ impl ConstraintScratch {
 
     /// The pre-step: one row per constraint, in slot order. Constraints
     /// whose bodies are missing (never, in a valid state) are skipped.
+    /// With `soft` (the soft step) every row's bias is `−bias_rate·error`
+    /// (capped at `max_bias`) and the iterations apply that softness;
+    /// without it, Chipmunk's `−(1 − error_bias^dt)·error/dt`, rigid.
     pub(crate) fn pre_step(
         &mut self,
         constraints: &Arena<Constraint>,
@@ -105,8 +112,10 @@ impl ConstraintScratch {
         solver_bodies: &[SolverBody],
         dt: Real,
         dt_inv: Real,
+        soft: Option<Softness>,
     ) {
         self.rows.clear();
+        self.soft = soft.unwrap_or(Softness::RIGID);
         for (h, c) in constraints.iter() {
             let (Some(body_a), Some(body_b)) = (bodies.get(c.a), bodies.get(c.b)) else {
                 continue;
@@ -122,7 +131,10 @@ impl ConstraintScratch {
             if ia == ib || body_a.is_sleeping() || body_b.is_sleeping() {
                 continue;
             }
-            let bias_coef = self.bias_coef(c.error_bias, dt);
+            let bias_coef = match soft {
+                Some(_) => Real::ZERO,
+                None => self.bias_coef(c.error_bias, dt),
+            };
             let p = Prep {
                 body_a,
                 body_b,
@@ -132,6 +144,7 @@ impl ConstraintScratch {
                 dt_inv,
                 bias_coef,
                 max_bias: c.max_bias,
+                soft_rate: soft.map(|s| s.bias_rate),
             };
             let (kind, cached) = match &c.kind {
                 JointKind::Pin(j) => (
@@ -230,23 +243,44 @@ impl ConstraintScratch {
         }
     }
 
+    /// The soft step's relax pass from here on: every row without its
+    /// position bias, rigid.
+    pub(crate) fn relax(&mut self) {
+        use kernel::JointKernel;
+        self.soft = Softness::RIGID;
+        for row in &mut self.rows {
+            match &mut row.kind {
+                RowKind::Pin(r) => r.row.relax(),
+                RowKind::Pivot(r) => r.row.relax(),
+                RowKind::Spring(r) => r.row.relax(),
+                RowKind::Motor(r) => r.row.relax(),
+                RowKind::Gear(r) => r.row.relax(),
+                RowKind::Slide(r) => r.row.relax(),
+                RowKind::RotaryLimit(r) | RowKind::Ratchet(r, _) => r.row.relax(),
+                RowKind::RotarySpring(r) => r.row.relax(),
+                RowKind::Groove(r) => r.row.relax(),
+            }
+        }
+    }
+
     /// One solver iteration over the rows, in slot order, each on the fast
     /// path with the saturating fallback (module `kernel`).
     pub(crate) fn iterate(&mut self, solver_bodies: &mut [SolverBody]) {
-        use kernel::solve;
         let bodies = solver_bodies;
+        let soft = self.soft;
+        use kernel::solve;
         for row in &mut self.rows {
             let (a, b, j_max) = (row.a, row.b, row.j_max);
             match &mut row.kind {
-                RowKind::Pin(r) => solve(r, bodies, a, b, j_max),
-                RowKind::Pivot(r) => solve(r, bodies, a, b, j_max),
-                RowKind::Spring(r) => solve(r, bodies, a, b, j_max),
-                RowKind::Motor(r) => solve(r, bodies, a, b, j_max),
-                RowKind::Gear(r) => solve(r, bodies, a, b, j_max),
-                RowKind::Slide(r) => solve(r, bodies, a, b, j_max),
-                RowKind::RotaryLimit(r) | RowKind::Ratchet(r, _) => solve(r, bodies, a, b, j_max),
-                RowKind::RotarySpring(r) => solve(r, bodies, a, b, j_max),
-                RowKind::Groove(r) => solve(r, bodies, a, b, j_max),
+                RowKind::Pin(r) => solve(r, bodies, a, b, j_max, soft),
+                RowKind::Pivot(r) => solve(r, bodies, a, b, j_max, soft),
+                RowKind::Spring(r) => solve(r, bodies, a, b, j_max, soft),
+                RowKind::Motor(r) => solve(r, bodies, a, b, j_max, soft),
+                RowKind::Gear(r) => solve(r, bodies, a, b, j_max, soft),
+                RowKind::Slide(r) => solve(r, bodies, a, b, j_max, soft),
+                RowKind::RotaryLimit(r) | RowKind::Ratchet(r, _) => solve(r, bodies, a, b, j_max, soft),
+                RowKind::RotarySpring(r) => solve(r, bodies, a, b, j_max, soft),
+                RowKind::Groove(r) => solve(r, bodies, a, b, j_max, soft),
             }
         }
     }

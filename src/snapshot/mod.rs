@@ -253,7 +253,7 @@ pub const MAGIC: [u8; 8] = *b"TAMIAS2D";
 /// no unused polygon vertices or contact slots (recomputed on decode).
 /// Version 7: `colored_solver` (one byte) after `block_solver`. Version 8:
 /// the settings end with `solver` (a u32 variant index, then for the soft
-/// step its `substeps` and six reals).
+/// step its `substeps` and seven reals).
 pub const FORMAT_VERSION: u32 = 8;
 
 /// Bytes before the bincode payload: magic, version, checksum (the frame

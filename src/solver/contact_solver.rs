@@ -46,6 +46,8 @@ pub(crate) struct ContactSolver {
     pub(crate) manifold_blocks: Vec<u32>,
     /// The bodies while threads share them ([`sweep::SharedBody`]).
     pub(crate) shared: Vec<sweep::SharedBody>,
+    /// The soft step's rows and the bodies' motion (`soft_contact`).
+    pub(crate) soft: super::soft_contact::SoftContacts,
 }
 
 /// The rows the contact solver interleaves with its own in every pass: the
@@ -338,6 +340,11 @@ impl ContactSolver {
                 contact.jt_acc = c.jt_acc;
             }
         }
+        self.store_velocities(bodies);
+    }
+
+    /// Velocities and bias velocities back into the awake dynamic bodies.
+    pub(crate) fn store_velocities(&self, bodies: &mut Arena<Body>) {
         for (h, body) in bodies.iter_mut() {
             if body.body_type() != BodyType::Dynamic || body.is_sleeping() {
                 continue;

@@ -70,6 +70,8 @@ pub(crate) mod contact_solver;
 pub(crate) mod graph;
 pub(crate) mod kernel;
 mod reference;
+pub(crate) mod soft_contact;
+pub mod softness;
 pub(crate) mod sweep;
 
 use crate::arbiter::ManifoldPoint;

@@ -23,7 +23,7 @@ impl ConstraintContext<'_> {
 
 /// Which callback to run.
 #[derive(Clone, Copy)]
-enum Phase {
+pub(super) enum Phase {
     PreSolve,
     PostSolve,
 }
@@ -106,7 +106,7 @@ impl Space {
     }
 
     /// Runs the `phase` callbacks of the live constraints, in slot order.
-    fn run_constraint_callbacks(&mut self, phase: Phase) {
+    pub(super) fn run_constraint_callbacks(&mut self, phase: Phase) {
         if self.joint_callbacks.is_empty() {
             return;
         }
@@ -256,12 +256,24 @@ impl Space {
     /// solver row per constraint.
     pub(super) fn pre_step_constraints(&mut self, dt: Real, dt_inv: Real) {
         self.run_constraint_callbacks(Phase::PreSolve);
+        self.prepare_constraint_rows(dt, dt_inv, None);
+    }
+
+    /// The joints' rows from the bodies' current poses, without the
+    /// callbacks: with `soft`, the soft step's (every sub-step).
+    pub(super) fn prepare_constraint_rows(
+        &mut self,
+        dt: Real,
+        dt_inv: Real,
+        soft: Option<crate::solver::softness::Softness>,
+    ) {
         self.caches.constraints.pre_step(
             &self.state.constraints,
             &self.state.bodies,
             &self.caches.solver.bodies,
             dt,
             dt_inv,
+            soft,
         );
     }
 

@@ -85,6 +85,8 @@ pub(crate) struct StepCache {
     /// Forces and torques set before a sub-stepped step, re-applied before
     /// each of its later sub-steps.
     pub(crate) frame_forces: Vec<(BodyHandle, Vect, Real)>,
+    /// The same for the sub-steps of a soft step.
+    pub(crate) soft_forces: Vec<(BodyHandle, Vect, Real)>,
     /// Counters of the last (sub-)step.
     pub(crate) stats: StepStats,
     /// With threads: the pieces of the shape-cache stage and what each

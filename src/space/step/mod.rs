@@ -35,6 +35,7 @@ mod narrowphase;
 mod pairs;
 mod positions;
 mod shape_caches;
+mod soft;
 mod stages;
 
 pub use context::StepStats;
@@ -141,6 +142,9 @@ impl Space {
     /// pairs than the space's limits allow: the sub-step then stops after
     /// [`Stage::Broadphase`] (bodies moved, no contact touched).
     fn sub_step(&mut self, dt: Real) -> Result<(), SpaceError> {
+        if let super::Solver::Soft(soft) = self.state.settings.solver {
+            return self.soft_step(dt, soft);
+        }
         self.locked = true;
         // 2^64 sub-steps never happen: never saturates.
         self.state.stamp = self.state.stamp.saturating_add(1);

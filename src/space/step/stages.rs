@@ -38,8 +38,16 @@ pub enum Stage {
     /// Last step's accumulated impulses re-applied, scaled by
     /// `min(dt / prev_dt, 1)`.
     WarmStart,
-    /// `iterations` Gauss–Seidel passes over the contacts, then the joints.
+    /// `iterations` Gauss–Seidel passes over the contacts, then the joints
+    /// (the soft step: one pass of soft rows, with bias).
     Solve,
+    /// The soft step only: one pass over the contacts and joints without
+    /// bias, after the positions moved, taking back the velocity the bias
+    /// added.
+    Relax,
+    /// The soft step only, after its sub-steps: contacts that approached
+    /// faster than the restitution threshold bounce.
+    Restitution,
     /// Accumulated impulses into the arbiters and joints, velocities into
     /// the bodies.
     Store,
@@ -54,7 +62,8 @@ pub enum Stage {
 }
 
 impl Stage {
-    /// Every stage, in the order a sub-step runs them.
+    /// Every stage of the sequential solver, in the order a sub-step runs
+    /// them (the soft step's order is [`SOFT_STEP`](Self::SOFT_STEP)).
     pub const ALL: [Stage; 17] = [
         Stage::IntegratePositions,
         Stage::ShapeCaches,
@@ -69,6 +78,31 @@ impl Stage {
         Stage::WarmStart,
         Stage::Solve,
         Stage::Store,
+        Stage::Diagnostics,
+        Stage::PostSolve,
+        Stage::Sleep,
+        Stage::PostStepCallbacks,
+    ];
+
+    /// The soft step's stages in run order: the first seven once per step,
+    /// integrate velocities … relax in every one of its sub-steps, the rest
+    /// once at the end.
+    pub const SOFT_STEP: [Stage; 19] = [
+        Stage::ShapeCaches,
+        Stage::JointFilter,
+        Stage::Broadphase,
+        Stage::Wake,
+        Stage::Narrowphase,
+        Stage::SolverBodies,
+        Stage::Prepare,
+        Stage::IntegrateVelocities,
+        Stage::WarmStart,
+        Stage::Solve,
+        Stage::IntegratePositions,
+        Stage::Relax,
+        Stage::Restitution,
+        Stage::Store,
+        Stage::Bullets,
         Stage::Diagnostics,
         Stage::PostSolve,
         Stage::Sleep,
@@ -91,6 +125,8 @@ impl Stage {
             Stage::IntegrateVelocities => "integrate velocities",
             Stage::WarmStart => "warm start",
             Stage::Solve => "solve",
+            Stage::Relax => "relax",
+            Stage::Restitution => "restitution",
             Stage::Store => "store",
             Stage::Diagnostics => "diagnostics",
             Stage::PostSolve => "post-solve",

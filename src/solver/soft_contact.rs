@@ -1,0 +1,555 @@
+//! The soft step's contact rows: one row per manifold point, prepared once
+//! per step from the contacts found at the collide, and solved in every
+//! sub-step against the bodies' motion since then.
+//!
+//! A row keeps the anchors `r1`, `r2` (the contact's points on the two
+//! surfaces, relative to the centres of gravity at the collide) and the
+//! separation `dist` measured there. In a sub-step the separation is
+//! re-estimated without colliding again:
+//! `s = dist + n·((Δp_b − Δp_a) + (Δq_b·r2 − r2) − (Δq_a·r1 − r1))`, where
+//! `Δp` and `Δq` are a body's translation and rotation since the collide
+//! ([`Motion`]); both terms are exactly zero for a body that has not moved,
+//! so a resting contact sees exactly its collide separation. The normal
+//! and the Jacobian's anchors stay those of the collide.
+//!
+//! The normal impulse is soft (module `softness`): below `−slop` the bias
+//! is `max(bias_rate·(s + slop), −push_out_speed)`; above 0 (the shapes
+//! moved apart) the row lets the gap close exactly (`bias = s/h`, rigid);
+//! the relax pass solves rigid rows without bias, which removes the
+//! velocity the push-out added. Friction is a rigid row bounded by
+//! `friction·jn`. Restitution runs once after the sub-steps.
+//!
+//! Accumulated impulses are per sub-step (Box2D's convention): each
+//! sub-step's warm start re-applies them, and the step stores them for
+//! the next step's.
+use crate::arbiter::Arbiter;
+use crate::arena::Arena;
+use crate::body::Body;
+use crate::math::{FixedArith, Real, Rot, Saturating, Unsaturated, Vect};
+
+use super::contact_solver::ContactSolver;
+use super::kernel::{effective_mass, load_pair, neg, store_pair};
+use super::softness::Softness;
+use super::SolverBody;
+
+/// A body's motion since the collide (by body slot): its pose then, and
+/// how far it has moved and turned since.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Motion {
+    /// Centre of gravity at the collide.
+    p0: Vect,
+    /// Rotation at the collide.
+    rot0: Rot,
+    /// Translation since the collide.
+    dp: Vect,
+    /// Rotation since the collide (identity while it has not turned).
+    dq: Rot,
+}
+
+/// The soft step's contact constants of one step (from the settings and
+/// the sub-step length).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SoftContactParams {
+    /// Contacts between two bodies that move.
+    pub(crate) contact: Softness,
+    /// Contacts with a static or kinematic body (twice the frequency).
+    pub(crate) fixed: Softness,
+    /// `1/h` of the sub-step.
+    pub(crate) h_inv: Real,
+    /// Overlap left uncorrected.
+    pub(crate) slop: Real,
+    /// Largest push-out speed.
+    pub(crate) push_out: Real,
+    /// Approach speed above which restitution applies.
+    pub(crate) restitution_threshold: Real,
+    /// Friction rows (the `friction` setting).
+    pub(crate) friction: bool,
+    /// The restitution pass (the `restitution` setting).
+    pub(crate) restitution: bool,
+}
+
+/// One manifold point's row.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct SoftContact {
+    /// Solver slots of the bodies.
+    a: u32,
+    b: u32,
+    /// Arbiter index and contact slot (for the write-back).
+    arbiter: u32,
+    slot: u32,
+    /// Unit normal from a to b.
+    n: Vect,
+    /// Anchors at the collide (world orientation, relative to the centres).
+    r1: Vect,
+    r2: Vect,
+    /// Separation at the collide.
+    dist: Real,
+    /// `r × n`, `r × t` of both anchors, and `I⁻¹ (r × n)`, `I⁻¹ (r × t)`.
+    rn_a: Real,
+    rn_b: Real,
+    rt_a: Real,
+    rt_b: Real,
+    kn_a: Real,
+    kn_b: Real,
+    kt_a: Real,
+    kt_b: Real,
+    m_inv_a: Real,
+    m_inv_b: Real,
+    /// `1/k(n)`, `1/k(t)`.
+    n_mass: Real,
+    t_mass: Real,
+    friction: Real,
+    restitution: Real,
+    /// Tangential surface velocity.
+    surface_t: Real,
+    /// Normal relative velocity at the start of the step (restitution).
+    approach: Real,
+    /// The row's softness (contact or fixed).
+    soft: Softness,
+    /// Accumulated normal and friction impulses (per sub-step).
+    jn: Real,
+    jt: Real,
+    /// Largest normal impulse applied this step (restitution applies only
+    /// to points that pushed).
+    max_jn: Real,
+}
+
+/// The soft rows of a step and the bodies' motion.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct SoftContacts {
+    rows: Vec<SoftContact>,
+    motion: Vec<Motion>,
+}
+
+impl ContactSolver {
+    /// The soft step's [`Stage::Prepare`](crate::space::Stage::Prepare) of
+    /// the contacts: the bodies' poses at the collide, then one row per
+    /// manifold point of the `active` arbiters, color by color (module
+    /// `graph`): the order the threads can share, and on the soft step no
+    /// worse than the canonical one (`docs/solver.md`). Returns the number
+    /// of rows.
+    pub(crate) fn prepare_soft(
+        &mut self,
+        arbiters: &[Arbiter],
+        bodies: &Arena<Body>,
+        active: &[u32],
+        params: &SoftContactParams,
+    ) -> u32 {
+        let ContactSolver {
+            bodies: solver_bodies,
+            graph,
+            soft,
+            ..
+        } = self;
+        soft.motion.clear();
+        soft.motion
+            .resize(solver_bodies.len(), Motion::default());
+        for (h, body) in bodies.iter() {
+            if let Some(m) = soft.motion.get_mut(h.index() as usize) {
+                *m = Motion {
+                    p0: body.p,
+                    rot0: body.rot,
+                    dp: Vect::ZERO,
+                    dq: Rot::IDENTITY,
+                };
+            }
+        }
+        {
+            graph.color(active, solver_bodies.len(), |i| {
+                let movable = |slot: u32| {
+                    solver_bodies
+                        .get(slot as usize)
+                        .is_some_and(|b| !b.m_inv.is_zero() || !b.i_inv.is_zero())
+                };
+                arbiters.get(i as usize).map_or([(0, false); 2], |arb| {
+                    let (a, b) = (arb.body_a.index(), arb.body_b.index());
+                    [(a, movable(a)), (b, movable(b))]
+                })
+            });
+        }
+        soft.rows.clear();
+        let zero = SolverBody::default();
+        for &i in graph.order() {
+            let Some(arb) = arbiters.get(i as usize) else {
+                continue;
+            };
+            let (ia, ib) = (arb.body_a.index(), arb.body_b.index());
+            let a = solver_bodies.get(ia as usize).unwrap_or(&zero);
+            let b = solver_bodies.get(ib as usize).unwrap_or(&zero);
+            let fixed = a.m_inv.is_zero() && a.i_inv.is_zero()
+                || b.m_inv.is_zero() && b.i_inv.is_zero();
+            let n = arb.normal;
+            let t = n.perp();
+            for (slot, c) in arb.contacts().iter().enumerate() {
+                let (r1, r2) = (c.r1, c.r2);
+                let (rn_a, rn_b) = (r1.cross(n), r2.cross(n));
+                let (rt_a, rt_b) = (r1.cross(t), r2.cross(t));
+                let k_n = a.m_inv + b.m_inv + a.i_inv * rn_a * rn_a + b.i_inv * rn_b * rn_b;
+                let k_t = a.m_inv + b.m_inv + a.i_inv * rt_a * rt_a + b.i_inv * rt_b * rt_b;
+                let vr = (b.v + r2.perp() * b.w) - (a.v + r1.perp() * a.w);
+                soft.rows.push(SoftContact {
+                    a: ia,
+                    b: ib,
+                    arbiter: i,
+                    // slot < MAX_CONTACTS_PER_ARBITER.
+                    slot: slot as u32,
+                    n,
+                    r1,
+                    r2,
+                    dist: c.dist,
+                    rn_a,
+                    rn_b,
+                    rt_a,
+                    rt_b,
+                    kn_a: a.i_inv * rn_a,
+                    kn_b: b.i_inv * rn_b,
+                    kt_a: a.i_inv * rt_a,
+                    kt_b: b.i_inv * rt_b,
+                    m_inv_a: a.m_inv,
+                    m_inv_b: b.m_inv,
+                    n_mass: effective_mass(k_n),
+                    t_mass: if params.friction {
+                        effective_mass(k_t)
+                    } else {
+                        Real::ZERO
+                    },
+                    friction: if params.friction {
+                        arb.friction
+                    } else {
+                        Real::ZERO
+                    },
+                    restitution: arb.restitution,
+                    surface_t: arb.surface_velocity.dot(t),
+                    approach: vr.dot(n),
+                    soft: if fixed { params.fixed } else { params.contact },
+                    jn: c.jn_acc,
+                    jt: if params.friction {
+                        c.jt_acc
+                    } else {
+                        Real::ZERO
+                    },
+                    max_jn: Real::ZERO,
+                });
+            }
+        }
+        u32::try_from(soft.rows.len()).unwrap_or(u32::MAX)
+    }
+
+    /// The soft step's [`Stage::WarmStart`](crate::space::Stage::WarmStart)
+    /// of the contacts, in every sub-step: the accumulated impulses applied
+    /// again, first scaled by `dt_coef` (the first sub-step's
+    /// `min(h / previous h, 1)`; 1 after it). Without warm starting the
+    /// accumulators start from 0.
+    pub(crate) fn warm_start_soft(&mut self, warm: Option<Real>) {
+        let ContactSolver { bodies, soft, .. } = self;
+        for row in &mut soft.rows {
+            let Some(dt_coef) = warm else {
+                row.jn = Real::ZERO;
+                row.jt = Real::ZERO;
+                continue;
+            };
+            if dt_coef != Real::ONE {
+                row.jn *= dt_coef;
+                row.jt *= dt_coef;
+            }
+            let (jn, jt) = (row.jn, row.jt);
+            if !row.run(bodies, |r, a, b, ar| r.apply(a, b, jn, jt, ar)) {
+                if let Some((mut a, mut b)) = load_pair(bodies, row.a, row.b) {
+                    row.apply(&mut a, &mut b, jn, jt, &mut Saturating);
+                    store_pair(bodies, row.a, a, row.b, b);
+                }
+            }
+        }
+    }
+
+    /// One pass over the rows in solve order: with `use_bias` the sub-step's
+    /// soft solve ([`Stage::Solve`](crate::space::Stage::Solve)), without
+    /// it the relax pass ([`Stage::Relax`](crate::space::Stage::Relax)).
+    /// A manifold's points are solved together: both normal rows, then
+    /// both friction rows (friction bounded by the normal impulses of this
+    /// pass), on one copy of the two bodies.
+    pub(crate) fn solve_soft(&mut self, params: &SoftContactParams, use_bias: bool) {
+        let ContactSolver { bodies, soft, .. } = self;
+        let motion = &soft.motion;
+        let mut rest = soft.rows.as_mut_slice();
+        while let Some(first) = rest.first() {
+            let arbiter = first.arbiter;
+            let n = if rest.get(1).is_some_and(|r| r.arbiter == arbiter) {
+                2
+            } else {
+                1
+            };
+            let (manifold, tail) = rest.split_at_mut(n);
+            solve_manifold(manifold, bodies, motion, params, use_bias);
+            rest = tail;
+        }
+    }
+
+    /// [`Stage::Restitution`](crate::space::Stage::Restitution), once after
+    /// the sub-steps: points that approached faster than the threshold and
+    /// pushed get the bounce `−e·approach` as their normal velocity.
+    pub(crate) fn restitution_soft(&mut self, params: &SoftContactParams) {
+        if !params.restitution {
+            return;
+        }
+        let ContactSolver { bodies, soft, .. } = self;
+        for row in &mut soft.rows {
+            if row.restitution.is_zero()
+                || row.approach > -params.restitution_threshold
+                || !row.max_jn.is_positive()
+            {
+                continue;
+            }
+            let mut r = *row;
+            let ok = r.run(bodies, |r, a, b, ar| r.bounce(a, b, ar));
+            *row = if ok {
+                r
+            } else {
+                let mut r = *row;
+                if let Some((mut a, mut b)) = load_pair(bodies, r.a, r.b) {
+                    r.bounce(&mut a, &mut b, &mut Saturating);
+                    store_pair(bodies, r.a, a, r.b, b);
+                }
+                r
+            };
+        }
+    }
+
+    /// The bodies' motion since the collide, after a sub-step's positions
+    /// were integrated: `Δp = p − p₀`, `Δq = q·q₀⁻¹` (exact while a body
+    /// has not moved).
+    pub(crate) fn track_motion(&mut self, bodies: &Arena<Body>) {
+        for (h, body) in bodies.iter() {
+            if body.is_sleeping() {
+                continue;
+            }
+            if let Some(m) = self.soft.motion.get_mut(h.index() as usize) {
+                m.dp = body.p - m.p0;
+                m.dq = if body.rot == m.rot0 {
+                    Rot::IDENTITY
+                } else {
+                    body.rot.compose(m.rot0.inv())
+                };
+            }
+        }
+    }
+
+    /// The soft rows' accumulated impulses into the arbiters' manifold
+    /// points (the next step's warm start, and the handlers').
+    pub(crate) fn store_soft_impulses(&self, arbiters: &mut [Arbiter]) {
+        for r in &self.soft.rows {
+            let contact = arbiters
+                .get_mut(r.arbiter as usize)
+                .and_then(|arb| arb.contacts.get_mut(r.slot as usize));
+            if let Some(contact) = contact {
+                contact.jn_acc = r.jn;
+                contact.jt_acc = r.jt;
+            }
+        }
+    }
+}
+
+/// One pass over a manifold's rows (one or two points of one body pair):
+/// fast path on copies first, the saturating reference from the unchanged
+/// inputs if it overflowed.
+#[inline(always)]
+fn solve_manifold(
+    rows: &mut [SoftContact],
+    bodies: &mut [SolverBody],
+    motion: &[Motion],
+    p: &SoftContactParams,
+    use_bias: bool,
+) {
+    let Some(first) = rows.first() else {
+        return;
+    };
+    let (ia, ib) = (first.a, first.b);
+    let mut s = [Real::ZERO; 2];
+    for (r, s) in rows.iter().zip(&mut s) {
+        *s = r.separation(motion);
+    }
+    let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
+        return;
+    };
+    let mut copy = [SoftContact::default(); 2];
+    let n = rows.len().min(2);
+    let (Some(copy), Some(src)) = (copy.get_mut(..n), rows.get(..n)) else {
+        return;
+    };
+    copy.copy_from_slice(src);
+    let mut fast = Unsaturated::new();
+    manifold_pass(copy, &mut a, &mut b, &s, p, use_bias, &mut fast);
+    if !fast.overflowed() {
+        if let Some(dst) = rows.get_mut(..n) {
+            dst.copy_from_slice(copy);
+        }
+        store_pair(bodies, ia, a, ib, b);
+        return;
+    }
+    let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
+        return;
+    };
+    manifold_pass(rows, &mut a, &mut b, &s, p, use_bias, &mut Saturating);
+    store_pair(bodies, ia, a, ib, b);
+}
+
+/// The normal rows of a manifold, then its friction rows.
+#[inline(always)]
+fn manifold_pass<A: FixedArith>(
+    rows: &mut [SoftContact],
+    a: &mut SolverBody,
+    b: &mut SolverBody,
+    s: &[Real; 2],
+    p: &SoftContactParams,
+    use_bias: bool,
+    ar: &mut A,
+) {
+    for (r, &s) in rows.iter_mut().zip(s) {
+        r.solve_normal(a, b, s, p, use_bias, ar);
+    }
+    if p.friction {
+        for r in rows.iter_mut() {
+            r.solve_friction(a, b, ar);
+        }
+    }
+}
+
+impl SoftContact {
+    /// The current separation from the bodies' motion since the collide.
+    #[inline]
+    fn separation(&self, motion: &[Motion]) -> Real {
+        let none = Motion::default();
+        let ma = motion.get(self.a as usize).unwrap_or(&none);
+        let mb = motion.get(self.b as usize).unwrap_or(&none);
+        let turn = |m: &Motion, r: Vect| {
+            if m.dq == Rot::IDENTITY {
+                Vect::ZERO
+            } else {
+                m.dq.apply(r) - r
+            }
+        };
+        let d = (mb.dp - ma.dp) + (turn(mb, self.r2) - turn(ma, self.r1));
+        self.dist + d.dot(self.n)
+    }
+
+    /// Runs `f` on copies of the row's two bodies in [`Unsaturated`]
+    /// arithmetic and stores them back; false (nothing stored) if it
+    /// overflowed.
+    #[inline(always)]
+    fn run(
+        &mut self,
+        bodies: &mut [SolverBody],
+        f: impl FnOnce(&mut SoftContact, &mut SolverBody, &mut SolverBody, &mut Unsaturated),
+    ) -> bool {
+        let Some((mut a, mut b)) = load_pair(bodies, self.a, self.b) else {
+            return true;
+        };
+        let mut fast = Unsaturated::new();
+        f(self, &mut a, &mut b, &mut fast);
+        if fast.overflowed() {
+            return false;
+        }
+        store_pair(bodies, self.a, a, self.b, b);
+        true
+    }
+
+    /// `n·jn + t·jt` on the bodies (−a, +b).
+    #[inline(always)]
+    fn apply<A: FixedArith>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        jn: Real,
+        jt: Real,
+        ar: &mut A,
+    ) {
+        let n = self.n;
+        let p = Vect::new(ar.mul_sub2(n.x, jn, n.y, jt), ar.mul_add2(n.y, jn, n.x, jt));
+        let dwa = ar.mul_add2(self.kn_a, jn, self.kt_a, jt);
+        let dwb = ar.mul_add2(self.kn_b, jn, self.kt_b, jt);
+        let (dva, dvb) = (
+            Vect::new(ar.mul(p.x, self.m_inv_a), ar.mul(p.y, self.m_inv_a)),
+            Vect::new(ar.mul(p.x, self.m_inv_b), ar.mul(p.y, self.m_inv_b)),
+        );
+        a.v = Vect::new(ar.sub(a.v.x, dva.x), ar.sub(a.v.y, dva.y));
+        a.w = ar.sub(a.w, dwa);
+        b.v = Vect::new(ar.add(b.v.x, dvb.x), ar.add(b.v.y, dvb.y));
+        b.w = ar.add(b.w, dwb);
+    }
+
+    /// The normal relative velocity `(v_b + ω_b × r2 − v_a − ω_a × r1)·n`.
+    #[inline(always)]
+    fn normal_velocity<A: FixedArith>(&self, a: &SolverBody, b: &SolverBody, ar: &mut A) -> Real {
+        let n = self.n;
+        let dv = Vect::new(ar.sub(b.v.x, a.v.x), ar.sub(b.v.y, a.v.y));
+        let neg_rn_a = neg(self.rn_a, ar);
+        ar.dot4([dv.x, dv.y, b.w, a.w], [n.x, n.y, self.rn_b, neg_rn_a])
+    }
+
+    /// The normal row: soft with `use_bias`, rigid without.
+    #[inline(always)]
+    fn solve_normal<A: FixedArith>(
+        &mut self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        s: Real,
+        p: &SoftContactParams,
+        use_bias: bool,
+        ar: &mut A,
+    ) {
+        let (bias, soft) = if s.is_positive() {
+            // Apart: let the gap close within the sub-step, no push.
+            (ar.mul(s, p.h_inv), Softness::RIGID)
+        } else if use_bias {
+            let overlap = ar.add(s, p.slop).min(Real::ZERO);
+            let push = ar.mul(self.soft.bias_rate, overlap);
+            (push.max(-p.push_out), self.soft)
+        } else {
+            (Real::ZERO, Softness::RIGID)
+        };
+        let vn = self.normal_velocity(a, b, ar);
+        let err = ar.add(vn, bias);
+        let mut jn = ar.mul(err, self.n_mass);
+        if !soft.is_rigid() {
+            let scaled = ar.mul(jn, soft.mass_scale);
+            let back = ar.mul(soft.impulse_scale, self.jn);
+            jn = ar.add(scaled, back);
+        }
+        let old = self.jn;
+        self.jn = ar.sub(old, jn).max(Real::ZERO);
+        let djn = ar.sub(self.jn, old);
+        self.max_jn = self.max_jn.max(djn);
+        self.apply(a, b, djn, Real::ZERO, ar);
+    }
+
+    /// The friction row, bounded by `friction·jn`.
+    #[inline(always)]
+    fn solve_friction<A: FixedArith>(&mut self, a: &mut SolverBody, b: &mut SolverBody, ar: &mut A) {
+        {
+            let n = self.n;
+            let dv = Vect::new(ar.sub(b.v.x, a.v.x), ar.sub(b.v.y, a.v.y));
+            let (neg_ny, neg_rt_a) = (neg(n.y, ar), neg(self.rt_a, ar));
+            let vt = ar.dot4([dv.x, dv.y, b.w, a.w], [neg_ny, n.x, self.rt_b, neg_rt_a]);
+            let vt = ar.add(vt, self.surface_t);
+            let jt_max = ar.mul(self.friction, self.jn);
+            let djt = ar.mul(vt, self.t_mass);
+            let old = self.jt;
+            self.jt = ar.sub(old, djt).clamp(-jt_max, jt_max);
+            let jt = ar.sub(self.jt, old);
+            self.apply(a, b, Real::ZERO, jt, ar);
+        }
+    }
+
+    /// The restitution row: drive the normal velocity to `−e·approach`.
+    #[inline(always)]
+    fn bounce<A: FixedArith>(&mut self, a: &mut SolverBody, b: &mut SolverBody, ar: &mut A) {
+        let vn = self.normal_velocity(a, b, ar);
+        let target = ar.mul(self.restitution, self.approach);
+        let err = ar.add(vn, target);
+        let jn = ar.mul(err, self.n_mass);
+        let old = self.jn;
+        self.jn = ar.sub(old, jn).max(Real::ZERO);
+        let djn = ar.sub(self.jn, old);
+        self.apply(a, b, djn, Real::ZERO, ar);
+    }
+}

@@ -1,0 +1,199 @@
+//! The soft step (`Solver::Soft`, Box2D v3's scheme in fixed point): the
+//! stages of [`Stage::SOFT_STEP`](super::Stage::SOFT_STEP).
+//!
+//! Once per step: shape caches, broadphase and narrowphase at the current
+//! poses, then the contacts' rows (anchors and separation at the collide,
+//! effective masses, restitution's approach speed). Then, in each of
+//! [`SoftStep::substeps`] sub-steps of `h`: integrate velocities (gravity,
+//! damping, forces), the joints' rows from the current poses, warm start,
+//! one soft solve (contacts whose separation is re-estimated from the
+//! bodies' motion, then joints), integrate positions, one relax pass
+//! without bias. After the sub-steps: restitution, the store, bullets
+//! swept to their time of impact, post-solve handlers and sleep.
+//!
+//! Handlers and callbacks run once per step: begin, pre-solve and separate
+//! in the narrowphase, post-solve after the restitution, the joints'
+//! pre-solve callbacks before the first sub-step and post-solve after the
+//! last, post-step callbacks at the end. The joints' rows are rebuilt every
+//! sub-step from the poses, so their error is re-measured every time.
+//!
+//! The soft coefficients come from the first sub-step's length (sub-steps
+//! differ by at most one ulp) and the settings, once per step.
+use crate::body::BodyHandle;
+use crate::limits::LimitError;
+use crate::math::{Real, Vect};
+use crate::solver::soft_contact::SoftContactParams;
+use crate::solver::softness::Softness;
+
+use super::super::{SoftStep, Space, SpaceError};
+use super::sub_step_dts;
+
+/// The soft step's coefficients of one step.
+struct SoftCoefficients {
+    contacts: SoftContactParams,
+    joints: Softness,
+}
+
+impl SoftCoefficients {
+    /// From the settings and the sub-step length `h`: contact and joint
+    /// frequencies capped at a quarter of the sub-step rate (stiffer than
+    /// that, the implicit spring of one sub-step overshoots), contacts with
+    /// a body that does not move at twice the contact frequency.
+    fn new(soft: &SoftStep, h: Real, friction: bool, restitution: bool) -> Self {
+        let h_inv = h.recip();
+        let quarter = h_inv * Real::lit("0.25");
+        let contact_hz = soft.contact_hertz.min(quarter);
+        let joint_hz = soft.joint_hertz.min(quarter);
+        let zeta = soft.contact_damping_ratio;
+        SoftCoefficients {
+            contacts: SoftContactParams {
+                contact: Softness::new(contact_hz, zeta, h),
+                fixed: Softness::new(contact_hz + contact_hz, zeta, h),
+                h_inv,
+                slop: soft.slop,
+                push_out: soft.push_out_speed,
+                restitution_threshold: soft.restitution_threshold,
+                friction,
+                restitution,
+            },
+            joints: Softness::new(joint_hz, soft.joint_damping_ratio, h),
+        }
+    }
+}
+
+impl Space {
+    /// One soft step of `dt > 0` (a sub-step of [`Space::step`] when
+    /// `Settings::substeps` > 1). An error only when the broadphase finds
+    /// more candidate pairs than the limits allow: nothing moved then.
+    pub(super) fn soft_step(&mut self, dt: Real, soft: SoftStep) -> Result<(), SpaceError> {
+        self.locked = true;
+        // 2^64 steps never happen: never saturates.
+        self.state.stamp = self.state.stamp.saturating_add(1);
+        self.state.prev_dt = self.state.current_dt;
+        self.state.current_dt = dt;
+        let settings = &self.state.settings;
+        let substeps = soft.substeps.max(1);
+        let h = sub_step_dts(dt, substeps).next().unwrap_or(dt);
+        let coef = SoftCoefficients::new(
+            &soft,
+            h,
+            settings.friction,
+            settings.restitution,
+        );
+        let warm_starting = settings.warm_starting;
+
+        let threads = self.caches.threads.clone();
+        let active = threads.awake(|| {
+            self.record_sweep_starts(); // Bullets: the start poses
+            self.update_shape_caches(); // ShapeCaches
+            self.update_constraint_filter(); // JointFilter
+            if !self.find_pairs() {
+                return None; // Broadphase: over the pair limit
+            }
+            while self.wake_touched_islands() {
+                self.update_shape_caches(); // Wake
+                if !self.find_pairs() {
+                    return None;
+                }
+            }
+            let active = self.collide_pairs(); // Narrowphase
+            self.load_solver_bodies(); // SolverBodies
+            let rows = self.caches.solver.prepare_soft(
+                &self.state.arbiters,
+                &self.state.bodies,
+                &active,
+                &coef.contacts,
+            ); // Prepare: contacts
+            self.caches.step.stats.solver_contacts = rows;
+            Some(active)
+        });
+        let Some(active) = active else {
+            self.locked = false;
+            let max = self.limits.max_pairs;
+            return Err(SpaceError::OverLimit(LimitError {
+                limit: "candidate pairs",
+                value: max.saturating_add(1),
+                max,
+            }));
+        };
+        self.run_constraint_callbacks(super::super::constraints::Phase::PreSolve);
+        let mut forces = core::mem::take(&mut self.caches.step.soft_forces);
+        forces.clear();
+        if substeps > 1 {
+            forces.extend(
+                self.state
+                    .bodies
+                    .iter()
+                    .filter(|(_, b)| b.f != Vect::ZERO || !b.t.is_zero())
+                    .map(|(h, b)| (h, b.f, b.t)),
+            );
+        }
+        let first_coef = self.warm_start_coef();
+        for (i, h_i) in sub_step_dts(dt, substeps).enumerate() {
+            self.soft_sub_step(h_i, i, &coef, &forces, warm_starting.then_some(first_coef));
+        }
+        self.caches.step.soft_forces = forces;
+        self.caches.solver.restitution_soft(&coef.contacts); // Restitution
+        self.caches
+            .solver
+            .store_soft_impulses(&mut self.state.arbiters); // Store
+        self.caches.solver.store_velocities(&mut self.state.bodies);
+        self.run_constraint_callbacks(super::super::constraints::Phase::PostSolve);
+        if !self.caches.ccd.bullets.is_empty() {
+            self.update_shape_caches();
+            self.sweep_bullets(); // Bullets
+        }
+        self.count_saturated_bodies(); // Diagnostics
+        self.post_solve(&active); // PostSolve
+        self.update_sleep(dt, &active); // Sleep
+        self.caches.arbiters.active = active;
+        self.locked = false;
+        self.run_post_step_callbacks(); // PostStepCallbacks
+        Ok(())
+    }
+
+    /// Sub-step `i` of length `h`: velocities, the joints' rows, the warm
+    /// start (the first sub-step's scaled by `min(dt / prev_dt, 1)`),
+    /// solve, positions, relax.
+    fn soft_sub_step(
+        &mut self,
+        h: Real,
+        i: usize,
+        coef: &SoftCoefficients,
+        forces: &[(BodyHandle, Vect, Real)],
+        warm: Option<Real>,
+    ) {
+        if i > 0 {
+            // The solver bodies hold the velocities; the forces act in
+            // every sub-step.
+            self.caches.solver.store_velocities(&mut self.state.bodies);
+            for &(b, f, t) in forces {
+                if let Some(body) = self.state.bodies.get_mut(b) {
+                    body.f += f;
+                    body.t += t;
+                }
+            }
+        }
+        let ctx = self.step_context(h);
+        self.integrate_velocities(&ctx); // IntegrateVelocities
+        self.prepare_constraint_rows(ctx.dt, ctx.dt_inv, Some(coef.joints)); // Prepare: joints
+        let warm = warm.map(|c| if i == 0 { c } else { Real::ONE });
+        self.caches.solver.warm_start_soft(warm); // WarmStart
+        if let Some(c) = warm {
+            if !self.caches.constraints.is_empty() {
+                self.caches
+                    .constraints
+                    .warm_start(&mut self.caches.solver.bodies, c);
+            }
+        }
+        self.caches.solver.solve_soft(&coef.contacts, true); // Solve
+        self.caches.constraints.iterate(&mut self.caches.solver.bodies);
+        self.caches.solver.store_velocities(&mut self.state.bodies);
+        self.integrate_positions(h); // IntegratePositions
+        self.caches.solver.track_motion(&self.state.bodies);
+        self.caches.solver.solve_soft(&coef.contacts, false); // Relax
+        self.caches.constraints.relax();
+        self.caches.constraints.iterate(&mut self.caches.solver.bodies);
+        self.caches.constraints.store(&mut self.state.constraints);
+    }
+}
