@@ -74,20 +74,12 @@ pub enum SolverChoice {
 }
 
 impl SolverChoice {
-    /// The solver for a scene with `settings`: the soft step's speeds
-    /// and slop scaled by the scene's length unit, read off its gravity
-    /// (`|g| / 10` units per metre when that exceeds 1: the pixel scenes'
-    /// 100 is 10 units per metre).
+    /// The solver for a scene with `settings` (the soft step scaled to
+    /// the scene's length unit: `SettingsDesc::soft_solver`).
     pub fn solver(self, settings: &scenes::SettingsDesc) -> scenes::SolverDesc {
         match self {
             SolverChoice::Sequential => scenes::SolverDesc::Sequential,
-            SolverChoice::Soft => {
-                let g = settings.gravity.length();
-                let unit = (g / Real::from_int(10) + Real::lit("0.5")).floor().max(Real::ONE);
-                scenes::SolverDesc::Soft(scenes::SoftStepDesc(
-                    tamias2d::space::SoftStep::DEFAULT.scaled(unit),
-                ))
-            }
+            SolverChoice::Soft => settings.soft_solver(),
         }
     }
 }

@@ -341,6 +341,18 @@ impl Default for SettingsDesc {
 }
 
 impl SettingsDesc {
+    /// The soft step at its defaults for this scene: its speeds and slop
+    /// scaled by the scene's length unit, read off its gravity (`|g| / 10`
+    /// units per metre, rounded, when that exceeds 1: the pixel scenes'
+    /// gravity of 100 makes 10 units per metre).
+    pub fn soft_solver(&self) -> SolverDesc {
+        let g = self.gravity.length();
+        let unit = (g / Real::from_int(10) + Real::lit("0.5"))
+            .floor()
+            .max(Real::ONE);
+        SolverDesc::Soft(SoftStepDesc(SoftStep::DEFAULT.scaled(unit)))
+    }
+
     /// Chipmunk's defaults with the given gravity and iteration count.
     pub fn with_gravity(gravity: Vect, iterations: u32) -> SettingsDesc {
         SettingsDesc {

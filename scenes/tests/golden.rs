@@ -10,7 +10,7 @@
 //! the engine steps bit-identically everywhere.
 //!
 //! Besides the registry's goldens (the default, canonical solver) it
-//! checks [`COLORED_GOLDENS`], the same scenes with the colored solver
+//! checks [`COLORED_GOLDENS`] and [`SOFT_GOLDENS`], the same scenes with the colored solver and the soft step
 //! (`Settings::colored_solver`), natively. With `TAMIAS_GOLDEN_THREADS=N`
 //! every world steps on N threads: the script's `i686-parallel` and
 //! `aarch64-parallel` platforms build the engine with its `parallel`
@@ -61,7 +61,7 @@
 //! does); a scene registered without either fails
 //! [`every_registered_scene_has_a_golden`]. Under Miri (~1000× slower) only
 //! the Miri goldens run: small contact scenes for a few steps.
-use tamias2d_scenes::{Golden, REGISTRY};
+use tamias2d_scenes::{Golden, SettingsDesc, REGISTRY};
 
 /// `(scene, golden)` this build checks: the Miri table under Miri, the
 /// native one otherwise.
@@ -114,6 +114,43 @@ const COLORED_GOLDENS: &[(&str, u64)] = &[
     ("level_300", 0x8b0da822909ee6a2),
 ];
 
+/// The registry's golden scenes and steps on the soft step
+/// (`SettingsDesc::soft_solver`: the soft step's defaults scaled to each
+/// scene's length unit), natively on every platform but Miri.
+const SOFT_GOLDENS: &[(&str, u64)] = &[
+    ("bowl_circles_100", 0x7969fd579c24c881),
+    ("bowl_boxes_100", 0x205e0d261cdfea6e),
+    ("bowl_hexagons_100", 0x2ee171049a9863cc),
+    ("bouncy_circles_500", 0xfbe029c880a02dd6),
+    ("no_collide", 0x3114c858fb2f0b6b),
+    ("pyramid_20", 0x51c4d0ef4fab0c11),
+    ("many_pyramids_4x4", 0x976b38196a027480),
+    ("rain_1000", 0x5a03a039dd5c9f76),
+    ("tumbler_500", 0xb7f6e47ae89f58db),
+    ("free_fall", 0x7890415929c3ad71),
+    ("constant_force", 0xff3e3bee7c154c5a),
+    ("projectile_45", 0x12af88276b73db57),
+    ("projectile_60", 0xcc8bb5e24db71ccc),
+    ("spin", 0x47a9d208dc7df6ce),
+    ("elastic_pair", 0x0f01eedb2a0212e3),
+    ("newtons_cradle", 0x5f4844efa2540a6c),
+    ("incline_slide", 0xcd8b450bd53b063a),
+    ("incline_stick", 0xe40984e628be0764),
+    ("stack_10", 0x8425eff2b83d5270),
+    ("sleep_wake", 0xb8278b9c472d8818),
+    ("bullets", 0x1c1bc2d6674f193d),
+    ("pendulum", 0x47d8ab65d2b14131),
+    ("chain_100", 0xfeccb71c41427f9e),
+    ("windmill", 0xceedee115a7619f2),
+    ("gear_train", 0x7b7344e76ffbaded),
+    ("spring_mass", 0x71c4c90bb91d5b29),
+    ("ratchet", 0x106c7969ffbe1e5a),
+    ("rope_bridge", 0xb4f40695dc867207),
+    ("ragdolls_20", 0xec0b00e714a4cde9),
+    ("car", 0x548436f19dec8bc1),
+    ("level_300", 0xfebcfb6b07489944),
+];
+
 /// Builds `name` (with the colored solver if `colored`) and steps it
 /// `steps` times; returns the checksum. Prints every step's checksum when
 /// `TAMIAS_GOLDEN_TRACE` names the scene.
@@ -122,10 +159,15 @@ fn checksum_after(name: &str, steps: u32) -> u64 {
 }
 
 fn checksum_with(name: &str, steps: u32, colored: bool) -> u64 {
+    checksum_of(name, steps, |s| s.colored_solver = colored)
+}
+
+/// [`checksum_with`] after `adjust` changed the scene's settings.
+fn checksum_of(name: &str, steps: u32, adjust: impl FnOnce(&mut SettingsDesc)) -> u64 {
     let trace = std::env::var("TAMIAS_GOLDEN_TRACE").is_ok_and(|t| t == name || t == "all");
     let mut desc = tamias2d_scenes::builtin(name)
         .unwrap_or_else(|| panic!("{name} is not a registered scene"));
-    desc.settings.colored_solver = colored;
+    adjust(&mut desc.settings);
     let mut world = desc.build().unwrap_or_else(|e| panic!("{name}: {e}"));
     // The cross-platform script's *-parallel platforms: the same goldens
     // on several threads (any count gives the bits of one).
@@ -224,6 +266,37 @@ fn colored_solver_goldens_match_the_committed_values() {
     assert!(
         wrong.is_empty(),
         "{} of {} colored-solver goldens differ on this platform/build:\n  {}\n\
+         Regenerate with TAMIAS_PRINT_GOLDENS=1 (see the module docs) only for a deliberate change.",
+        wrong.len(),
+        native.len(),
+        wrong.join("\n  ")
+    );
+}
+
+#[test]
+fn soft_step_goldens_match_the_committed_values() {
+    if cfg!(miri) {
+        return;
+    }
+    let native: Vec<(&str, Golden)> = goldens();
+    let mut wrong = Vec::new();
+    for &(name, g) in &native {
+        let got = checksum_of(name, g.steps, |s| s.solver = s.soft_solver());
+        if std::env::var_os("TAMIAS_PRINT_GOLDENS").is_some() {
+            println!("    (\"{name}\", {got:#018x}),");
+        }
+        match SOFT_GOLDENS.iter().find(|(n, _)| *n == name) {
+            Some(&(_, want)) if want == got => {}
+            Some(&(_, want)) => wrong.push(format!(
+                "{name} after {} steps: got {got:#018x}, golden {want:#018x}",
+                g.steps
+            )),
+            None => wrong.push(format!("{name}: no soft-step golden (got {got:#018x})")),
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "{} of {} soft-step goldens differ on this platform/build:\n  {}\n\
          Regenerate with TAMIAS_PRINT_GOLDENS=1 (see the module docs) only for a deliberate change.",
         wrong.len(),
         native.len(),

@@ -20,8 +20,8 @@
 //! and `Vect` functions directly: they are the same function in both modes,
 //! so they need no flag.
 use crate::math::{FixedArith, Real, Saturating, Unsaturated, Vect};
-use crate::solver::softness::Softness;
 use crate::solver::kernel::{load_pair, store_pair};
+use crate::solver::softness::Softness;
 use crate::solver::SolverBody;
 
 /// A joint row's impulse arithmetic, generic over the arithmetic mode.
@@ -88,10 +88,7 @@ pub(crate) fn soften_vect<A: FixedArith>(j: Vect, acc: Vect, soft: Softness, ar:
     if soft.is_rigid() {
         return j;
     }
-    Vect::new(
-        soften(j.x, acc.x, soft, ar),
-        soften(j.y, acc.y, soft, ar),
-    )
+    Vect::new(soften(j.x, acc.x, soft, ar), soften(j.y, acc.y, soft, ar))
 }
 
 /// A row and its accumulated impulse for one sub-step: zero when built,
@@ -149,7 +146,8 @@ pub(crate) fn solve<K: JointKernel>(
     };
     let mut acc = r.acc;
     let mut fast = Unsaturated::new();
-    r.row.iterate(&mut a, &mut b, &mut acc, j_max, soft, &mut fast);
+    r.row
+        .iterate(&mut a, &mut b, &mut acc, j_max, soft, &mut fast);
     if fast.overflowed() {
         // The inputs are still in `bodies` and `r`: no copies kept.
         solve_saturating(r, bodies, ia, ib, j_max, soft);

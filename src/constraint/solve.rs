@@ -278,7 +278,9 @@ impl ConstraintScratch {
                 RowKind::Motor(r) => solve(r, bodies, a, b, j_max, soft),
                 RowKind::Gear(r) => solve(r, bodies, a, b, j_max, soft),
                 RowKind::Slide(r) => solve(r, bodies, a, b, j_max, soft),
-                RowKind::RotaryLimit(r) | RowKind::Ratchet(r, _) => solve(r, bodies, a, b, j_max, soft),
+                RowKind::RotaryLimit(r) | RowKind::Ratchet(r, _) => {
+                    solve(r, bodies, a, b, j_max, soft)
+                }
                 RowKind::RotarySpring(r) => solve(r, bodies, a, b, j_max, soft),
                 RowKind::Groove(r) => solve(r, bodies, a, b, j_max, soft),
             }

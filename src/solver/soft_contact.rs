@@ -142,8 +142,7 @@ impl ContactSolver {
             ..
         } = self;
         soft.motion.clear();
-        soft.motion
-            .resize(solver_bodies.len(), Motion::default());
+        soft.motion.resize(solver_bodies.len(), Motion::default());
         for (h, body) in bodies.iter() {
             if let Some(m) = soft.motion.get_mut(h.index() as usize) {
                 *m = Motion {
@@ -176,8 +175,8 @@ impl ContactSolver {
             let (ia, ib) = (arb.body_a.index(), arb.body_b.index());
             let a = solver_bodies.get(ia as usize).unwrap_or(&zero);
             let b = solver_bodies.get(ib as usize).unwrap_or(&zero);
-            let fixed = a.m_inv.is_zero() && a.i_inv.is_zero()
-                || b.m_inv.is_zero() && b.i_inv.is_zero();
+            let fixed =
+                a.m_inv.is_zero() && a.i_inv.is_zero() || b.m_inv.is_zero() && b.i_inv.is_zero();
             let n = arb.normal;
             let t = n.perp();
             for (slot, c) in arb.contacts().iter().enumerate() {
@@ -524,7 +523,12 @@ impl SoftContact {
 
     /// The friction row, bounded by `friction·jn`.
     #[inline(always)]
-    fn solve_friction<A: FixedArith>(&mut self, a: &mut SolverBody, b: &mut SolverBody, ar: &mut A) {
+    fn solve_friction<A: FixedArith>(
+        &mut self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        ar: &mut A,
+    ) {
         {
             let n = self.n;
             let dv = Vect::new(ar.sub(b.v.x, a.v.x), ar.sub(b.v.y, a.v.y));

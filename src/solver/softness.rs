@@ -53,11 +53,7 @@ impl Softness {
         let a3 = (Real::ONE + a2).recip();
         Softness {
             // a1 ≥ hω > 0 unless hω rounds to 0: then no bias at all.
-            bias_rate: if a1.is_zero() {
-                Real::ZERO
-            } else {
-                omega / a1
-            },
+            bias_rate: if a1.is_zero() { Real::ZERO } else { omega / a1 },
             mass_scale: a2 * a3,
             impulse_scale: a3,
         }
@@ -79,7 +75,10 @@ mod tests {
     fn zero_frequency_is_rigid() {
         let h = Real::lit("0.004166666");
         assert_eq!(Softness::new(Real::ZERO, Real::ONE, h), Softness::RIGID);
-        assert_eq!(Softness::new(Real::ONE, Real::ONE, Real::ZERO), Softness::RIGID);
+        assert_eq!(
+            Softness::new(Real::ONE, Real::ONE, Real::ZERO),
+            Softness::RIGID
+        );
         assert!(Softness::RIGID.is_rigid());
     }
 
@@ -87,7 +86,11 @@ mod tests {
     fn coefficients_match_the_closed_form() {
         // 30 Hz, ζ = 10, h = 1/240: ω = 188.5, a1 = 20.785, a2 = 16.32,
         // a3 = 0.05772: bias_rate 9.069, mass_scale 0.9423.
-        let s = Softness::new(Real::lit("30"), Real::lit("10"), Real::ONE / Real::lit("240"));
+        let s = Softness::new(
+            Real::lit("30"),
+            Real::lit("10"),
+            Real::ONE / Real::lit("240"),
+        );
         let near = |x: Real, want: &str, tol: &str| (x - Real::lit(want)).abs() < Real::lit(tol);
         assert!(near(s.bias_rate, "9.0690", "0.001"), "{:?}", s);
         assert!(near(s.mass_scale, "0.94227", "0.0001"), "{:?}", s);

@@ -21,6 +21,6 @@ mod mirror_symmetry;
 mod platformer;
 mod rapier_joints;
 mod settings_switches;
-mod soft_step;
 mod sleep;
+mod soft_step;
 mod stacking;

@@ -24,7 +24,10 @@ fn hanging_chain(links: i32, end: i32, solver: Solver) -> (Space, Vec<BodyHandle
     let mut bodies = vec![];
     for i in 0..links {
         let mut b = Body::new(Real::ONE, real!(0.0217)).unwrap();
-        b.set_position(Vect::new(Real::ZERO, real!(-0.25) - real!(0.5) * Real::from_int(i)));
+        b.set_position(Vect::new(
+            Real::ZERO,
+            real!(-0.25) - real!(0.5) * Real::from_int(i),
+        ));
         let h = space.add_body(b).unwrap();
         let top = Vect::new(Real::ZERO, real!(-0.5) * Real::from_int(i));
         let c = space.pivot_joint(prev, h, top).unwrap();
@@ -81,14 +84,67 @@ fn hanging_chain_variants() {
     let variants = [
         ("default", d),
         ("8 substeps", SoftStep { substeps: 8, ..d }),
-        ("joint zeta 1", SoftStep { joint_damping_ratio: Real::ONE, ..d }),
-        ("joint zeta 5", SoftStep { joint_damping_ratio: real!(5), ..d }),
-        ("joint zeta 0.5", SoftStep { joint_damping_ratio: real!(0.5), ..d }),
-        ("8 substeps 120 hz", SoftStep { substeps: 8, joint_hertz: real!(120), ..d }),
-        ("8 substeps 120 hz zeta 5", SoftStep { substeps: 8, joint_hertz: real!(120), joint_damping_ratio: real!(5), ..d }),
-        ("4 substeps 120 hz", SoftStep { joint_hertz: real!(120), ..d }),
-        ("4 substeps 120 hz zeta 5", SoftStep { joint_hertz: real!(120), joint_damping_ratio: real!(5), ..d }),
-        ("4 substeps 120 hz zeta 1", SoftStep { joint_hertz: real!(120), joint_damping_ratio: real!(1), ..d }),
+        (
+            "joint zeta 1",
+            SoftStep {
+                joint_damping_ratio: Real::ONE,
+                ..d
+            },
+        ),
+        (
+            "joint zeta 5",
+            SoftStep {
+                joint_damping_ratio: real!(5),
+                ..d
+            },
+        ),
+        (
+            "joint zeta 0.5",
+            SoftStep {
+                joint_damping_ratio: real!(0.5),
+                ..d
+            },
+        ),
+        (
+            "8 substeps 120 hz",
+            SoftStep {
+                substeps: 8,
+                joint_hertz: real!(120),
+                ..d
+            },
+        ),
+        (
+            "8 substeps 120 hz zeta 5",
+            SoftStep {
+                substeps: 8,
+                joint_hertz: real!(120),
+                joint_damping_ratio: real!(5),
+                ..d
+            },
+        ),
+        (
+            "4 substeps 120 hz",
+            SoftStep {
+                joint_hertz: real!(120),
+                ..d
+            },
+        ),
+        (
+            "4 substeps 120 hz zeta 5",
+            SoftStep {
+                joint_hertz: real!(120),
+                joint_damping_ratio: real!(5),
+                ..d
+            },
+        ),
+        (
+            "4 substeps 120 hz zeta 1",
+            SoftStep {
+                joint_hertz: real!(120),
+                joint_damping_ratio: real!(1),
+                ..d
+            },
+        ),
     ];
     for (links, end) in [(20, 100), (100, 100)] {
         for (name, v) in variants {
@@ -98,7 +154,10 @@ fn hanging_chain_variants() {
                 space.step(Real::ONE / Real::from_int(60)).unwrap();
                 worst = worst.max(worst_gap(&space));
             }
-            println!("{links}/{end} {name}: worst {worst:.5} end {:.5}", worst_gap(&space));
+            println!(
+                "{links}/{end} {name}: worst {worst:.5} end {:.5}",
+                worst_gap(&space)
+            );
         }
     }
 }
@@ -119,7 +178,10 @@ fn stacking_probe() {
     use tamias2d_scenes::{builtin, SoftStepDesc, SolverDesc};
     let names = std::env::var("PROBE_SCENES").unwrap_or("stack_10,pyramid_20".into());
     let slop = std::env::var("PROBE_SLOP").unwrap_or("0.005".into());
-    let soft = SoftStepDesc(SoftStep { slop: Real::from_f64(slop.parse().unwrap()).unwrap(), ..SoftStep::DEFAULT });
+    let soft = SoftStepDesc(SoftStep {
+        slop: Real::from_f64(slop.parse().unwrap()).unwrap(),
+        ..SoftStep::DEFAULT
+    });
     for name in names.split(',') {
         for (label, solver, colored) in [
             ("sequential", SolverDesc::Sequential, false),
@@ -149,7 +211,9 @@ fn stacking_probe() {
                 side = side.max((b.position().x.to_f64() - x0).abs());
                 drop = drop.max(y0 - b.position().y.to_f64());
             }
-            println!("{name} {label}: sideways {side:.5} drop {drop:.5} max pen {pen:.5} time {el:.3}s");
+            println!(
+                "{name} {label}: sideways {side:.5} drop {drop:.5} max pen {pen:.5} time {el:.3}s"
+            );
         }
     }
 }

@@ -74,12 +74,7 @@ impl Space {
         let settings = &self.state.settings;
         let substeps = soft.substeps.max(1);
         let h = sub_step_dts(dt, substeps).next().unwrap_or(dt);
-        let coef = SoftCoefficients::new(
-            &soft,
-            h,
-            settings.friction,
-            settings.restitution,
-        );
+        let coef = SoftCoefficients::new(&soft, h, settings.friction, settings.restitution);
         let warm_starting = settings.warm_starting;
 
         let threads = self.caches.threads.clone();
@@ -187,13 +182,17 @@ impl Space {
             }
         }
         self.caches.solver.solve_soft(&coef.contacts, true); // Solve
-        self.caches.constraints.iterate(&mut self.caches.solver.bodies);
+        self.caches
+            .constraints
+            .iterate(&mut self.caches.solver.bodies);
         self.caches.solver.store_velocities(&mut self.state.bodies);
         self.integrate_positions(h); // IntegratePositions
         self.caches.solver.track_motion(&self.state.bodies);
         self.caches.solver.solve_soft(&coef.contacts, false); // Relax
         self.caches.constraints.relax();
-        self.caches.constraints.iterate(&mut self.caches.solver.bodies);
+        self.caches
+            .constraints
+            .iterate(&mut self.caches.solver.bodies);
         self.caches.constraints.store(&mut self.state.constraints);
     }
 }
