@@ -23,13 +23,15 @@ pub enum Section {
     /// A: bodies poured into static terrain (a segment bowl), and movers
     /// that must never touch.
     Terrain,
-    /// B: stacking, piling and sustained contact (pyramids, rain, a tumbler).
+    /// B: stacking, piling and sustained contact (pyramids, rain, a tumbler,
+    /// and Box2D's own benchmark scenes, `box2d_*`).
     Stacking,
     /// C: accuracy against closed-form answers (free fall, projectiles,
     /// elastic collisions, inclines).
     Accuracy,
     /// D: joints (constraints): a pendulum, a hanging chain, machines
-    /// (windmill, gears, springs, a ratchet, a bridge, ragdolls, a car).
+    /// (windmill, gears, springs, a ratchet, a bridge, ragdolls, a car),
+    /// Box2D's joint grid, and chains hanging at rest under end masses.
     Joints,
     /// E: large static levels with a few movers, the world of a rollback
     /// game (`tamias bench --rollback`); not in the speed tables of A and B.
