@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use tamias2d::body::BodyType;
 use tamias2d::space::Space;
+use tamias2d_scenes::quality::Quality;
 use tamias2d_scenes::ScriptedWorld;
 
 use crate::progress::Progress;
@@ -54,13 +55,14 @@ pub fn median(xs: &[f64]) -> f64 {
 
 /// Steps `sim` `steps` times under a progress bar; calls `frame(step,
 /// space)` for step 0, every `every`-th step and the last one (if `every`
-/// is given).
+/// is given), and `after_step(space)` after every step (untimed).
 fn step_loop(
     sim: &mut ScriptedWorld,
     steps: u32,
     label: &str,
     every: Option<u32>,
     mut frame: impl FnMut(u32, &Space) -> Result<(), String>,
+    mut after_step: impl FnMut(&Space),
 ) -> Result<Timing, String> {
     let mut times = Vec::with_capacity(steps as usize);
     let mut bar = Progress::new(label, u64::from(steps));
@@ -73,6 +75,7 @@ fn step_loop(
             .map_err(|e| e.to_string())
             .map_err(|e| format!("step {step}: {e}"))?;
         times.push(t.elapsed().as_secs_f64());
+        after_step(&sim.space);
         if let Some(k) = every {
             if is_frame(step, steps, k) {
                 frame(step, &sim.space)?;
@@ -144,12 +147,14 @@ fn run_and_report(
     };
     // About 60 frames per run unless told otherwise.
     let every = render.every.unwrap_or_else(|| steps.div_ceil(60).max(1));
+    let mut quality = Quality::new();
     let timing = step_loop(
         sim,
         steps,
         label,
         frames.as_ref().map(|_| every),
         |step, space| frames.as_mut().map_or(Ok(()), |f| f.write(step, space)),
+        |space| quality.measure(space),
     )?;
     println!(
         "time per step: median {:.3} ms, total {:.2} s",
@@ -178,8 +183,25 @@ fn run_and_report(
         println!("tunnelled: {n}");
     }
     println!("sleeping bodies: {}", sim.space.sleeping_bodies());
+    for line in quality_lines(&quality) {
+        println!("{line}");
+    }
     println!("checksum: {:#018x}", sim.space.checksum());
     Ok(())
+}
+
+/// The run's quality lines: `max penetration: <m>` always, and
+/// `max joint error: <m>` for a world with measured joints (pivot, pin,
+/// slide or groove), both the largest after any step, in metres.
+fn quality_lines(q: &Quality) -> Vec<String> {
+    let mut lines = vec![format!(
+        "max penetration: {:.6}",
+        q.max_penetration.to_f64()
+    )];
+    if let Some(e) = q.max_joint_error {
+        lines.push(format!("max joint error: {:.6}", e.to_f64()));
+    }
+    lines
 }
 
 /// `tamias run`.
@@ -240,10 +262,17 @@ pub fn demo(args: &DemoArgs) -> Result<(), String> {
     let delay = (u16::try_from(every).unwrap_or(u16::MAX), 60);
     let anim_path = out.join("animation.png");
     let mut anim = Apng::create(&anim_path, &canvas, frames, delay)?;
-    let timing = step_loop(&mut sim, steps, "showcase", Some(every), |_, space| {
-        canvas.draw(space);
-        anim.push(&canvas)
-    })?;
+    let timing = step_loop(
+        &mut sim,
+        steps,
+        "showcase",
+        Some(every),
+        |_, space| {
+            canvas.draw(space);
+            anim.push(&canvas)
+        },
+        |_| {},
+    )?;
     anim.finish()?;
     let final_path = out.join("final.png");
     canvas.draw(&sim.space);
@@ -291,6 +320,18 @@ mod tests {
                 assert_eq!(n as u32, frame_count(steps, every), "{steps} {every}");
             }
         }
+    }
+
+    #[test]
+    fn quality_lines_print_joint_error_only_with_joints() {
+        let mut q = Quality::new();
+        q.max_penetration = tamias2d::math::Real::ratio(1, 8);
+        assert_eq!(quality_lines(&q), ["max penetration: 0.125000"]);
+        q.max_joint_error = Some(tamias2d::math::Real::ratio(1, 4));
+        assert_eq!(
+            quality_lines(&q),
+            ["max penetration: 0.125000", "max joint error: 0.250000"]
+        );
     }
 
     #[test]

@@ -125,6 +125,26 @@ fn run_prints_timing_and_the_library_checksum() {
     assert_eq!(checksum(&out), scene.space.checksum());
 }
 
+/// The value of the `<key>: <metres>` line, if any.
+fn metres(stdout: &str, key: &str) -> Option<f64> {
+    stdout
+        .lines()
+        .find_map(|l| l.strip_prefix(key)?.strip_prefix(": "))
+        .map(|v| v.parse().unwrap_or_else(|e| panic!("{key}: {v:?}: {e}")))
+}
+
+#[test]
+fn run_prints_the_largest_penetration_and_joint_error() {
+    let stack = ok(&["run", "stack_10", "--steps", "20"]);
+    let pen = metres(&stack, "max penetration").expect("a max penetration line");
+    assert!(pen > 0.0 && pen < 0.2, "{stack}");
+    assert_eq!(metres(&stack, "max joint error"), None, "{stack}");
+    let chain = ok(&["run", "hanging_chain_20_100", "--steps", "20"]);
+    let err = metres(&chain, "max joint error").expect("a max joint error line");
+    assert!((0.0..0.5).contains(&err), "{chain}");
+    assert_eq!(metres(&chain, "max penetration"), Some(0.0), "{chain}");
+}
+
 #[test]
 fn run_bullets_prints_tunnelled_zero() {
     let out = ok(&["run", "bullets"]);

@@ -437,6 +437,81 @@ pub fn chain(n: u32) -> SceneDesc {
     desc
 }
 
+/// Length of a link of [`hanging_chain`] (m).
+const LINK: Real = Real::HALF;
+/// Mass of a link of [`hanging_chain`] (kg).
+const LINK_MASS: Real = Real::ONE;
+/// Moment of a link of [`hanging_chain`] about its centre (kg·m²): a
+/// 0.5 m rod-like link (a thin rod would have 1/48 = 0.0208).
+const LINK_MOMENT: Real = real!(0.0217);
+/// Radius of the end mass of [`hanging_chain`] (m).
+const END_RADIUS: Real = real!(0.25);
+/// Sideways speed of the end mass of a kicked [`hanging_chain`] (m/s).
+const KICK: i32 = 5;
+
+/// `hanging_chain_{links}_{end_mass}` (and `…_kicked` when `kicked`): a
+/// chain of `links` links hanging straight down at rest from a static body
+/// (labelled `anchor`) at the origin, with an end mass, for measuring how
+/// well a solver holds joints under a large mass ratio. Link `i` (0 at the
+/// top) is a dynamic body of mass 1 kg and moment 0.0217 kg·m² (set
+/// explicitly) centred at (0, −0.25 − 0.5·i), drawn and collided as a
+/// vertical segment from (0, −0.25) to (0, 0.25) rounded by 0.05; a
+/// [`PivotJoint`] joins it at (0, −0.5·i) to the body above (anchors
+/// (0, −0.25) on the link above, or (0, 0) on the static body, and (0, 0.25)
+/// on the link). The end mass (labelled `end`: a circle of radius 0.25, mass
+/// `end_mass` kg, the moment of a disc, `end_mass/32`) is centred on the
+/// last link's lower end, (0, −0.5·links), and joined there by a pivot at
+/// its centre; kicked, it starts moving sideways at (5, 0) m/s. Every shape
+/// is in one group (the links and the end mass never collide with each
+/// other) and no pivot lets its bodies collide. g = 10, 10 iterations,
+/// one step of 1/60 s, sleeping off (a chain at rest would otherwise
+/// sleep after half a second), 600 steps. `links + 2` bodies.
+pub fn hanging_chain(links: u32, end_mass: u32, kicked: bool) -> SceneDesc {
+    let kick = if kicked { "_kicked" } else { "" };
+    let mut desc = scene(&format!("hanging_chain_{links}_{end_mass}{kick}"), 600);
+    desc.settings.sleep_time_threshold = tamias2d::space::SLEEP_NEVER;
+    desc.bodies.push(BodyDesc::static_body().labeled("anchor"));
+    let group = tamias2d::shape::ShapeFilter {
+        group: 1,
+        ..tamias2d::shape::ShapeFilter::ALL
+    };
+    let half = LINK * Real::HALF;
+    let up = Vect::new(Real::ZERO, half);
+    let link_y = |i: u32| -(LINK * Real::from_int(i32::try_from(i).unwrap_or(i32::MAX)));
+    for i in 0..links {
+        let mut shape = ShapeDesc::segment(-up, up, real!(0.05)).material(real!(0.6), Real::ZERO);
+        shape.filter = group;
+        let centre = Vect::new(Real::ZERO, link_y(i) - half);
+        desc.bodies
+            .push(BodyDesc::dynamic(centre, LINK_MASS, LINK_MOMENT).with_shape(shape));
+        let mut c = ConstraintDesc::new(JointType::Pivot, i, i.saturating_add(1));
+        c.anchor_a = Some(if i == 0 { Vect::ZERO } else { -up });
+        c.anchor_b = Some(up);
+        c.collide_bodies = Some(false);
+        desc.constraints.push(c);
+    }
+    let mass = Real::from_int(i32::try_from(end_mass).unwrap_or(i32::MAX));
+    let mut shape = ShapeDesc::circle(END_RADIUS).material(real!(0.6), Real::ZERO);
+    shape.filter = group;
+    let mut end = BodyDesc::dynamic(
+        Vect::new(Real::ZERO, link_y(links)),
+        mass,
+        mass * END_RADIUS * END_RADIUS * Real::HALF,
+    )
+    .with_shape(shape)
+    .labeled("end");
+    if kicked {
+        end = end.moving(Vect::from_ints(KICK, 0));
+    }
+    desc.bodies.push(end);
+    let mut c = ConstraintDesc::new(JointType::Pivot, links, links.saturating_add(1));
+    c.anchor_a = Some(if links == 0 { Vect::ZERO } else { -up });
+    c.anchor_b = Some(Vect::ZERO);
+    c.collide_bodies = Some(false);
+    desc.constraints.push(c);
+    desc
+}
+
 /// A box of `side` (density 1, friction 0.6) at `(x, y)`, dropped.
 fn crate_box(x: Real, y: Real, side: Real) -> BodyDesc {
     BodyDesc::new(BodyKind::Dynamic, Vect::new(x, y)).with_shape(

@@ -52,12 +52,14 @@
 pub mod accuracy;
 #[cfg(feature = "bench")]
 pub mod bench;
+pub mod box2d;
 pub mod bullets;
 pub mod dec;
 pub mod desc;
 #[cfg(feature = "ggrs")]
 pub mod ggrs_game;
 pub mod joints;
+pub mod quality;
 pub mod registry;
 pub mod rng;
 pub mod stacking;

@@ -15,7 +15,7 @@
 use tamias2d::real;
 
 use crate::desc::SceneDesc;
-use crate::{accuracy, bullets, joints, stacking, terrain};
+use crate::{accuracy, box2d, bullets, joints, stacking, terrain};
 
 /// The groups (sections A to E) of standard scenes (see `scenes/README.md`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -23,13 +23,15 @@ pub enum Section {
     /// A: bodies poured into static terrain (a segment bowl), and movers
     /// that must never touch.
     Terrain,
-    /// B: stacking, piling and sustained contact (pyramids, rain, a tumbler).
+    /// B: stacking, piling and sustained contact (pyramids, rain, a tumbler,
+    /// and Box2D's own benchmark scenes, `box2d_*`).
     Stacking,
     /// C: accuracy against closed-form answers (free fall, projectiles,
     /// elastic collisions, inclines).
     Accuracy,
     /// D: joints (constraints): a pendulum, a hanging chain, machines
-    /// (windmill, gears, springs, a ratchet, a bridge, ragdolls, a car).
+    /// (windmill, gears, springs, a ratchet, a bridge, ragdolls, a car),
+    /// Box2D's joint grid, and chains hanging at rest under end masses.
     Joints,
     /// E: large static levels with a few movers, the world of a rollback
     /// game (`tamias bench --rollback`); not in the speed tables of A and B.
@@ -204,6 +206,21 @@ pub const REGISTRY: &[SceneInfo] = &[
     scene!("tumbler_2000", Stacking, "2000 boxes in a spinning kinematic tumbler",
         bodies 2001, steps 1000, Some("tumbler_500"), None, None,
         || Some(stacking::tumbler(2000))),
+    scene!("box2d_large_pyramid", Stacking, "Box2D's large_pyramid: 5050 unit boxes on a 200x2 m ground box, no sleeping",
+        bodies 5051, steps 500, Some("pyramid_20"), None, None,
+        || Some(box2d::large_pyramid(100))),
+    scene!("box2d_many_pyramids", Stacking, "Box2D's many_pyramids: 20x20 pyramids of 55 unit boxes on 20 ground segments 11 m apart",
+        bodies 22001, steps 200, Some("many_pyramids_4x4"), None, None,
+        || Some(box2d::many_pyramids(20, 20))),
+    scene!("box2d_tumbler", Stacking, "Box2D's tumbler: 2025 0.25 m boxes in a dynamic box of density 50 turned by a motor at 25 deg/s",
+        bodies 2027, steps 750, Some("tumbler_500"), None, None,
+        || Some(box2d::tumbler(45))),
+    scene!("box2d_smash", Stacking, "Box2D's smash: an 8 m box at 40 m/s hits a block of 120x80 0.4 m boxes, no gravity",
+        bodies 9601, steps 300, Some("pyramid_20"), None, None,
+        || Some(box2d::smash(120, 80))),
+    scene!("box2d_spinner", Stacking, "Box2D's spinner: a motor-driven 40 m bar stirs 6076 capsules (rounded segments), circles and boxes in a 360-segment loop",
+        bodies 6078, steps 500, Some("tumbler_500"), None, None,
+        || Some(box2d::spinner(6076))),
     // C: accuracy
     scene!("free_fall", Accuracy, "a ball falling from rest under gravity",
         bodies 1, steps 240, None, golden(240, 0x88b2255d0edea5d4), None,
@@ -272,6 +289,30 @@ pub const REGISTRY: &[SceneInfo] = &[
     scene!("car", Joints, "a chassis on groove joints and damped springs, wheels driven by simple motors over bumps",
         bodies 4, steps 600, None, golden(600, 0x5566180091f61f58), None,
         || Some(joints::car())),
+    scene!("box2d_joint_grid", Joints, "Box2D's joint_grid: 100x100 circles joined by pivots to their neighbours, hung from 7 static ones",
+        bodies 10000, steps 500, Some("chain_100"), None, None,
+        || Some(box2d::joint_grid(100))),
+    scene!("hanging_chain_20_1", Joints, "20 links (1 kg, 0.5 m) hanging at rest on pivots, 1 kg end mass",
+        bodies 22, steps 600, Some("chain_100"), None, None,
+        || Some(joints::hanging_chain(20, 1, false))),
+    scene!("hanging_chain_20_10", Joints, "20 links (1 kg, 0.5 m) hanging at rest on pivots, 10 kg end mass",
+        bodies 22, steps 600, Some("chain_100"), None, None,
+        || Some(joints::hanging_chain(20, 10, false))),
+    scene!("hanging_chain_20_100", Joints, "20 links (1 kg, 0.5 m) hanging at rest on pivots, 100 kg end mass",
+        bodies 22, steps 600, Some("chain_100"), None, None,
+        || Some(joints::hanging_chain(20, 100, false))),
+    scene!("hanging_chain_100_1", Joints, "100 links (1 kg, 0.5 m) hanging at rest on pivots, 1 kg end mass",
+        bodies 102, steps 600, Some("chain_100"), None, None,
+        || Some(joints::hanging_chain(100, 1, false))),
+    scene!("hanging_chain_100_10", Joints, "100 links (1 kg, 0.5 m) hanging at rest on pivots, 10 kg end mass",
+        bodies 102, steps 600, Some("chain_100"), None, None,
+        || Some(joints::hanging_chain(100, 10, false))),
+    scene!("hanging_chain_100_100", Joints, "100 links (1 kg, 0.5 m) hanging at rest on pivots, 100 kg end mass",
+        bodies 102, steps 600, Some("chain_100"), None, None,
+        || Some(joints::hanging_chain(100, 100, false))),
+    scene!("hanging_chain_20_100_kicked", Joints, "20 hanging links with a 100 kg end mass kicked sideways at 5 m/s",
+        bodies 22, steps 600, Some("chain_100"), None, None,
+        || Some(joints::hanging_chain(20, 100, true))),
     // E: level
     scene!("level_300", Level, "10 bodies rolling over a static level of 300 terrain segments",
         bodies 13, steps 1000, None, golden(60, 0x2a383b6afee24382), None,

@@ -51,7 +51,7 @@ pub(super) fn ground_segment(x0: Real, x1: Real, y: Real) -> ShapeDesc {
 /// first, left to right.
 // base < 2^32 and 0 ≤ j < base − i ≤ base: every i64 term is below 2^34.
 #[allow(clippy::arithmetic_side_effects)]
-fn pyramid_boxes(base: u32, cx: Real, y0: Real, out: &mut Vec<BodyDesc>) {
+pub(crate) fn pyramid_boxes(base: u32, cx: Real, y0: Real, out: &mut Vec<BodyDesc>) {
     let base = i64::from(base);
     for i in 0..base {
         for j in 0..base - i {
