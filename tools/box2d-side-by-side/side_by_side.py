@@ -411,9 +411,9 @@ def run(desc, steps, substeps, sleep, every):
     return out
 
 
-def run_ours(tamias, name, steps):
-    """`tamias run NAME --threads 1`: its figures, by our key names."""
-    cmd = [tamias, "run", name, "--threads", "1", "--steps", str(steps)]
+def run_ours(tamias, scene, steps):
+    """`tamias run SCENE --trusted --threads 1`: its figures, by our key names."""
+    cmd = [tamias, "run", scene, "--trusted", "--threads", "1", "--steps", str(steps)]
     text = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
     out = {}
     m = re.search(r"time per step: median ([0-9.]+) ms", text)
@@ -437,23 +437,58 @@ def lines(r):
             yield f"{key.replace('_', ' ')}: {val}"
 
 
+def cell(r, key, fmt):
+    return fmt.format(r[key]) if key in r else "—"
+
+
+def table(path):
+    """The markdown table of the JSON lines in `path` (compare.sh)."""
+    rows = [json.loads(line) for line in open(path) if line.strip()]
+    print("| scene | Box2D ms/step | ours ms/step | ours ÷ Box2D | max penetration Box2D / ours "
+          "| max joint error Box2D / ours | other (Box2D / ours) |")
+    print("|---|---:|---:|---:|---:|---:|---|")
+    for r in rows:
+        o = r.get("ours", {})
+        ratio = f"{o['median_ms'] / r['median_ms']:.2f}" if o.get("median_ms") and r["median_ms"] else "—"
+        other = [f"{k.replace('_', ' ')} {cell(r, k, '{:.3g}')} / {cell(o, k, '{:.3g}')}"
+                 for k in ("max_x_drift", "worst_pivot_gap") if k in r]
+        if "max_rotary_limit_error" in r:
+            other.append(f"rotary limit {r['max_rotary_limit_error']:.3g} rad / —")
+        if "left_out" in r:
+            other.append(f"Box2D leaves out {r['left_out']}")
+        print(f"| {r['scene']} | {r['median_ms']:.3f} | {cell(o, 'median_ms', '{:.3f}')} | {ratio} "
+              f"| {cell(r, 'max_penetration', '{:.3g}')} / {cell(o, 'max_penetration', '{:.3g}')} "
+              f"| {cell(r, 'max_joint_error', '{:.3g}')} / {cell(o, 'max_joint_error', '{:.3g}')} "
+              f"| {'; '.join(other) or '—'} |")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("scene", help="scene JSON (tamias scene dump NAME -o FILE)")
+    ap.add_argument("scene", nargs="?", help="scene JSON (tamias scene dump NAME -o FILE)")
     ap.add_argument("--steps", type=int, help="steps to run [default: the scene's]")
     ap.add_argument("--substeps", type=int, default=4, help="Box2D sub-steps [4, Box2D's default]")
     ap.add_argument("--threads", type=int, default=1, choices=[1], help="worker threads (only 1)")
     ap.add_argument("--no-sleep", action="store_true", help="turn Box2D's sleeping off")
     ap.add_argument("--every", type=int, default=1, help="measure quality every K steps [1]")
     ap.add_argument("--json", action="store_true", help="one JSON object instead of lines")
-    ap.add_argument("--ours", metavar="TAMIAS", help="also run `TAMIAS run NAME --threads 1`")
+    ap.add_argument("--ours", metavar="TAMIAS", help="also run `TAMIAS run SCENE --threads 1`")
+    ap.add_argument("--table", metavar="JSONL", help="print the markdown table of --json lines")
     args = ap.parse_args()
+    if args.table:
+        return table(args.table)
     with open(args.scene) as f:
         desc = json.load(f)
+    if args.no_sleep:  # ours too: an island never rests this long
+        desc.setdefault("settings", {})["sleep_time_threshold"] = "1000000"
     steps = args.steps if args.steps is not None else desc["steps"]
     r = run(desc, steps, args.substeps, not args.no_sleep, max(1, args.every))
     if args.ours:
-        r["ours"] = run_ours(args.ours, desc["name"], steps)
+        scene = args.scene
+        if args.no_sleep:
+            scene = args.scene.removesuffix(".json") + ".awake.json"
+            with open(scene, "w") as f:
+                json.dump(desc, f)
+        r["ours"] = run_ours(args.ours, scene, steps)
     if args.json:
         print(json.dumps(r))
     else:
