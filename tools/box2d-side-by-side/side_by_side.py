@@ -203,11 +203,17 @@ def build_joints(world, bodies, joints):
         t, host = j["type"], hosts.get(pair(j))
         if t in ("rotary_limit", "simple_motor", "damped_rotary_spring"):
             if host is None or (host["type"] == "groove" and t != "simple_motor"):
-                left_out.append(t)
+                left_out.append(j)
             else:
                 host.setdefault("extras", []).append(j)
+                host["collide"] = host["collide"] and j["collide"]
         elif t in ("gear", "ratchet"):
-            left_out.append(t)
+            left_out.append(j)
+    for j in left_out:  # a left-out joint still keeps its bodies apart
+        if not j["collide"]:
+            d = lib.b2DefaultNullJointDef()
+            d.bodyIdA, d.bodyIdB = bodies[j["a"]], bodies[j["b"]]
+            lib.b2CreateNullJoint(world, ffi.new("b2NullJointDef*", d))
     mass = lambda i: lib.b2Body_GetMass(bodies[i])
     inertia = lambda i: lib.b2Body_GetRotationalInertia(bodies[i])
     for j in joints:
@@ -264,7 +270,7 @@ def build_joints(world, bodies, joints):
         d.localAnchorA, d.localAnchorB = j["anchor_a"], j["anchor_b"]
         d.collideConnected = j["collide"]
         create(world, ffi.new(ffi.typeof(d).cname + "*", d))
-    return left_out
+    return [j["type"] for j in left_out]
 
 
 # ---------------------------------------------------------------- measures
