@@ -47,7 +47,8 @@ pub struct Limits {
     pub max_shapes: u64,
     /// Constraints (joints) of a world.
     pub max_constraints: u64,
-    /// Solver passes per step: `Settings::iterations × Settings::substeps`.
+    /// Solver passes per step: `Settings::iterations × Settings::substeps`
+    /// (on the soft step, `2 × SoftStep::substeps × Settings::substeps`).
     pub max_solver_passes: u64,
     /// Sub-steps per step (`Settings::substeps`): each one collides
     /// again, so it costs about a whole step.

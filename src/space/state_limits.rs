@@ -12,7 +12,13 @@ impl Limits {
     /// Checks settings' sub-steps and solver passes.
     pub fn check_settings(&self, settings: &Settings) -> Result<(), LimitError> {
         check("sub-steps", u64::from(settings.substeps), self.max_substeps)?;
-        let passes = u64::from(settings.iterations).saturating_mul(u64::from(settings.substeps));
+        // The soft step's passes: a solve and a relax in each of its
+        // sub-steps (its `iterations` setting does not apply).
+        let per_step = match settings.solver {
+            super::Solver::Sequential => u64::from(settings.iterations),
+            super::Solver::Soft(soft) => u64::from(soft.substeps).saturating_mul(2),
+        };
+        let passes = per_step.saturating_mul(u64::from(settings.substeps));
         check(
             "solver passes (iterations x sub-steps)",
             passes,

@@ -43,16 +43,24 @@ where
     K: JointKernel + Copy,
     K::Impulse: PartialEq + core::fmt::Debug,
 {
-    // The iteration.
-    let mut fast = Accumulated { row: k, acc };
-    let mut bodies = [a, b];
-    solve(&mut fast, &mut bodies, 0, 1, j_max);
-    let (mut ra, mut rb, mut racc) = (a, b, acc);
-    if k.is_active() {
-        k.iterate(&mut ra, &mut rb, &mut racc, j_max, &mut Saturating);
+    // The iteration, rigid (the sequential solver) and soft (the soft
+    // step's coefficients at its defaults).
+    let soft = Softness::new(
+        Real::from_int(60),
+        Real::from_int(2),
+        Real::ONE / Real::from_int(240),
+    );
+    for soft in [Softness::RIGID, soft] {
+        let mut fast = Accumulated { row: k, acc };
+        let mut bodies = [a, b];
+        solve(&mut fast, &mut bodies, 0, 1, j_max, soft);
+        let (mut ra, mut rb, mut racc) = (a, b, acc);
+        if k.is_active() {
+            k.iterate(&mut ra, &mut rb, &mut racc, j_max, soft, &mut Saturating);
+        }
+        prop_assert_eq!(bodies, [ra, rb]);
+        prop_assert_eq!(fast.acc, racc);
     }
-    prop_assert_eq!(bodies, [ra, rb]);
-    prop_assert_eq!(fast.acc, racc);
 
     // The warm start.
     let mut fast = Accumulated::new(k);
@@ -72,7 +80,7 @@ where
     let (mut fa, mut fb, mut facc) = (a, b, acc);
     let mut u = Unsaturated::new();
     if k.is_active() {
-        k.iterate(&mut fa, &mut fb, &mut facc, j_max, &mut u);
+        k.iterate(&mut fa, &mut fb, &mut facc, j_max, Softness::RIGID, &mut u);
         k.apply(&mut fa, &mut fb, acc, &mut u);
     }
     Ok(!u.overflowed())
@@ -145,8 +153,8 @@ fn inactive_rows_are_skipped_and_keep_a_zero_accumulator() {
         let mut bodies = [body, SolverBody::default()];
         warm_start(&mut s, &mut bodies, 0, 1, acc);
         warm_start(&mut l, &mut bodies, 0, 1, acc);
-        solve(&mut s, &mut bodies, 0, 1, Real::MAX);
-        solve(&mut l, &mut bodies, 0, 1, Real::MAX);
+        solve(&mut s, &mut bodies, 0, 1, Real::MAX, Softness::RIGID);
+        solve(&mut l, &mut bodies, 0, 1, Real::MAX, Softness::RIGID);
         assert_eq!(bodies, [body, SolverBody::default()]);
         assert_eq!((s.acc, l.acc), (Real::ZERO, Real::ZERO));
         let case = (
