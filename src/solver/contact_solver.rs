@@ -46,8 +46,6 @@ pub(crate) struct ContactSolver {
     pub(crate) manifold_blocks: Vec<u32>,
     /// The bodies while threads share them ([`sweep::SharedBody`]).
     pub(crate) shared: Vec<sweep::SharedBody>,
-    /// The soft step's rows and the bodies' motion (`soft_contact`).
-    pub(crate) soft: super::soft_contact::SoftContacts,
 }
 
 /// The rows the contact solver interleaves with its own in every pass: the

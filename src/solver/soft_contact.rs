@@ -121,15 +121,16 @@ pub(crate) struct SoftContacts {
     motion: Vec<Motion>,
 }
 
-impl ContactSolver {
+impl SoftContacts {
     /// The soft step's [`Stage::Prepare`](crate::space::Stage::Prepare) of
     /// the contacts: the bodies' poses at the collide, then one row per
     /// manifold point of the `active` arbiters, color by color (module
     /// `graph`): the order the threads can share, and on the soft step no
     /// worse than the canonical one (`docs/solver.md`). Returns the number
     /// of rows.
-    pub(crate) fn prepare_soft(
+    pub(crate) fn prepare(
         &mut self,
+        solver: &mut ContactSolver,
         arbiters: &[Arbiter],
         bodies: &Arena<Body>,
         active: &[u32],
@@ -138,9 +139,9 @@ impl ContactSolver {
         let ContactSolver {
             bodies: solver_bodies,
             graph,
-            soft,
             ..
-        } = self;
+        } = solver;
+        let soft = self;
         soft.motion.clear();
         soft.motion.resize(solver_bodies.len(), Motion::default());
         for (h, body) in bodies.iter() {
@@ -239,9 +240,8 @@ impl ContactSolver {
     /// again, first scaled by `dt_coef` (the first sub-step's
     /// `min(h / previous h, 1)`; 1 after it). Without warm starting the
     /// accumulators start from 0.
-    pub(crate) fn warm_start_soft(&mut self, warm: Option<Real>) {
-        let ContactSolver { bodies, soft, .. } = self;
-        for row in &mut soft.rows {
+    pub(crate) fn warm_start(&mut self, bodies: &mut [SolverBody], warm: Option<Real>) {
+        for row in &mut self.rows {
             let Some(dt_coef) = warm else {
                 row.jn = Real::ZERO;
                 row.jt = Real::ZERO;
@@ -267,10 +267,14 @@ impl ContactSolver {
     /// A manifold's points are solved together: both normal rows, then
     /// both friction rows (friction bounded by the normal impulses of this
     /// pass), on one copy of the two bodies.
-    pub(crate) fn solve_soft(&mut self, params: &SoftContactParams, use_bias: bool) {
-        let ContactSolver { bodies, soft, .. } = self;
-        let motion = &soft.motion;
-        let mut rest = soft.rows.as_mut_slice();
+    pub(crate) fn solve(
+        &mut self,
+        bodies: &mut [SolverBody],
+        params: &SoftContactParams,
+        use_bias: bool,
+    ) {
+        let motion = &self.motion;
+        let mut rest = self.rows.as_mut_slice();
         while let Some(first) = rest.first() {
             let arbiter = first.arbiter;
             let n = if rest.get(1).is_some_and(|r| r.arbiter == arbiter) {
@@ -287,12 +291,11 @@ impl ContactSolver {
     /// [`Stage::Restitution`](crate::space::Stage::Restitution), once after
     /// the sub-steps: points that approached faster than the threshold and
     /// pushed get the bounce `−e·approach` as their normal velocity.
-    pub(crate) fn restitution_soft(&mut self, params: &SoftContactParams) {
+    pub(crate) fn restitution(&mut self, bodies: &mut [SolverBody], params: &SoftContactParams) {
         if !params.restitution {
             return;
         }
-        let ContactSolver { bodies, soft, .. } = self;
-        for row in &mut soft.rows {
+        for row in &mut self.rows {
             if row.restitution.is_zero()
                 || row.approach > -params.restitution_threshold
                 || !row.max_jn.is_positive()
@@ -322,7 +325,7 @@ impl ContactSolver {
             if body.is_sleeping() {
                 continue;
             }
-            if let Some(m) = self.soft.motion.get_mut(h.index() as usize) {
+            if let Some(m) = self.motion.get_mut(h.index() as usize) {
                 m.dp = body.p - m.p0;
                 m.dq = if body.rot == m.rot0 {
                     Rot::IDENTITY
@@ -335,8 +338,8 @@ impl ContactSolver {
 
     /// The soft rows' accumulated impulses into the arbiters' manifold
     /// points (the next step's warm start, and the handlers').
-    pub(crate) fn store_soft_impulses(&self, arbiters: &mut [Arbiter]) {
-        for r in &self.soft.rows {
+    pub(crate) fn store_impulses(&self, arbiters: &mut [Arbiter]) {
+        for r in &self.rows {
             let contact = arbiters
                 .get_mut(r.arbiter as usize)
                 .and_then(|arb| arb.contacts.get_mut(r.slot as usize));

@@ -26,6 +26,9 @@ pub(crate) struct Caches {
     pub(crate) arbiters: ArbiterBuffers,
     /// The solver stages, solver bodies to store (`crate::solver`).
     pub(crate) solver: ContactSolver,
+    /// The soft step's contact rows and the bodies' motion
+    /// (`crate::solver::soft_contact`).
+    pub(crate) soft_contacts: crate::solver::soft_contact::SoftContacts,
     /// The joint filter, and the joints' part of prepare to store
     /// ([`crate::constraint`]).
     pub(crate) constraints: ConstraintScratch,

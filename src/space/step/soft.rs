@@ -93,7 +93,8 @@ impl Space {
             }
             let active = self.collide_pairs(); // Narrowphase
             self.load_solver_bodies(); // SolverBodies
-            let rows = self.caches.solver.prepare_soft(
+            let rows = self.caches.soft_contacts.prepare(
+                &mut self.caches.solver,
                 &self.state.arbiters,
                 &self.state.bodies,
                 &active,
@@ -128,10 +129,12 @@ impl Space {
             self.soft_sub_step(h_i, i, &coef, &forces, warm_starting.then_some(first_coef));
         }
         self.caches.step.soft_forces = forces;
-        self.caches.solver.restitution_soft(&coef.contacts); // Restitution
-        self.caches
-            .solver
-            .store_soft_impulses(&mut self.state.arbiters); // Store
+        let (soft, bodies) = (
+            &mut self.caches.soft_contacts,
+            &mut self.caches.solver.bodies,
+        );
+        soft.restitution(bodies, &coef.contacts); // Restitution
+        soft.store_impulses(&mut self.state.arbiters); // Store
         self.caches.solver.store_velocities(&mut self.state.bodies);
         self.run_constraint_callbacks(super::super::constraints::Phase::PostSolve);
         if !self.caches.ccd.bullets.is_empty() {
@@ -173,7 +176,11 @@ impl Space {
         self.integrate_velocities(&ctx); // IntegrateVelocities
         self.prepare_constraint_rows(ctx.dt, ctx.dt_inv, Some(coef.joints)); // Prepare: joints
         let warm = warm.map(|c| if i == 0 { c } else { Real::ONE });
-        self.caches.solver.warm_start_soft(warm); // WarmStart
+        let (soft, bodies) = (
+            &mut self.caches.soft_contacts,
+            &mut self.caches.solver.bodies,
+        );
+        soft.warm_start(bodies, warm); // WarmStart
         if let Some(c) = warm {
             if !self.caches.constraints.is_empty() {
                 self.caches
@@ -181,14 +188,22 @@ impl Space {
                     .warm_start(&mut self.caches.solver.bodies, c);
             }
         }
-        self.caches.solver.solve_soft(&coef.contacts, true); // Solve
+        let (soft, bodies) = (
+            &mut self.caches.soft_contacts,
+            &mut self.caches.solver.bodies,
+        );
+        soft.solve(bodies, &coef.contacts, true); // Solve
         self.caches
             .constraints
             .iterate(&mut self.caches.solver.bodies);
         self.caches.solver.store_velocities(&mut self.state.bodies);
         self.integrate_positions(h); // IntegratePositions
-        self.caches.solver.track_motion(&self.state.bodies);
-        self.caches.solver.solve_soft(&coef.contacts, false); // Relax
+        self.caches.soft_contacts.track_motion(&self.state.bodies);
+        let (soft, bodies) = (
+            &mut self.caches.soft_contacts,
+            &mut self.caches.solver.bodies,
+        );
+        soft.solve(bodies, &coef.contacts, false); // Relax
         self.caches.constraints.relax();
         self.caches
             .constraints
