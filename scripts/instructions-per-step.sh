@@ -10,7 +10,8 @@
 # Needs valgrind; builds the CLI with the `measure` profile (release with
 # one codegen unit, so the count does not move with how the compiler splits
 # the crate into units), or runs the binary TAMIAS_BIN names (to compare
-# two builds).
+# two builds). TAMIAS_ARGS adds arguments to every run (e.g.
+# TAMIAS_ARGS="--solver soft").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 n=100
@@ -22,7 +23,7 @@ if [[ -z "$bin" ]]; then
 fi
 out=$(mktemp -d)
 total() { # total SCENE STEPS: the instructions of the whole run
-    valgrind --tool=callgrind --callgrind-out-file="$out/cg" "$bin" run "$1" --steps "$2" --threads 1 >/dev/null 2>&1
+    valgrind --tool=callgrind --callgrind-out-file="$out/cg" "$bin" run "$1" --steps "$2" --threads 1 ${TAMIAS_ARGS:-} >/dev/null 2>&1
     awk '/^summary:/ {print $2}' "$out/cg"
 }
 for scene in "$@"; do

@@ -223,6 +223,11 @@ fn changes(leaf: &Value) -> Vec<Value> {
             };
             vec![changed]
         }
+        // The solver: the sequential one is a unit variant, the soft step
+        // carries its parameters.
+        Value::String(s) if s == "Sequential" => {
+            vec![serde_json::to_value(tamias2d::space::Solver::SOFT).unwrap_or(Value::Null)]
+        }
         Value::String(s) => VARIANTS
             .iter()
             .filter(|v| **v != s.as_str())
