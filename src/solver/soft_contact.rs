@@ -42,8 +42,10 @@ pub(crate) struct Motion {
     rot0: Rot,
     /// Translation since the collide.
     dp: Vect,
-    /// Rotation since the collide (identity while it has not turned).
-    dq: Rot,
+    /// The rotation since the collide, `(cos − 1, sin)` of its angle: both
+    /// exactly 0 while the body has not turned.
+    dq_c1: Real,
+    dq_s: Real,
 }
 
 /// The soft step's contact constants of one step (from the settings and
@@ -79,11 +81,12 @@ pub(crate) struct SoftContact {
     slot: u32,
     /// Unit normal from a to b.
     n: Vect,
-    /// Anchors at the collide (world orientation, relative to the centres).
-    r1: Vect,
-    r2: Vect,
     /// Separation at the collide.
     dist: Real,
+    /// `n·r1`, `n·r2`: with `r × n`, what a rotation of the anchors does
+    /// to the separation.
+    nr_a: Real,
+    nr_b: Real,
     /// `r × n`, `r × t` of both anchors, and `I⁻¹ (r × n)`, `I⁻¹ (r × t)`.
     rn_a: Real,
     rn_b: Real,
@@ -149,8 +152,7 @@ impl SoftContacts {
                 *m = Motion {
                     p0: body.p,
                     rot0: body.rot,
-                    dp: Vect::ZERO,
-                    dq: Rot::IDENTITY,
+                    ..Motion::default()
                 };
             }
         }
@@ -194,9 +196,9 @@ impl SoftContacts {
                     // slot < MAX_CONTACTS_PER_ARBITER.
                     slot: slot as u32,
                     n,
-                    r1,
-                    r2,
                     dist: c.dist,
+                    nr_a: n.dot(r1),
+                    nr_b: n.dot(r2),
                     rn_a,
                     rn_b,
                     rt_a,
@@ -241,23 +243,30 @@ impl SoftContacts {
     /// `min(h / previous h, 1)`; 1 after it). Without warm starting the
     /// accumulators start from 0.
     pub(crate) fn warm_start(&mut self, bodies: &mut [SolverBody], warm: Option<Real>) {
-        for row in &mut self.rows {
-            let Some(dt_coef) = warm else {
+        let Some(dt_coef) = warm else {
+            for row in &mut self.rows {
                 row.jn = Real::ZERO;
                 row.jt = Real::ZERO;
-                continue;
-            };
-            if dt_coef != Real::ONE {
-                row.jn *= dt_coef;
-                row.jt *= dt_coef;
             }
-            let (jn, jt) = (row.jn, row.jt);
-            if !row.run(bodies, |r, a, b, ar| r.apply(a, b, jn, jt, ar)) {
-                if let Some((mut a, mut b)) = load_pair(bodies, row.a, row.b) {
-                    row.apply(&mut a, &mut b, jn, jt, &mut Saturating);
-                    store_pair(bodies, row.a, a, row.b, b);
+            return;
+        };
+        let mut rest = self.rows.as_mut_slice();
+        while let Some(first) = rest.first() {
+            let arbiter = first.arbiter;
+            let n = if rest.get(1).is_some_and(|r| r.arbiter == arbiter) {
+                2
+            } else {
+                1
+            };
+            let (manifold, tail) = rest.split_at_mut(n);
+            if dt_coef != Real::ONE {
+                for row in manifold.iter_mut() {
+                    row.jn *= dt_coef;
+                    row.jt *= dt_coef;
                 }
             }
+            warm_start_manifold(manifold, bodies);
+            rest = tail;
         }
     }
 
@@ -327,10 +336,11 @@ impl SoftContacts {
             }
             if let Some(m) = self.motion.get_mut(h.index() as usize) {
                 m.dp = body.p - m.p0;
-                m.dq = if body.rot == m.rot0 {
-                    Rot::IDENTITY
+                (m.dq_c1, m.dq_s) = if body.rot == m.rot0 {
+                    (Real::ZERO, Real::ZERO)
                 } else {
-                    body.rot.compose(m.rot0.inv())
+                    let dq = body.rot.compose(m.rot0.inv()).as_vect();
+                    (dq.x - Real::ONE, dq.y)
                 };
             }
         }
@@ -351,9 +361,9 @@ impl SoftContacts {
     }
 }
 
-/// One pass over a manifold's rows (one or two points of one body pair):
-/// fast path on copies first, the saturating reference from the unchanged
-/// inputs if it overflowed.
+/// One pass over a manifold's rows (one or two points of one body pair),
+/// in place: fast path first; if it overflowed, the rows' impulses are put
+/// back and the saturating reference runs from the unchanged inputs.
 #[inline(always)]
 fn solve_manifold(
     rows: &mut [SoftContact],
@@ -366,33 +376,69 @@ fn solve_manifold(
         return;
     };
     let (ia, ib) = (first.a, first.b);
-    let mut s = [Real::ZERO; 2];
-    for (r, s) in rows.iter().zip(&mut s) {
-        *s = r.separation(motion);
-    }
     let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
         return;
     };
-    let mut copy = [SoftContact::default(); 2];
-    let n = rows.len().min(2);
-    let (Some(copy), Some(src)) = (copy.get_mut(..n), rows.get(..n)) else {
+    let saved = impulses(rows);
+    let mut fast = Unsaturated::new();
+    manifold_pass(rows, &mut a, &mut b, motion, p, use_bias, &mut fast);
+    if !fast.overflowed() {
+        store_pair(bodies, ia, a, ib, b);
+        return;
+    }
+    restore_impulses(rows, saved);
+    let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
         return;
     };
-    copy.copy_from_slice(src);
+    manifold_pass(rows, &mut a, &mut b, motion, p, use_bias, &mut Saturating);
+    store_pair(bodies, ia, a, ib, b);
+}
+
+/// The warm start of a manifold's rows on one copy of its bodies, fast
+/// path first as [`solve_manifold`].
+#[inline(always)]
+fn warm_start_manifold(rows: &[SoftContact], bodies: &mut [SolverBody]) {
+    let Some(first) = rows.first() else {
+        return;
+    };
+    let (ia, ib) = (first.a, first.b);
+    let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
+        return;
+    };
     let mut fast = Unsaturated::new();
-    manifold_pass(copy, &mut a, &mut b, &s, p, use_bias, &mut fast);
+    for r in rows {
+        r.apply(&mut a, &mut b, r.jn, r.jt, &mut fast);
+    }
     if !fast.overflowed() {
-        if let Some(dst) = rows.get_mut(..n) {
-            dst.copy_from_slice(copy);
-        }
         store_pair(bodies, ia, a, ib, b);
         return;
     }
     let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
         return;
     };
-    manifold_pass(rows, &mut a, &mut b, &s, p, use_bias, &mut Saturating);
+    for r in rows {
+        r.apply(&mut a, &mut b, r.jn, r.jt, &mut Saturating);
+    }
     store_pair(bodies, ia, a, ib, b);
+}
+
+/// The state a pass changes in a manifold's rows: `(jn, jt, max_jn)`.
+type Impulses = [(Real, Real, Real); 2];
+
+#[inline(always)]
+fn impulses(rows: &[SoftContact]) -> Impulses {
+    let mut out = [(Real::ZERO, Real::ZERO, Real::ZERO); 2];
+    for (o, r) in out.iter_mut().zip(rows) {
+        *o = (r.jn, r.jt, r.max_jn);
+    }
+    out
+}
+
+#[cold]
+fn restore_impulses(rows: &mut [SoftContact], saved: Impulses) {
+    for (r, &(jn, jt, max_jn)) in rows.iter_mut().zip(&saved) {
+        (r.jn, r.jt, r.max_jn) = (jn, jt, max_jn);
+    }
 }
 
 /// The normal rows of a manifold, then its friction rows.
@@ -401,12 +447,13 @@ fn manifold_pass<A: FixedArith>(
     rows: &mut [SoftContact],
     a: &mut SolverBody,
     b: &mut SolverBody,
-    s: &[Real; 2],
+    motion: &[Motion],
     p: &SoftContactParams,
     use_bias: bool,
     ar: &mut A,
 ) {
-    for (r, &s) in rows.iter_mut().zip(s) {
+    for r in rows.iter_mut() {
+        let s = r.separation(motion, ar);
         r.solve_normal(a, b, s, p, use_bias, ar);
     }
     if p.friction {
@@ -417,21 +464,20 @@ fn manifold_pass<A: FixedArith>(
 }
 
 impl SoftContact {
-    /// The current separation from the bodies' motion since the collide.
-    #[inline]
-    fn separation(&self, motion: &[Motion]) -> Real {
+    /// The current separation from the bodies' motion since the collide:
+    /// `n·(Δq·r − r) = (cos − 1)·(n·r) + sin·(r × n)` for a turn `Δq`.
+    #[inline(always)]
+    fn separation<A: FixedArith>(&self, motion: &[Motion], ar: &mut A) -> Real {
         let none = Motion::default();
         let ma = motion.get(self.a as usize).unwrap_or(&none);
         let mb = motion.get(self.b as usize).unwrap_or(&none);
-        let turn = |m: &Motion, r: Vect| {
-            if m.dq == Rot::IDENTITY {
-                Vect::ZERO
-            } else {
-                m.dq.apply(r) - r
-            }
-        };
-        let d = (mb.dp - ma.dp) + (turn(mb, self.r2) - turn(ma, self.r1));
-        self.dist + d.dot(self.n)
+        let n = self.n;
+        let dx = ar.sub(mb.dp.x, ma.dp.x);
+        let dy = ar.sub(mb.dp.y, ma.dp.y);
+        let moved_b = ar.dot4([dx, dy, mb.dq_c1, mb.dq_s], [n.x, n.y, self.nr_b, self.rn_b]);
+        let turned_a = ar.mul_add2(ma.dq_c1, self.nr_a, ma.dq_s, self.rn_a);
+        let d = ar.sub(moved_b, turned_a);
+        ar.add(self.dist, d)
     }
 
     /// Runs `f` on copies of the row's two bodies in [`Unsaturated`]
@@ -469,6 +515,32 @@ impl SoftContact {
         let p = Vect::new(ar.mul_sub2(n.x, jn, n.y, jt), ar.mul_add2(n.y, jn, n.x, jt));
         let dwa = ar.mul_add2(self.kn_a, jn, self.kt_a, jt);
         let dwb = ar.mul_add2(self.kn_b, jn, self.kt_b, jt);
+        let (dva, dvb) = (
+            Vect::new(ar.mul(p.x, self.m_inv_a), ar.mul(p.y, self.m_inv_a)),
+            Vect::new(ar.mul(p.x, self.m_inv_b), ar.mul(p.y, self.m_inv_b)),
+        );
+        a.v = Vect::new(ar.sub(a.v.x, dva.x), ar.sub(a.v.y, dva.y));
+        a.w = ar.sub(a.w, dwa);
+        b.v = Vect::new(ar.add(b.v.x, dvb.x), ar.add(b.v.y, dvb.y));
+        b.w = ar.add(b.w, dwb);
+    }
+
+    /// An impulse `j` along the unit direction `d` (the normal or the
+    /// tangent), whose angular terms per unit impulse are `k = [I_a⁻¹ (r1 ×
+    /// d), I_b⁻¹ (r2 × d)]`: half the products of [`apply`](Self::apply).
+    #[inline(always)]
+    fn apply_along<A: FixedArith>(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        d: Vect,
+        k: [Real; 2],
+        j: Real,
+        ar: &mut A,
+    ) {
+        let [ka, kb] = k;
+        let p = Vect::new(ar.mul(d.x, j), ar.mul(d.y, j));
+        let (dwa, dwb) = (ar.mul(ka, j), ar.mul(kb, j));
         let (dva, dvb) = (
             Vect::new(ar.mul(p.x, self.m_inv_a), ar.mul(p.y, self.m_inv_a)),
             Vect::new(ar.mul(p.x, self.m_inv_b), ar.mul(p.y, self.m_inv_b)),
@@ -521,7 +593,7 @@ impl SoftContact {
         self.jn = ar.sub(old, jn).max(Real::ZERO);
         let djn = ar.sub(self.jn, old);
         self.max_jn = self.max_jn.max(djn);
-        self.apply(a, b, djn, Real::ZERO, ar);
+        self.apply_along(a, b, self.n, [self.kn_a, self.kn_b], djn, ar);
     }
 
     /// The friction row, bounded by `friction·jn`.
@@ -543,7 +615,7 @@ impl SoftContact {
             let old = self.jt;
             self.jt = ar.sub(old, djt).clamp(-jt_max, jt_max);
             let jt = ar.sub(self.jt, old);
-            self.apply(a, b, Real::ZERO, jt, ar);
+            self.apply_along(a, b, self.n.perp(), [self.kt_a, self.kt_b], jt, ar);
         }
     }
 
@@ -557,6 +629,6 @@ impl SoftContact {
         let old = self.jn;
         self.jn = ar.sub(old, jn).max(Real::ZERO);
         let djn = ar.sub(self.jn, old);
-        self.apply(a, b, djn, Real::ZERO, ar);
+        self.apply_along(a, b, self.n, [self.kn_a, self.kn_b], djn, ar);
     }
 }
