@@ -474,7 +474,10 @@ impl SoftContact {
         let n = self.n;
         let dx = ar.sub(mb.dp.x, ma.dp.x);
         let dy = ar.sub(mb.dp.y, ma.dp.y);
-        let moved_b = ar.dot4([dx, dy, mb.dq_c1, mb.dq_s], [n.x, n.y, self.nr_b, self.rn_b]);
+        let moved_b = ar.dot4(
+            [dx, dy, mb.dq_c1, mb.dq_s],
+            [n.x, n.y, self.nr_b, self.rn_b],
+        );
         let turned_a = ar.mul_add2(ma.dq_c1, self.nr_a, ma.dq_s, self.rn_a);
         let d = ar.sub(moved_b, turned_a);
         ar.add(self.dist, d)
