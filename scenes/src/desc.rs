@@ -114,6 +114,16 @@ pub struct SettingsDesc {
     pub solver: SolverDesc,
 }
 
+/// The soft step at its defaults for a world with `gravity`: its speeds and
+/// slop scaled by the length unit read off the gravity (`|g| / 10` units
+/// per metre, rounded, when that exceeds 1).
+pub fn soft_step_for(gravity: Vect) -> SoftStep {
+    let unit = (gravity.length() / Real::from_int(10) + Real::lit("0.5"))
+        .floor()
+        .max(Real::ONE);
+    SoftStep::DEFAULT.scaled(unit)
+}
+
 /// [`Solver`] in a scene file.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
@@ -346,11 +356,7 @@ impl SettingsDesc {
     /// units per metre, rounded, when that exceeds 1: the pixel scenes'
     /// gravity of 100 makes 10 units per metre).
     pub fn soft_solver(&self) -> SolverDesc {
-        let g = self.gravity.length();
-        let unit = (g / Real::from_int(10) + Real::lit("0.5"))
-            .floor()
-            .max(Real::ONE);
-        SolverDesc::Soft(SoftStepDesc(SoftStep::DEFAULT.scaled(unit)))
+        SolverDesc::Soft(SoftStepDesc(soft_step_for(self.gravity)))
     }
 
     /// Chipmunk's defaults with the given gravity and iteration count.

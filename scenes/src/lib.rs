@@ -67,9 +67,9 @@ pub mod terrain;
 mod world;
 
 pub use desc::{
-    BodyDesc, BodyKind, ConstraintDesc, CounterDesc, ForceDesc, GeometryDesc, JointType, MassDesc,
-    Neighbors, SceneDesc, SettingsDesc, ShapeDesc, ShapeMassDesc, SoftStepDesc, SolverDesc,
-    SpawnDesc,
+    soft_step_for, BodyDesc, BodyKind, ConstraintDesc, CounterDesc, ForceDesc, GeometryDesc,
+    JointType, MassDesc, Neighbors, SceneDesc, SettingsDesc, ShapeDesc, ShapeMassDesc,
+    SoftStepDesc, SolverDesc, SpawnDesc,
 };
 pub use registry::{builtin, find, Golden, SceneInfo, Section, REGISTRY};
 pub use world::{BodyPath, LoadError, SceneError, ScriptedWorld};

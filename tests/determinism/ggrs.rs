@@ -96,3 +96,36 @@ fn p2p_two_peers_over_loopback_agree() {
     let straight = run_straight(300, 4, P2P_INPUT_DELAY);
     assert_eq!(outcome.checksums[0], straight.space.checksum());
 }
+
+/// The soft step under rollback: the default game (a pile in a bowl),
+/// `ragdolls_20` and `sleep_wake` switched to `Solver::Soft` before their
+/// first frame, 600 frames at check distance 7; the end state equals a
+/// straight run on the soft step.
+#[test]
+fn synctest_on_the_soft_step_agrees_with_a_straight_run() {
+    let soft = |mut game: Game| {
+        let settings = tamias2d::space::Settings {
+            solver: tamias2d::space::Solver::SOFT,
+            ..game.space.settings().clone()
+        };
+        game.space.set_settings(settings).expect("valid settings");
+        game
+    };
+    for name in ["bowl", "ragdolls_20", "sleep_wake"] {
+        let make = || {
+            if name == "bowl" {
+                Game::new()
+            } else {
+                Game::with_scene(name).unwrap_or_else(|| panic!("{name} is a game"))
+            }
+        };
+        let mut game = soft(make());
+        run_synctest(&mut game, SYNCTEST_FRAMES, 7, 3)
+            .unwrap_or_else(|e| panic!("{name}: not deterministic under rollback: {e}"));
+        assert_eq!(game.frame(), SYNCTEST_FRAMES, "{name}");
+        let straight = run_straight_on(soft(make()), SYNCTEST_FRAMES, 3, 0);
+        assert_eq!(game.space.checksum(), straight.space.checksum(), "{name}");
+        assert_eq!(game.space.state(), straight.space.state(), "{name}");
+        assert!(game.space.settings().solver.is_soft(), "{name}");
+    }
+}

@@ -184,12 +184,37 @@ pub extern "C" fn tamias_play_status() -> i32 {
                 "steps": p.world.steps_taken(),
                 "bodies": p.world.space.bodies().count(),
                 "checksum": format!("{:#018x}", p.world.space.checksum()),
+                "solver": if p.world.space.settings().solver.is_soft() { "soft" } else { "sequential" },
                 "dragging": p.dragging(),
             })
             .to_string()
         });
         let r = r.map(|json| s.say(&json));
         s.answer(r)
+    })
+}
+
+/// Switches the playground's solver: the soft step (scaled to the
+/// scene's gravity) if `soft` is non-zero, sequential impulses otherwise.
+#[no_mangle]
+pub extern "C" fn tamias_play_solver(soft: u32) -> i32 {
+    with(|s| {
+        let r = s.play().and_then(|p| {
+            let space = &mut p.world.space;
+            let solver = if soft == 0 {
+                tamias2d::space::Solver::Sequential
+            } else {
+                tamias2d::space::Solver::Soft(tamias2d_scenes::soft_step_for(
+                    space.settings().gravity,
+                ))
+            };
+            let settings = tamias2d::space::Settings {
+                solver,
+                ..space.settings().clone()
+            };
+            space.set_settings(settings).map_err(|e| e.to_string())
+        });
+        s.answer(r.map(|()| 0))
     })
 }
 
@@ -406,6 +431,13 @@ mod tests {
         assert_eq!(tamias_play_transforms(), 211 * 4);
         assert!(tamias_play_status() > 0);
         assert!(out().contains("\"steps\":2"), "{}", out());
+        assert!(out().contains("\"solver\":\"sequential\""), "{}", out());
+        // The solver switch, both ways.
+        assert_eq!(tamias_play_solver(1), 0);
+        assert_eq!(tamias_play_step(2), 0);
+        assert!(tamias_play_status() > 0);
+        assert!(out().contains("\"solver\":\"soft\""), "{}", out());
+        assert_eq!(tamias_play_solver(0), 0);
         assert_eq!(tamias_drop(1, 0.0, 50.0), 0);
         assert_eq!(tamias_drop(0, f64::NAN, 50.0), -1);
         assert!(tamias_save() > 0);

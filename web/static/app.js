@@ -109,6 +109,7 @@ for (const [i, s] of catalog.entries()) {
 function loadScene(index) {
   play.index = index; play.times = [];
   engine.playBuiltin(index);
+  engine.setSolver($('solver').value === 'soft');
   $('scene').value = index;
   view.fit(engine.drawPlay(false));
   $('load').disabled = true; $('snapshot').textContent = '–';
@@ -137,6 +138,7 @@ const guard = (f) => (...args) => {
 };
 
 $('scene').onchange = (e) => loadScene(Number(e.target.value));
+$('solver').onchange = guard((e) => engine.setSolver(e.target.value === 'soft'));
 $('scenefile').onchange = guard(async (e) => {
   const file = e.target.files[0];
   if (!file) return;

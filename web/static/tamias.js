@@ -64,6 +64,8 @@ export class Tamias {
     this.ok(this.x.tamias_play_json());
   }
   step(n = 1) { this.ok(this.x.tamias_play_step(n)); }
+  /** The soft step (true) or sequential impulses (false) for the playground. */
+  setSolver(soft) { this.ok(this.x.tamias_play_solver(soft ? 1 : 0)); }
   /** `{name, steps, bodies, checksum, dragging}`. */
   status() { return this.json(this.x.tamias_play_status()); }
   drawPlay(contacts) { return this.drawList(this.x.tamias_play_draw(contacts ? 1 : 0)); }
