@@ -96,7 +96,8 @@ struct SceneOpts {
     colored_solver: bool,
     /// The solver: `sequential` (the MIS's sequential impulses) or `soft`
     /// (the soft step at its defaults, its speeds and slop scaled to the
-    /// scene's length unit) [default: the scene's].
+    /// scene's length unit, and one whole-pipeline sub-step: it sub-steps
+    /// itself) [default: the scene's].
     #[arg(long, value_name = "KIND")]
     solver: Option<source::SolverChoice>,
     /// Load a scene file without the limits for untrusted input (bytes,

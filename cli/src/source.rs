@@ -74,12 +74,13 @@ pub enum SolverChoice {
 }
 
 impl SolverChoice {
-    /// The solver for a scene with `settings` (the soft step scaled to
-    /// the scene's length unit: `SettingsDesc::soft_solver`).
-    pub fn solver(self, settings: &scenes::SettingsDesc) -> scenes::SolverDesc {
+    /// Switches `settings` to this solver: the soft step scaled to the
+    /// scene's length unit with one whole-pipeline sub-step
+    /// (`SettingsDesc::use_soft_step`), or sequential impulses.
+    pub fn apply(self, settings: &mut scenes::SettingsDesc) {
         match self {
-            SolverChoice::Sequential => scenes::SolverDesc::Sequential,
-            SolverChoice::Soft => settings.soft_solver(),
+            SolverChoice::Sequential => settings.solver = scenes::SolverDesc::Sequential,
+            SolverChoice::Soft => settings.use_soft_step(),
         }
     }
 }
@@ -116,7 +117,7 @@ pub fn load(arg: &str, overrides: Overrides) -> Result<SceneDesc, String> {
     }
     desc.settings.colored_solver |= overrides.colored_solver;
     if let Some(choice) = overrides.solver {
-        desc.settings.solver = choice.solver(&desc.settings);
+        choice.apply(&mut desc.settings);
     }
     if let Some(n) = overrides.iterations {
         desc.settings.iterations = n;

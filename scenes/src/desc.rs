@@ -359,6 +359,16 @@ impl SettingsDesc {
         SolverDesc::Soft(SoftStepDesc(soft_step_for(self.gravity)))
     }
 
+    /// Switches the scene to the soft step at its defaults
+    /// ([`soft_solver`](Self::soft_solver)), with one whole-pipeline
+    /// sub-step: the soft step sub-steps its solver itself, so a scene's
+    /// own `substeps` (chosen for the sequential solver) would multiply
+    /// its sub-steps.
+    pub fn use_soft_step(&mut self) {
+        self.solver = self.soft_solver();
+        self.substeps = 1;
+    }
+
     /// Chipmunk's defaults with the given gravity and iteration count.
     pub fn with_gravity(gravity: Vect, iterations: u32) -> SettingsDesc {
         SettingsDesc {

@@ -292,7 +292,7 @@ fn gear_keeps_its_ratio() {
 /// overlap seen.
 fn stack_run(name: &str, steps: u32) -> (f64, f64, f64) {
     let mut desc = tamias2d_scenes::builtin(name).unwrap();
-    desc.settings.solver = desc.settings.soft_solver();
+    desc.settings.use_soft_step();
     let mut w = desc.build().unwrap();
     let start: Vec<Vect> = w.space.bodies().map(|(_, b)| b.position()).collect();
     let mut pen = 0.0f64;
@@ -332,7 +332,7 @@ fn stacks_stand() {
 fn any_thread_count_and_a_snapshot_round_trip_give_the_same_bits() {
     let run = |threads: usize, split: Option<u32>| {
         let mut desc = tamias2d_scenes::builtin("many_pyramids_4x4").unwrap();
-        desc.settings.solver = desc.settings.soft_solver();
+        desc.settings.use_soft_step();
         let mut w = desc.build().unwrap();
         w.space.set_threads(threads).unwrap();
         for n in 0..120 {
