@@ -1,6 +1,7 @@
 //! The parallel step (`parallel` feature, `Space::set_threads`) gives the
 //! bits of one thread: every golden scene, with the canonical and with the
-//! colored solver, stepped on 1, 2, 3, 4 and 8 threads (more threads than
+//! colored order of the sequential solver and on the soft step, stepped on
+//! 1, 2, 3, 4 and 8 threads (more threads than
 //! this machine's cores is fine), has the same checksum at every step; on
 //! one thread it is the committed golden (`scenes/tests/golden.rs`, which
 //! the cross-platform script runs without the feature on every target, and
@@ -15,10 +16,22 @@ use tamias2d_scenes::REGISTRY;
 
 const THREADS: [usize; 5] = [1, 2, 3, 4, 8];
 
+/// The solver orders compared: the sequential solver's canonical and
+/// colored orders, and the soft step (always colored).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Order {
+    Canonical,
+    Colored,
+    Soft,
+}
+
 /// The checksum after each of `steps` steps of scene `name`.
-fn checksums(name: &str, colored: bool, threads: usize, steps: u32) -> Vec<u64> {
+fn checksums(name: &str, order: Order, threads: usize, steps: u32) -> Vec<u64> {
     let mut desc = tamias2d_scenes::builtin(name).expect("a registered scene");
-    desc.settings.colored_solver = colored;
+    desc.settings.colored_solver = order == Order::Colored;
+    if order == Order::Soft {
+        desc.settings.use_soft_step();
+    }
     let mut world = desc.build().expect("a valid scene");
     world.space.set_threads(threads).expect("threads start");
     assert_eq!(world.space.threads(), threads);
@@ -83,20 +96,17 @@ fn every_thread_count_gives_the_bits_of_one_thread_at_every_step() {
         } else {
             golden.steps
         };
-        for colored in [false, true] {
-            let one = checksums(info.name, colored, 1, steps);
-            if !colored && steps == golden.steps {
+        for order in [Order::Canonical, Order::Colored, Order::Soft] {
+            let one = checksums(info.name, order, 1, steps);
+            if order == Order::Canonical && steps == golden.steps {
                 assert_eq!(one.last(), Some(&golden.checksum), "{}: golden", info.name);
             }
             for &threads in &THREADS[1..] {
-                watchdog.at(format!(
-                    "{} (colored {colored}) on {threads} threads",
-                    info.name
-                ));
-                let many = checksums(info.name, colored, threads, steps);
+                watchdog.at(format!("{} ({order:?}) on {threads} threads", info.name));
+                let many = checksums(info.name, order, threads, steps);
                 if let Some(n) = one.iter().zip(&many).position(|(a, b)| a != b) {
                     panic!(
-                        "{} (colored solver {colored}): {threads} threads differ from 1 at step {}",
+                        "{} ({order:?}): {threads} threads differ from 1 at step {}",
                         info.name,
                         n + 1
                     );
@@ -194,7 +204,14 @@ fn thread_counts_out_of_range_are_refused_or_clamped() {
 fn stepping_inside_another_rayon_pool_gives_the_bits_of_one_thread() {
     let watchdog = Watchdog::new(std::time::Duration::from_secs(300));
     let steps = if cfg!(debug_assertions) { 30 } else { 120 };
-    let run = |colored: bool, threads: usize| checksums("pyramid_20", colored, threads, steps);
+    let run = |colored: bool, threads: usize| {
+        let order = if colored {
+            Order::Colored
+        } else {
+            Order::Canonical
+        };
+        checksums("pyramid_20", order, threads, steps)
+    };
     let one = [run(false, 1), run(true, 1)];
     let game_pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)

@@ -28,8 +28,10 @@ use crate::body::Body;
 use crate::math::{FixedArith, Real, Rot, Saturating, Unsaturated, Vect};
 
 use super::contact_solver::ContactSolver;
+use super::graph;
 use super::kernel::{effective_mass, load_pair, neg, store_pair};
 use super::softness::Softness;
+use super::sweep::{self, ManifoldRow};
 use super::SolverBody;
 
 /// A body's motion since the collide (by body slot): its pose then, and
@@ -122,6 +124,13 @@ pub(crate) struct SoftContact {
 pub(crate) struct SoftContacts {
     rows: Vec<SoftContact>,
     motion: Vec<Motion>,
+    /// Each manifold's first row, in solve order, and the end.
+    manifold_rows: Vec<u32>,
+    /// Each color's first row (the overflow's at `graph::COLORS`), and the
+    /// end.
+    color_rows: [u32; graph::COLORS + 2],
+    /// The bodies while threads share them.
+    shared: Vec<sweep::SharedBody>,
 }
 
 impl SoftContacts {
@@ -170,8 +179,11 @@ impl SoftContacts {
             });
         }
         soft.rows.clear();
+        soft.manifold_rows.clear();
         let zero = SolverBody::default();
         for &i in graph.order() {
+            soft.manifold_rows
+                .push(u32::try_from(soft.rows.len()).unwrap_or(u32::MAX));
             let Some(arb) = arbiters.get(i as usize) else {
                 continue;
             };
@@ -234,7 +246,17 @@ impl SoftContacts {
                 });
             }
         }
-        u32::try_from(soft.rows.len()).unwrap_or(u32::MAX)
+        let rows = u32::try_from(soft.rows.len()).unwrap_or(u32::MAX);
+        soft.manifold_rows.push(rows);
+        for (c, first_row) in soft.color_rows.iter_mut().enumerate() {
+            let first_manifold = graph.range(c).start;
+            *first_row = soft
+                .manifold_rows
+                .get(first_manifold)
+                .copied()
+                .unwrap_or(rows);
+        }
+        rows
     }
 
     /// The soft step's [`Stage::WarmStart`](crate::space::Stage::WarmStart)
@@ -259,15 +281,58 @@ impl SoftContacts {
                 1
             };
             let (manifold, tail) = rest.split_at_mut(n);
-            if dt_coef != Real::ONE {
-                for row in manifold.iter_mut() {
-                    row.jn *= dt_coef;
-                    row.jt *= dt_coef;
-                }
-            }
-            warm_start_manifold(manifold, bodies);
+            scale_impulses(manifold, dt_coef);
+            on_bodies(manifold, bodies, |m, copy| warm_start_manifold(m, copy));
             rest = tail;
         }
+    }
+
+    /// The number of manifolds of this step.
+    pub(crate) fn manifolds(&self) -> usize {
+        self.manifold_rows.len().saturating_sub(1)
+    }
+
+    /// [`warm_start`](Self::warm_start) (with warm starting on) and
+    /// [`solve`](Self::solve) on threads: each color's manifolds split
+    /// between them on shared bodies ([`sweep`]), the same bits.
+    pub(crate) fn solve_split(
+        &mut self,
+        bodies: &mut [SolverBody],
+        graph: &graph::ConstraintGraph,
+        params: &SoftContactParams,
+        pass: SoftPass,
+    ) {
+        let SoftContacts {
+            rows,
+            motion,
+            manifold_rows,
+            color_rows,
+            shared,
+        } = self;
+        if let SoftPass::WarmStart(None) = pass {
+            for row in rows.iter_mut() {
+                row.jn = Real::ZERO;
+                row.jt = Real::ZERO;
+            }
+            return;
+        }
+        let layout = sweep::ColorLayout {
+            graph,
+            color_rows,
+            manifold_rows,
+        };
+        sweep::share(bodies, shared);
+        let motion = motion.as_slice();
+        let kernel = |m: &mut [SoftContact], copy: &mut [SolverBody; 2]| match pass {
+            SoftPass::WarmStart(Some(dt_coef)) => {
+                scale_impulses(m, dt_coef);
+                warm_start_manifold(m, copy);
+            }
+            SoftPass::WarmStart(None) => {}
+            SoftPass::Solve { use_bias } => solve_manifold(m, copy, motion, params, use_bias),
+        };
+        sweep::for_each_color(rows, layout, shared, &kernel);
+        sweep::unshare(shared, bodies);
     }
 
     /// One pass over the rows in solve order: with `use_bias` the sub-step's
@@ -292,7 +357,9 @@ impl SoftContacts {
                 1
             };
             let (manifold, tail) = rest.split_at_mut(n);
-            solve_manifold(manifold, bodies, motion, params, use_bias);
+            on_bodies(manifold, bodies, |m, copy| {
+                solve_manifold(m, copy, motion, params, use_bias);
+            });
             rest = tail;
         }
     }
@@ -361,65 +428,90 @@ impl SoftContacts {
     }
 }
 
-/// One pass over a manifold's rows (one or two points of one body pair),
-/// in place: fast path first; if it overflowed, the rows' impulses are put
-/// back and the saturating reference runs from the unchanged inputs.
+/// One pass over a manifold's rows (one or two points of one body pair)
+/// on a copy of its bodies: fast path first; if it overflowed, the rows'
+/// impulses and the bodies are put back and the saturating reference
+/// runs.
 #[inline(always)]
 fn solve_manifold(
     rows: &mut [SoftContact],
-    bodies: &mut [SolverBody],
+    copy: &mut [SolverBody; 2],
     motion: &[Motion],
     p: &SoftContactParams,
     use_bias: bool,
+) {
+    let (saved, saved_bodies) = (impulses(rows), *copy);
+    let mut fast = Unsaturated::new();
+    let [a, b] = copy;
+    manifold_pass(rows, a, b, motion, p, use_bias, &mut fast);
+    if !fast.overflowed() {
+        return;
+    }
+    restore_impulses(rows, saved);
+    *copy = saved_bodies;
+    let [a, b] = copy;
+    manifold_pass(rows, a, b, motion, p, use_bias, &mut Saturating);
+}
+
+/// A pass of the soft contacts: the warm start (`None`: warm starting off,
+/// the accumulators start from 0; `Some(dt_coef)`: scaled by it), or a
+/// solve (with bias) or relax (without) pass.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum SoftPass {
+    WarmStart(Option<Real>),
+    Solve { use_bias: bool },
+}
+
+/// Runs `f` on one manifold's rows with a copy of its two bodies, and
+/// stores them back (nothing for a body paired with itself).
+#[inline(always)]
+fn on_bodies(
+    rows: &mut [SoftContact],
+    bodies: &mut [SolverBody],
+    f: impl FnOnce(&mut [SoftContact], &mut [SolverBody; 2]),
 ) {
     let Some(first) = rows.first() else {
         return;
     };
     let (ia, ib) = (first.a, first.b);
-    let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
+    let Some((a, b)) = load_pair(bodies, ia, ib) else {
         return;
     };
-    let saved = impulses(rows);
-    let mut fast = Unsaturated::new();
-    manifold_pass(rows, &mut a, &mut b, motion, p, use_bias, &mut fast);
-    if !fast.overflowed() {
-        store_pair(bodies, ia, a, ib, b);
-        return;
-    }
-    restore_impulses(rows, saved);
-    let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
-        return;
-    };
-    manifold_pass(rows, &mut a, &mut b, motion, p, use_bias, &mut Saturating);
+    let mut copy = [a, b];
+    f(rows, &mut copy);
+    let [a, b] = copy;
     store_pair(bodies, ia, a, ib, b);
 }
 
-/// The warm start of a manifold's rows on one copy of its bodies, fast
-/// path first as [`solve_manifold`].
+/// The cached impulses scaled by `dt_coef` (nothing for exactly 1).
 #[inline(always)]
-fn warm_start_manifold(rows: &[SoftContact], bodies: &mut [SolverBody]) {
-    let Some(first) = rows.first() else {
-        return;
-    };
-    let (ia, ib) = (first.a, first.b);
-    let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
-        return;
-    };
+fn scale_impulses(rows: &mut [SoftContact], dt_coef: Real) {
+    if dt_coef != Real::ONE {
+        for row in rows {
+            row.jn *= dt_coef;
+            row.jt *= dt_coef;
+        }
+    }
+}
+
+/// The warm start of a manifold's rows on a copy of its bodies, fast path
+/// first as [`solve_manifold`].
+#[inline(always)]
+fn warm_start_manifold(rows: &[SoftContact], copy: &mut [SolverBody; 2]) {
+    let saved = *copy;
     let mut fast = Unsaturated::new();
+    let [a, b] = copy;
     for r in rows {
-        r.apply(&mut a, &mut b, r.jn, r.jt, &mut fast);
+        r.apply(a, b, r.jn, r.jt, &mut fast);
     }
     if !fast.overflowed() {
-        store_pair(bodies, ia, a, ib, b);
         return;
     }
-    let Some((mut a, mut b)) = load_pair(bodies, ia, ib) else {
-        return;
-    };
+    *copy = saved;
+    let [a, b] = copy;
     for r in rows {
-        r.apply(&mut a, &mut b, r.jn, r.jt, &mut Saturating);
+        r.apply(a, b, r.jn, r.jt, &mut Saturating);
     }
-    store_pair(bodies, ia, a, ib, b);
 }
 
 /// The state a pass changes in a manifold's rows: `(jn, jt, max_jn)`.
@@ -460,6 +552,13 @@ fn manifold_pass<A: FixedArith>(
         for r in rows.iter_mut() {
             r.solve_friction(a, b, ar);
         }
+    }
+}
+
+impl ManifoldRow for SoftContact {
+    #[inline(always)]
+    fn ends(&self) -> (u32, u32) {
+        (self.a, self.b)
     }
 }
 

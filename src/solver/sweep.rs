@@ -39,6 +39,21 @@ pub(crate) fn solve_rows<const FRICTION: bool, const BIAS: bool>(
     }
 }
 
+/// A row of a manifold: which two solver bodies it joins (the rows of one
+/// manifold join the same two). The contact solver's rows and the soft
+/// step's both sweep through this module.
+pub(crate) trait ManifoldRow: Send {
+    /// Solver slots of bodies a and b.
+    fn ends(&self) -> (u32, u32);
+}
+
+impl ManifoldRow for ContactConstraint {
+    #[inline(always)]
+    fn ends(&self) -> (u32, u32) {
+        (self.a, self.b)
+    }
+}
+
 /// A [`SolverBody`] threads can share: each field an atomic word, read
 /// and written with relaxed loads and stores (plain moves on 64-bit
 /// targets). Within a color no two threads touch the same movable body,
@@ -120,14 +135,14 @@ pub(crate) fn unshare(shared: &[SharedBody], bodies: &mut [SolverBody]) {
 /// where the in-place pass does nothing (a body paired with itself, a
 /// slot out of range).
 #[inline]
-fn on_manifold_shared<K>(rows: &mut [ContactConstraint], shared: &[SharedBody], kernel: &K)
+fn on_manifold_shared<R: ManifoldRow, K>(rows: &mut [R], shared: &[SharedBody], kernel: &K)
 where
-    K: Fn(&mut [ContactConstraint], &mut [SolverBody; 2]),
+    K: Fn(&mut [R], &mut [SolverBody; 2]),
 {
     let Some(first) = rows.first() else {
         return;
     };
-    let (a, b) = (first.a, first.b);
+    let (a, b) = first.ends();
     let (Some(sa), Some(sb)) = (shared.get(a as usize), shared.get(b as usize)) else {
         return;
     };
@@ -204,14 +219,14 @@ fn piece_size(manifolds: usize) -> usize {
 /// ([`crate::threads::join`]); any split gives the same bits, as no two
 /// manifolds of a color share a movable body. `split = false` (the
 /// overflow): in order.
-pub(crate) fn for_each_shared<K>(
-    rows: &mut [ContactConstraint],
+pub(crate) fn for_each_shared<R: ManifoldRow, K>(
+    rows: &mut [R],
     starts: &[u32],
     shared: &[SharedBody],
     split: bool,
     kernel: &K,
 ) where
-    K: Fn(&mut [ContactConstraint], &mut [SolverBody; 2]) + Sync,
+    K: Fn(&mut [R], &mut [SolverBody; 2]) + Sync,
 {
     let manifolds = starts.len().saturating_sub(1);
     let piece = if split {
@@ -223,14 +238,14 @@ pub(crate) fn for_each_shared<K>(
 }
 
 /// [`for_each_shared`] down to pieces of at most `piece` manifolds.
-fn pieces<K>(
-    rows: &mut [ContactConstraint],
+fn pieces<R: ManifoldRow, K>(
+    rows: &mut [R],
     starts: &[u32],
     shared: &[SharedBody],
     piece: usize,
     kernel: &K,
 ) where
-    K: Fn(&mut [ContactConstraint], &mut [SolverBody; 2]) + Sync,
+    K: Fn(&mut [R], &mut [SolverBody; 2]) + Sync,
 {
     let base = starts.first().copied().unwrap_or(0);
     let manifolds = starts.len().saturating_sub(1);
@@ -276,13 +291,13 @@ pub(crate) struct ColorLayout<'a> {
 /// Runs `kernel` on every manifold of `rows` on the shared bodies, color
 /// after color (each split between threads) and the overflow last, in
 /// order ([`for_each_shared`]): one pass of the step's order.
-pub(crate) fn for_each_color<K>(
-    rows: &mut [ContactConstraint],
+pub(crate) fn for_each_color<R: ManifoldRow, K>(
+    rows: &mut [R],
     layout: ColorLayout<'_>,
     shared: &[SharedBody],
     kernel: &K,
 ) where
-    K: Fn(&mut [ContactConstraint], &mut [SolverBody; 2]) + Sync,
+    K: Fn(&mut [R], &mut [SolverBody; 2]) + Sync,
 {
     for c in 0..=COLORS {
         let (Some(&start), Some(&end)) = (

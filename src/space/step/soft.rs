@@ -22,11 +22,14 @@
 use crate::body::BodyHandle;
 use crate::limits::LimitError;
 use crate::math::{Real, Vect};
-use crate::solver::soft_contact::SoftContactParams;
+use crate::solver::soft_contact::{SoftContactParams, SoftPass};
 use crate::solver::softness::Softness;
 
 use super::super::{SoftStep, Space, SpaceError};
 use super::sub_step_dts;
+
+/// The fewest manifolds the soft passes split between threads.
+const SPLIT_MIN_MANIFOLDS: usize = 64;
 
 /// The soft step's coefficients of one step.
 struct SoftCoefficients {
@@ -125,9 +128,12 @@ impl Space {
             );
         }
         let first_coef = self.warm_start_coef();
-        for (i, h_i) in sub_step_dts(dt, substeps).enumerate() {
-            self.soft_sub_step(h_i, i, &coef, &forces, warm_starting.then_some(first_coef));
-        }
+        threads.awake(|| {
+            for (i, h_i) in sub_step_dts(dt, substeps).enumerate() {
+                let warm = warm_starting.then_some(first_coef);
+                self.soft_sub_step(h_i, i, &coef, &forces, warm);
+            }
+        });
         self.caches.step.soft_forces = forces;
         let (soft, bodies) = (
             &mut self.caches.soft_contacts,
@@ -148,6 +154,23 @@ impl Space {
         self.locked = false;
         self.run_post_step_callbacks(); // PostStepCallbacks
         Ok(())
+    }
+
+    /// A pass over the soft contacts: with threads, each color split
+    /// between them; on one, in place in the same order (the same bits).
+    fn soft_contact_pass(&mut self, params: &SoftContactParams, pass: SoftPass) {
+        let solver = &mut self.caches.solver;
+        let soft = &mut self.caches.soft_contacts;
+        // A few manifolds are not worth sharing the bodies for (any split
+        // gives the same bits).
+        if self.caches.threads.parallel() && soft.manifolds() >= SPLIT_MIN_MANIFOLDS {
+            soft.solve_split(&mut solver.bodies, &solver.graph, params, pass);
+            return;
+        }
+        match pass {
+            SoftPass::WarmStart(warm) => soft.warm_start(&mut solver.bodies, warm),
+            SoftPass::Solve { use_bias } => soft.solve(&mut solver.bodies, params, use_bias),
+        }
     }
 
     /// Sub-step `i` of length `h`: velocities, the joints' rows, the warm
@@ -176,11 +199,7 @@ impl Space {
         self.integrate_velocities(&ctx); // IntegrateVelocities
         self.prepare_constraint_rows(ctx.dt, ctx.dt_inv, Some(coef.joints)); // Prepare: joints
         let warm = warm.map(|c| if i == 0 { c } else { Real::ONE });
-        let (soft, bodies) = (
-            &mut self.caches.soft_contacts,
-            &mut self.caches.solver.bodies,
-        );
-        soft.warm_start(bodies, warm); // WarmStart
+        self.soft_contact_pass(&coef.contacts, SoftPass::WarmStart(warm)); // WarmStart
         if let Some(c) = warm {
             if !self.caches.constraints.is_empty() {
                 self.caches
@@ -188,22 +207,14 @@ impl Space {
                     .warm_start(&mut self.caches.solver.bodies, c);
             }
         }
-        let (soft, bodies) = (
-            &mut self.caches.soft_contacts,
-            &mut self.caches.solver.bodies,
-        );
-        soft.solve(bodies, &coef.contacts, true); // Solve
+        self.soft_contact_pass(&coef.contacts, SoftPass::Solve { use_bias: true }); // Solve
         self.caches
             .constraints
             .iterate(&mut self.caches.solver.bodies);
         self.caches.solver.store_velocities(&mut self.state.bodies);
         self.integrate_positions(h); // IntegratePositions
         self.caches.soft_contacts.track_motion(&self.state.bodies);
-        let (soft, bodies) = (
-            &mut self.caches.soft_contacts,
-            &mut self.caches.solver.bodies,
-        );
-        soft.solve(bodies, &coef.contacts, false); // Relax
+        self.soft_contact_pass(&coef.contacts, SoftPass::Solve { use_bias: false }); // Relax
         self.caches.constraints.relax();
         self.caches
             .constraints
