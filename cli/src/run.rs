@@ -190,9 +190,10 @@ fn run_and_report(
     Ok(())
 }
 
-/// The run's quality lines: `max penetration: <m>` always, and
+/// The run's quality lines: `max penetration: <m>` always,
 /// `max joint error: <m>` for a world with measured joints (pivot, pin,
-/// slide or groove), both the largest after any step, in metres.
+/// slide or groove), both the largest after any step, in metres, and
+/// `max limit overrun: <rad>` for a world with rotary limits.
 fn quality_lines(q: &Quality) -> Vec<String> {
     let mut lines = vec![format!(
         "max penetration: {:.6}",
@@ -200,6 +201,9 @@ fn quality_lines(q: &Quality) -> Vec<String> {
     )];
     if let Some(e) = q.max_joint_error {
         lines.push(format!("max joint error: {:.6}", e.to_f64()));
+    }
+    if let Some(e) = q.max_limit_overrun {
+        lines.push(format!("max limit overrun: {:.6}", e.to_f64()));
     }
     lines
 }

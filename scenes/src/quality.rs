@@ -77,6 +77,28 @@ pub fn max_joint_error(space: &Space) -> Option<Real> {
         .reduce(Real::max)
 }
 
+/// How far the relative angle of a rotary limit joint is outside its
+/// `[min, max]` (radians, 0 inside); `None` for another kind or missing
+/// bodies.
+pub fn limit_overrun(space: &Space, c: &Constraint) -> Option<Real> {
+    let JointKind::RotaryLimit(j) = c.kind() else {
+        return None;
+    };
+    let a = space.body(c.body_a())?;
+    let b = space.body(c.body_b())?;
+    let rel = b.angle() - a.angle();
+    Some((j.min() - rel).max(rel - j.max()).max(Real::ZERO))
+}
+
+/// The largest [`limit_overrun`] over the constraints of `space`, or
+/// `None` when it has no rotary limit.
+pub fn max_limit_overrun(space: &Space) -> Option<Real> {
+    space
+        .constraints()
+        .filter_map(|(_, c)| limit_overrun(space, c))
+        .reduce(Real::max)
+}
+
 /// The deepest penetration among the current contacts of `space` (see the
 /// module docs), ≥ 0; 0 without a touching pair.
 pub fn max_penetration(space: &Space) -> Real {
@@ -102,6 +124,9 @@ pub struct Quality {
     pub max_joint_error: Option<Real>,
     /// Largest [`max_penetration`] measured (m).
     pub max_penetration: Real,
+    /// Largest [`max_limit_overrun`] measured (rad); `None` while no
+    /// rotary limit has been seen.
+    pub max_limit_overrun: Option<Real>,
     /// Measurements taken.
     pub samples: u64,
 }
@@ -118,6 +143,9 @@ impl Quality {
             self.max_joint_error = Some(self.max_joint_error.map_or(e, |m| m.max(e)));
         }
         self.max_penetration = self.max_penetration.max(max_penetration(space));
+        if let Some(e) = max_limit_overrun(space) {
+            self.max_limit_overrun = Some(self.max_limit_overrun.map_or(e, |m| m.max(e)));
+        }
         self.samples = self.samples.saturating_add(1);
     }
 }
