@@ -25,11 +25,11 @@
 use crate::arbiter::Arbiter;
 use crate::arena::Arena;
 use crate::body::Body;
-use crate::math::{FixedArith, Real, Rot, Saturating, Unsaturated, Vect};
+use crate::math::{below_2_62, Bounded, FixedArith, Real, Rot, Saturating, Unsaturated, Vect};
 
 use super::contact_solver::ContactSolver;
 use super::graph;
-use super::kernel::{effective_mass, load_pair, neg, store_pair};
+use super::kernel::{effective_mass, load_pair, store_pair};
 use super::softness::Softness;
 use super::sweep::{self, ManifoldRow};
 use super::SolverBody;
@@ -117,6 +117,11 @@ pub(crate) struct SoftContact {
     /// Largest normal impulse applied this step (restitution applies only
     /// to points that pushed).
     max_jn: Real,
+    /// The constants that multiply in the passes' dot products (`n`, `n·r`,
+    /// `r × n`, `r × t`) are below `2^62` raw: the passes may run in
+    /// [`Bounded`] arithmetic; otherwise (positions near the edge of the
+    /// range) in saturating arithmetic.
+    bounded: bool,
 }
 
 /// The soft rows of a step and the bodies' motion.
@@ -243,7 +248,14 @@ impl SoftContacts {
                         Real::ZERO
                     },
                     max_jn: Real::ZERO,
+                    bounded: false,
                 });
+                if let Some(row) = soft.rows.last_mut() {
+                    row.bounded = below_2_62(&[
+                        row.n.x, row.n.y, row.nr_a, row.nr_b, row.rn_a, row.rn_b, row.rt_a,
+                        row.rt_b,
+                    ]);
+                }
             }
         }
         let rows = u32::try_from(soft.rows.len()).unwrap_or(u32::MAX);
@@ -441,11 +453,13 @@ fn solve_manifold(
     use_bias: bool,
 ) {
     let (saved, saved_bodies) = (impulses(rows), *copy);
-    let mut fast = Unsaturated::new();
-    let [a, b] = copy;
-    manifold_pass(rows, a, b, motion, p, use_bias, &mut fast);
-    if !fast.overflowed() {
-        return;
+    if rows.iter().all(|r| r.bounded) {
+        let mut fast = Bounded(Unsaturated::new());
+        let [a, b] = copy;
+        manifold_pass(rows, a, b, motion, p, use_bias, &mut fast);
+        if !fast.0.overflowed() {
+            return;
+        }
     }
     restore_impulses(rows, saved);
     *copy = saved_bodies;
@@ -573,7 +587,7 @@ impl SoftContact {
         let n = self.n;
         let dx = ar.sub(mb.dp.x, ma.dp.x);
         let dy = ar.sub(mb.dp.y, ma.dp.y);
-        let moved_b = ar.dot4(
+        let moved_b = ar.dot4_bounded(
             [dx, dy, mb.dq_c1, mb.dq_s],
             [n.x, n.y, self.nr_b, self.rn_b],
         );
@@ -658,8 +672,8 @@ impl SoftContact {
     fn normal_velocity<A: FixedArith>(&self, a: &SolverBody, b: &SolverBody, ar: &mut A) -> Real {
         let n = self.n;
         let dv = Vect::new(ar.sub(b.v.x, a.v.x), ar.sub(b.v.y, a.v.y));
-        let neg_rn_a = neg(self.rn_a, ar);
-        ar.dot4([dv.x, dv.y, b.w, a.w], [n.x, n.y, self.rn_b, neg_rn_a])
+        let neg_rn_a = ar.neg_const(self.rn_a);
+        ar.dot4_bounded([dv.x, dv.y, b.w, a.w], [n.x, n.y, self.rn_b, neg_rn_a])
     }
 
     /// The normal row: soft with `use_bias`, rigid without.
@@ -709,8 +723,8 @@ impl SoftContact {
         {
             let n = self.n;
             let dv = Vect::new(ar.sub(b.v.x, a.v.x), ar.sub(b.v.y, a.v.y));
-            let (neg_ny, neg_rt_a) = (neg(n.y, ar), neg(self.rt_a, ar));
-            let vt = ar.dot4([dv.x, dv.y, b.w, a.w], [neg_ny, n.x, self.rt_b, neg_rt_a]);
+            let (neg_ny, neg_rt_a) = (ar.neg_const(n.y), ar.neg_const(self.rt_a));
+            let vt = ar.dot4_bounded([dv.x, dv.y, b.w, a.w], [neg_ny, n.x, self.rt_b, neg_rt_a]);
             let vt = ar.add(vt, self.surface_t);
             let jt_max = ar.mul(self.friction, self.jn);
             let djt = ar.mul(vt, self.t_mass);
