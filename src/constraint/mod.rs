@@ -242,7 +242,7 @@ impl JointKind {
 }
 
 /// A constraint between two bodies (Chipmunk `cpConstraint`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Constraint {
     pub(crate) a: BodyHandle,
     pub(crate) b: BodyHandle,
@@ -251,6 +251,65 @@ pub struct Constraint {
     pub(crate) max_bias: Real,
     pub(crate) collide_bodies: bool,
     pub(crate) kind: JointKind,
+    /// The soft step's stiffness of this joint (`None`: the world's
+    /// `SoftStep::joint_hertz` and `joint_damping_ratio`).
+    pub(crate) softness: Option<JointSoftness>,
+}
+
+/// The derive's hash of every field in declaration order, except that a
+/// constraint without its own softness adds nothing for it: worlds built
+/// before joints had a softness keep their checksums.
+impl core::hash::Hash for Constraint {
+    fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
+        // Every field named: a new one is a compile error until hashed.
+        let Constraint {
+            a,
+            b,
+            max_force,
+            error_bias,
+            max_bias,
+            collide_bodies,
+            kind,
+            softness,
+        } = self;
+        a.hash(h);
+        b.hash(h);
+        max_force.hash(h);
+        error_bias.hash(h);
+        max_bias.hash(h);
+        collide_bodies.hash(h);
+        kind.hash(h);
+        if let Some(s) = softness {
+            s.hash(h);
+        }
+    }
+}
+
+/// A joint's own stiffness on the soft step: a frequency and a damping
+/// ratio, as `SoftStep::joint_hertz` and `joint_damping_ratio` (capped at
+/// a quarter of the sub-step rate alike). The sequential solver ignores it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct JointSoftness {
+    /// Stiffness in hertz (0: rigid, no position correction).
+    pub hertz: Real,
+    /// Damping ratio.
+    pub damping_ratio: Real,
+}
+
+impl JointSoftness {
+    /// Both in `[0, MAX_SOFT_PARAMETER]` (10⁶).
+    pub fn validate(&self) -> Result<(), ConstraintError> {
+        let max = Real::from_int(1_000_000);
+        for (v, name) in [(self.hertz, "hertz"), (self.damping_ratio, "damping_ratio")] {
+            if v.is_negative() {
+                return Err(ConstraintError::Negative(name));
+            }
+            if v > max {
+                return Err(ConstraintError::Saturated(name));
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Constraint {
@@ -277,6 +336,7 @@ impl Constraint {
             max_bias: Real::MAX,
             collide_bodies: true,
             kind,
+            softness: None,
         })
     }
 
@@ -350,6 +410,21 @@ impl Constraint {
         Ok(())
     }
 
+    /// The joint's own stiffness on the soft step, if it has one.
+    pub fn softness(&self) -> Option<JointSoftness> {
+        self.softness
+    }
+
+    /// Gives the joint its own stiffness on the soft step (`None`: the
+    /// world's). Errors on a negative or absurd (> 10⁶) value.
+    pub fn set_softness(&mut self, softness: Option<JointSoftness>) -> Result<(), ConstraintError> {
+        if let Some(s) = &softness {
+            s.validate()?;
+        }
+        self.softness = softness;
+        Ok(())
+    }
+
     /// Whether the shapes of the two bodies collide with each other
     /// (Chipmunk `collideBodies`, default true).
     pub fn collide_bodies(&self) -> bool {
@@ -384,6 +459,9 @@ impl Constraint {
         }
         if self.error_bias.is_negative() || self.error_bias > Real::ONE {
             return Err(ConstraintError::ErrorBiasRange);
+        }
+        if let Some(s) = &self.softness {
+            s.validate()?;
         }
         self.kind.validate()
     }

@@ -13,7 +13,7 @@ use super::pivot::PivotRow;
 use super::prep::Prep;
 use super::rotary_limit::AngularLimitRow;
 use super::simple_motor::MotorRow;
-use super::{Constraint, JointKind};
+use super::{Constraint, JointKind, JointSoftness};
 use crate::arena::Arena;
 use crate::body::{Body, BodyHandle};
 use crate::math::{exp, Real, Vect};
@@ -46,6 +46,9 @@ struct Row {
     b: u32,
     /// `max_force·dt`.
     j_max: Real,
+    /// The softness its iterations apply ([`Softness::RIGID`] on the
+    /// sequential solver and in the soft step's relax pass).
+    soft: Softness,
     /// Last step's accumulated impulse, for the warm start.
     cached: Cached,
     kind: RowKind,
@@ -69,9 +72,9 @@ pub(crate) struct ConstraintScratch {
     /// share the default error bias, and `pow` is the pre-step's costliest
     /// operation.
     bias_memo: Option<(Real, Real, Real)>,
-    /// The softness the iterations apply ([`Softness::RIGID`] for the
-    /// sequential solver and the soft step's relax pass).
-    soft: Softness,
+    /// The last joint's own softness and sub-step, and its coefficients
+    /// (joints with their own stiffness mostly share it).
+    soft_memo: Option<(JointSoftness, Real, Softness)>,
 }
 
 impl ConstraintScratch {
@@ -115,7 +118,6 @@ impl ConstraintScratch {
         soft: Option<Softness>,
     ) {
         self.rows.clear();
-        self.soft = soft.unwrap_or(Softness::RIGID);
         for (h, c) in constraints.iter() {
             let (Some(body_a), Some(body_b)) = (bodies.get(c.a), bodies.get(c.b)) else {
                 continue;
@@ -131,7 +133,11 @@ impl ConstraintScratch {
             if ia == ib || body_a.is_sleeping() || body_b.is_sleeping() {
                 continue;
             }
-            let bias_coef = match soft {
+            let row_soft = match (soft, c.softness) {
+                (Some(_), Some(own)) => Some(self.own_softness(own, dt, dt_inv)),
+                (world, _) => world,
+            };
+            let bias_coef = match row_soft {
                 Some(_) => Real::ZERO,
                 None => self.bias_coef(c.error_bias, dt),
             };
@@ -144,7 +150,7 @@ impl ConstraintScratch {
                 dt_inv,
                 bias_coef,
                 max_bias: c.max_bias,
-                soft_rate: soft.map(|s| s.bias_rate),
+                soft_rate: row_soft.map(|s| s.bias_rate),
             };
             let (kind, cached) = match &c.kind {
                 JointKind::Pin(j) => (
@@ -196,10 +202,26 @@ impl ConstraintScratch {
                 a: ia,
                 b: ib,
                 j_max: c.max_force * dt,
+                soft: row_soft.unwrap_or(Softness::RIGID),
                 cached,
                 kind,
             });
         }
+    }
+
+    /// The coefficients of a joint's own softness on a sub-step of `dt`
+    /// (frequency capped at a quarter of the sub-step rate, as the
+    /// world's), remembered for the last arguments.
+    fn own_softness(&mut self, own: JointSoftness, dt: Real, dt_inv: Real) -> Softness {
+        if let Some((o, d, s)) = self.soft_memo {
+            if o == own && d == dt {
+                return s;
+            }
+        }
+        let hertz = own.hertz.min(dt_inv * Real::lit("0.25"));
+        let s = Softness::new(hertz, own.damping_ratio, dt);
+        self.soft_memo = Some((own, dt, s));
+        s
     }
 
     /// `1 − error_bias^dt`, remembered for the last pair of arguments.
@@ -247,8 +269,8 @@ impl ConstraintScratch {
     /// position bias, rigid.
     pub(crate) fn relax(&mut self) {
         use kernel::JointKernel;
-        self.soft = Softness::RIGID;
         for row in &mut self.rows {
+            row.soft = Softness::RIGID;
             match &mut row.kind {
                 RowKind::Pin(r) => r.row.relax(),
                 RowKind::Pivot(r) => r.row.relax(),
@@ -267,10 +289,9 @@ impl ConstraintScratch {
     /// path with the saturating fallback (module `kernel`).
     pub(crate) fn iterate(&mut self, solver_bodies: &mut [SolverBody]) {
         let bodies = solver_bodies;
-        let soft = self.soft;
         use kernel::solve;
         for row in &mut self.rows {
-            let (a, b, j_max) = (row.a, row.b, row.j_max);
+            let (a, b, j_max, soft) = (row.a, row.b, row.j_max, row.soft);
             match &mut row.kind {
                 RowKind::Pin(r) => solve(r, bodies, a, b, j_max, soft),
                 RowKind::Pivot(r) => solve(r, bodies, a, b, j_max, soft),

@@ -304,7 +304,7 @@ fn body_fields(a: &Body, b: &Body) -> Option<(&'static str, String, String)> {
 }
 
 fn constraint_fields(a: &Constraint, b: &Constraint) -> Option<(&'static str, String, String)> {
-    first_field!(Constraint; a, b; a, b, max_force, error_bias, max_bias, collide_bodies, kind)
+    first_field!(Constraint; a, b; a, b, max_force, error_bias, max_bias, collide_bodies, kind, softness)
 }
 
 fn shape_fields(a: &Shape, b: &Shape) -> Option<(&'static str, String, String)> {

@@ -36,8 +36,9 @@
 //! arena, dormant arbiters of sleeping islands); each arena is its slots
 //! (generation, optional value), its free list and its length. A
 //! constraint is its two body handles, `max_force`, `error_bias`,
-//! `max_bias`, `collide_bodies` (one byte) and its kind (a u32 tag, then
-//! the kind's parameters and accumulated impulse).
+//! `max_bias`, `collide_bodies` (one byte), its kind (a u32 tag, then
+//! the kind's parameters and accumulated impulse) and its soft-step
+//! `softness` (an option byte, then hertz and damping ratio).
 //!
 //! Bodies, shapes (and their geometry) and arbiters have a **compact
 //! form** (since version 6; their `Serialize` impls give it to every
@@ -253,7 +254,8 @@ pub const MAGIC: [u8; 8] = *b"TAMIAS2D";
 /// no unused polygon vertices or contact slots (recomputed on decode).
 /// Version 7: `colored_solver` (one byte) after `block_solver`. Version 8:
 /// the settings end with `solver` (a u32 variant index, then for the soft
-/// step its `substeps` and seven reals).
+/// step its `substeps` and seven reals), a constraint with its `softness`
+/// (an option: one byte, then two reals).
 pub const FORMAT_VERSION: u32 = 8;
 
 /// Bytes before the bincode payload: magic, version, checksum (the frame

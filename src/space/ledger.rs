@@ -56,6 +56,7 @@ const _CONSTRAINT: fn(&Constraint) = |c| {
         max_bias: _,       // ≥ 0 (Real::MAX: unbounded)
         collide_bodies: _, // any value
         kind: _,           // see _JOINT_KIND
+        softness: _,       // hertz and damping ratio in [0, 10⁶]
     } = c;
 };
 

@@ -355,3 +355,53 @@ fn any_thread_count_and_a_snapshot_round_trip_give_the_same_bits() {
         );
     }
 }
+
+#[test]
+fn a_joint_keeps_its_own_stiffness() {
+    use tamias2d::constraint::JointSoftness;
+    let soften = |space: &mut Space, hertz: i32| {
+        let handles: Vec<_> = space.constraints().map(|(h, _)| h).collect();
+        for h in handles {
+            let own = JointSoftness {
+                hertz: Real::from_int(hertz),
+                damping_ratio: Real::from_int(2),
+            };
+            space
+                .constraint_mut(h)
+                .unwrap()
+                .set_softness(Some(own))
+                .unwrap();
+        }
+    };
+    // Softer joints (15 Hz) stretch the 100:1 chain more than the world's
+    // 60 Hz; 60 Hz of their own is the world's default, bit for bit.
+    let (mut world, _) = hanging_chain(20, 100, Solver::SOFT);
+    let (mut soft15, _) = hanging_chain(20, 100, Solver::SOFT);
+    let (mut own60, _) = hanging_chain(20, 100, Solver::SOFT);
+    soften(&mut soft15, 15);
+    soften(&mut own60, 60);
+    let (w, _) = run_chain(&mut world, 300, 1);
+    let (s, _) = run_chain(&mut soft15, 300, 1);
+    run_chain(&mut own60, 300, 1);
+    println!("world 60 Hz: {w:.5} m, own 15 Hz: {s:.5} m");
+    assert!(s > 4.0 * w, "15 Hz {s} vs 60 Hz {w}");
+    assert_eq!(own60.state().bodies, world.state().bodies);
+    // The sequential solver ignores it.
+    let (mut seq, _) = hanging_chain(5, 1, Solver::Sequential);
+    let (mut seq_own, _) = hanging_chain(5, 1, Solver::Sequential);
+    soften(&mut seq_own, 15);
+    run_chain(&mut seq, 100, 1);
+    run_chain(&mut seq_own, 100, 1);
+    assert_eq!(seq.state().bodies, seq_own.state().bodies);
+    // Out of range: refused.
+    let bad = JointSoftness {
+        hertz: Real::from_int(-1),
+        damping_ratio: Real::ONE,
+    };
+    let h = world.constraints().next().unwrap().0;
+    assert!(world
+        .constraint_mut(h)
+        .unwrap()
+        .set_softness(Some(bad))
+        .is_err());
+}

@@ -125,7 +125,7 @@ fn format_layout_is_pinned() {
     // A constraint slot: generation (4), option tag (1), bodies (2 × 8),
     // max_force, error_bias, max_bias (3 × 8), collide_bodies (1), the kind
     // tag (4) and the kind: a pin joint's two anchors, distance and
-    // accumulated impulse (6 × 8).
+    // accumulated impulse (6 × 8), then the softness (1: `None`).
     let mut w = small_world();
     let bodies: Vec<_> = w.bodies().map(|(h, _)| h).collect();
     // Adding a joint to the ground wakes what sleeps on it (4 bytes less
@@ -134,7 +134,7 @@ fn format_layout_is_pinned() {
     let before = save(&w).len();
     let pin = ok(PinJoint::new(Vect::ZERO, Vect::ZERO, Real::ONE));
     ok(w.add_constraint(ok(Constraint::new(bodies[0], bodies[1], pin))));
-    assert_eq!(save(&w).len() - before, 4 + 1 + 16 + 24 + 1 + 4 + 48);
+    assert_eq!(save(&w).len() - before, 4 + 1 + 16 + 24 + 1 + 4 + 48 + 1);
 }
 
 /// `(contacts, bytes)` of each arbiter of `small_world`.
