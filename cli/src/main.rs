@@ -100,6 +100,10 @@ struct SceneOpts {
     /// itself) [default: the scene's].
     #[arg(long, value_name = "KIND")]
     solver: Option<source::SolverChoice>,
+    /// Sleeping off (`Settings::sleep_time_threshold = SLEEP_NEVER`): every
+    /// body steps every step, for timing the awake step.
+    #[arg(long)]
+    no_sleep: bool,
     /// Load a scene file without the limits for untrusted input (bytes,
     /// bodies, shapes, solver passes, candidate pairs).
     #[arg(long)]
@@ -113,6 +117,7 @@ impl SceneOpts {
             iterations: self.iterations,
             colored_solver: self.colored_solver,
             solver: self.solver,
+            no_sleep: self.no_sleep,
             trusted: self.trusted,
         }
     }
@@ -285,6 +290,7 @@ fn main() -> ExitCode {
                 iterations,
                 colored_solver: false,
                 solver: None,
+                no_sleep: false,
                 trusted,
             },
             &render,

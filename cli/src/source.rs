@@ -48,6 +48,8 @@ pub struct Overrides {
     pub colored_solver: bool,
     /// `--solver`.
     pub solver: Option<SolverChoice>,
+    /// `--no-sleep`.
+    pub no_sleep: bool,
     /// `--trusted`: files load without the untrusted-input limits.
     pub trusted: bool,
 }
@@ -118,6 +120,9 @@ pub fn load(arg: &str, overrides: Overrides) -> Result<SceneDesc, String> {
     desc.settings.colored_solver |= overrides.colored_solver;
     if let Some(choice) = overrides.solver {
         choice.apply(&mut desc.settings);
+    }
+    if overrides.no_sleep {
+        desc.settings.sleep_time_threshold = tamias2d::space::SLEEP_NEVER;
     }
     if let Some(n) = overrides.iterations {
         desc.settings.iterations = n;

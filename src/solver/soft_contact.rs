@@ -183,83 +183,29 @@ impl SoftContacts {
                 })
             });
         }
-        soft.rows.clear();
+        // Where each manifold's rows go, in one pass: then the manifolds
+        // are prepared in pieces, halves in parallel where there are
+        // threads (inline on one), each writing only its own rows.
         soft.manifold_rows.clear();
-        let zero = SolverBody::default();
+        let mut count = 0u32;
         for &i in graph.order() {
-            soft.manifold_rows
-                .push(u32::try_from(soft.rows.len()).unwrap_or(u32::MAX));
-            let Some(arb) = arbiters.get(i as usize) else {
-                continue;
-            };
-            let (ia, ib) = (arb.body_a.index(), arb.body_b.index());
-            let a = solver_bodies.get(ia as usize).unwrap_or(&zero);
-            let b = solver_bodies.get(ib as usize).unwrap_or(&zero);
-            let fixed =
-                a.m_inv.is_zero() && a.i_inv.is_zero() || b.m_inv.is_zero() && b.i_inv.is_zero();
-            let n = arb.normal;
-            let t = n.perp();
-            for (slot, c) in arb.contacts().iter().enumerate() {
-                let (r1, r2) = (c.r1, c.r2);
-                let (rn_a, rn_b) = (r1.cross(n), r2.cross(n));
-                let (rt_a, rt_b) = (r1.cross(t), r2.cross(t));
-                let k_n = a.m_inv + b.m_inv + a.i_inv * rn_a * rn_a + b.i_inv * rn_b * rn_b;
-                let k_t = a.m_inv + b.m_inv + a.i_inv * rt_a * rt_a + b.i_inv * rt_b * rt_b;
-                let vr = (b.v + r2.perp() * b.w) - (a.v + r1.perp() * a.w);
-                soft.rows.push(SoftContact {
-                    a: ia,
-                    b: ib,
-                    arbiter: i,
-                    // slot < MAX_CONTACTS_PER_ARBITER.
-                    slot: slot as u32,
-                    n,
-                    dist: c.dist,
-                    nr_a: n.dot(r1),
-                    nr_b: n.dot(r2),
-                    rn_a,
-                    rn_b,
-                    rt_a,
-                    rt_b,
-                    kn_a: a.i_inv * rn_a,
-                    kn_b: b.i_inv * rn_b,
-                    kt_a: a.i_inv * rt_a,
-                    kt_b: b.i_inv * rt_b,
-                    m_inv_a: a.m_inv,
-                    m_inv_b: b.m_inv,
-                    n_mass: effective_mass(k_n),
-                    t_mass: if params.friction {
-                        effective_mass(k_t)
-                    } else {
-                        Real::ZERO
-                    },
-                    friction: if params.friction {
-                        arb.friction
-                    } else {
-                        Real::ZERO
-                    },
-                    restitution: arb.restitution,
-                    surface_t: arb.surface_velocity.dot(t),
-                    approach: vr.dot(n),
-                    soft: if fixed { params.fixed } else { params.contact },
-                    jn: c.jn_acc,
-                    jt: if params.friction {
-                        c.jt_acc
-                    } else {
-                        Real::ZERO
-                    },
-                    max_jn: Real::ZERO,
-                    bounded: false,
-                });
-                if let Some(row) = soft.rows.last_mut() {
-                    row.bounded = below_2_62(&[
-                        row.n.x, row.n.y, row.nr_a, row.nr_b, row.rn_a, row.rn_b, row.rt_a,
-                        row.rt_b,
-                    ]);
-                }
-            }
+            soft.manifold_rows.push(count);
+            // At most MAX_CONTACTS_PER_ARBITER (2) rows per arbiter.
+            let n = arbiters
+                .get(i as usize)
+                .map_or(0, |a| a.contacts().len() as u32);
+            count = count.saturating_add(n);
         }
-        let rows = u32::try_from(soft.rows.len()).unwrap_or(u32::MAX);
-        soft.manifold_rows.push(rows);
+        soft.manifold_rows.push(count);
+        soft.rows.truncate(count as usize);
+        soft.rows.resize(count as usize, SoftContact::default());
+        let job = PrepareJob {
+            arbiters,
+            bodies: solver_bodies,
+            params,
+        };
+        prepare_split(&job, graph.order(), &soft.manifold_rows, &mut soft.rows);
+        let rows = count;
         for (c, first_row) in soft.color_rows.iter_mut().enumerate() {
             let first_manifold = graph.range(c).start;
             *first_row = soft
@@ -465,6 +411,116 @@ fn solve_manifold(
     *copy = saved_bodies;
     let [a, b] = copy;
     manifold_pass(rows, a, b, motion, p, use_bias, &mut Saturating);
+}
+
+/// What preparing a manifold reads.
+struct PrepareJob<'a> {
+    arbiters: &'a [Arbiter],
+    bodies: &'a [SolverBody],
+    params: &'a SoftContactParams,
+}
+
+/// Manifolds per piece of the split preparation.
+const PREPARE_PIECE: usize = 32;
+
+/// The rows of the manifolds `order` (arbiter indices), whose first rows
+/// are `starts` (absolute; `rows` begins at `starts[0]`): halves in
+/// parallel down to [`PREPARE_PIECE`]s.
+fn prepare_split(job: &PrepareJob<'_>, order: &[u32], starts: &[u32], rows: &mut [SoftContact]) {
+    let base = starts.first().copied().unwrap_or(0);
+    if order.len() <= PREPARE_PIECE {
+        for (k, &i) in order.iter().enumerate() {
+            let at = |k: usize| starts.get(k).map_or(0, |&s| s.wrapping_sub(base) as usize);
+            let (Some(arb), Some(out)) = (
+                job.arbiters.get(i as usize),
+                rows.get_mut(at(k)..at(k.wrapping_add(1)).max(at(k))),
+            ) else {
+                continue;
+            };
+            prepare_manifold(job, i, arb, out);
+        }
+        return;
+    }
+    let mid = order.len() / 2;
+    let cut = starts.get(mid).copied().unwrap_or(base).wrapping_sub(base);
+    let (Some((left, right)), Some((order_l, order_r))) = (
+        rows.split_at_mut_checked(cut as usize),
+        order.split_at_checked(mid),
+    ) else {
+        return;
+    };
+    let (starts_l, starts_r) = (
+        starts.get(..=mid).unwrap_or(&[]),
+        starts.get(mid..).unwrap_or(&[]),
+    );
+    crate::threads::join(
+        || prepare_split(job, order_l, starts_l, left),
+        || prepare_split(job, order_r, starts_r, right),
+    );
+}
+
+/// The rows of arbiter `i` (`arb`) into `out`, one per manifold point.
+fn prepare_manifold(job: &PrepareJob<'_>, i: u32, arb: &Arbiter, out: &mut [SoftContact]) {
+    let params = job.params;
+    let zero = SolverBody::default();
+    let (ia, ib) = (arb.body_a.index(), arb.body_b.index());
+    let a = job.bodies.get(ia as usize).unwrap_or(&zero);
+    let b = job.bodies.get(ib as usize).unwrap_or(&zero);
+    let fixed = a.m_inv.is_zero() && a.i_inv.is_zero() || b.m_inv.is_zero() && b.i_inv.is_zero();
+    let n = arb.normal;
+    let t = n.perp();
+    for ((slot, c), row) in arb.contacts().iter().enumerate().zip(out) {
+        let (r1, r2) = (c.r1, c.r2);
+        let (rn_a, rn_b) = (r1.cross(n), r2.cross(n));
+        let (rt_a, rt_b) = (r1.cross(t), r2.cross(t));
+        let k_n = a.m_inv + b.m_inv + a.i_inv * rn_a * rn_a + b.i_inv * rn_b * rn_b;
+        let k_t = a.m_inv + b.m_inv + a.i_inv * rt_a * rt_a + b.i_inv * rt_b * rt_b;
+        let vr = (b.v + r2.perp() * b.w) - (a.v + r1.perp() * a.w);
+        *row = SoftContact {
+            a: ia,
+            b: ib,
+            arbiter: i,
+            // slot < MAX_CONTACTS_PER_ARBITER.
+            slot: slot as u32,
+            n,
+            dist: c.dist,
+            nr_a: n.dot(r1),
+            nr_b: n.dot(r2),
+            rn_a,
+            rn_b,
+            rt_a,
+            rt_b,
+            kn_a: a.i_inv * rn_a,
+            kn_b: b.i_inv * rn_b,
+            kt_a: a.i_inv * rt_a,
+            kt_b: b.i_inv * rt_b,
+            m_inv_a: a.m_inv,
+            m_inv_b: b.m_inv,
+            n_mass: effective_mass(k_n),
+            t_mass: if params.friction {
+                effective_mass(k_t)
+            } else {
+                Real::ZERO
+            },
+            friction: if params.friction {
+                arb.friction
+            } else {
+                Real::ZERO
+            },
+            restitution: arb.restitution,
+            surface_t: arb.surface_velocity.dot(t),
+            approach: vr.dot(n),
+            soft: if fixed { params.fixed } else { params.contact },
+            jn: c.jn_acc,
+            jt: if params.friction {
+                c.jt_acc
+            } else {
+                Real::ZERO
+            },
+            max_jn: Real::ZERO,
+            bounded: below_2_62(&[n.x, n.y, n.dot(r1), n.dot(r2), rn_a, rn_b, rt_a, rt_b]),
+        };
+    }
 }
 
 /// A pass of the soft contacts: the warm start (`None`: warm starting off,
