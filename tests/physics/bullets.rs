@@ -51,8 +51,18 @@ fn shot(w: &mut Space, at: Vect, v: Vect, bullet: bool) -> BodyHandle {
 /// start offsets spread over one step's travel (5 m). Returns how many
 /// ended beyond the wall after 30 steps.
 fn tunnelled(bullet: bool) -> usize {
+    tunnelled_on(bullet, tamias2d::space::Solver::Sequential)
+}
+
+/// [`tunnelled`] with `solver`.
+fn tunnelled_on(bullet: bool, solver: tamias2d::space::Solver) -> usize {
     let mut w = Space::new();
     w.set_gravity(Vect::from_ints(0, -10));
+    let settings = tamias2d::space::Settings {
+        solver,
+        ..w.settings().clone()
+    };
+    ok(w.set_settings(settings));
     wall(&mut w, Real::ratio(1, 10), Real::from_int(4));
     let shots: Vec<_> = (0..32)
         .map(|i| {
@@ -76,6 +86,16 @@ fn without_the_flag_the_shot_tunnels_with_it_none_does() {
     let plain = tunnelled(false);
     assert!(plain >= 28, "only {plain} of 32 tunnelled without bullets");
     assert_eq!(tunnelled(true), 0);
+}
+
+#[test]
+fn bullets_hold_on_the_soft_step_too() {
+    // The soft step sweeps bullets after its sub-steps, from the step's
+    // start to their time of impact.
+    let soft = tamias2d::space::Solver::SOFT;
+    let plain = tunnelled_on(false, soft);
+    assert!(plain >= 28, "only {plain} of 32 tunnelled without bullets");
+    assert_eq!(tunnelled_on(true, soft), 0);
 }
 
 #[test]
