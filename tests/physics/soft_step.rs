@@ -405,3 +405,39 @@ fn a_joint_keeps_its_own_stiffness() {
         .set_softness(Some(bad))
         .is_err());
 }
+
+/// `pyramid_100` (5,050 boxes) on both solvers, 600 steps: the soft step's
+/// pyramid stands (its largest sideways move stays below the sequential
+/// solver's). Slow in debug: run with `--release --ignored`.
+#[test]
+#[ignore = "5,050 boxes for 600 steps: run in release"]
+fn pyramid_100_stands_on_the_soft_step() {
+    let run = |soft: bool| {
+        let mut desc = tamias2d_scenes::builtin("pyramid_100").unwrap();
+        if soft {
+            desc.settings.use_soft_step();
+        }
+        let mut w = desc.build().unwrap();
+        let start: Vec<Vect> = w.space.bodies().map(|(_, b)| b.position()).collect();
+        let mut pen = 0.0f64;
+        for _ in 0..600 {
+            w.step().unwrap();
+            pen = pen.max(max_penetration(&w.space));
+        }
+        let side = w
+            .space
+            .bodies()
+            .zip(&start)
+            .map(|((_, b), p0)| (b.position().x - p0.x).abs().to_f64())
+            .fold(0.0, f64::max);
+        (side, pen)
+    };
+    let (seq_side, seq_pen) = run(false);
+    let (soft_side, soft_pen) = run(true);
+    println!("pyramid_100 sideways: sequential {seq_side:.4} m, soft {soft_side:.4} m");
+    println!("pyramid_100 overlap: sequential {seq_pen:.4} m, soft {soft_pen:.4} m");
+    assert!(
+        soft_side < seq_side,
+        "soft {soft_side} vs sequential {seq_side}"
+    );
+}
