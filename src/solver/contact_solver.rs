@@ -129,17 +129,7 @@ impl ContactSolver {
         if !order.colored {
             graph.uncolored(active);
         } else {
-            graph.color(active, solver_bodies.len(), |i| {
-                let movable = |slot: u32| {
-                    solver_bodies
-                        .get(slot as usize)
-                        .is_some_and(|b| !b.m_inv.is_zero() || !b.i_inv.is_zero())
-                };
-                arbiters.get(i as usize).map_or([(0, false); 2], |arb| {
-                    let (a, b) = (arb.body_a.index(), arb.body_b.index());
-                    [(a, movable(a)), (b, movable(b))]
-                })
-            });
+            color_arbiters(graph, arbiters, active, solver_bodies);
         }
         let use_blocks = order.blocks;
         let job = PrepareJob {
@@ -355,6 +345,28 @@ impl ContactSolver {
             }
         }
     }
+}
+
+/// Colors the `active` arbiters ([`graph::ConstraintGraph::color`]): a
+/// body the solver moves (non-zero inverse mass or moment in
+/// `solver_bodies`) appears in at most one arbiter of a color.
+pub(crate) fn color_arbiters(
+    graph: &mut graph::ConstraintGraph,
+    arbiters: &[Arbiter],
+    active: &[u32],
+    solver_bodies: &[SolverBody],
+) {
+    graph.color(active, solver_bodies.len(), |i| {
+        let movable = |slot: u32| {
+            solver_bodies
+                .get(slot as usize)
+                .is_some_and(|b| !b.m_inv.is_zero() || !b.i_inv.is_zero())
+        };
+        arbiters.get(i as usize).map_or([(0, false); 2], |arb| {
+            let (a, b) = (arb.body_a.index(), arb.body_b.index());
+            [(a, movable(a)), (b, movable(b))]
+        })
+    });
 }
 
 /// What preparing a manifold reads.

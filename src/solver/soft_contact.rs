@@ -27,7 +27,7 @@ use crate::arena::Arena;
 use crate::body::Body;
 use crate::math::{below_2_62, Bounded, FixedArith, Real, Rot, Saturating, Unsaturated, Vect};
 
-use super::contact_solver::ContactSolver;
+use super::contact_solver::{color_arbiters, ContactSolver};
 use super::graph;
 use super::kernel::{effective_mass, load_pair, store_pair};
 use super::softness::Softness;
@@ -170,19 +170,7 @@ impl SoftContacts {
                 };
             }
         }
-        {
-            graph.color(active, solver_bodies.len(), |i| {
-                let movable = |slot: u32| {
-                    solver_bodies
-                        .get(slot as usize)
-                        .is_some_and(|b| !b.m_inv.is_zero() || !b.i_inv.is_zero())
-                };
-                arbiters.get(i as usize).map_or([(0, false); 2], |arb| {
-                    let (a, b) = (arb.body_a.index(), arb.body_b.index());
-                    [(a, movable(a)), (b, movable(b))]
-                })
-            });
-        }
+        color_arbiters(graph, arbiters, active, solver_bodies);
         // Where each manifold's rows go, in one pass: then the manifolds
         // are prepared in pieces, halves in parallel where there are
         // threads (inline on one), each writing only its own rows.

@@ -183,12 +183,7 @@ impl Space {
         });
         let Some(active) = active else {
             self.locked = false;
-            let max = self.limits.max_pairs;
-            return Err(SpaceError::OverLimit(LimitError {
-                limit: "candidate pairs",
-                value: max.saturating_add(1),
-                max,
-            }));
+            return Err(self.over_pair_limit());
         };
         self.caches
             .solver
@@ -202,6 +197,17 @@ impl Space {
         self.locked = false;
         self.run_post_step_callbacks(); // PostStepCallbacks
         Ok(())
+    }
+
+    /// The error of a broadphase that found more candidate pairs than the
+    /// limits allow.
+    fn over_pair_limit(&self) -> SpaceError {
+        let max = self.limits.max_pairs;
+        SpaceError::OverLimit(LimitError {
+            limit: "candidate pairs",
+            value: max.saturating_add(1),
+            max,
+        })
     }
 
     /// The constants of a sub-step of `dt`: the per-`dt` ones recomputed

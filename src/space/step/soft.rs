@@ -20,7 +20,6 @@
 //! The soft coefficients come from the first sub-step's length (sub-steps
 //! differ by at most one ulp) and the settings, once per step.
 use crate::body::BodyHandle;
-use crate::limits::LimitError;
 use crate::math::{Real, Vect};
 use crate::solver::soft_contact::{SoftContactParams, SoftPass};
 use crate::solver::softness::Softness;
@@ -108,12 +107,7 @@ impl Space {
         });
         let Some(active) = active else {
             self.locked = false;
-            let max = self.limits.max_pairs;
-            return Err(SpaceError::OverLimit(LimitError {
-                limit: "candidate pairs",
-                value: max.saturating_add(1),
-                max,
-            }));
+            return Err(self.over_pair_limit());
         };
         self.run_constraint_callbacks(super::super::constraints::Phase::PreSolve);
         let mut forces = core::mem::take(&mut self.caches.step.soft_forces);
