@@ -2,15 +2,17 @@
 //! per step from the contacts found at the collide, and solved in every
 //! sub-step against the bodies' motion since then.
 //!
-//! A row keeps the anchors `r1`, `r2` (the contact's points on the two
-//! surfaces, relative to the centres of gravity at the collide) and the
-//! separation `dist` measured there. In a sub-step the separation is
-//! re-estimated without colliding again:
+//! A row is built from the anchors `r1`, `r2` (the contact's points on the
+//! two surfaces, relative to the centres of gravity at the collide) and
+//! keeps the separation `dist` measured there. In a sub-step the
+//! separation is re-estimated without colliding again:
 //! `s = dist + n·((Δp_b − Δp_a) + (Δq_b·r2 − r2) − (Δq_a·r1 − r1))`, where
 //! `Δp` and `Δq` are a body's translation and rotation since the collide
-//! ([`Motion`]); both terms are exactly zero for a body that has not moved,
-//! so a resting contact sees exactly its collide separation. The normal
-//! and the Jacobian's anchors stay those of the collide.
+//! ([`Motion`]), computed as `n·Δp + (cos − 1)(n·r) + sin (r × n)` from the
+//! products stored at prepare; both terms are exactly zero for a body that
+//! has not moved, so a resting contact sees exactly its collide
+//! separation. The normal and the Jacobian's anchors stay those of the
+//! collide.
 //!
 //! The normal impulse is soft (module `softness`): below `−slop` the bias
 //! is `max(bias_rate·(s + slop), −push_out_speed)`; above 0 (the shapes

@@ -7,11 +7,12 @@
 //! sleep stages `space::sleep`'s). [`Space::step`] runs the sub-steps:
 //! with [`Settings::substeps`](super::Settings::substeps) = n, all stages
 //! n times on sub-steps of `dt` split exactly ([`sub_step_dts`]): bit for
-//! bit the same as n calls with those lengths. Collision runs in every
-//! sub-step because positions move in every one; running it once per step
-//! and only the solver n times (Box2D v3's and Rapier's choice) needs a
-//! contact model that tracks separation between sub-steps, which ours
-//! (Chipmunk's) does not.
+//! bit the same as n calls with those lengths. On the sequential solver
+//! collision runs in every sub-step because positions move in every one:
+//! its contact model (Chipmunk's) does not track separation between
+//! sub-steps. The soft step (`Solver::Soft`, module `soft`, the stages of
+//! [`Stage::SOFT_STEP`]) does: it collides once per step and sub-steps only
+//! its solver, as Box2D v3.
 //!
 //! The per-step constants and the solver switches are computed once per
 //! sub-step into a [`StepContext`]: a switched-off part is not computed at
