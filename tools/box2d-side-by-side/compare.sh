@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Box2D v3 beside Tamias2D: dumps each scene from the release `tamias`, runs
 # it through both engines (one thread each) and prints a markdown table.
-#   tools/box2d-side-by-side/compare.sh [--no-sleep] [--substeps N] [SCENE ...]
+#   tools/box2d-side-by-side/compare.sh [--no-sleep] [--substeps N] [--solver KIND] [SCENE ...]
 # Needs PyPI once (a venv with box2d-python in .venv here); not used by CI.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -11,6 +11,7 @@ while [[ $# -gt 0 && $1 == --* ]]; do
     case $1 in
         --no-sleep) flags+=(--no-sleep); shift ;;
         --substeps) flags+=(--substeps "$2"); shift 2 ;;
+        --solver) flags+=(--solver "$2"); shift 2 ;;
         *) echo "error: unknown option $1" >&2; exit 2 ;;
     esac
 done

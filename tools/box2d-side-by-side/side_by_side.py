@@ -417,15 +417,18 @@ def run(desc, steps, substeps, sleep, every):
     return out
 
 
-def run_ours(tamias, scene, steps):
-    """`tamias run SCENE --trusted --threads 1`: its figures, by our key names."""
+def run_ours(tamias, scene, steps, solver=None):
+    """`tamias run SCENE --trusted --threads 1 [--solver KIND]`: its figures, by our key names."""
     cmd = [tamias, "run", scene, "--trusted", "--threads", "1", "--steps", str(steps)]
+    if solver:
+        cmd += ["--solver", solver]
     text = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
     out = {}
     m = re.search(r"time per step: median ([0-9.]+) ms", text)
     if m:
         out["median_ms"] = float(m.group(1))
-    for key in ("max penetration", "max joint error", "max x drift", "worst pivot gap"):
+    for key in ("max penetration", "max joint error", "max limit overrun", "max x drift",
+                "worst pivot gap"):
         m = re.search(rf"^{key}: ([-0-9.e]+)", text, re.M)
         if m:
             out[key.replace(" ", "_")] = float(m.group(1))
@@ -459,7 +462,8 @@ def table(path):
         other = [f"{k.replace('_', ' ')} {cell(r, k, '{:.3g}')} / {cell(o, k, '{:.3g}')}"
                  for k in ("max_x_drift", "worst_pivot_gap") if k in r]
         if "max_rotary_limit_error" in r:
-            other.append(f"rotary limit {r['max_rotary_limit_error']:.3g} rad / —")
+            other.append(f"rotary limit {r['max_rotary_limit_error']:.3g} rad / "
+                         f"{cell(o, 'max_limit_overrun', '{:.3g}')}")
         if "left_out" in r:
             other.append(f"Box2D leaves out {r['left_out']}")
         print(f"| {r['scene']} | {r['median_ms']:.3f} | {cell(o, 'median_ms', '{:.3f}')} | {ratio} "
@@ -479,6 +483,8 @@ def main():
     ap.add_argument("--json", action="store_true", help="one JSON object instead of lines")
     ap.add_argument("--ours", metavar="TAMIAS", help="also run `TAMIAS run SCENE --threads 1`")
     ap.add_argument("--table", metavar="JSONL", help="print the markdown table of --json lines")
+    ap.add_argument("--solver", choices=["sequential", "soft"],
+                    help="our solver (`tamias run --solver`) [default: the scene's]")
     args = ap.parse_args()
     if args.table:
         return table(args.table)
@@ -494,7 +500,7 @@ def main():
             scene = args.scene.removesuffix(".json") + ".awake.json"
             with open(scene, "w") as f:
                 json.dump(desc, f)
-        r["ours"] = run_ours(args.ours, scene, steps)
+        r["ours"] = run_ours(args.ours, scene, steps, args.solver)
     if args.json:
         print(json.dumps(r))
     else:
