@@ -1,6 +1,6 @@
-//! Replays: record a run a game drives (start, `dt`, inputs, per-frame
-//! checksums, a digest of the input log) and verify it frame by frame by
-//! re-running the game's own step.
+//! Replays: record a run a game drives (start, `dt`, the game's inputs,
+//! per-frame checksums, a digest of the input log) and verify it frame by
+//! frame by re-running the game's own step.
 //!
 //! A lockstep or rollback game is a pure function of its start and its
 //! inputs. A [`Replay`] stores exactly that, plus the checksum of the world
@@ -50,6 +50,70 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
+//! # A game's own inputs
+//! A game's inputs are buttons and sticks, which its step function turns
+//! into motor rates, impulses and spawns. The recorder and the replay carry
+//! any input type `I` that serde encodes (`Serialize + DeserializeOwned`,
+//! and `Clone`): [`Recorder::record`] takes `&I` each frame, and the step
+//! function given to [`Replay::verify_with`] (or a [`Simulation<I>`]'s
+//! `advance`) receives the same `&I` again. [`Input`] lists are one such
+//! type, the default (`Recorder` is `Recorder<Vec<Input>>`, whose
+//! [`record_frame`](Recorder::record_frame) takes `&[Input]`).
+//!
+//! ```
+//! use serde::{Deserialize, Serialize};
+//! use tamias2d::body::Body;
+//! use tamias2d::constraint::{Constraint, SimpleMotor};
+//! use tamias2d::replay::{Recorder, Replay, ReplayError};
+//! use tamias2d::space::{Space, SpaceError};
+//! use tamias2d::{Real, Vect};
+//!
+//! /// One player's buttons this frame.
+//! #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+//! struct Buttons(u8);
+//! const LEFT: u8 = 1;
+//! const RIGHT: u8 = 2;
+//!
+//! // A wheel driven by a motor; the buttons set the motor's rate.
+//! let mut space = Space::new();
+//! let ground = space.add_body(Body::new_static())?;
+//! let wheel = space.add_body(Body::new(Real::ONE, Real::ONE)?)?;
+//! let motor = space.add_constraint(Constraint::new(ground, wheel, SimpleMotor::new(Real::ZERO)?)?)?;
+//! let dt = Real::ratio(1, 60);
+//! let game_step = move |space: &mut Space, buttons: &Buttons| -> Result<(), SpaceError> {
+//!     let rate = match buttons.0 & (LEFT | RIGHT) {
+//!         LEFT => Real::from_int(-3),
+//!         RIGHT => Real::from_int(3),
+//!         _ => Real::ZERO,
+//!     };
+//!     space.modify_constraint(motor, |c| c.joint_mut::<SimpleMotor>()?.set_rate(rate))?;
+//!     space.step(dt)
+//! };
+//!
+//! let mut rec = Recorder::new(&space, dt);
+//! for frame in 0..60u8 {
+//!     let buttons = Buttons(if frame < 30 { RIGHT } else { LEFT });
+//!     game_step(&mut space, &buttons)?;
+//!     rec.record(&space, &buttons)?;
+//! }
+//! // The game's own space, rolled back to the start in place: the
+//! // handles its step function holds (`motor`) stay valid.
+//! let mut replay: Replay<Buttons> = Replay::from_bytes(&rec.finish().to_bytes())?;
+//! assert_eq!(replay.verify_with(&mut space, game_step)?.frames, 60);
+//!
+//! // A button changed after recording is reported at its frame.
+//! replay.frames[42].inputs = Buttons(RIGHT);
+//! assert!(matches!(
+//!     replay.verify_with(&mut space, game_step),
+//!     Err(ReplayError::InputMismatch { frame: 42 })
+//! ));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! `Replay::from_bytes` returns a `Replay<I>` of the type the caller names
+//! (or that the verification implies); `<Replay>::from_bytes(..)` is the
+//! default [`Input`] lists when nothing else says.
+//!
 //! # Frames
 //! Frame `f` (0-based) takes the world after `f` frames, runs the game's
 //! step with `frames[f].inputs`, and records the checksum
@@ -69,14 +133,21 @@
 //! ([`apply_inputs`] returns it before applying anything; the default step
 //! reports it as [`ReplayError::Step`]).
 //!
+//! The recorder stores a frame's inputs as the file holds them: encoded
+//! (the payload's encoding, below), then decoded back, so that handles lose
+//! their origin tag and a replay verifies the same in memory and from
+//! bytes. An input type whose encoding is not a function of its value (a
+//! `HashMap`, iterated in a random order) is refused when recorded
+//! ([`ReplayError::Encode`]).
+//!
 //! Every frame also stores the digest of the input log up to and including
-//! it (a chain: the previous frame's digest and this frame's inputs), and
-//! the replay stores the digest of the whole log. Verification checks the
-//! chain before re-running anything, so an input changed after recording is
-//! reported at its frame ([`ReplayError::InputMismatch`]) even when it does
-//! not change the world (a force on a static body, a velocity set to the
-//! value it had). The digests detect damage and careless edits, not a
-//! forger who recomputes them.
+//! it (a chain: the previous frame's digest and this frame's encoded
+//! inputs), and the replay stores the digest of the whole log. Verification
+//! checks the chain before re-running anything, so an input changed after
+//! recording is reported at its frame ([`ReplayError::InputMismatch`]) even
+//! when it does not change the world (a force on a static body, a velocity
+//! set to the value it had, a button the game ignores). The digests detect
+//! damage and careless edits, not a forger who recomputes them.
 //!
 //! # File format (version [`FORMAT_VERSION`])
 //! ```text
@@ -89,13 +160,15 @@
 //!               (start, dt, initial checksum, input-log digest, frames)
 //! ```
 //! `start` is the start world's snapshot as its [`Simulation::save`] wrote it
-//! ([`snapshot`] bytes for a plain [`Space`]). Each frame is its inputs, its
-//! input-log digest, its checksum and optionally `(body handle, digest)`
-//! pairs in slot order. The payload must end exactly at the end of the
-//! bytes. Malformed bytes are an error, never a panic: short or foreign
-//! header, unknown version, a payload digest that does not match
-//! (corruption is reported as such, not as a divergence), bytes that do not
-//! decode, trailing bytes.
+//! ([`snapshot`] bytes for a plain [`Space`]). Each frame is its inputs
+//! (the game's input type as serde encodes it; a length and the
+//! [`Input`]s for the default lists), its input-log digest, its checksum
+//! and optionally `(body handle, digest)` pairs in slot order. The bytes do
+//! not name the input type: the game reads its replays with its own. The
+//! payload must end exactly at the end of the bytes. Malformed bytes are
+//! an error, never a panic: short or foreign header, unknown version, a
+//! payload digest that does not match (corruption is reported as such, not
+//! as a divergence), bytes that do not decode, trailing bytes.
 //!
 //! # What a divergence reports
 //! The verification stops at the first frame whose checksum differs and
@@ -107,10 +180,13 @@
 //! then tells more, given both worlds. Digests are only compared at the
 //! diverging frame: they are a diagnosis, not a second check.
 use crate::limits::{LimitError, Limits};
+use core::borrow::Borrow;
 use core::fmt;
+use core::marker::PhantomData;
 use std::path::Path;
 
 use bincode::config::{Configuration, Fixint, Limit, LittleEndian};
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use crate::body::BodyHandle;
@@ -130,7 +206,11 @@ pub const MAGIC: [u8; 8] = *b"TAMIASRP";
 /// (and the header's digest) are those of the eight-lane
 /// [`checksum`](crate::checksum) function, which replaced the single-lane
 /// one: a version 3 replay would not verify, so it is refused by version.
-pub const FORMAT_VERSION: u32 = 4;
+/// Version 5: the same layout, but a frame's inputs are the game's own
+/// input type, and the input log digests their encoded bytes (version 4
+/// digested [`Input`] lists through `Hash`): a version 4 replay would
+/// report an input mismatch at frame 0, so it is refused by version.
+pub const FORMAT_VERSION: u32 = 5;
 
 /// Bytes before the payload: magic, version, payload digest.
 pub const HEADER_LEN: usize = envelope::HEADER_LEN;
@@ -206,36 +286,6 @@ impl Input {
             | Input::AngularVelocity { body, .. } => body,
         }
     }
-
-    /// The same input with the body handle reduced to slot and generation
-    /// (the form replays store; accepted by every space).
-    fn portable(self) -> Input {
-        let raw = |h: BodyHandle| BodyHandle::from_raw_parts(h.index(), h.generation());
-        match self {
-            Input::Impulse {
-                body,
-                impulse,
-                point,
-            } => Input::Impulse {
-                body: raw(body),
-                impulse,
-                point,
-            },
-            Input::Force { body, force } => Input::Force {
-                body: raw(body),
-                force,
-            },
-            Input::Torque { body, torque } => Input::Torque {
-                body: raw(body),
-                torque,
-            },
-            Input::Velocity { body, velocity } => Input::Velocity {
-                body: raw(body),
-                velocity,
-            },
-            Input::AngularVelocity { body, w } => Input::AngularVelocity { body: raw(body), w },
-        }
-    }
 }
 
 /// Applies `inputs` to `space` in order. Every body is checked first: if
@@ -267,13 +317,16 @@ pub fn apply_inputs(space: &mut Space, inputs: &[Input]) -> Result<(), SpaceErro
 }
 
 /// A world a replay can record and re-run: the engine's [`Space`] plus
-/// whatever the game keeps beside it that affects future steps.
+/// whatever the game keeps beside it that affects future steps, stepped
+/// with inputs of type `I` (by default a list of [`Input`]s; a game's own
+/// input type, e.g. a button mask, for a game that decodes its inputs
+/// itself).
 ///
 /// [`Space`] itself is one (its step is the default: [`apply_inputs`], then
 /// [`Space::step`]); a game with state beside its space (a script, a
 /// spawner, a score that changes forces) implements it for its own world
 /// type, so that the replay's start holds that state too.
-pub trait Simulation {
+pub trait Simulation<I: ?Sized = [Input]> {
     /// The world's space (its checksum is what each frame records).
     fn space(&self) -> &Space;
     /// The world's snapshot: the replay's start. For a plain space,
@@ -284,7 +337,7 @@ pub trait Simulation {
     /// world may be left as it was; nothing is stepped.
     fn restore(&mut self, start: &[u8]) -> Result<(), BoxError>;
     /// One frame: the inputs, then the step by `dt`.
-    fn advance(&mut self, dt: Real, inputs: &[Input]) -> Result<(), BoxError>;
+    fn advance(&mut self, dt: Real, inputs: &I) -> Result<(), BoxError>;
 }
 
 impl Simulation for Space {
@@ -306,16 +359,17 @@ impl Simulation for Space {
     }
 }
 
-/// A space driven by the game's own step function (what
-/// [`Replay::verify_with`] re-runs).
-struct GameStep<'a, F> {
+/// A space driven by the game's own step function, which takes inputs of
+/// type `I` (what [`Replay::verify_with`] re-runs).
+struct GameStep<'a, F, I: ?Sized> {
     space: &'a mut Space,
     step: F,
+    input: PhantomData<fn(&I)>,
 }
 
-impl<F, E> Simulation for GameStep<'_, F>
+impl<F, E, I: ?Sized> Simulation<I> for GameStep<'_, F, I>
 where
-    F: FnMut(&mut Space, &[Input]) -> Result<(), E>,
+    F: FnMut(&mut Space, &I) -> Result<(), E>,
     E: Into<BoxError>,
 {
     fn space(&self) -> &Space {
@@ -330,15 +384,20 @@ where
         self.space.load_snapshot(start).map_err(BoxError::from)
     }
 
-    fn advance(&mut self, _dt: Real, inputs: &[Input]) -> Result<(), BoxError> {
+    fn advance(&mut self, _dt: Real, inputs: &I) -> Result<(), BoxError> {
         (self.step)(self.space, inputs).map_err(Into::into)
     }
 }
 
-/// The input-log digest after a frame with `inputs`, given the digest
-/// before it (`0` before the first frame).
-fn chain_digest(previous: u64, inputs: &[Input]) -> u64 {
-    checksum_of(&(previous, inputs))
+/// A frame's inputs as the file holds them (the payload's encoding).
+fn encode_input<I: Serialize + ?Sized>(input: &I) -> Result<Vec<u8>, ReplayError> {
+    bincode::serde::encode_to_vec(input, CONFIG).map_err(|e| ReplayError::Encode(e.to_string()))
+}
+
+/// The input-log digest after a frame whose inputs encode to `encoded`,
+/// given the digest before it (`0` before the first frame).
+fn chain_digest(previous: u64, encoded: &[u8]) -> u64 {
+    checksum_of(&(previous, encoded))
 }
 
 /// Digest of every body, in slot order: the body entries of
@@ -379,11 +438,13 @@ fn first_body_mismatch(
     }
 }
 
-/// One recorded frame.
+/// One recorded frame, with the game's inputs of type `I` (by default a
+/// list of [`Input`]s).
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Frame {
-    /// Inputs applied before the step, in order.
-    pub inputs: Vec<Input>,
+pub struct Frame<I = Vec<Input>> {
+    /// The frame's inputs, given to the step before it (for [`Input`]
+    /// lists: applied in order).
+    pub inputs: I,
     /// Digest of the input log up to and including this frame.
     pub input_digest: u64,
     /// [`Space::checksum`] after the step.
@@ -393,10 +454,11 @@ pub struct Frame {
     pub bodies: Option<Vec<(BodyHandle, u64)>>,
 }
 
-/// A recorded run: plain data, editable (tests tamper with it), checked
-/// when verified.
+/// A recorded run with the game's inputs of type `I` (by default a list of
+/// [`Input`]s per frame): plain data, editable (tests tamper with it),
+/// checked when verified.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Replay {
+pub struct Replay<I = Vec<Input>> {
     /// The start world's snapshot ([`Simulation::save`]).
     pub start: Vec<u8>,
     /// Time step of every frame.
@@ -407,7 +469,7 @@ pub struct Replay {
     /// [`Frame::input_digest`], `0` for no frame).
     pub input_digest: u64,
     /// The frames, in order.
-    pub frames: Vec<Frame>,
+    pub frames: Vec<Frame<I>>,
 }
 
 /// What a successful verification covered.
@@ -440,6 +502,11 @@ pub enum ReplayError {
     },
     /// The payload does not decode (or has trailing bytes).
     Decode(String),
+    /// A frame's inputs do not encode, or do not come back the same from
+    /// their encoding (a type whose encoding is not a function of its
+    /// value, such as a `HashMap`, cannot be digested): the message says
+    /// why.
+    Encode(String),
     /// `dt` is not positive.
     TimeStep,
     /// The start does not restore (for a plain space: the snapshot does not
@@ -511,6 +578,7 @@ impl fmt::Display for ReplayError {
                 "replay is corrupted: header digest {stored:#018x}, payload digest {computed:#018x}"
             ),
             ReplayError::Decode(e) => write!(f, "replay does not decode: {e}"),
+            ReplayError::Encode(e) => write!(f, "replay inputs do not encode: {e}"),
             ReplayError::TimeStep => f.write_str("replay time step must be > 0"),
             ReplayError::Start(e) => write!(f, "start: {e}"),
             ReplayError::StartMismatch { expected, actual } => write!(
@@ -567,17 +635,21 @@ impl From<SnapshotError> for ReplayError {
 }
 
 /// Records a run the game drives: takes the start world's snapshot, then,
-/// after each frame the game stepped, its inputs and the world's checksum.
+/// after each frame the game stepped, its inputs (of type `I`: by default a
+/// list of [`Input`]s, [`Recorder::record_frame`]; a game's own type,
+/// [`Recorder::record`]) and the world's checksum.
 #[derive(Debug)]
-pub struct Recorder {
-    replay: Replay,
+pub struct Recorder<I = Vec<Input>> {
+    replay: Replay<I>,
     digest_every: u32,
 }
 
-impl Recorder {
+impl<I> Recorder<I> {
     /// Starts a recording of `world` as it is now, to be stepped by `dt`
     /// every frame. Body digests are off; see [`Recorder::with_body_digests`].
-    pub fn new<W: Simulation + ?Sized>(world: &W, dt: Real) -> Recorder {
+    /// The input type `I` follows from what is recorded (or is named:
+    /// `Recorder::<Buttons>::new`).
+    pub fn new<W: Simulation<B> + ?Sized, B: ?Sized>(world: &W, dt: Real) -> Recorder<I> {
         Recorder {
             replay: Replay {
                 start: world.save(),
@@ -593,7 +665,7 @@ impl Recorder {
     /// Records body digests on frames `0, every, 2·every, …` (`0`: never,
     /// `1`: every frame). Costs one hash per body per such frame and 16
     /// bytes per body in the file.
-    pub fn with_body_digests(mut self, every: u32) -> Recorder {
+    pub fn with_body_digests(mut self, every: u32) -> Recorder<I> {
         self.digest_every = every;
         self
     }
@@ -603,41 +675,72 @@ impl Recorder {
         u32::try_from(self.replay.frames.len()).unwrap_or(u32::MAX)
     }
 
-    /// Records one frame: `inputs` are what the game applied, `world` the
-    /// world after the game's step. Returns the frame's checksum.
-    pub fn record_frame<W: Simulation + ?Sized>(
+    /// The recorded replay.
+    pub fn finish(self) -> Replay<I> {
+        self.replay
+    }
+}
+
+impl<I: Serialize + DeserializeOwned> Recorder<I> {
+    /// Records one frame: `inputs` are the game's inputs of the frame (any
+    /// serde type: a button mask, sticks, a list of events, one entry per
+    /// player), `world` the world after the game's step. Returns the
+    /// frame's checksum.
+    ///
+    /// The inputs are stored as a file holds them: encoded, digested into
+    /// the input log, and decoded back (so a handle loses its origin tag
+    /// and the replay verifies on another space, in memory as from bytes).
+    /// An input whose encoding does not come back the same is refused
+    /// ([`ReplayError::Encode`]) here rather than reported as tampered at
+    /// verification.
+    pub fn record<W: Simulation<B> + ?Sized, B: ?Sized>(
         &mut self,
         world: &W,
-        inputs: &[Input],
+        inputs: &I,
     ) -> Result<u64, ReplayError> {
         let frame =
             u32::try_from(self.replay.frames.len()).map_err(|_| ReplayError::TooManyFrames)?;
         if frame == u32::MAX {
             return Err(ReplayError::TooManyFrames);
         }
-        let inputs: Vec<Input> = inputs.iter().map(|i| i.portable()).collect();
-        let input_digest = chain_digest(self.replay.input_digest, &inputs);
+        let encoded = encode_input(inputs)?;
+        let (stored, read): (I, usize) = bincode::serde::decode_from_slice(&encoded, CONFIG)
+            .map_err(|e| ReplayError::Encode(format!("does not decode back: {e}")))?;
+        if read != encoded.len() || encode_input(&stored)? != encoded {
+            return Err(ReplayError::Encode(
+                "the decoded inputs encode differently".to_string(),
+            ));
+        }
+        let input_digest = chain_digest(self.replay.input_digest, &encoded);
         let space = world.space();
         let checksum = space.checksum();
         // `digest_every == 0` (no digests) has no remainder: `None`.
         let digests = frame.checked_rem(self.digest_every) == Some(0);
         self.replay.input_digest = input_digest;
         self.replay.frames.push(Frame {
-            inputs,
+            inputs: stored,
             input_digest,
             checksum,
             bodies: digests.then(|| body_digests(space)),
         });
         Ok(checksum)
     }
+}
 
-    /// The recorded replay.
-    pub fn finish(self) -> Replay {
-        self.replay
+impl Recorder {
+    /// Records one frame of physics [`Input`]s: `inputs` are what the game
+    /// applied, `world` the world after the game's step. Returns the
+    /// frame's checksum. [`Recorder::record`] with the list.
+    pub fn record_frame<W: Simulation<B> + ?Sized, B: ?Sized>(
+        &mut self,
+        world: &W,
+        inputs: &[Input],
+    ) -> Result<u64, ReplayError> {
+        self.record(world, &inputs.to_vec())
     }
 }
 
-impl Replay {
+impl<I: Serialize> Replay<I> {
     /// The first frame whose inputs do not match the recorded input log, or
     /// a whole-log mismatch (see [`ReplayError::InputMismatch`] and
     /// [`ReplayError::InputLog`]). Runs nothing.
@@ -645,7 +748,10 @@ impl Replay {
         let mut digest = 0;
         for (frame, recorded) in self.frames.iter().enumerate() {
             let frame = u32::try_from(frame).map_err(|_| ReplayError::TooManyFrames)?;
-            digest = chain_digest(digest, &recorded.inputs);
+            // An input that no longer encodes was changed after recording.
+            let encoded =
+                encode_input(&recorded.inputs).map_err(|_| ReplayError::InputMismatch { frame })?;
+            digest = chain_digest(digest, &encoded);
             if digest != recorded.input_digest {
                 return Err(ReplayError::InputMismatch { frame });
             }
@@ -659,35 +765,43 @@ impl Replay {
         Ok(())
     }
 
-    /// Verifies on a new plain [`Space`] with the default step
-    /// ([`apply_inputs`], then [`Space::step`] by `dt`): for runs whose step
-    /// is exactly that (no handlers, no state beside the space).
-    pub fn verify(&self) -> Result<VerifyReport, ReplayError> {
-        self.verify_on(&mut Space::new())
-    }
-
     /// Verifies by re-running the game's own step on the game's space:
     /// `space` (with the game's handlers attached) is rolled back to the
     /// start in place ([`Space::load_snapshot`]: handlers stay), then
-    /// `step(space, inputs)` runs every frame.
-    pub fn verify_with<F, E>(&self, space: &mut Space, step: F) -> Result<VerifyReport, ReplayError>
+    /// `step(space, inputs)` runs every frame. The step function takes the
+    /// frame's inputs by reference, `&I` (for the default [`Input`] lists
+    /// also `&[Input]`).
+    pub fn verify_with<B, F, E>(
+        &self,
+        space: &mut Space,
+        step: F,
+    ) -> Result<VerifyReport, ReplayError>
     where
-        F: FnMut(&mut Space, &[Input]) -> Result<(), E>,
+        B: ?Sized + ToOwned<Owned = I>,
+        I: Borrow<B>,
+        F: FnMut(&mut Space, &B) -> Result<(), E>,
         E: Into<BoxError>,
     {
-        self.verify_on(&mut GameStep { space, step })
+        self.verify_on(&mut GameStep {
+            space,
+            step,
+            input: PhantomData,
+        })
     }
 
-    /// Verifies on any [`Simulation`]: checks the frame count against the
-    /// world's [`Limits`] and the input log, restores `world` to the start
-    /// (for a plain space: [`Space::load_snapshot`], under the same limits),
-    /// checks its checksum, then advances it frame by frame (each step
-    /// bounded by those limits) and checks every frame's checksum; the
+    /// Verifies on any [`Simulation`] of the replay's input type (`&I`, or
+    /// `&[Input]` for the default lists): checks the frame count against
+    /// the world's [`Limits`] and the input log, restores `world` to the
+    /// start (for a plain space: [`Space::load_snapshot`], under the same
+    /// limits), checks its checksum, then advances it frame by frame (each
+    /// step bounded by those limits) and checks every frame's checksum; the
     /// first difference is the error.
-    pub fn verify_on<W: Simulation + ?Sized>(
-        &self,
-        world: &mut W,
-    ) -> Result<VerifyReport, ReplayError> {
+    pub fn verify_on<W, B>(&self, world: &mut W) -> Result<VerifyReport, ReplayError>
+    where
+        W: Simulation<B> + ?Sized,
+        B: ?Sized + ToOwned<Owned = I>,
+        I: Borrow<B>,
+    {
         if !self.dt.is_positive() {
             return Err(ReplayError::TimeStep);
         }
@@ -710,7 +824,7 @@ impl Replay {
         for (frame, recorded) in self.frames.iter().enumerate() {
             let frame = u32::try_from(frame).map_err(|_| ReplayError::TooManyFrames)?;
             world
-                .advance(self.dt, &recorded.inputs)
+                .advance(self.dt, recorded.inputs.borrow())
                 .map_err(|error| ReplayError::Step { frame, error })?;
             let space = world.space();
             let actual = space.checksum();
@@ -748,16 +862,36 @@ impl Replay {
         out
     }
 
+    /// Writes [`Replay::to_bytes`] to a file.
+    pub fn write_file(&self, path: impl AsRef<Path>) -> Result<(), ReplayError> {
+        std::fs::write(path, self.to_bytes()).map_err(ReplayError::Io)
+    }
+}
+
+impl Replay {
+    /// Verifies on a new plain [`Space`] with the default step
+    /// ([`apply_inputs`], then [`Space::step`] by `dt`): for runs whose step
+    /// is exactly that (no handlers, no state beside the space).
+    pub fn verify(&self) -> Result<VerifyReport, ReplayError> {
+        self.verify_on(&mut Space::new())
+    }
+}
+
+impl<I: DeserializeOwned> Replay<I> {
     /// A replay from bytes, under [`Limits::UNTRUSTED`]. Checks the header,
     /// the payload digest and the encoding; the content itself is checked
-    /// by the verification.
-    pub fn from_bytes(bytes: &[u8]) -> Result<Replay, ReplayError> {
+    /// by the verification. The input type is the caller's: the bytes do
+    /// not name it (a replay decoded as another type than it was recorded
+    /// with fails to decode, or fails its verification). Where nothing
+    /// else names it, `<Replay>::from_bytes(bytes)` reads the default
+    /// [`Input`] lists.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Replay<I>, ReplayError> {
         Replay::from_bytes_with(bytes, &Limits::UNTRUSTED)
     }
 
     /// [`Replay::from_bytes`] under `limits`: its bytes, its frame count
     /// and its start snapshot's bytes.
-    pub fn from_bytes_with(bytes: &[u8], limits: &Limits) -> Result<Replay, ReplayError> {
+    pub fn from_bytes_with(bytes: &[u8], limits: &Limits) -> Result<Replay<I>, ReplayError> {
         limits
             .check_bytes(bytes.len())
             .map_err(ReplayError::OverLimit)?;
@@ -771,7 +905,7 @@ impl Replay {
         if stored != computed {
             return Err(ReplayError::Corrupt { stored, computed });
         }
-        let (replay, read): (Replay, usize) = bincode::serde::decode_from_slice(payload, CONFIG)
+        let (replay, read): (Replay<I>, usize) = bincode::serde::decode_from_slice(payload, CONFIG)
             .map_err(|e| ReplayError::Decode(e.to_string()))?;
         let trailing = payload.len().saturating_sub(read);
         if trailing > 0 {
@@ -785,13 +919,8 @@ impl Replay {
         Ok(replay)
     }
 
-    /// Writes [`Replay::to_bytes`] to a file.
-    pub fn write_file(&self, path: impl AsRef<Path>) -> Result<(), ReplayError> {
-        std::fs::write(path, self.to_bytes()).map_err(ReplayError::Io)
-    }
-
     /// Reads a file written by [`Replay::write_file`].
-    pub fn read_file(path: impl AsRef<Path>) -> Result<Replay, ReplayError> {
+    pub fn read_file(path: impl AsRef<Path>) -> Result<Replay<I>, ReplayError> {
         let bytes = std::fs::read(path).map_err(ReplayError::Io)?;
         Replay::from_bytes(&bytes)
     }

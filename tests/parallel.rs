@@ -143,7 +143,7 @@ fn ggrs_synctest_on_two_threads_agrees_with_a_straight_run_on_one() {
         let mut game = Game::new();
         let settings = tamias2d::space::Settings {
             colored_solver: true,
-            ..game.space.settings().clone()
+            ..*game.space.settings()
         };
         game.space.set_settings(settings).expect("valid settings");
         game.space.set_threads(threads).expect("threads start");

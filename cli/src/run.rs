@@ -236,7 +236,7 @@ pub fn snapshot_run(
     if overrides.colored_solver {
         let settings = tamias2d::space::Settings {
             colored_solver: true,
-            ..sim.space.settings().clone()
+            ..*sim.space.settings()
         };
         sim.space
             .set_settings(settings)

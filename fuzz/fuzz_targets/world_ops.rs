@@ -221,7 +221,7 @@ fuzz_target!(|ops: Vec<Op>| {
                 substeps,
                 flags,
             } => {
-                let mut s = space.settings().clone();
+                let mut s = *space.settings();
                 s.iterations = u32::from(*iterations % 32);
                 // Up to 5: out-of-range values must be rejected, not panic.
                 s.substeps = u32::from(*substeps % 6);
@@ -274,7 +274,7 @@ fuzz_target!(|ops: Vec<Op>| {
                 body,
                 allowed,
             } => {
-                let mut s = space.settings().clone();
+                let mut s = *space.settings();
                 s.sleep_time_threshold = real(i32::from(*time), 24);
                 s.idle_speed_threshold = real(i32::from(*idle), 24);
                 let _ = space.set_settings(s);

@@ -4,7 +4,7 @@
 //! its numerical damping).
 use serde::{Deserialize, Serialize};
 
-use super::error::{finite, non_negative, ConstraintError};
+use super::error::{finite, non_negative, set_checked, ConstraintError};
 use super::kernel::{accumulate, JointKernel};
 use super::prep::Prep;
 use crate::math::{FixedArith, Real};
@@ -62,6 +62,29 @@ impl DampedRotarySpring {
     /// Damping (N·m·s/rad).
     pub fn damping(&self) -> Real {
         self.damping
+    }
+
+    /// Chipmunk `cpDampedRotarySpringSetRestAngle`.
+    pub fn set_rest_angle(&mut self, rest_angle: Real) -> Result<(), ConstraintError> {
+        set_checked(
+            self,
+            |j| j.rest_angle = rest_angle,
+            DampedRotarySpring::validate,
+        )
+    }
+
+    /// Chipmunk `cpDampedRotarySpringSetStiffness` (≥ 0).
+    pub fn set_stiffness(&mut self, stiffness: Real) -> Result<(), ConstraintError> {
+        set_checked(
+            self,
+            |j| j.stiffness = stiffness,
+            DampedRotarySpring::validate,
+        )
+    }
+
+    /// Chipmunk `cpDampedRotarySpringSetDamping` (≥ 0).
+    pub fn set_damping(&mut self, damping: Real) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.damping = damping, DampedRotarySpring::validate)
     }
 }
 

@@ -23,7 +23,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::axis::apply_along;
-use super::error::{finite_vect, non_negative, ConstraintError};
+use super::error::{finite_vect, non_negative, set_checked, ConstraintError};
 use super::kernel::{accumulate, JointKernel};
 use super::prep::Prep;
 use crate::math::{FixedArith, Real, Vect};
@@ -100,6 +100,35 @@ impl DampedSpring {
     /// Damping (N·s/m).
     pub fn damping(&self) -> Real {
         self.damping
+    }
+
+    /// Chipmunk `cpDampedSpringSetAnchorA` (body a's coordinates).
+    pub fn set_anchor_a(&mut self, anchor_a: Vect) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.anchor_a = anchor_a, DampedSpring::validate)
+    }
+
+    /// Chipmunk `cpDampedSpringSetAnchorB` (body b's coordinates).
+    pub fn set_anchor_b(&mut self, anchor_b: Vect) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.anchor_b = anchor_b, DampedSpring::validate)
+    }
+
+    /// Chipmunk `cpDampedSpringSetRestLength` (≥ 0).
+    pub fn set_rest_length(&mut self, rest_length: Real) -> Result<(), ConstraintError> {
+        set_checked(
+            self,
+            |j| j.rest_length = rest_length,
+            DampedSpring::validate,
+        )
+    }
+
+    /// Chipmunk `cpDampedSpringSetStiffness` (≥ 0).
+    pub fn set_stiffness(&mut self, stiffness: Real) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.stiffness = stiffness, DampedSpring::validate)
+    }
+
+    /// Chipmunk `cpDampedSpringSetDamping` (≥ 0).
+    pub fn set_damping(&mut self, damping: Real) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.damping = damping, DampedSpring::validate)
     }
 }
 

@@ -20,6 +20,14 @@ pub enum ConstraintError {
     ErrorBiasRange,
     /// Both bodies are the same body.
     SameBody,
+    /// The constraint is not of the kind asked for
+    /// ([`Constraint::joint_mut`](super::Constraint::joint_mut)).
+    WrongKind {
+        /// The kind asked for ([`JointKind::name`](super::JointKind::name)).
+        expected: &'static str,
+        /// The constraint's kind.
+        found: &'static str,
+    },
 }
 
 impl fmt::Display for ConstraintError {
@@ -35,6 +43,9 @@ impl fmt::Display for ConstraintError {
             }
             ConstraintError::ErrorBiasRange => f.write_str("error_bias must be in [0, 1]"),
             ConstraintError::SameBody => f.write_str("a constraint joins two different bodies"),
+            ConstraintError::WrongKind { expected, found } => {
+                write!(f, "constraint is a {found} joint, not a {expected} joint")
+            }
         }
     }
 }
@@ -63,4 +74,20 @@ pub(crate) fn non_negative(v: Real, name: &'static str) -> Result<Real, Constrai
         return Err(ConstraintError::Negative(name));
     }
     finite(v, name)
+}
+
+/// The setters' pattern: `change` is made on a copy of `joint`, the copy
+/// is checked by the kind's `validate` (the constructor's checks), and it
+/// replaces `joint` only if valid: on an error `joint` is unchanged. The
+/// accumulated impulse is not touched (the warm start is kept).
+pub(crate) fn set_checked<T: Copy>(
+    joint: &mut T,
+    change: impl FnOnce(&mut T),
+    validate: impl FnOnce(&T) -> Result<(), ConstraintError>,
+) -> Result<(), ConstraintError> {
+    let mut copy = *joint;
+    change(&mut copy);
+    validate(&copy)?;
+    *joint = copy;
+    Ok(())
 }

@@ -2,7 +2,7 @@
 //! a fixed ratio, like two meshed gears.
 use serde::{Deserialize, Serialize};
 
-use super::error::{finite, ConstraintError};
+use super::error::{finite, set_checked, ConstraintError};
 use super::kernel::{accumulate, soften, JointKernel};
 use super::prep::Prep;
 use crate::math::{FixedArith, Real};
@@ -50,6 +50,17 @@ impl GearJoint {
     /// Ratio `ω_a / ω_b`.
     pub fn ratio(&self) -> Real {
         self.ratio
+    }
+
+    /// Chipmunk `cpGearJointSetPhase`.
+    pub fn set_phase(&mut self, phase: Real) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.phase = phase, GearJoint::validate)
+    }
+
+    /// Chipmunk `cpGearJointSetRatio` (≠ 0; Chipmunk's cached inverse is
+    /// recomputed every step here).
+    pub fn set_ratio(&mut self, ratio: Real) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.ratio = ratio, GearJoint::validate)
     }
 }
 

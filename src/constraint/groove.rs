@@ -3,7 +3,7 @@
 //! or a piston.
 use serde::{Deserialize, Serialize};
 
-use super::error::{finite_vect, ConstraintError};
+use super::error::{finite_vect, set_checked, ConstraintError};
 use super::kernel::{soften_vect, JointKernel};
 use super::point::{clamp_len, KInv};
 use super::prep::Prep;
@@ -64,6 +64,36 @@ impl GrooveJoint {
     /// The pivot on body b (body coordinates).
     pub fn anchor_b(&self) -> Vect {
         self.anchor_b
+    }
+
+    /// Chipmunk `cpGrooveJointSetGrooveA` (body a's coordinates; the ends
+    /// must differ).
+    pub fn set_groove_a(&mut self, groove_a: Vect) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.groove_a = groove_a, GrooveJoint::validate)
+    }
+
+    /// Chipmunk `cpGrooveJointSetGrooveB` (body a's coordinates; the ends
+    /// must differ).
+    pub fn set_groove_b(&mut self, groove_b: Vect) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.groove_b = groove_b, GrooveJoint::validate)
+    }
+
+    /// Both ends of the groove at once (they must differ): moves a groove
+    /// onto its own old end in one call.
+    pub fn set_groove(&mut self, groove_a: Vect, groove_b: Vect) -> Result<(), ConstraintError> {
+        set_checked(
+            self,
+            |j| {
+                j.groove_a = groove_a;
+                j.groove_b = groove_b;
+            },
+            GrooveJoint::validate,
+        )
+    }
+
+    /// Chipmunk `cpGrooveJointSetAnchorB` (body b's coordinates).
+    pub fn set_anchor_b(&mut self, anchor_b: Vect) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.anchor_b = anchor_b, GrooveJoint::validate)
     }
 }
 

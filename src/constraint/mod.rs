@@ -62,6 +62,33 @@
 //! (Chipmunk's `INFINITY`, the default). The space checks the bodies:
 //! two different bodies of that space.
 //!
+//! # Driving a joint
+//! Every parameter Chipmunk lets a game set at run time (its `cp…Set…`
+//! routines) has a setter on its kind: [`SimpleMotor::set_rate`], the
+//! springs' `set_stiffness`, `set_damping`, `set_rest_length` /
+//! `set_rest_angle`, the limits' `set_min`, `set_max` and `set_limits`,
+//! the anchors, [`GearJoint::set_ratio`], the ratchet's `set_angle`, …;
+//! the shared `max_force`, `error_bias` and `max_bias` are
+//! [`Constraint`]'s. A setter checks the value as the constructor does
+//! (the same [`ConstraintError`]), leaves the joint unchanged on an error,
+//! and keeps the accumulated impulse: the next step warm starts from it,
+//! as Chipmunk's setters keep `jAcc`. (Replacing the kind with
+//! [`Constraint::set_kind`] starts it from the new kind's impulse, zero for
+//! a constructed one.)
+//!
+//! A joint is reached by its type ([`Joint`]): [`Constraint::joint`] and
+//! [`Constraint::joint_mut`] (the latter an error,
+//! [`ConstraintError::WrongKind`], for a joint of another kind, so that it
+//! composes with `?`). In a space,
+//! [`Space::modify_constraint`](crate::space::Space::modify_constraint)
+//! applies a closure to a copy, keeps it only if every step of it
+//! succeeded, and wakes the joint's dynamic bodies (Chipmunk's
+//! `cpConstraintActivateBodies`):
+//! `space.modify_constraint(h, |c| c.joint_mut::<SimpleMotor>()?.set_rate(r))`.
+//! [`Space::constraint_mut`](crate::space::Space::constraint_mut) and a
+//! pre-solve callback's [`ConstraintContext`](crate::space::ConstraintContext)
+//! give the constraint mutably as well.
+//!
 //! [`WorldState::constraints`]: crate::space::WorldState::constraints
 mod axis;
 mod damped_rotary_spring;
@@ -140,55 +167,61 @@ pub enum JointKind {
     Ratchet(RatchetJoint),
 }
 
-impl From<PinJoint> for JointKind {
-    fn from(j: PinJoint) -> Self {
-        JointKind::Pin(j)
-    }
+/// A joint kind's parameter type ([`PinJoint`], [`SimpleMotor`], …): what
+/// [`Constraint::joint`] and [`Constraint::joint_mut`] reach by type.
+/// Sealed: implemented by the ten kinds only.
+pub trait Joint: Copy + Into<JointKind> + sealed::Sealed {
+    /// The kind's short name ([`JointKind::name`]).
+    const NAME: &'static str;
+    /// The kind's parameters, if `kind` is of this kind.
+    fn of(kind: &JointKind) -> Option<&Self>;
+    /// The kind's parameters, mutably, if `kind` is of this kind.
+    fn of_mut(kind: &mut JointKind) -> Option<&mut Self>;
 }
-impl From<PivotJoint> for JointKind {
-    fn from(j: PivotJoint) -> Self {
-        JointKind::Pivot(j)
-    }
+
+mod sealed {
+    /// Only the crate's joint kinds are [`Joint`](super::Joint)s.
+    pub trait Sealed {}
 }
-impl From<DampedSpring> for JointKind {
-    fn from(j: DampedSpring) -> Self {
-        JointKind::DampedSpring(j)
-    }
+
+/// `From<Kind> for JointKind` and `Joint for Kind`, for each kind.
+macro_rules! joint_kinds {
+    ($($kind:ident => $variant:ident, $name:literal;)*) => {$(
+        impl From<$kind> for JointKind {
+            fn from(j: $kind) -> Self {
+                JointKind::$variant(j)
+            }
+        }
+        impl sealed::Sealed for $kind {}
+        impl Joint for $kind {
+            const NAME: &'static str = $name;
+            fn of(kind: &JointKind) -> Option<&Self> {
+                match kind {
+                    JointKind::$variant(j) => Some(j),
+                    _ => None,
+                }
+            }
+            fn of_mut(kind: &mut JointKind) -> Option<&mut Self> {
+                match kind {
+                    JointKind::$variant(j) => Some(j),
+                    _ => None,
+                }
+            }
+        }
+    )*};
 }
-impl From<SimpleMotor> for JointKind {
-    fn from(j: SimpleMotor) -> Self {
-        JointKind::SimpleMotor(j)
-    }
-}
-impl From<GearJoint> for JointKind {
-    fn from(j: GearJoint) -> Self {
-        JointKind::Gear(j)
-    }
-}
-impl From<SlideJoint> for JointKind {
-    fn from(j: SlideJoint) -> Self {
-        JointKind::Slide(j)
-    }
-}
-impl From<RotaryLimitJoint> for JointKind {
-    fn from(j: RotaryLimitJoint) -> Self {
-        JointKind::RotaryLimit(j)
-    }
-}
-impl From<DampedRotarySpring> for JointKind {
-    fn from(j: DampedRotarySpring) -> Self {
-        JointKind::DampedRotarySpring(j)
-    }
-}
-impl From<GrooveJoint> for JointKind {
-    fn from(j: GrooveJoint) -> Self {
-        JointKind::Groove(j)
-    }
-}
-impl From<RatchetJoint> for JointKind {
-    fn from(j: RatchetJoint) -> Self {
-        JointKind::Ratchet(j)
-    }
+
+joint_kinds! {
+    PinJoint => Pin, "pin";
+    PivotJoint => Pivot, "pivot";
+    DampedSpring => DampedSpring, "damped_spring";
+    SimpleMotor => SimpleMotor, "simple_motor";
+    GearJoint => Gear, "gear";
+    SlideJoint => Slide, "slide";
+    RotaryLimitJoint => RotaryLimit, "rotary_limit";
+    DampedRotarySpring => DampedRotarySpring, "damped_rotary_spring";
+    GrooveJoint => Groove, "groove";
+    RatchetJoint => Ratchet, "ratchet";
 }
 
 impl JointKind {
@@ -224,19 +257,19 @@ impl JointKind {
         }
     }
 
-    /// The kind's short name, as in scene files.
+    /// The kind's short name, as in scene files ([`Joint::NAME`]).
     pub fn name(&self) -> &'static str {
         match self {
-            JointKind::Pin(_) => "pin",
-            JointKind::Pivot(_) => "pivot",
-            JointKind::DampedSpring(_) => "damped_spring",
-            JointKind::SimpleMotor(_) => "simple_motor",
-            JointKind::Gear(_) => "gear",
-            JointKind::Slide(_) => "slide",
-            JointKind::RotaryLimit(_) => "rotary_limit",
-            JointKind::DampedRotarySpring(_) => "damped_rotary_spring",
-            JointKind::Groove(_) => "groove",
-            JointKind::Ratchet(_) => "ratchet",
+            JointKind::Pin(_) => PinJoint::NAME,
+            JointKind::Pivot(_) => PivotJoint::NAME,
+            JointKind::DampedSpring(_) => DampedSpring::NAME,
+            JointKind::SimpleMotor(_) => SimpleMotor::NAME,
+            JointKind::Gear(_) => GearJoint::NAME,
+            JointKind::Slide(_) => SlideJoint::NAME,
+            JointKind::RotaryLimit(_) => RotaryLimitJoint::NAME,
+            JointKind::DampedRotarySpring(_) => DampedRotarySpring::NAME,
+            JointKind::Groove(_) => GrooveJoint::NAME,
+            JointKind::Ratchet(_) => RatchetJoint::NAME,
         }
     }
 }
@@ -353,6 +386,47 @@ impl Constraint {
     /// The kind, with its parameters.
     pub fn kind(&self) -> &JointKind {
         &self.kind
+    }
+
+    /// The kind's parameters if the constraint is of kind `T`:
+    /// `c.joint::<SimpleMotor>().map(SimpleMotor::rate)`.
+    pub fn joint<T: Joint>(&self) -> Option<&T> {
+        T::of(&self.kind)
+    }
+
+    /// The kind's parameters, mutably, for their setters (Chipmunk's
+    /// `cp…Set…` routines: [`SimpleMotor::set_rate`],
+    /// [`DampedSpring::set_stiffness`], …), which check the new value as
+    /// the constructor does, leave the joint unchanged on an error and keep
+    /// the accumulated impulse (the warm start: a motor whose rate changes
+    /// every frame does not start from zero each time, as it would after
+    /// [`set_kind`](Self::set_kind)). [`ConstraintError::WrongKind`] if the
+    /// constraint is of another kind, so that `?` reads well in
+    /// [`Space::modify_constraint`](crate::space::Space::modify_constraint):
+    ///
+    /// ```
+    /// # use tamias2d::body::Body;
+    /// # use tamias2d::constraint::{Constraint, SimpleMotor};
+    /// # use tamias2d::space::Space;
+    /// # use tamias2d::Real;
+    /// # let mut space = Space::new();
+    /// # let a = space.add_body(Body::new_static())?;
+    /// # let b = space.add_body(Body::new(Real::ONE, Real::ONE)?)?;
+    /// let motor = space.add_constraint(Constraint::new(a, b, SimpleMotor::new(Real::ZERO)?)?)?;
+    /// space.modify_constraint(motor, |c| c.joint_mut::<SimpleMotor>()?.set_rate(Real::TWO))?;
+    /// assert_eq!(space.constraint(motor).and_then(|c| c.joint::<SimpleMotor>()).map(|m| m.rate()), Some(Real::TWO));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// Assigning a whole value through the reference (`*m = other`) skips
+    /// the checks of a value built elsewhere (deserialised); that is what
+    /// [`set_kind`](Self::set_kind) is for.
+    pub fn joint_mut<T: Joint>(&mut self) -> Result<&mut T, ConstraintError> {
+        let found = self.kind.name();
+        T::of_mut(&mut self.kind).ok_or(ConstraintError::WrongKind {
+            expected: T::NAME,
+            found,
+        })
     }
 
     /// Replaces the kind's parameters after checking them (the accumulated

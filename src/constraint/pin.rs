@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::axis::PinRow;
-use super::error::{finite, finite_vect, ConstraintError};
+use super::error::{finite, finite_vect, set_checked, ConstraintError};
 use super::prep::Prep;
 use crate::math::{Real, Vect};
 
@@ -59,6 +59,21 @@ impl PinJoint {
     /// The kept distance.
     pub fn dist(&self) -> Real {
         self.dist
+    }
+
+    /// Chipmunk `cpPinJointSetAnchorA` (body a's coordinates).
+    pub fn set_anchor_a(&mut self, anchor_a: Vect) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.anchor_a = anchor_a, PinJoint::validate)
+    }
+
+    /// Chipmunk `cpPinJointSetAnchorB` (body b's coordinates).
+    pub fn set_anchor_b(&mut self, anchor_b: Vect) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.anchor_b = anchor_b, PinJoint::validate)
+    }
+
+    /// Chipmunk `cpPinJointSetDist` (> 0).
+    pub fn set_dist(&mut self, dist: Real) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.dist = dist, PinJoint::validate)
     }
 }
 

@@ -2,7 +2,7 @@
 //! at the same point, like a pin through both (a hinge).
 use serde::{Deserialize, Serialize};
 
-use super::error::{finite_vect, ConstraintError};
+use super::error::{finite_vect, set_checked, ConstraintError};
 use super::kernel::{soften_vect, JointKernel};
 use super::point::{clamp_len, KInv};
 use super::prep::Prep;
@@ -49,6 +49,16 @@ impl PivotJoint {
     /// Anchor on body b (body coordinates).
     pub fn anchor_b(&self) -> Vect {
         self.anchor_b
+    }
+
+    /// Chipmunk `cpPivotJointSetAnchorA` (body a's coordinates).
+    pub fn set_anchor_a(&mut self, anchor_a: Vect) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.anchor_a = anchor_a, PivotJoint::validate)
+    }
+
+    /// Chipmunk `cpPivotJointSetAnchorB` (body b's coordinates).
+    pub fn set_anchor_b(&mut self, anchor_b: Vect) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.anchor_b = anchor_b, PivotJoint::validate)
     }
 }
 

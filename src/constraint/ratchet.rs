@@ -4,7 +4,7 @@
 //! socket wrench.
 use serde::{Deserialize, Serialize};
 
-use super::error::{finite, ConstraintError};
+use super::error::{finite, set_checked, ConstraintError};
 use super::prep::Prep;
 use super::rotary_limit::AngularLimitRow;
 use crate::math::Real;
@@ -59,6 +59,24 @@ impl RatchetJoint {
     /// Tooth spacing; its sign is the free direction.
     pub fn ratchet(&self) -> Real {
         self.ratchet
+    }
+
+    /// Chipmunk `cpRatchetJointSetAngle`: the tooth the ratchet holds (the
+    /// relative angle `θ_b − θ_a` it may not go back past). Not saturated.
+    pub fn set_angle(&mut self, angle: Real) -> Result<(), ConstraintError> {
+        finite(angle, "angle")?;
+        set_checked(self, |j| j.angle = angle, RatchetJoint::validate)
+    }
+
+    /// Chipmunk `cpRatchetJointSetPhase`.
+    pub fn set_phase(&mut self, phase: Real) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.phase = phase, RatchetJoint::validate)
+    }
+
+    /// Chipmunk `cpRatchetJointSetRatchet` (≠ 0; its sign is the free
+    /// direction).
+    pub fn set_ratchet(&mut self, ratchet: Real) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.ratchet = ratchet, RatchetJoint::validate)
     }
 
     /// Chipmunk's pre-step: behind the held tooth (in the free direction's

@@ -2,7 +2,7 @@
 //! angle `θ_b − θ_a` within `[min, max]` (an elbow, a door stop).
 use serde::{Deserialize, Serialize};
 
-use super::error::{finite, ConstraintError};
+use super::error::{finite, set_checked, ConstraintError};
 use super::kernel::{accumulate, soften, JointKernel};
 use super::prep::Prep;
 use crate::math::{FixedArith, Real};
@@ -63,6 +63,29 @@ impl RotaryLimitJoint {
     /// Largest relative angle.
     pub fn max(&self) -> Real {
         self.max
+    }
+
+    /// Chipmunk `cpRotaryLimitJointSetMin` (`min ≤ max`).
+    pub fn set_min(&mut self, min: Real) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.min = min, RotaryLimitJoint::validate)
+    }
+
+    /// Chipmunk `cpRotaryLimitJointSetMax` (`min ≤ max`).
+    pub fn set_max(&mut self, max: Real) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.max = max, RotaryLimitJoint::validate)
+    }
+
+    /// Both limits at once (`min ≤ max`): moves the range past its old
+    /// bounds in one call (a steering lock that turns with the wheel).
+    pub fn set_limits(&mut self, min: Real, max: Real) -> Result<(), ConstraintError> {
+        set_checked(
+            self,
+            |j| {
+                j.min = min;
+                j.max = max;
+            },
+            RotaryLimitJoint::validate,
+        )
     }
 }
 

@@ -2,7 +2,7 @@
 //! velocity of two bodies constant, with a torque bounded by `max_force`.
 use serde::{Deserialize, Serialize};
 
-use super::error::{finite, ConstraintError};
+use super::error::{finite, set_checked, ConstraintError};
 use super::kernel::{accumulate, JointKernel};
 use super::prep::Prep;
 use crate::math::{FixedArith, Real};
@@ -42,6 +42,13 @@ impl SimpleMotor {
     /// The rate (rad/s).
     pub fn rate(&self) -> Real {
         self.rate
+    }
+
+    /// Chipmunk `cpSimpleMotorSetRate`: a new rate (rad/s), checked as by
+    /// [`SimpleMotor::new`]; the accumulated impulse (the warm start) is
+    /// kept. On an error the motor is unchanged.
+    pub fn set_rate(&mut self, rate: Real) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.rate = rate, SimpleMotor::validate)
     }
 }
 

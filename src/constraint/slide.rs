@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::axis::SlideRow;
-use super::error::{finite_vect, non_negative, ConstraintError};
+use super::error::{finite_vect, non_negative, set_checked, ConstraintError};
 use super::prep::Prep;
 use crate::math::{Real, Vect};
 
@@ -69,6 +69,40 @@ impl SlideJoint {
     /// Largest distance.
     pub fn max(&self) -> Real {
         self.max
+    }
+
+    /// Chipmunk `cpSlideJointSetAnchorA` (body a's coordinates).
+    pub fn set_anchor_a(&mut self, anchor_a: Vect) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.anchor_a = anchor_a, SlideJoint::validate)
+    }
+
+    /// Chipmunk `cpSlideJointSetAnchorB` (body b's coordinates).
+    pub fn set_anchor_b(&mut self, anchor_b: Vect) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.anchor_b = anchor_b, SlideJoint::validate)
+    }
+
+    /// Chipmunk `cpSlideJointSetMin` (`0 ≤ min ≤ max`).
+    pub fn set_min(&mut self, min: Real) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.min = min, SlideJoint::validate)
+    }
+
+    /// Chipmunk `cpSlideJointSetMax` (`min ≤ max`).
+    pub fn set_max(&mut self, max: Real) -> Result<(), ConstraintError> {
+        set_checked(self, |j| j.max = max, SlideJoint::validate)
+    }
+
+    /// Both limits at once (`0 ≤ min ≤ max`): moves the range past its old
+    /// bounds in one call, where `set_min` then `set_max` would pass
+    /// through an empty range.
+    pub fn set_limits(&mut self, min: Real, max: Real) -> Result<(), ConstraintError> {
+        set_checked(
+            self,
+            |j| {
+                j.min = min;
+                j.max = max;
+            },
+            SlideJoint::validate,
+        )
     }
 }
 

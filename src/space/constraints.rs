@@ -163,13 +163,60 @@ impl Space {
 
     /// A constraint, mutably: its setters check their values, and its
     /// bodies cannot be changed. Asking for it wakes both bodies' islands
-    /// (a motor's new rate must act).
+    /// (a motor's new rate must act; a static or kinematic body has none,
+    /// and what rests on it stays asleep). [`Space::modify_constraint`]
+    /// changes it through a closure, all or nothing.
     pub fn constraint_mut(&mut self, h: ConstraintHandle) -> Option<&mut Constraint> {
         self.check_origin(h).ok()?;
         let (a, b) = self.state.constraints.get(h).map(|c| (c.a, c.b))?;
-        self.wake_touching(a);
-        self.wake_touching(b);
+        self.wake_jointed(a);
+        self.wake_jointed(b);
         self.state.constraints.get_mut(h)
+    }
+
+    /// Changes a constraint through `f` (Chipmunk's `cp…Set…` routines, in
+    /// place: `c.joint_mut::<SimpleMotor>()?.set_rate(r)`,
+    /// `c.set_max_force(f)`, …), then wakes both bodies' islands as
+    /// Chipmunk's setters do (`cpConstraintActivateBodies`). `f` works on a
+    /// copy: an error from `f` (a refused value, a constraint of another
+    /// kind), or a constraint `f` left invalid, leaves the constraint
+    /// unchanged and wakes nothing. The accumulated impulse is kept unless
+    /// `f` replaces the kind ([`Constraint::set_kind`]): the next step warm
+    /// starts from it. See also [`Space::constraint_mut`] (the same
+    /// access without the copy, waking on the call).
+    pub fn modify_constraint<R>(
+        &mut self,
+        h: ConstraintHandle,
+        f: impl FnOnce(&mut Constraint) -> Result<R, ConstraintError>,
+    ) -> Result<R, SpaceError> {
+        self.check_origin(h)?;
+        let mut copy = *self
+            .state
+            .constraints
+            .get(h)
+            .ok_or(SpaceError::StaleConstraint(h))?;
+        let out = f(&mut copy)?;
+        copy.validate()?;
+        let (a, b) = (copy.a, copy.b);
+        self.wake_jointed(a);
+        self.wake_jointed(b);
+        let c = self
+            .state
+            .constraints
+            .get_mut(h)
+            .ok_or(SpaceError::StaleConstraint(h))?;
+        *c = copy;
+        Ok(out)
+    }
+
+    /// Wakes the island of a jointed body whose joint changed, if it is
+    /// dynamic (Chipmunk's `cpBodyActivate` does nothing for the others): a
+    /// static body's change would wake every pile resting on it, and a
+    /// joint's change moves only its two bodies.
+    fn wake_jointed(&mut self, h: BodyHandle) {
+        if self.state.bodies.get(h).is_some_and(Body::is_dynamic) {
+            self.wake_touching(h);
+        }
     }
 
     /// The constraints in canonical (slot) order, which is the order the

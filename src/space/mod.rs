@@ -497,7 +497,9 @@ impl Space {
 
     /// Changes a shape through `f` (material, filter, geometry setters),
     /// then refreshes the owning body's mass. Errors from `f`, or a material
-    /// left invalid by `f`, leave the shape unchanged.
+    /// left invalid by `f`, leave the shape unchanged. For a change that
+    /// cannot fail (a public field), [`Space::update_shape`] takes a closure
+    /// without the `Result`.
     pub fn modify_shape<R>(
         &mut self,
         h: ShapeHandle,
@@ -540,6 +542,33 @@ impl Space {
             self.wake_overlapping(bb.as_slice());
         }
         Ok(out)
+    }
+
+    /// [`Space::modify_shape`] for a change that cannot fail by itself
+    /// (the public fields: `material`, `filter`, `sensor`,
+    /// `collision_type`): `f` returns its value, not a `Result`.
+    ///
+    /// ```
+    /// # use tamias2d::body::Body;
+    /// # use tamias2d::shape::Shape;
+    /// # use tamias2d::space::Space;
+    /// # use tamias2d::{Real, Vect};
+    /// # let mut space = Space::new();
+    /// # let ground = space.add_body(Body::new_static())?;
+    /// # let floor = space.add_shape(Shape::segment_shape_new(ground, Vect::from_ints(-5, 0), Vect::from_ints(5, 0), Real::ZERO)?)?;
+    /// space.update_shape(floor, |s| s.material.friction = Real::HALF)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// It still fails as `modify_shape` does: a stale or foreign handle, a
+    /// locked space, or a material `f` left invalid (then the shape is
+    /// unchanged).
+    pub fn update_shape<R>(
+        &mut self,
+        h: ShapeHandle,
+        f: impl FnOnce(&mut Shape) -> R,
+    ) -> Result<R, SpaceError> {
+        self.modify_shape(h, |s| Ok(f(s)))
     }
 
     /// MIS `spaceGetBodies`: the bodies in canonical (slot) order.

@@ -27,7 +27,7 @@ use crate::math::{Real, Vect};
 /// gravity to `(0, −9.8 · k)`. Keep in mind the numeric envelope of
 /// `docs/numerics.md` is stated in metres: fixed point has the same absolute
 /// resolution whatever the unit.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Settings {
     /// Solver iterations per step (Chipmunk default 10).
     pub iterations: u32,

@@ -25,8 +25,11 @@
 //!   changed through `body_mut`) touches a sleeping one (narrowphase, not
 //!   just boxes; sensors and pairs a handler ignores do not wake); and
 //!   through the API, at the call (so that a wake is state, never a
-//!   pending event a snapshot could lose): `body_mut`, shape and
-//!   constraint changes on one of its bodies or on a body touching it; a
+//!   pending event a snapshot could lose): `body_mut` and shape changes
+//!   on one of its bodies or on a body touching it; a constraint added to
+//!   or removed from one of its bodies, or changed (`constraint_mut`,
+//!   `modify_constraint`: only the islands of the joint's dynamic bodies,
+//!   as Chipmunk's setters); a
 //!   shape added to or changed on a static or kinematic body wakes the
 //!   islands its box overlaps; `set_settings` with new values wakes every
 //!   island; [`Space::activate_body`]. A static or kinematic body moved by

@@ -184,3 +184,52 @@ fn custom_velocity_integration_replaces_the_default() {
     space.step(Real::ratio(1, 60)).unwrap();
     assert!(space.body(h).unwrap().velocity().y < Real::ZERO);
 }
+
+#[test]
+fn update_shape_takes_an_infallible_closure_and_still_refuses_bad_materials() {
+    let (mut space, ball) = ball_world();
+    let (sh, _) = space.shapes().next().unwrap();
+    // No `Ok(())` for a change that cannot fail; the closure's value comes back.
+    let old = space
+        .update_shape(sh, |s| {
+            let old = s.material.friction;
+            s.material.friction = real!(0.25);
+            s.sensor = true;
+            old
+        })
+        .unwrap();
+    assert_ne!(old, real!(0.25));
+    let shape = space.shape(sh).unwrap();
+    assert_eq!((shape.material.friction, shape.sensor), (real!(0.25), true));
+    // A material left invalid is refused as by `modify_shape`, the shape unchanged.
+    let before = space.shape(sh).cloned();
+    assert!(matches!(
+        space.update_shape(sh, |s| s.material.friction = -Real::ONE),
+        Err(SpaceError::Shape(_))
+    ));
+    assert_eq!(space.shape(sh).cloned(), before);
+    // A stale handle is an error, not a panic.
+    space.remove_shape(sh).unwrap();
+    assert_eq!(
+        space.update_shape(sh, |s| s.sensor = false),
+        Err(SpaceError::StaleShape(sh))
+    );
+    assert!(space.body(ball).is_some());
+}
+
+#[test]
+fn settings_are_copy() {
+    fn copy<T: Copy>(t: &T) -> T {
+        *t
+    }
+    let (mut space, _) = ball_world();
+    let checksum = space.checksum();
+    let mut settings = copy(space.settings());
+    settings.iterations = 12;
+    // A copy, not a view: the space is unchanged until it is set.
+    assert_eq!(space.settings().iterations, Settings::default().iterations);
+    assert_eq!(space.checksum(), checksum);
+    space.set_settings(settings).unwrap();
+    // `settings` is still usable after being set (copied in).
+    assert_eq!(space.settings(), &settings);
+}

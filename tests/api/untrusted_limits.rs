@@ -66,7 +66,7 @@ fn with_passes(mut w: Space, iterations: u32, substeps: u32) -> Space {
     let s = Settings {
         iterations,
         substeps,
-        ..w.settings().clone()
+        ..*w.settings()
     };
     w.set_settings(s).unwrap();
     w
@@ -292,7 +292,7 @@ fn replays_over_the_frame_limit_are_refused() {
         max_replay_frames: 4,
         ..Limits::UNTRUSTED
     };
-    let Err(ReplayError::OverLimit(e)) = Replay::from_bytes_with(&bytes, &limits) else {
+    let Err(ReplayError::OverLimit(e)) = <Replay>::from_bytes_with(&bytes, &limits) else {
         panic!("a replay over the frame limit loaded");
     };
     assert_eq!((e.limit, e.value, e.max), ("replay frames", 5, 4));

@@ -106,7 +106,7 @@ fn synctest_on_the_soft_step_agrees_with_a_straight_run() {
     let soft = |mut game: Game| {
         let settings = tamias2d::space::Settings {
             solver: tamias2d::space::Solver::SOFT,
-            ..game.space.settings().clone()
+            ..*game.space.settings()
         };
         game.space.set_settings(settings).expect("valid settings");
         game

@@ -7,9 +7,11 @@
 //!   or rolled back gives the same bits;
 //! * `ggrs`: rollback through GGRS (sync test and two peers);
 //! * `replay`: recorded runs verify, tampering is caught at its frame;
+//! * `game_inputs`: replays of a game's own input type (button masks);
 //! * `desync_coverage`: every field of the world state is seen by the
 //!   desync tools (checksum, `first_difference`).
 mod desync_coverage;
+mod game_inputs;
 mod ggrs;
 mod replay;
 mod scenes;

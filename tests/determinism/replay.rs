@@ -332,7 +332,7 @@ fn file_round_trip() {
     let _ = std::fs::remove_file(&path);
     assert_eq!(back, replay);
     assert!(matches!(
-        Replay::read_file(path.with_extension("missing")),
+        <Replay>::read_file(path.with_extension("missing")),
         Err(ReplayError::Io(_))
     ));
 }
@@ -342,7 +342,7 @@ fn truncated_bytes_are_errors() {
     let (replay, _) = record_elastic_pair(12, 3);
     let bytes = replay.to_bytes();
     for len in 0..bytes.len() {
-        let err = Replay::from_bytes(&bytes[..len]).expect_err("truncated");
+        let err = <Replay>::from_bytes(&bytes[..len]).expect_err("truncated");
         if len < HEADER_LEN {
             assert!(matches!(err, ReplayError::TooShort), "{len}: {err}");
         } else {
@@ -351,7 +351,7 @@ fn truncated_bytes_are_errors() {
     }
     let mut longer = bytes.clone();
     longer.push(0);
-    assert!(Replay::from_bytes(&longer).is_err());
+    assert!(<Replay>::from_bytes(&longer).is_err());
 }
 
 #[test]
@@ -361,20 +361,20 @@ fn corrupted_header_or_payload_is_an_error() {
     let mut bad = bytes.clone();
     bad[0] ^= 0x20;
     assert!(matches!(
-        Replay::from_bytes(&bad),
+        <Replay>::from_bytes(&bad),
         Err(ReplayError::BadMagic)
     ));
     let mut bad = bytes.clone();
     bad[8..12].copy_from_slice(&(FORMAT_VERSION + 1).to_le_bytes());
     assert!(matches!(
-        Replay::from_bytes(&bad),
+        <Replay>::from_bytes(&bad),
         Err(ReplayError::UnsupportedVersion(v)) if v == FORMAT_VERSION + 1
     ));
     for i in HEADER_LEN..bytes.len() {
         let mut bad = bytes.clone();
         bad[i] ^= 0x01;
         assert!(
-            matches!(Replay::from_bytes(&bad), Err(ReplayError::Corrupt { .. })),
+            matches!(<Replay>::from_bytes(&bad), Err(ReplayError::Corrupt { .. })),
             "flip at {i}"
         );
     }
@@ -432,7 +432,7 @@ fn damaged_payload_with_a_valid_digest_never_panics() {
     // Most damage is caught by decoding; some yields other valid replays.
     assert!(decoded < 400);
     assert!(matches!(
-        Replay::from_bytes(&with_payload(&bytes, &[])),
+        <Replay>::from_bytes(&with_payload(&bytes, &[])),
         Err(ReplayError::Decode(_))
     ));
 }

@@ -60,7 +60,7 @@ fn tunnelled_on(bullet: bool, solver: tamias2d::space::Solver) -> usize {
     w.set_gravity(Vect::from_ints(0, -10));
     let settings = tamias2d::space::Settings {
         solver,
-        ..w.settings().clone()
+        ..*w.settings()
     };
     ok(w.set_settings(settings));
     wall(&mut w, Real::ratio(1, 10), Real::from_int(4));

@@ -1429,7 +1429,7 @@ fn awake_space() -> Space {
     let mut w = Space::new();
     let settings = tamias2d::space::Settings {
         sleep_time_threshold: tamias2d::space::SLEEP_NEVER,
-        ..w.settings().clone()
+        ..*w.settings()
     };
     ok(w.set_settings(settings));
     w
@@ -1590,7 +1590,7 @@ fn spring_mass_rings_down_at_the_backward_euler_rates_and_rests_at_the_closed_fo
     // It rings down to 10⁻⁸ m: never asleep (see `awake_space`).
     let settings = tamias2d::space::Settings {
         sleep_time_threshold: tamias2d::space::SLEEP_NEVER,
-        ..scene.space.settings().clone()
+        ..*scene.space.settings()
     };
     ok(scene.space.set_settings(settings));
     let mass = scene.body("mass").unwrap_or_else(|| panic!("mass"));

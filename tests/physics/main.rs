@@ -7,6 +7,7 @@
 //! * `stacking`: resting contact and stacking;
 //! * `chain`, `platformer`: smooth terrain (chains);
 //! * `constraints`: joints;
+//! * `joint_setters`: joints driven in place (setters, warm start, waking);
 //! * `sleep`: sleeping islands;
 //! * `bullets`: continuous collision;
 //! * `settings_switches`: sub-steps and the solver switches;
@@ -17,6 +18,7 @@ mod bullets;
 mod chain;
 mod closed_forms;
 mod constraints;
+mod joint_setters;
 mod mirror_symmetry;
 mod platformer;
 mod rapier_joints;

@@ -284,7 +284,7 @@ fn invalid_substeps_are_rejected() {
             ..Settings::default()
         };
         assert!(matches!(
-            space.set_settings(settings.clone()),
+            space.set_settings(settings),
             Err(SpaceError::InvalidSetting(_))
         ));
         assert_eq!(space.settings().substeps, 1, "unchanged on error");
@@ -451,10 +451,9 @@ fn warm_starting_off_starts_the_solver_from_zero() {
     assert!(resting(&space).y.abs() < real!(0.01), "settled");
     let mut on = space.clone();
     let mut off = space.clone();
-    let mut settings = space.settings().clone();
+    let mut settings = *space.settings();
     settings.iterations = 0;
-    on.set_settings(settings.clone())
-        .unwrap_or_else(|e| panic!("{e}"));
+    on.set_settings(settings).unwrap_or_else(|e| panic!("{e}"));
     settings.warm_starting = false;
     off.set_settings(settings).unwrap_or_else(|e| panic!("{e}"));
     on.step(dt).unwrap_or_else(|e| panic!("{e}"));

@@ -236,8 +236,8 @@ fn the_api_wakes_what_it_changes() {
     assert!(awake(&space, &right) && asleep(&space, &left));
 
     step_until(&mut space, 600, |s| asleep(s, &right));
-    let mut settings = space.settings().clone();
-    space.set_settings(settings.clone()).unwrap();
+    let mut settings = *space.settings();
+    space.set_settings(settings).unwrap();
     assert!(asleep(&space, &right), "the same settings wake nothing");
     settings.iterations = 12;
     space.set_settings(settings).unwrap();
@@ -276,7 +276,7 @@ fn sleeping_off_never_sleeps() {
     let (mut space, left, right) = world();
     let settings = Settings {
         sleep_time_threshold: SLEEP_NEVER,
-        ..space.settings().clone()
+        ..*space.settings()
     };
     space.set_settings(settings).unwrap();
     for _ in 0..600 {
@@ -378,7 +378,7 @@ fn a_zero_threshold_still_keeps_restless_islands_awake() {
     let (mut space, left, right) = world();
     let settings = Settings {
         sleep_time_threshold: Real::ZERO,
-        ..space.settings().clone()
+        ..*space.settings()
     };
     space.set_settings(settings).unwrap();
     space.body_mut(left[2]).unwrap().set_sleep_allowed(false);

@@ -298,7 +298,7 @@ fn fuzz_seeds_are_current_snapshots() {
         if std::env::var_os("TAMIAS_WRITE_FUZZ_SEEDS").is_some() {
             let mut s = build(scene);
             if file == "seed2" {
-                let mut settings = s.space.settings().clone();
+                let mut settings = *s.space.settings();
                 settings.substeps = 2;
                 settings.friction = false;
                 settings.warm_starting = false;

@@ -210,7 +210,7 @@ pub extern "C" fn tamias_play_solver(soft: u32) -> i32 {
             };
             let settings = tamias2d::space::Settings {
                 solver,
-                ..space.settings().clone()
+                ..*space.settings()
             };
             space.set_settings(settings).map_err(|e| e.to_string())
         });

@@ -101,7 +101,7 @@ fn with_passes(mut w: Space, iterations: u32, substeps: u32) -> Space {
     let settings = Settings {
         iterations,
         substeps,
-        ..w.settings().clone()
+        ..*w.settings()
     };
     w.set_settings(settings).expect("settings in range");
     w
