@@ -33,6 +33,17 @@
 //! answer does not depend on where the pair is, and the outline's
 //! coordinates are distances between the shapes, not world coordinates.
 //!
+//! # Why not the bullets' conservative advancement
+//! The bullets' time of impact (`space/ccd.rs`) advances along the
+//! separation of [`separation`](super::separation) in steps that may
+//! overshoot contact by a target overlap, and stops short when its
+//! iteration cap is reached: right for bullets (the discrete step catches
+//! what is left, and bodies turn), wrong for a query that promises never
+//! to step over a crossing, as a graze shallower than the target overlap
+//! can be stepped over. A cast only translates, so the exact answer is
+//! available in closed form, above. What the two share is the separation's
+//! GJK, which puts the hit point here.
+//!
 //! # The hit
 //! [`ShapeCastInfo`]: the `fraction` of the translation at first contact,
 //! in `[0, 1]`; the `normal`, the outward unit normal of the outline where
