@@ -53,6 +53,7 @@ pub mod accuracy;
 #[cfg(feature = "bench")]
 pub mod bench;
 pub mod box2d;
+pub mod character_level;
 pub mod bullets;
 pub mod dec;
 pub mod desc;

@@ -6,6 +6,7 @@
 //!   spin, elastic collisions, Newton's cradle, the incline);
 //! * `stacking`: resting contact and stacking;
 //! * `chain`, `platformer`: smooth terrain (chains);
+//! * `character`: the kinematic character mover;
 //! * `constraints`: joints;
 //! * `sleep`: sleeping islands;
 //! * `bullets`: continuous collision;
@@ -15,6 +16,7 @@
 //!   report's converter).
 mod bullets;
 mod chain;
+mod character;
 mod closed_forms;
 mod constraints;
 mod mirror_symmetry;
