@@ -36,6 +36,7 @@
 //! at [`WARN_GJK_ITERATIONS`] / [`WARN_EPA_ITERATIONS`] and report it in
 //! [`CollisionInfo::hit_iteration_cap`].
 mod canonical;
+mod cast;
 mod contact;
 mod epa;
 mod gjk;
@@ -47,6 +48,7 @@ mod toi;
 
 use core::cmp::Ordering;
 
+pub use cast::{shape_cast, ShapeCastInfo, StartContact, CAST_TOLERANCE};
 pub use contact::{closest_points_new, closest_t, contact_points, lerp_t, ClosestPoints};
 pub use epa::{epa, WARN_EPA_ITERATIONS};
 pub use gjk::{gjk, WARN_GJK_ITERATIONS};

@@ -1,5 +1,6 @@
 //! Separation of two shapes that need not touch, for the time-of-impact
-//! sweep of bullets (`space/ccd.rs`).
+//! sweep of bullets (`space/ccd.rs`), and the closest points behind it,
+//! for the hit point of the shape casts (`cast.rs`).
 //!
 //! [`separation`] is the signed distance between the two surfaces (rounding
 //! radii included) and the unit direction from `a` toward `b` along which
@@ -31,12 +32,42 @@ pub fn separation(a: &Geometry, b: &Geometry) -> (Real, Vect) {
     if is_empty(a) || is_empty(b) {
         return (Real::MAX, Vect::ZERO);
     }
+    match closest_cores(a, b) {
+        Some(c) => (c.d - a.radius() - b.radius(), c.n),
+        None => (box_gap(a, b), Vect::ZERO),
+    }
+}
+
+/// The cores' closest points (their deepest ones when they overlap) and
+/// what [`separation`] measures between them.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CoreClosest {
+    /// Signed core distance (the radii not subtracted).
+    pub(crate) d: Real,
+    /// Unit direction from `a` toward `b`.
+    pub(crate) n: Vect,
+    /// The point of `b`'s core, in the caller's coordinates.
+    pub(crate) b: Vect,
+}
+
+/// The computation of [`separation`] with the closest points kept (the
+/// shape casts put their hit point on `b`'s surface from them): translated
+/// by `a`'s anchor, a closed form for two circles, GJK for the rest.
+/// `None` when GJK stopped at its cap or a polygon is empty.
+pub(crate) fn closest_cores(a: &Geometry, b: &Geometry) -> Option<CoreClosest> {
+    if is_empty(a) || is_empty(b) {
+        return None;
+    }
     let anchor = anchor_of(a);
     let (ma, mb) = (moved(a, anchor), moved(b, anchor));
-    let core = match (&ma, &mb) {
+    let c = match (&ma, &mb) {
         (Geometry::Circle(x), Geometry::Circle(y)) => {
             let (n, d) = (y.offset - x.offset).normalize_with_length();
-            Some((d, if n == Vect::ZERO { Vect::X } else { n }))
+            Some(CoreClosest {
+                d,
+                n: if n == Vect::ZERO { Vect::X } else { n },
+                b: y.offset,
+            })
         }
         (Geometry::Circle(x), Geometry::Segment(y)) => core(x, y),
         (Geometry::Circle(x), Geometry::Poly(y)) => core(x, y),
@@ -46,17 +77,22 @@ pub fn separation(a: &Geometry, b: &Geometry) -> (Real, Vect) {
         (Geometry::Poly(x), Geometry::Circle(y)) => core(x, y),
         (Geometry::Poly(x), Geometry::Segment(y)) => core(x, y),
         (Geometry::Poly(x), Geometry::Poly(y)) => core(x, y),
-    };
-    match core {
-        Some((d, n)) => (d - a.radius() - b.radius(), n),
-        None => (box_gap(a, b), Vect::ZERO),
-    }
+    }?;
+    Some(CoreClosest {
+        b: c.b + anchor,
+        ..c
+    })
 }
 
-/// Core distance and normal by GJK; `None` if it stopped at its cap.
-fn core<A: SupportShape, B: SupportShape>(a: &A, b: &B) -> Option<(Real, Vect)> {
+/// Core distance, normal and `b`'s closest point by GJK; `None` if it
+/// stopped at its cap.
+fn core<A: SupportShape, B: SupportShape>(a: &A, b: &B) -> Option<CoreClosest> {
     let r = gjk(&SupportContext::new(a, b), 0);
-    (!r.hit_iteration_cap).then_some((r.d, r.n))
+    (!r.hit_iteration_cap).then_some(CoreClosest {
+        d: r.d,
+        n: r.n,
+        b: r.b,
+    })
 }
 
 /// The larger of the two axis gaps between the shapes' bounding boxes (0

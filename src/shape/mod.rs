@@ -7,8 +7,8 @@
 //!
 //! Constructors follow the MIS/Chipmunk names (`circle_shape_new`,
 //! `segment_shape_new`, `poly_shape_new`, `poly_shape_new_raw`,
-//! `box_shape_new`, `box_shape_new2`) and validate their input: bad input is a
-//! [`ShapeError`], never a panic.
+//! `box_shape_new`, `box_shape_new2`; `capsule` names a rounded segment) and
+//! validate their input: bad input is a [`ShapeError`], never a panic.
 pub mod chain;
 mod error;
 pub mod geometry;
@@ -377,6 +377,18 @@ impl Shape {
     ) -> Result<Shape, ShapeError> {
         check_radius(radius)?;
         Shape::checked(body, Geometry::Segment(Segment::new(a, b, radius)))
+    }
+
+    /// A capsule: the segment from `a` to `b` (body coordinates) rounded by
+    /// `radius`, the usual shape of a walking character: its round ends
+    /// have no corner to catch on steps and seams. A named form of [`segment_shape_new`](Self::segment_shape_new):
+    /// the same shape, with the same errors. Its area is
+    /// [`area_for_capsule`](mass::area_for_capsule); its exact moment
+    /// [`moment_for_capsule`](mass::moment_for_capsule) (a shape's
+    /// automatic mass keeps Chipmunk's box approximation of a segment, see
+    /// there). A radius of 0 gives a sharp segment.
+    pub fn capsule(body: BodyHandle, a: Vect, b: Vect, radius: Real) -> Result<Shape, ShapeError> {
+        Shape::segment_shape_new(body, a, b, radius)
     }
 
     /// The body the shape is attached to.

@@ -70,7 +70,7 @@ use serde::{Deserialize, Serialize};
 use super::geometry::{next_index, Circle, Geometry, Poly, Segment};
 use super::reach;
 use crate::math::exact::{raw_sq, wide_mul};
-use crate::math::{Real, Vect};
+use crate::math::{Real, Vect, BB};
 
 /// The result of a point query (Chipmunk `cpPointQueryInfo`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -112,32 +112,112 @@ pub fn point_query(g: &Geometry, p: Vect) -> PointQueryInfo {
 /// `None` (Chipmunk `cpShapeSegmentQuery`). A start within reach hits at
 /// `alpha = 0` (see the module docs). `a == b` outside reach never hits.
 pub fn segment_query(g: &Geometry, a: Vect, b: Vect, radius: Real) -> Option<SegmentQueryInfo> {
-    let radius = radius.max(Real::ZERO);
-    let start = point_query(g, a);
-    if start.distance <= radius {
-        return Some(start_hit(start));
+    Target::Geometry(g).segment_query(a, b, radius)
+}
+
+/// A convex outline with more vertices than a [`Poly`] holds (a Minkowski
+/// difference of two polygons, up to twice [`MAX_POLY_VERTICES`]): the
+/// shape casts of `collision::cast` ray-cast it with [`convex_segment_query`].
+///
+/// [`MAX_POLY_VERTICES`]: super::MAX_POLY_VERTICES
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Convex<'a> {
+    /// At least 3 vertices, strictly convex and counter-clockwise.
+    pub(crate) verts: &'a [Vect],
+    /// `normals[i]`: the outward unit normal of edge `i → i+1`.
+    pub(crate) normals: &'a [Vect],
+    /// Rounding radius, ≥ 0.
+    pub(crate) radius: Real,
+}
+
+/// [`segment_query`] on a [`Convex`] outline: the same computation a
+/// [`Poly`] with these vertices, normals and radius gets, bit for bit.
+pub(crate) fn convex_segment_query(
+    c: Convex<'_>,
+    a: Vect,
+    b: Vect,
+    radius: Real,
+) -> Option<SegmentQueryInfo> {
+    Target::Convex(c).segment_query(a, b, radius)
+}
+
+/// What a segment query runs on: a shape's geometry, or a convex outline
+/// of the casts.
+#[derive(Clone, Copy)]
+enum Target<'a> {
+    Geometry(&'a Geometry),
+    Convex(Convex<'a>),
+}
+
+impl Target<'_> {
+    fn point_query(self, p: Vect) -> PointQueryInfo {
+        match self {
+            Target::Geometry(g) => point_query(g, p),
+            Target::Convex(c) => outline_point_query(c.verts, c.normals, c.radius, p),
+        }
     }
-    let sweep = Sweep {
-        a,
-        d: b - a,
-        radius,
-        margin: Real::ZERO,
-    };
-    if let Some(hit) = sweep.first_hit(g) {
-        return Some(hit);
+
+    fn first_hit(self, sweep: &Sweep) -> Option<SegmentQueryInfo> {
+        match self {
+            Target::Geometry(g) => sweep.first_hit(g),
+            Target::Convex(c) => {
+                sweep.rounded_convex(c.verts, c.normals, c.radius, Outline::Closed)
+            }
+        }
     }
-    // The clip's unit normals are rounded: a ray through a shape with no
-    // thickness, or grazing a corner, can be clipped away by that rounding
-    // alone. Clipped again with the reach grown by a bound on the rounding,
-    // a ray that misses still is a miss for certain (the usual case, at the
-    // cost of a second clip); one that now hits is judged exactly.
-    let margin = rounding_margin(g, a, sweep.d);
-    let grown = if start.distance <= radius + margin {
-        start_hit(start)
-    } else {
-        Sweep { margin, ..sweep }.first_hit(g)?
-    };
-    reach::segment_reaches(g, a, b, radius).then_some(grown)
+
+    fn bb(self) -> BB {
+        match self {
+            Target::Geometry(g) => g.bb(),
+            Target::Convex(c) => outline_bb(c.verts, c.radius),
+        }
+    }
+
+    fn reaches(self, a: Vect, b: Vect, radius: Real) -> bool {
+        match self {
+            Target::Geometry(g) => reach::segment_reaches(g, a, b, radius),
+            Target::Convex(c) => reach::outline_reaches(c.verts, c.radius, a, b, radius),
+        }
+    }
+
+    /// The segment query (see [`segment_query`]).
+    fn segment_query(self, a: Vect, b: Vect, radius: Real) -> Option<SegmentQueryInfo> {
+        let radius = radius.max(Real::ZERO);
+        let start = self.point_query(a);
+        if start.distance <= radius {
+            return Some(start_hit(start));
+        }
+        let sweep = Sweep {
+            a,
+            d: b - a,
+            radius,
+            margin: Real::ZERO,
+        };
+        if let Some(hit) = self.first_hit(&sweep) {
+            return Some(hit);
+        }
+        // The clip's unit normals are rounded: a ray through a shape with no
+        // thickness, or grazing a corner, can be clipped away by that rounding
+        // alone. Clipped again with the reach grown by a bound on the rounding,
+        // a ray that misses still is a miss for certain (the usual case, at the
+        // cost of a second clip); one that now hits is judged exactly.
+        let margin = rounding_margin(&self.bb(), a, sweep.d);
+        let grown = if start.distance <= radius + margin {
+            start_hit(start)
+        } else {
+            self.first_hit(&Sweep { margin, ..sweep })?
+        };
+        self.reaches(a, b, radius).then_some(grown)
+    }
+}
+
+/// The bounding box of an outline's vertices grown by `radius` (a
+/// [`Poly`]'s [`bb`](Poly::bb), bit for bit).
+fn outline_bb(verts: &[Vect], radius: Real) -> BB {
+    let mut it = verts.iter();
+    let first = it.next().copied().unwrap_or(Vect::ZERO);
+    it.fold(BB::for_point(first), |bb, v| bb.expand(*v))
+        .grow(radius)
 }
 
 /// The hit of a query that starts within reach: at `alpha = 0`, on the
@@ -157,9 +237,9 @@ fn start_hit(start: PointQueryInfo) -> SegmentQueryInfo {
 /// distance of the query (start to vertex, motion, hit to vertex): below
 /// 2^-29 of their sum. The margin is 2^-27 of a sum that exceeds it (the
 /// start's distances to the box's sides, the motion's components), plus 64
-/// ulp; a hit found with it lies within that margin of the surface.
-fn rounding_margin(g: &Geometry, a: Vect, d: Vect) -> Real {
-    let bb = g.bb();
+/// ulp; a hit found with it lies within that margin of the surface. `bb`
+/// is the shape's bounding box.
+fn rounding_margin(bb: &BB, a: Vect, d: Vect) -> Real {
     let extent = (a.x - bb.l).abs()
         + (a.x - bb.r).abs()
         + (a.y - bb.b).abs()
@@ -240,13 +320,18 @@ enum Feature {
 }
 
 fn poly_point_query(poly: &Poly, p: Vect) -> PointQueryInfo {
-    let verts = poly.verts();
+    outline_point_query(poly.verts(), poly.normals(), poly.radius(), p)
+}
+
+/// The point query of a convex outline: counter-clockwise `verts`, their
+/// edges' outward unit `normals`, rounding radius `r`.
+fn outline_point_query(verts: &[Vect], normals: &[Vect], r: Real, p: Vect) -> PointQueryInfo {
     let n = verts.len();
     // Least-deep edge (largest separation), for a point inside the core.
     let mut shallowest: Option<(Real, Vect)> = None;
     // Nearest facing feature by exact squared distance, for a point outside.
     let mut nearest: Option<(u128, Feature)> = None;
-    for (i, (&v0, &normal)) in verts.iter().zip(poly.normals()).enumerate() {
+    for (i, (&v0, &normal)) in verts.iter().zip(normals).enumerate() {
         let rel = p - v0;
         let separation = rel.dot(normal);
         if shallowest.is_none_or(|(best, _)| separation > best) {
@@ -274,7 +359,6 @@ fn poly_point_query(poly: &Poly, p: Vect) -> PointQueryInfo {
             nearest = Some(candidate);
         }
     }
-    let r = poly.radius();
     match (nearest, shallowest) {
         (Some((_, Feature::Vertex { at, normal })), _) => {
             let (gradient, d) = direction_from(at, p, normal);
@@ -287,7 +371,7 @@ fn poly_point_query(poly: &Poly, p: Vect) -> PointQueryInfo {
         // No vertices: unreachable through the validated constructors; treat
         // the polygon as the point `vert(0)` so the answer is still defined.
         (None, None) => {
-            let at = poly.vert(0);
+            let at = verts.first().copied().unwrap_or(Vect::ZERO);
             let (gradient, d) = direction_from(at, p, Vect::Y);
             rounded(at, d, gradient, r)
         }

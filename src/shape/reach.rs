@@ -29,21 +29,25 @@ pub(crate) fn segment_reaches(g: &Geometry, a: Vect, b: Vect, reach: Real) -> bo
     match g {
         Geometry::Circle(c) => point_within(c.offset, a, b, reach_sq(reach + c.radius)),
         Geometry::Segment(s) => segments_within(s.a, s.b, a, b, reach_sq(reach + s.radius)),
-        Geometry::Poly(p) => {
-            let r2 = reach_sq(reach + p.radius());
-            let verts = p.verts();
-            let inside = verts.iter().enumerate().all(|(i, &v0)| {
-                let v1 = verts.get(next_index(i, verts.len())).copied().unwrap_or(v0);
-                // Counter-clockwise: inside is the left of every edge.
-                cross(v1 - v0, a - v0) >= 0
-            });
-            inside
-                || verts.iter().enumerate().any(|(i, &v0)| {
-                    let v1 = verts.get(next_index(i, verts.len())).copied().unwrap_or(v0);
-                    segments_within(v0, v1, a, b, r2)
-                })
-        }
+        Geometry::Poly(p) => outline_reaches(p.verts(), p.radius(), a, b, reach),
     }
+}
+
+/// [`segment_reaches`] for the convex outline of counter-clockwise
+/// `verts` rounded by `radius` (a polygon's test, for the outlines of the
+/// shape casts, which may have more vertices than a polygon).
+pub(crate) fn outline_reaches(verts: &[Vect], radius: Real, a: Vect, b: Vect, reach: Real) -> bool {
+    let r2 = reach_sq(reach.max(Real::ZERO) + radius);
+    let inside = verts.iter().enumerate().all(|(i, &v0)| {
+        let v1 = verts.get(next_index(i, verts.len())).copied().unwrap_or(v0);
+        // Counter-clockwise: inside is the left of every edge.
+        cross(v1 - v0, a - v0) >= 0
+    });
+    inside
+        || verts.iter().enumerate().any(|(i, &v0)| {
+            let v1 = verts.get(next_index(i, verts.len())).copied().unwrap_or(v0);
+            segments_within(v0, v1, a, b, r2)
+        })
 }
 
 /// `reach²` in units of 2^-64 (exact).

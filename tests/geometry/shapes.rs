@@ -18,7 +18,8 @@ use tamias2d::arena::Handle;
 use tamias2d::body::BodyHandle;
 use tamias2d::shape::hull::convex_hull;
 use tamias2d::shape::mass::{
-    area_for_poly, centroid_for_poly, moment_for_box, moment_for_poly, shape_mass_info,
+    area_for_capsule, area_for_poly, area_for_segment, centroid_for_poly, moment_for_box,
+    moment_for_capsule, moment_for_circle, moment_for_poly, moment_for_segment, shape_mass_info,
 };
 use tamias2d::shape::{Geometry, MassSpec, Poly, Shape, ShapeError, MAX_POLY_VERTICES};
 use tamias2d::{Real, Transform, Vect, BB};
@@ -402,4 +403,69 @@ fn unit_box_mass_info_is_chipmunk_values() {
         shape_mass_info(&geometry, MassSpec::Mass(Real::TWO)).mass,
         Real::TWO
     );
+}
+
+/// The capsule's exact moment in `f64`: the rectangle plus two half discs,
+/// each carried to the centre (parallel axes), then to the origin.
+fn capsule_moment_f64(m: f64, a: (f64, f64), b: (f64, f64), r: f64) -> f64 {
+    let len = (b.0 - a.0).hypot(b.1 - a.1);
+    let pi = std::f64::consts::PI;
+    let rect = 2.0 * r * len;
+    let disc = pi * r * r;
+    let about_centre = rect * (len * len + 4.0 * r * r) / 12.0
+        + disc * (r * r / 2.0 + len * len / 4.0)
+        + 4.0 / 3.0 * r.powi(3) * len;
+    let mid = ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
+    m * (about_centre / (rect + disc) + mid.0 * mid.0 + mid.1 * mid.1)
+}
+
+#[test]
+fn capsule_is_a_rounded_segment_with_exact_mass_helpers() {
+    let (a, b, r) = (v(-1, 2), v(3, 2), Real::HALF);
+    let capsule = Shape::capsule(body(), a, b, r).unwrap();
+    assert_eq!(capsule, Shape::segment_shape_new(body(), a, b, r).unwrap());
+    assert_eq!(
+        Shape::capsule(body(), a, b, -Real::ONE),
+        Err(ShapeError::Negative("radius"))
+    );
+    assert_eq!(area_for_capsule(a, b, r), area_for_segment(a, b, r));
+    let mut dense = capsule.clone();
+    dense.set_density(Real::ONE).unwrap();
+    assert_eq!(dense.mass_info().area, area_for_capsule(a, b, r));
+    // The limits: no radius is a rod (Chipmunk's segment moment agrees),
+    // no length a disc (the circle's moment agrees).
+    let m = Real::from_int(3);
+    assert_eq!(
+        moment_for_capsule(m, a, b, Real::ZERO),
+        moment_for_segment(m, a, b, Real::ZERO)
+    );
+    let c = v(2, -1);
+    let disc = moment_for_capsule(m, c, c, r);
+    let want = moment_for_circle(m, Real::ZERO, r, c);
+    assert!(
+        (disc.to_bits() - want.to_bits()).abs() <= 2,
+        "{disc:?} {want:?}"
+    );
+    // Below Chipmunk's box approximation, and on the f64 formula.
+    assert!(moment_for_capsule(m, a, b, r) < moment_for_segment(m, a, b, r));
+    for (a, b, r, m) in [
+        ((0.0, 0.0), (2.0, 0.0), 0.5, 1.0),
+        ((-1.0, 2.0), (3.0, 2.0), 0.5, 3.0),
+        ((0.25, -0.5), (0.25, 0.5), 0.4, 70.0),
+        ((10.0, 10.0), (13.0, 14.0), 1.5, 0.125),
+        ((0.0, 0.0), (0.001, 0.0), 0.002, 0.01),
+    ] {
+        let got = moment_for_capsule(
+            Real::from_f64(m).unwrap(),
+            Vect::from_f64(a.0, a.1).unwrap(),
+            Vect::from_f64(b.0, b.1).unwrap(),
+            Real::from_f64(r).unwrap(),
+        )
+        .to_f64();
+        let want = capsule_moment_f64(m, a, b, r);
+        assert!(
+            (got - want).abs() <= 8.0 * ULP * (1.0 + want.abs()),
+            "{a:?} {b:?} {r} {m}: {got} vs {want}"
+        );
+    }
 }
