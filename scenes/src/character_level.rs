@@ -49,26 +49,32 @@ pub struct Buttons {
     pub jump: bool,
 }
 
-/// The scripted input of frame `f`: a walk to the right over the
-/// one-way platform, the crates, the slope, the step and up to the steep
-/// slope; back to the left onto the elevator, a ride, then onto the
-/// see-saw.
+/// The scripted input of frame `f`: to the right, a jump through the
+/// one-way platform onto it, a push at the crates and a jump over them, up
+/// the slope and the step to the steep slope, which stops it; back to the
+/// left down the slope, a jump, onto the elevator for a ride up, off it,
+/// and a jump onto the see-saw for a ride back and forth.
 pub fn script(f: u64) -> Buttons {
     let (walk, jump) = match f {
         0..60 => (0, false),
         60..84 => (1, false),
         84..86 => (1, true),
-        86..400 => (1, false),
-        400..420 => (0, false),
-        420..700 => (-1, false),
+        86..235 => (1, false),
+        235..237 => (1, true),
+        237..440 => (1, false),
+        440..460 => (0, false),
+        460..700 => (-1, false),
         700..702 => (-1, true),
         702..800 => (-1, false),
         800..1000 => (0, false),
-        1000..1200 => (-1, false),
-        1200..1202 => (-1, true),
-        1202..1300 => (-1, false),
-        1300..1500 => (0, false),
-        1500..1520 => (1, false),
+        1000..1085 => (-1, false),
+        1085..1180 => (0, false),
+        1180..1200 => (-1, false),
+        1200..1240 => (0, false),
+        1240..1242 => (-1, true),
+        1242..1275 => (-1, false),
+        1275..1500 => (0, false),
+        1500..1600 => (1, false),
         _ => (0, false),
     };
     Buttons { walk, jump }
@@ -221,8 +227,12 @@ impl CharacterGame {
             let standing = player.character.ground.is_some();
             let mut vel = player.velocity;
             vel.x = WALK * Real::from_int(i32::from(b.walk));
+            // Standing, the ground holds the character: only gravity's
+            // pull this frame (the move slides it along the ground).
             vel.y = if standing && b.jump {
                 JUMP
+            } else if standing {
+                -GRAVITY * DT
             } else {
                 vel.y - GRAVITY * DT
             };
@@ -360,7 +370,7 @@ impl RunStats {
                 let solid = game
                     .space
                     .shape(*h)
-                    .is_some_and(|s| !s.sensor && s.filter.categories & ONE_WAY == 0);
+                    .is_some_and(|s| !s.sensor && !game.config.is_one_way(s));
                 solid
                     && set
                         .points
@@ -376,7 +386,7 @@ impl RunStats {
         let on_one_way = c.ground.is_some_and(|g| {
             game.space
                 .shape(g.shape)
-                .is_some_and(|s| s.filter.categories & ONE_WAY != 0)
+                .is_some_and(|s| game.config.is_one_way(s))
         });
         let now = [
             report.grounded,

@@ -21,7 +21,7 @@
 //!    are resolved: the overlaps become planes and a small plane solver
 //!    finds the least translation that clears them all.
 //! 3. **Collide and slide.** The desired translation is cast
-//!    ([`Space::cast_shape_all`]); at the first hit the character stops
+//!    ([`Space::shape_cast_all`]); at the first hit the character stops
 //!    [`skin`](CharacterConfig::with_skin) short of the surface, and the
 //!    rest of the translation is projected onto the surface and cast again,
 //!    up to [`max_slides`](CharacterConfig::with_max_slides) times.
@@ -53,8 +53,9 @@ use serde::{Deserialize, Serialize};
 use crate::body::{BodyHandle, BodyType};
 use crate::checksum::checksum_of;
 use crate::math::{Real, Rot, Vect};
-use crate::shape::{Geometry, ShapeFilter, ShapeHandle};
-use crate::space::Space;
+use crate::collision::shapes_collide;
+use crate::shape::{Geometry, Shape, ShapeFilter, ShapeHandle};
+use crate::space::{ShapeCast, Space, StartContact};
 
 mod planes;
 
@@ -76,6 +77,13 @@ impl core::fmt::Display for CharacterError {
 }
 
 impl std::error::Error for CharacterError {}
+
+/// The least upward component of a surface normal for a surface too
+/// steep to walk to count as a slope (about 11.5°); below it, a wall.
+const SLOPE_MIN: Real = Real::from_bits(858_993_459);
+
+/// How far below the character, in skins, ground counts as under it.
+const PROBE_SKINS: Real = Real::from_int(2);
 
 /// Most slides of one move ([`CharacterConfig::with_max_slides`]).
 pub const MAX_SLIDES: u32 = 16;
@@ -170,7 +178,9 @@ impl CharacterConfig {
         Ok(self)
     }
 
-    /// Shapes with any of these categories are one-way platforms.
+    /// Shapes whose filter categories all lie in `categories` are one-way
+    /// platforms (a shape keeps every category by default, so only shapes
+    /// given these categories alone are one-way). 0: none.
     pub fn with_one_way_categories(mut self, categories: u32) -> CharacterConfig {
         self.one_way = categories;
         self
@@ -205,6 +215,13 @@ impl CharacterConfig {
     /// The skin.
     pub fn skin(&self) -> Real {
         self.skin
+    }
+
+    /// True if `shape` is a one-way platform for this character: its
+    /// categories are not empty and all lie in the one-way categories.
+    pub fn is_one_way(&self, shape: &Shape) -> bool {
+        let c = shape.filter.categories;
+        self.one_way != 0 && c != 0 && c & !self.one_way == 0
     }
 
     /// True if a surface of unit normal `n` is walkable ground.
@@ -380,14 +397,25 @@ impl Character {
 
         // 4. Snap to the ground.
         let going_up = desired.dot(config.up).is_positive();
-        let ground_now = self.probe_ground(space, config);
-        if was_grounded && !going_up && ground_now.is_none() && config.snap_distance.is_positive()
-        {
-            let down = -config.up * config.snap_distance;
+        // Down a slope or off a step the ground falls away: follow it
+        // while it is within the snap distance, back to one skin above it.
+        // A character that lands within the ground probe settles the same
+        // way.
+        let probe = self.probe_ground(space, config);
+        let floating = probe.is_none_or(|(_, gap)| gap > config.skin);
+        let reach = if was_grounded {
+            config.snap_distance.max(PROBE_SKINS * config.skin)
+        } else if probe.is_some() {
+            PROBE_SKINS * config.skin
+        } else {
+            Real::ZERO
+        };
+        if !going_up && floating && reach.is_positive() {
+            let down = -config.up * reach;
             if let Some(hit) = self.first_hit(space, config, down, None, true) {
                 if config.is_walkable(hit.normal) {
                     self.advance_to(down, &hit);
-                    report.snapped = true;
+                    report.snapped = probe.is_none();
                 }
             }
         }
@@ -434,7 +462,7 @@ impl Character {
                 break;
             }
             let Some(hit) = self.first_hit(space, config, remaining, exclude, true) else {
-                self.position = self.position + remaining;
+                self.position += remaining;
                 return;
             };
             let t = self.advance_to(remaining, &hit);
@@ -458,13 +486,19 @@ impl Character {
                     }
                 }
             }
+            // On walkable ground the pull down is held by the ground, not
+            // turned into a slide down the slope.
+            if walkable {
+                remaining = remaining - up * remaining.dot(up).min(Real::ZERO);
+            }
             let mut slid = remaining - n * remaining.dot(n).min(Real::ZERO);
             // A steep slope facing up does not turn a walk into a climb.
             if !walkable && facing_up.is_positive() && !climbing_asked && slid.dot(up).is_positive()
             {
                 let flat = (n - up * facing_up).normalize();
                 slid = remaining - flat * remaining.dot(flat).min(Real::ZERO);
-                report.blocked_by_slope = true;
+                // Near-vertical faces (a crate's side) are walls, not slopes.
+                report.blocked_by_slope |= facing_up >= SLOPE_MIN;
             }
             remaining = slid;
         }
@@ -475,7 +509,7 @@ impl Character {
     /// moved.
     fn advance_to(&mut self, delta: Vect, hit: &Hit) -> Real {
         let t = hit.fraction.clamp(Real::ZERO, Real::ONE);
-        self.position = self.position + delta * t;
+        self.position += delta * t;
         t
     }
 
@@ -494,28 +528,35 @@ impl Character {
         let up = config.up;
         let along_up = up * remaining.dot(up);
         let across = remaining - along_up;
-        if across.length() <= config.skin {
+        let (dir, len) = across.normalize_with_length();
+        if len <= config.skin {
             return None;
         }
+        // A round foot stands on the step's edge only once its centre is
+        // within `radius · sin(max slope)` of it: go at least that far.
+        let sin_max = (Real::ONE - config.walkable * config.walkable).sqrt();
+        let foot = config.shape.radius();
+        let least = foot * (Real::ONE - sin_max) + config.skin + config.skin;
+        let across = dir * len.max(least);
         let start = self.position;
         let rise = up * config.step_height;
         if let Some(hit) = self.first_hit(space, config, rise, exclude, true) {
             self.advance_to(rise, &hit);
         } else {
-            self.position = self.position + rise;
+            self.position += rise;
         }
         let lifted = self.position;
         if let Some(hit) = self.first_hit(space, config, across, exclude, true) {
             self.advance_to(across, &hit);
         } else {
-            self.position = self.position + across;
+            self.position += across;
         }
         let forward = self.position - lifted;
         // Stepping needs real progress across, and walkable ground below.
         let drop = up * -((lifted - start).dot(up) + config.skin + config.skin);
         let landed = self
             .first_hit(space, config, drop, exclude, true)
-            .filter(|hit| forward.length() > config.skin && config.is_walkable(hit.normal));
+            .filter(|hit| forward.length() >= least.min(len) && config.is_walkable(hit.normal));
         match landed {
             Some(hit) => {
                 self.advance_to(drop, &hit);
@@ -531,7 +572,7 @@ impl Character {
     /// The ground under the character, within two skins, if walkable: the
     /// hit and the gap to it.
     fn probe_ground(&self, space: &Space, config: &CharacterConfig) -> Option<(Hit, Real)> {
-        let reach = config.skin + config.skin;
+        let reach = PROBE_SKINS * config.skin;
         let down = -config.up * reach;
         let hit = self.first_hit(space, config, down, None, false)?;
         config
@@ -552,7 +593,7 @@ impl Character {
                 let Some(shape) = space.shape(h) else {
                     continue;
                 };
-                if shape.sensor || shape.filter.categories & config.one_way != 0 {
+                if shape.sensor || config.is_one_way(shape) {
                     continue;
                 }
                 let deepest = set
@@ -576,7 +617,7 @@ impl Character {
             if delta == Vect::ZERO {
                 break;
             }
-            self.position = self.position + delta;
+            self.position += delta;
         }
         (self.position - start).length()
     }
@@ -596,39 +637,62 @@ impl Character {
         if delta == Vect::ZERO {
             return None;
         }
-        let world = if inflated {
-            inflate(&self.world_shape(config), config.skin)
+        let shape = if inflated {
+            inflate(&config.shape, config.skin)
         } else {
-            self.world_shape(config)
+            config.shape
         };
-        for (h, cast) in cast_shape_all_shim(space, &world, delta, config.filter) {
+        let mut cast = ShapeCast::new(shape, self.position, Rot::IDENTITY, delta)
+            .with_start(StartContact::HitIfApproaching);
+        if let Some(body) = exclude {
+            cast = cast.ignoring_body(body);
+        }
+        for (h, info) in space.shape_cast_all(&cast, config.filter) {
             let Some(shape) = space.shape(h) else {
                 continue;
             };
-            let body = shape.body();
-            if shape.sensor || exclude == Some(body) {
+            if shape.sensor || !delta.dot(info.normal).is_negative() {
                 continue;
             }
-            let normal = -cast.normal;
-            if !delta.dot(normal).is_negative() {
-                continue;
-            }
-            if shape.filter.categories & config.one_way != 0
-                && (cast.fraction.is_zero()
-                    || !config.is_walkable(normal)
-                    || !delta.dot(config.up).is_negative())
+            if config.is_one_way(shape)
+                && !self.blocked_by_one_way(space, config, shape, delta, info.normal)
             {
                 continue;
             }
             return Some(Hit {
                 shape: h,
-                body,
-                fraction: cast.fraction,
-                normal,
-                point: cast.point,
+                body: shape.body(),
+                fraction: info.fraction,
+                normal: info.normal,
+                point: info.point,
             });
         }
         None
+    }
+
+    /// A one-way shape blocks a move only from above: a walkable surface
+    /// met moving down, with the character (its own shape, not grown by
+    /// the skin) not inside it where the move starts.
+    fn blocked_by_one_way(
+        &self,
+        space: &Space,
+        config: &CharacterConfig,
+        shape: &Shape,
+        delta: Vect,
+        normal: Vect,
+    ) -> bool {
+        if !config.is_walkable(normal) || !delta.dot(config.up).is_negative() {
+            return false;
+        }
+        let Some(body) = space.body(shape.body()) else {
+            return false;
+        };
+        let theirs = shape.geometry().to_world(body.position(), body.rotation());
+        let set = shapes_collide(&self.world_shape(config), &theirs);
+        set.points
+            .iter()
+            .take(set.count)
+            .all(|p| !p.distance.is_negative())
     }
 }
 
@@ -686,89 +750,13 @@ impl Pushes {
     }
 }
 
-/// A cast hit (stand-in until the space's shape casts land).
-pub struct CastHit {
-    pub fraction: Real,
-    pub point: Vect,
-    pub normal: Vect,
-}
-
-/// Stand-in shape cast: samples and bisects overlap tests.
-pub fn cast_shape_all_shim(
-    space: &Space,
-    geometry: &Geometry,
-    delta: Vect,
-    filter: ShapeFilter,
-) -> Vec<(ShapeHandle, CastHit)> {
-    let at = |t: Real| {
-        let g = translate(geometry, delta * t);
-        space.shape_query(&g, filter)
-    };
-    let touching = |set: &crate::collision::ContactPointSet| {
-        set.points
-            .iter()
-            .take(set.count)
-            .any(|p| !p.distance.is_positive())
-    };
-    let mut out: Vec<(ShapeHandle, CastHit)> = Vec::new();
-    let mut seen: Vec<ShapeHandle> = Vec::new();
-    let steps = 64i32;
-    let mut lo = Real::ZERO;
-    for k in 0..=steps {
-        let t = Real::ratio(k, steps);
-        for (h, set) in at(t) {
-            if !touching(&set) || seen.contains(&h) {
-                continue;
-            }
-            seen.push(h);
-            // Bisect between lo and t for this shape.
-            let (mut a, mut b) = (lo, t);
-            if k == 0 {
-                a = Real::ZERO;
-                b = Real::ZERO;
-            }
-            for _ in 0..24 {
-                let mid = (a + b) * Real::HALF;
-                let hit = at(mid)
-                    .iter()
-                    .any(|(hh, s)| *hh == h && touching(s));
-                if hit {
-                    b = mid;
-                } else {
-                    a = mid;
-                }
-            }
-            let set = at(b)
-                .into_iter()
-                .find(|(hh, _)| *hh == h)
-                .map(|(_, s)| s)
-                .unwrap_or(set);
-            out.push((
-                h,
-                CastHit {
-                    fraction: b,
-                    point: set.points.first().map_or(Vect::ZERO, |p| p.point_b),
-                    normal: set.normal,
-                },
-            ));
-        }
-        lo = t;
-    }
-    out.sort_by_key(|(h, c)| (c.fraction, *h));
-    out
-}
-
-fn translate(g: &Geometry, d: Vect) -> Geometry {
-    g.to_world(d, Rot::IDENTITY)
-}
-
 /// `g` grown by `r` all round (its rounding radius).
 fn inflate(g: &Geometry, r: Real) -> Geometry {
     let mut g = *g;
     match &mut g {
-        Geometry::Circle(c) => c.radius = c.radius + r,
-        Geometry::Segment(s) => s.radius = s.radius + r,
-        Geometry::Poly(p) => p.radius = p.radius + r,
+        Geometry::Circle(c) => c.radius += r,
+        Geometry::Segment(s) => s.radius += r,
+        Geometry::Poly(p) => p.radius += r,
     }
     g
 }

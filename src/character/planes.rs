@@ -40,8 +40,8 @@ pub fn solve_planes(planes: &mut [Plane], target: Real) -> Vect {
             let before = *push;
             *push = (before - gap).max(Real::ZERO);
             let step = *push - before;
-            d = d + plane.normal * step;
-            moved = moved + step.abs();
+            d += plane.normal * step;
+            moved += step.abs();
         }
         if moved <= Real::from_bits(planes.len() as i64) {
             break;
