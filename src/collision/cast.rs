@@ -33,6 +33,17 @@
 //! answer does not depend on where the pair is, and the outline's
 //! coordinates are distances between the shapes, not world coordinates.
 //!
+//! # Why not the bullets' conservative advancement
+//! The bullets' time of impact (`space/ccd.rs`) advances along the
+//! separation of [`separation`](super::separation) in steps that may
+//! overshoot contact by a target overlap, and stops short when its
+//! iteration cap is reached: right for bullets (the discrete step catches
+//! what is left, and bodies turn), wrong for a query that promises never
+//! to step over a crossing, as a graze shallower than the target overlap
+//! can be stepped over. A cast only translates, so the exact answer is
+//! available in closed form, above. What the two share is the separation's
+//! GJK, which puts the hit point here.
+//!
 //! # The hit
 //! [`ShapeCastInfo`]: the `fraction` of the translation at first contact,
 //! in `[0, 1]`; the `normal`, the outward unit normal of the outline where
@@ -124,6 +135,22 @@ pub fn shape_cast(
     b: &Geometry,
     start: StartContact,
 ) -> Option<ShapeCastInfo> {
+    let (fraction, normal) = cast_entry(a, translation, b, start)?;
+    Some(ShapeCastInfo {
+        fraction,
+        point: hit_point(a, translation, b, fraction),
+        normal,
+    })
+}
+
+/// The fraction and normal of [`shape_cast`], without the point (the
+/// space's first-hit cast puts a point on the winner only).
+pub(crate) fn cast_entry(
+    a: &Geometry,
+    translation: Vect,
+    b: &Geometry,
+    start: StartContact,
+) -> Option<(Real, Vect)> {
     if is_empty(a) || is_empty(b) {
         return None;
     }
@@ -136,21 +163,25 @@ pub fn shape_cast(
     {
         return None;
     }
+    Some((hit.alpha, hit.normal))
+}
+
+/// The point of [`shape_cast`]: on `b`'s surface, where `a` moved by
+/// `fraction` of `translation` touches it (see the module docs).
+pub(crate) fn hit_point(a: &Geometry, translation: Vect, b: &Geometry, fraction: Real) -> Vect {
+    let anchor = anchor_of(a);
+    let (ma, mb) = (moved(a, anchor), moved(b, anchor));
     // `a` where it touches: moved by the travelled part of the translation
     // (`moved` subtracts, hence the negation).
-    let travelled = translation * hit.alpha;
+    let travelled = translation * fraction;
     let at_hit = moved(&ma, -travelled);
     let point = match closest_cores(&at_hit, &mb) {
         Some(c) => c.b - c.n * radius_of(&mb),
-        // GJK at its cap (never seen): `b`'s surface point nearest to `a`'s
-        // anchor at the hit.
+        // GJK at its cap (never seen) or an empty polygon: `b`'s surface
+        // point nearest to `a`'s anchor at the hit.
         None => point_query(&mb, travelled).point,
     };
-    Some(ShapeCastInfo {
-        fraction: hit.alpha,
-        point: point + anchor,
-        normal: hit.normal,
-    })
+    point + anchor
 }
 
 /// A geometry's rounding radius, a negative one counted as 0.

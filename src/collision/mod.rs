@@ -32,6 +32,12 @@
 //!    ([`gjk`]) with EPA ([`epa`]) and edge clipping ([`contact_points`]) for
 //!    the rest.
 //!
+//! Beside the contacts, two swept questions: [`separation`] (`toi.rs`), the
+//! signed distance the bullets' time of impact advances on, and
+//! [`shape_cast`] (`cast.rs`), where one geometry moved along a translation
+//! first touches another: a ray against their Minkowski difference, exact
+//! and without iteration.
+//!
 //! Nothing here panics, allocates or loops without a bound; GJK and EPA stop
 //! at [`WARN_GJK_ITERATIONS`] / [`WARN_EPA_ITERATIONS`] and report it in
 //! [`CollisionInfo::hit_iteration_cap`].
@@ -48,6 +54,7 @@ mod toi;
 
 use core::cmp::Ordering;
 
+pub(crate) use cast::{cast_entry, hit_point};
 pub use cast::{shape_cast, ShapeCastInfo, StartContact, CAST_TOLERANCE};
 pub use contact::{closest_points_new, closest_t, contact_points, lerp_t, ClosestPoints};
 pub use epa::{epa, WARN_EPA_ITERATIONS};

@@ -12,6 +12,7 @@
 //!   type after loading a snapshot).
 mod body_shapes;
 mod caches;
+mod cast;
 mod ccd;
 mod constraints;
 mod error;
@@ -33,6 +34,7 @@ mod world;
 use crate::limits::Limits;
 use core::fmt;
 
+pub use cast::ShapeCast;
 pub use ccd::MAX_TOI_ITERATIONS;
 pub use frame_state::FrameState;
 pub use settings::{
@@ -53,6 +55,7 @@ use crate::broadphase::BroadphaseCache;
 use crate::math::{Real, Vect};
 use crate::shape::{CollisionType, Shape, ShapeError};
 
+pub use crate::collision::{ShapeCastInfo, StartContact};
 pub use crate::shape::ShapeHandle;
 pub(crate) use caches::Caches;
 pub use error::SpaceError;

@@ -1,7 +1,8 @@
 //! Space-level queries (MIS/Chipmunk `spacePointQuery`,
 //! `spacePointQueryNearest`, `spaceSegmentQuery`, `spaceSegmentQueryFirst`,
 //! `spaceBBQuery`, `spaceShapeQuery`): which shapes are near a point, on a
-//! ray, in a box or touching a shape.
+//! ray, in a box or touching a shape. The shape casts (`cast.rs`) find
+//! their candidates here too.
 //!
 //! # How
 //! Candidates in slot order: when the static tree is current (no static
@@ -54,7 +55,7 @@ impl Space {
     /// [`query_candidates`](Self::query_candidates) whose static tree walk
     /// also skips the boxes that fail `keep` (which must hold for every box
     /// that can contain a hit: the results are the same, found sooner).
-    fn query_candidates_where(
+    pub(super) fn query_candidates_where(
         &self,
         bb: BB,
         keep: impl Fn(&BB) -> bool,
@@ -250,7 +251,7 @@ impl Space {
 /// tree already tests, the separating-axis test of a segment and a box).
 /// Exact: the side of each corner is the sign of an integer cross product
 /// on the raw values; coordinates too far apart for 128 bits keep the box.
-fn line_may_touch(a: Vect, b: Vect, radius: Real, bb: &BB) -> bool {
+pub(super) fn line_may_touch(a: Vect, b: Vect, radius: Real, bb: &BB) -> bool {
     const LIMIT: i128 = 1 << 62;
     let g = bb.grow(radius.max(Real::ZERO));
     let raw = |r: Real| i128::from(r.to_bits());

@@ -7,6 +7,8 @@
 //! * `shapes`: convex hull, polygon construction, mass helpers;
 //! * `queries`: the space-level queries and the geometry queries;
 //! * `query_broadphase`: queries through the broadphase equal a full scan;
+//! * `shape_casts`: the shape casts against a fine-stepped reference, and
+//!   on the space;
 //! * `static_tree_rebuilds`: the static tree is rebuilt only when needed;
 //! * `math_trig`: `tamias2d::math::trig` against an `f64` oracle.
 mod collision;
@@ -14,5 +16,6 @@ mod math_trig;
 mod polygon_manifold;
 mod queries;
 mod query_broadphase;
+mod shape_casts;
 mod shapes;
 mod static_tree_rebuilds;
