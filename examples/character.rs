@@ -45,5 +45,9 @@ fn main() -> Result<ExitCode, Box<dyn std::error::Error>> {
     let restored = again.checksum();
     println!("checksum: {straight:#018x} straight, {restored:#018x} restored from frame 900");
     let ok = straight == restored && stats.fell_through == 0 && stats.stuck == 0;
-    Ok(if ok { ExitCode::SUCCESS } else { ExitCode::FAILURE })
+    Ok(if ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
 }

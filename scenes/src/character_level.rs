@@ -399,9 +399,11 @@ impl RunStats {
             report.pushed > 0,
         ];
         for (k, &state) in now.iter().enumerate() {
-            if let (Some(seen), Some(entered), Some(&was)) =
-                (self.seen.get_mut(k), self.entered.get_mut(k), self.last.get(k))
-            {
+            if let (Some(seen), Some(entered), Some(&was)) = (
+                self.seen.get_mut(k),
+                self.entered.get_mut(k),
+                self.last.get(k),
+            ) {
                 *seen = seen.saturating_add(u64::from(state));
                 *entered = entered.saturating_add(u64::from(state && !was));
             }

@@ -53,8 +53,8 @@ pub mod accuracy;
 #[cfg(feature = "bench")]
 pub mod bench;
 pub mod box2d;
-pub mod character_level;
 pub mod bullets;
+pub mod character_level;
 pub mod dec;
 pub mod desc;
 #[cfg(feature = "ggrs")]

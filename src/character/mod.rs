@@ -52,8 +52,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::body::{BodyHandle, BodyType};
 use crate::checksum::checksum_of;
-use crate::math::{Real, Rot, Vect};
 use crate::collision::shapes_collide;
+use crate::math::{Real, Rot, Vect};
 use crate::shape::{Geometry, Shape, ShapeFilter, ShapeHandle};
 use crate::space::{ShapeCast, Space, StartContact};
 
@@ -81,6 +81,21 @@ impl std::error::Error for CharacterError {}
 /// The least upward component of a surface normal for a surface too
 /// steep to walk to count as a slope (about 11.5°); below it, a wall.
 const SLOPE_MIN: Real = Real::from_bits(858_993_459);
+
+/// The longest translation of one move: the casts are exact while the
+/// shapes and the path lie within 2^30 m of each other, so a longer
+/// translation is shortened to this (2^24 m, its direction kept).
+pub const MAX_MOVE: Real = Real::from_int(1 << 24);
+
+/// `v` shortened to at most `max` (its direction kept).
+fn clamp_length(v: Vect, max: Real) -> Vect {
+    let (dir, len) = v.normalize_with_length();
+    if len > max {
+        dir * max
+    } else {
+        v
+    }
+}
 
 /// How far below the character, in skins, ground counts as under it.
 const PROBE_SKINS: Real = Real::from_int(2);
@@ -374,7 +389,16 @@ impl Character {
             if let Some(target) = carrier {
                 report.carried_by = Some(g.body);
                 let carry = target - self.position;
-                self.slide(space, config, carry, Some(g.body), false, &mut report, None, dt);
+                self.slide(
+                    space,
+                    config,
+                    carry,
+                    Some(g.body),
+                    false,
+                    &mut report,
+                    None,
+                    dt,
+                );
             }
         }
 
@@ -455,6 +479,7 @@ impl Character {
         dt: Real,
     ) {
         let up = config.up;
+        let delta = clamp_length(delta, MAX_MOVE);
         let climbing_asked = delta.dot(up).is_positive();
         let mut remaining = delta;
         for _ in 0..config.max_slides {

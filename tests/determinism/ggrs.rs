@@ -174,7 +174,10 @@ fn synctest_of_a_two_character_game_agrees_with_a_straight_run() {
         for p in 0..2 {
             session.add_local_input(p, mask(p, frame)).unwrap();
         }
-        for request in session.advance_frame().expect("deterministic under rollback") {
+        for request in session
+            .advance_frame()
+            .expect("deterministic under rollback")
+        {
             match request {
                 GgrsRequest::SaveGameState { cell, frame } => {
                     cell.save(frame, Some(game.save()), Some(u128::from(game.checksum())));

@@ -142,7 +142,11 @@ fn climbs_a_walkable_slope_and_is_stopped_by_a_steep_one() {
     // It stops at the foot of the 60° slope: the capsule's radius from it.
     assert!(blocked > 100, "blocked {blocked} frames");
     assert!(w.x() < 9.0 + 0.3, "x {}", w.x());
-    assert!(feet(&w) < h30 + 0.05, "climbed the steep slope: feet {}", feet(&w));
+    assert!(
+        feet(&w) < h30 + 0.05,
+        "climbed the steep slope: feet {}",
+        feet(&w)
+    );
 }
 
 #[test]
@@ -185,7 +189,11 @@ fn snaps_to_the_ground_walking_down_a_slope() {
                 airborne += 1;
             }
         }
-        assert_eq!(airborne == 0, stays, "snap {snap}: {airborne} frames off the slope");
+        assert_eq!(
+            airborne == 0,
+            stays,
+            "snap {snap}: {airborne} frames off the slope"
+        );
     }
 }
 
@@ -236,7 +244,10 @@ fn turns_with_a_rotating_platform() {
     let d0 = w.c.position - pivot;
     let (r0, angle0) = (d0.length().to_f64(), d0.y.to_f64().atan2(d0.x.to_f64()));
     // 0.3 rad/s for 1 s: 0.3 rad, under the 45° walkable limit.
-    space.body_mut(platform).unwrap().set_angular_velocity(real!(0.3));
+    space
+        .body_mut(platform)
+        .unwrap()
+        .set_angular_velocity(real!(0.3));
     for _ in 0..60 {
         let r = w.frame(&mut space, 0, false);
         assert!(r.grounded, "fell off at {}", w.x());
@@ -246,7 +257,11 @@ fn turns_with_a_rotating_platform() {
     assert!((r1 - r0).abs() < 0.02, "radius {r0} → {r1}");
     // Turned with the platform (the character stays upright, so its
     // centre turns about the pivot by the platform's angle).
-    assert!((angle - angle0 - 0.3).abs() < 0.05, "turned {}", angle - angle0);
+    assert!(
+        (angle - angle0 - 0.3).abs() < 0.05,
+        "turned {}",
+        angle - angle0
+    );
 }
 
 #[test]
@@ -254,8 +269,7 @@ fn one_way_platforms_block_only_from_above() {
     const ONE_WAY: u32 = 0b10;
     let mut space = terrain(&[v(-20.0, 0.0), v(20.0, 0.0)]);
     let ground = space.add_body(Body::new_static()).unwrap();
-    let mut s =
-        Shape::segment_shape_new(ground, v(-2.0, 1.5), v(2.0, 1.5), real!(0.05)).unwrap();
+    let mut s = Shape::segment_shape_new(ground, v(-2.0, 1.5), v(2.0, 1.5), real!(0.05)).unwrap();
     s.filter = ShapeFilter {
         categories: ONE_WAY,
         ..ShapeFilter::ALL
@@ -331,7 +345,9 @@ fn reports_walls_and_ceilings_and_clips_the_velocity() {
     let mut space = terrain(&[v(-10.0, 2.0), v(-10.0, 0.0), v(3.0, 0.0), v(3.0, 5.0)]);
     let ground = space.add_body(Body::new_static()).unwrap();
     space
-        .add_shape(Shape::segment_shape_new(ground, v(-10.0, 2.0), v(3.0, 2.0), Real::ZERO).unwrap())
+        .add_shape(
+            Shape::segment_shape_new(ground, v(-10.0, 2.0), v(3.0, 2.0), Real::ZERO).unwrap(),
+        )
         .unwrap();
     let mut w = Walker::at(0.0, 0.71);
     let (mut wall, mut ceiling) = (false, false);
@@ -347,7 +363,11 @@ fn reports_walls_and_ceilings_and_clips_the_velocity() {
         }
     }
     assert!(wall && ceiling);
-    assert!(w.x() <= 3.0 - 0.3 && w.x() > 3.0 - 0.3 - 0.011, "x {}", w.x());
+    assert!(
+        w.x() <= 3.0 - 0.3 && w.x() > 3.0 - 0.3 - 0.011,
+        "x {}",
+        w.x()
+    );
     assert!(w.y() + 0.7 <= 2.0, "head {}", w.y() + 0.7);
 }
 
@@ -388,7 +408,10 @@ fn settings_out_of_range_are_errors() {
     let up = c.with_up(v(0.0, 2.0)).unwrap().up();
     assert_eq!(up, Vect::new(Real::ZERO, Real::ONE));
     let e = CharacterError::OutOfRange("skin must be positive");
-    assert_eq!(e.to_string(), "character setting out of range: skin must be positive");
+    assert_eq!(
+        e.to_string(),
+        "character setting out of range: skin must be positive"
+    );
 }
 
 #[test]
@@ -432,7 +455,11 @@ fn the_platformer_level_runs_clean_and_restores_exactly() {
     let bound = game.config.skin() * real!(1.4142136);
     assert!(stats.max_ground_gap <= bound, "{:?}", stats.max_ground_gap);
     for (k, seen) in stats.seen.iter().enumerate() {
-        assert!(*seen > 0, "state {} never seen", tamias2d_scenes::character_level::STATES[k]);
+        assert!(
+            *seen > 0,
+            "state {} never seen",
+            tamias2d_scenes::character_level::STATES[k]
+        );
     }
     let mut again = CharacterGame::new().unwrap();
     again.restore(saved.as_ref().unwrap()).unwrap();
@@ -444,4 +471,87 @@ fn the_platformer_level_runs_clean_and_restores_exactly() {
     // bytes too (the game's frame is serde data).
     let bytes = bincode::serde::encode_to_vec(game.save(), bincode::config::standard()).unwrap();
     assert!(!bytes.is_empty());
+}
+
+/// True if the character overlaps a solid (not one-way, not sensor) shape
+/// by more than `depth`.
+fn inside_solid(game: &CharacterGame, c: &Character, depth: Real) -> bool {
+    let world = c.world_shape(&game.config);
+    game.space
+        .shape_query(&world, ShapeFilter::ALL)
+        .iter()
+        .any(|(h, set)| {
+            let solid = game
+                .space
+                .shape(*h)
+                .is_some_and(|s| !s.sensor && !game.config.is_one_way(s));
+            solid
+                && set
+                    .points
+                    .iter()
+                    .take(set.count)
+                    .any(|p| p.distance < -depth)
+        })
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(48))]
+
+    /// Any sequence of moves, short or far (up to 40 m in one move, or
+    /// beyond the level), on the level's still geometry: the character
+    /// never ends a move inside a solid shape (deeper than the casts'
+    /// tolerance) and never below the terrain.
+    #[test]
+    fn no_move_ends_inside_the_level(
+        start in -13.0f64..27.0,
+        moves in proptest::collection::vec((-40.0f64..40.0, -40.0f64..40.0), 1..40),
+    ) {
+        let mut game = CharacterGame::new().unwrap();
+        let x = Real::from_f64(start).unwrap();
+        let floor = tamias2d_scenes::character_level::floor_height(x).unwrap();
+        let mut c = Character::new(Vect::new(x, floor + real!(2)));
+        // Clear of the platforms and crates at the start.
+        proptest::prop_assume!(!inside_solid(&game, &c, Real::ZERO));
+        // The terrain is a line, not solid ground: a character that
+        // leaves the level's box (over the end walls) may come back in
+        // under its floor. The floor is checked until then.
+        let mut in_level = true;
+        for (dx, dy) in moves {
+            let before = c.position;
+            c.move_by(&mut game.space, &game.config, v(dx, dy), DT);
+            proptest::prop_assert!(
+                !inside_solid(&game, &c, real!(0.0001)),
+                "inside at {:?}", c.position
+            );
+            let p = c.position;
+            in_level &= p.x > real!(-14) && p.x < real!(28) && p.y < real!(12);
+            if let (true, Some(h)) = (in_level, tamias2d_scenes::character_level::floor_height(p.x)) {
+                proptest::prop_assert!(
+                    p.y - real!(0.7) >= h - real!(0.0001),
+                    "below the floor: {:?} → {:?}", before, p
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn extreme_moves_are_defined() {
+    let mut game = CharacterGame::new().unwrap();
+    let mut c = Character::new(v(0.0, 0.72));
+    for d in [
+        Vect::ZERO,
+        Vect::new(Real::MAX, Real::MAX),
+        Vect::new(Real::MIN, Real::ZERO),
+        Vect::new(Real::ZERO, Real::MIN),
+        Vect::new(Real::DELTA, -Real::DELTA),
+    ] {
+        let r = c.move_by(&mut game.space, &game.config, d, DT);
+        assert!(
+            !inside_solid(&game, &c, real!(0.0001)),
+            "{d:?} → {:?}",
+            c.position
+        );
+        let _ = r.clip_velocity(d);
+    }
 }
