@@ -25,6 +25,7 @@
 pub mod arbiter;
 pub mod arena;
 pub mod body;
+pub mod character;
 // Engine internals (not user API): public only for benches and the MIS
 // conformance map, hidden from the documentation.
 #[doc(hidden)]

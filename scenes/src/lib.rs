@@ -54,6 +54,7 @@ pub mod accuracy;
 pub mod bench;
 pub mod box2d;
 pub mod bullets;
+pub mod character_level;
 pub mod dec;
 pub mod desc;
 #[cfg(feature = "ggrs")]

@@ -342,3 +342,45 @@ fn print_goldens() {
     print_table("goldens", &native);
     print_table("Miri goldens", &miri);
 }
+
+/// The character mover's golden: the platformer level of
+/// `examples/character.rs` (`tamias2d_scenes::character_level`) with its
+/// scripted player, the game's checksum (space, character, velocity) after
+/// [`CHARACTER_FRAMES`] frames (fewer under Miri). The mover's casts,
+/// slides, steps and platform rides give the same bits everywhere.
+const CHARACTER_GOLDEN: u64 = 0x10281c7afcddefb4;
+/// The same after [`CHARACTER_MIRI_FRAMES`].
+const CHARACTER_MIRI_GOLDEN: u64 = 0x5ffe7ac3e00b0b73;
+/// Frames of the native run: the whole script.
+const CHARACTER_FRAMES: u64 = tamias2d_scenes::character_level::FRAMES;
+/// Frames of the Miri run: the landing and the first steps of the walk.
+const CHARACTER_MIRI_FRAMES: u64 = 90;
+
+#[test]
+fn character_level_golden_matches_the_committed_value() {
+    use tamias2d_scenes::character_level::{script, CharacterGame};
+    let (frames, want) = if cfg!(miri) {
+        (CHARACTER_MIRI_FRAMES, CHARACTER_MIRI_GOLDEN)
+    } else {
+        (CHARACTER_FRAMES, CHARACTER_GOLDEN)
+    };
+    let mut game = CharacterGame::new().expect("the level builds");
+    for f in 0..frames {
+        game.step(&[script(f)]).expect("a frame");
+        if f + 1 == CHARACTER_MIRI_FRAMES && std::env::var_os("TAMIAS_PRINT_GOLDENS").is_some() {
+            println!(
+                "character level after {} frames: {:#018x}",
+                f + 1,
+                game.checksum()
+            );
+        }
+    }
+    let got = game.checksum();
+    if std::env::var_os("TAMIAS_PRINT_GOLDENS").is_some() {
+        println!("character level after {frames} frames: {got:#018x}");
+    }
+    assert_eq!(
+        got, want,
+        "character level after {frames} frames: got {got:#018x}, golden {want:#018x}"
+    );
+}

@@ -6,6 +6,7 @@
 //!   spin, elastic collisions, Newton's cradle, the incline);
 //! * `stacking`: resting contact and stacking;
 //! * `chain`, `platformer`: smooth terrain (chains);
+//! * `character`: the kinematic character mover;
 //! * `constraints`: joints;
 //! * `joint_setters`: joints driven in place (setters, warm start, waking);
 //! * `sleep`: sleeping islands;
@@ -16,6 +17,7 @@
 //!   report's converter).
 mod bullets;
 mod chain;
+mod character;
 mod closed_forms;
 mod constraints;
 mod joint_setters;
