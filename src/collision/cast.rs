@@ -27,7 +27,14 @@
 //!   the shapes placed at it overlap by at most [`CAST_TOLERANCE`] plus
 //!   `2^-26` of the translation's length (the bound the tests check,
 //!   with a wide margin over the rounding); a hit found by the exact judge
-//!   lies within its margin *before* contact instead.
+//!   lies within its margin *before* contact instead. The rounded normals
+//!   of nearly parallel outline edges (a sliver, an edge one ulp off
+//!   another's direction) can misplace a plane by up to `2^-28` of the
+//!   shapes' size: the clip then looks for the edge that holds the entry
+//!   point among the planes within that rounding, and the point test
+//!   decides sides exactly. The fuzz target `shape_cast` checks, for
+//!   shapes up to 1 km across, that a cast starting in overlap hits at 0
+//!   and a cast ending in overlap is a hit, both beyond that slack.
 //!
 //! Both shapes are first translated by minus `A`'s anchor (exact), so the
 //! answer does not depend on where the pair is, and the outline's
@@ -505,5 +512,75 @@ mod tests {
             hit.map(|h| (h.fraction, h.normal)),
             Some((Real::ZERO, Vect::Y))
         );
+    }
+
+    /// Found by fuzzing: a sharp segment 1 ulp off the vertical cast at a
+    /// box. The outline's left side is two edges whose rounded normals and
+    /// offsets agree; the clip's tie went to the short one, whose span
+    /// does not hold the entry point, and the cast missed.
+    #[test]
+    fn a_tie_between_coplanar_edges_goes_to_the_edge_entered() {
+        let r = Real::from_bits;
+        let seg = |bx: i64| {
+            Geometry::Segment(Segment::new(
+                Vect::new(r(0), r(-1_097_362_833_408)),
+                Vect::new(r(bx), r(bx)),
+                Real::ZERO,
+            ))
+        };
+        let target = boxed(
+            real!(3),
+            r(178 << 15),
+            Vect::from_ints(97, 0),
+            r(11_665_408),
+        );
+        let d = Vect::new(r(406_438_650_112), Real::ZERO);
+        let straight = shape_cast(&seg(0), d, &target, StartContact::Hit).map(|h| h.fraction);
+        let tilted = shape_cast(&seg(-1), d, &target, StartContact::Hit).map(|h| h.fraction);
+        assert!(straight.is_some());
+        assert_eq!(tilted, straight);
+        // The same with the segment's end 3.3 mm lower: the ray now enters
+        // through the rounded corner at the end of the long edge.
+        let lower = Geometry::Segment(Segment::new(
+            Vect::new(r(0), r(-1_097_362_833_408)),
+            Vect::new(r(-1), r(-14_155_777)),
+            r(93),
+        ));
+        assert!(shape_cast(&lower, d, &target, StartContact::Hit).is_some());
+        // Tilted the other way, at a box 68 m tall: the tilted edge's
+        // rounded plane is entered last though the ray enters through its
+        // exactly vertical neighbour.
+        let other = Geometry::Segment(Segment::new(
+            Vect::new(r(0), r(-1_097_362_833_408)),
+            Vect::new(r(1), r(-14_155_777)),
+            r(93),
+        ));
+        let tall = boxed(
+            real!(3),
+            real!(34.00135803222656),
+            Vect::from_ints(97, 0),
+            r(11_665_408),
+        );
+        assert!(shape_cast(&other, d, &tall, StartContact::Hit).is_some());
+    }
+
+    /// Found by fuzzing: two nearly collinear segments overlapping along
+    /// 44 m. Their outline is a sliver whose short edges' normals round to
+    /// the long edges'; the point test must decide sides exactly.
+    #[test]
+    fn a_sliver_outline_holds_the_origin() {
+        let r = Real::from_bits;
+        let a = Geometry::Segment(Segment::new(
+            Vect::from_ints(255, 0),
+            Vect::ZERO,
+            Real::ZERO,
+        ));
+        let b = Geometry::Segment(Segment::new(
+            Vect::new(Real::ZERO, r(2)),
+            Vect::from_ints(44, 0),
+            real!(0.0625),
+        ));
+        let hit = shape_cast(&a, Vect::ZERO, &b, StartContact::Hit);
+        assert_eq!(hit.map(|h| h.fraction), Some(Real::ZERO));
     }
 }

@@ -68,6 +68,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::geometry::{next_index, Circle, Geometry, Poly, Segment};
+use super::hull::orientation;
 use super::reach;
 use crate::math::exact::{raw_sq, wide_mul};
 use crate::math::{Real, Vect, BB};
@@ -153,7 +154,7 @@ impl Target<'_> {
     fn point_query(self, p: Vect) -> PointQueryInfo {
         match self {
             Target::Geometry(g) => point_query(g, p),
-            Target::Convex(c) => outline_point_query(c.verts, c.normals, c.radius, p),
+            Target::Convex(c) => outline_point_query(c.verts, c.normals, c.radius, p, true),
         }
     }
 
@@ -320,12 +321,24 @@ enum Feature {
 }
 
 fn poly_point_query(poly: &Poly, p: Vect) -> PointQueryInfo {
-    outline_point_query(poly.verts(), poly.normals(), poly.radius(), p)
+    outline_point_query(poly.verts(), poly.normals(), poly.radius(), p, false)
 }
 
 /// The point query of a convex outline: counter-clockwise `verts`, their
 /// edges' outward unit `normals`, rounding radius `r`.
-fn outline_point_query(verts: &[Vect], normals: &[Vect], r: Real, p: Vect) -> PointQueryInfo {
+///
+/// With `exact_sides`, which edges face the point is decided by exact
+/// orientation, not by the rounded unit normals: a cast's outline can be a
+/// sliver (two nearly parallel segments) whose short edges' normals round
+/// to a long edge's, and the rounded test would put a point on the long
+/// edge outside a short one and measure it from a far vertex.
+fn outline_point_query(
+    verts: &[Vect],
+    normals: &[Vect],
+    r: Real,
+    p: Vect,
+    exact_sides: bool,
+) -> PointQueryInfo {
     let n = verts.len();
     // Least-deep edge (largest separation), for a point inside the core.
     let mut shallowest: Option<(Real, Vect)> = None;
@@ -337,11 +350,16 @@ fn outline_point_query(verts: &[Vect], normals: &[Vect], r: Real, p: Vect) -> Po
         if shallowest.is_none_or(|(best, _)| separation > best) {
             shallowest = Some((separation, normal));
         }
-        if !separation.is_positive() {
+        let v1 = verts.get(next_index(i, n)).copied().unwrap_or(v0);
+        let facing = if exact_sides {
+            orientation(v0, v1, p) < 0
+        } else {
+            separation.is_positive()
+        };
+        if !facing {
             continue;
         }
         // The edge faces the point: clamp to its span (tangent = perp(normal)).
-        let v1 = verts.get(next_index(i, n)).copied().unwrap_or(v0);
         let tangent = normal.perp();
         let along = rel.dot(tangent);
         let candidate = if along <= Real::ZERO {
@@ -573,7 +591,27 @@ impl Sweep {
                 alpha: lower.to_alpha(),
             });
         }
-        let corner = if along.is_negative() { v0 } else { v1 };
+        // Another edge on the same plane (two edges whose rounded normals
+        // and offsets agree, as a sliver's short edge and its long
+        // neighbour can) may hold the entry point: the tie went to the
+        // lower index, not to the edge the ray enters through.
+        let mut corner = if along.is_negative() { v0 } else { v1 };
+        if outline == Outline::Closed {
+            if let Some(hit) = self.coplanar_entry(verts, normals, reach, lower, i, centre) {
+                return Some(hit);
+            }
+            // Past the entry edge's span the ray meets a rounded corner: the
+            // one nearest the entry point. Nearly parallel edges (a sliver,
+            // a tie between coplanar edges) can make the entry edge's own
+            // end the wrong one, so every vertex is considered.
+            if let Some(nearest) = verts
+                .iter()
+                .copied()
+                .min_by_key(|v| length_sq_wide(centre - *v))
+            {
+                corner = nearest;
+            }
+        }
         // A sharp polygon's entry point is always on the entry edge: outside
         // the span it is off by rounding only (amplified at a sharp corner,
         // where two nearly parallel planes meet), so it is a hit at the end
@@ -586,6 +624,44 @@ impl Sweep {
             });
         }
         self.circle(corner, core_radius)
+    }
+
+    /// The hit on another edge than `skip` that holds the entry point
+    /// `centre` in its span and whose pushed-out plane passes through it
+    /// up to the rounding of the unit normals (the nearest such plane):
+    /// with nearly parallel edges (a sliver, an edge one ulp off another's
+    /// direction) the rounded normals can make the wrong one of them the
+    /// last plane entered.
+    fn coplanar_entry(
+        &self,
+        verts: &[Vect],
+        normals: &[Vect],
+        reach: Real,
+        lower: Fraction,
+        skip: usize,
+        centre: Vect,
+    ) -> Option<SegmentQueryInfo> {
+        let n = verts.len();
+        let tolerance = rounding_margin(&outline_bb(verts, Real::ZERO), self.a, self.d);
+        let mut best: Option<(Real, Vect)> = None;
+        for (j, (&w0, &normal)) in verts.iter().zip(normals).enumerate() {
+            if j == skip || !self.d.dot(normal).is_negative() {
+                continue;
+            }
+            let gap = (centre - w0).dot(normal) - reach;
+            let w1 = verts.get(next_index(j, n)).copied().unwrap_or(w0);
+            let tangent = normal.perp();
+            let along = (centre - w0).dot(tangent);
+            let within = !along.is_negative() && along <= (w1 - w0).dot(tangent);
+            if within && gap >= -tolerance && best.is_none_or(|(g, _)| gap > g) {
+                best = Some((gap, normal));
+            }
+        }
+        best.map(|(_, normal)| SegmentQueryInfo {
+            point: centre - normal * self.radius,
+            normal,
+            alpha: lower.to_alpha(),
+        })
     }
 }
 
