@@ -317,6 +317,27 @@ pub fn floor_height(x: Real) -> Option<Real> {
     Some(h)
 }
 
+/// True if `c` overlaps a solid shape of the level (not a sensor, not
+/// one-way) by more than `depth`.
+pub fn inside_solid(game: &CharacterGame, c: &Character, depth: Real) -> bool {
+    let world = c.world_shape(&game.config);
+    game.space
+        .shape_query(&world, ShapeFilter::ALL)
+        .iter()
+        .any(|(h, set)| {
+            let solid = game
+                .space
+                .shape(*h)
+                .is_some_and(|s| !s.sensor && !game.config.is_one_way(s));
+            solid
+                && set
+                    .points
+                    .iter()
+                    .take(set.count)
+                    .any(|p| p.distance < -depth)
+        })
+}
+
 /// The states a run counts, in the order of [`RunStats::seen`].
 pub const STATES: [&str; 8] = [
     "grounded",
@@ -360,24 +381,7 @@ impl RunStats {
         let bottom = c.position.y - real!(0.7);
         let below = floor_height(c.position.x).is_none_or(|h| bottom < h - real!(0.05));
         self.fell_through = self.fell_through.saturating_add(u64::from(below));
-        let skin2 = game.config.skin() + game.config.skin();
-        let world = c.world_shape(&game.config);
-        let inside = game
-            .space
-            .shape_query(&world, ShapeFilter::ALL)
-            .iter()
-            .any(|(h, set)| {
-                let solid = game
-                    .space
-                    .shape(*h)
-                    .is_some_and(|s| !s.sensor && !game.config.is_one_way(s));
-                solid
-                    && set
-                        .points
-                        .iter()
-                        .take(set.count)
-                        .any(|p| p.distance < -skin2)
-            });
+        let inside = inside_solid(game, c, game.config.skin() + game.config.skin());
         self.stuck = self.stuck.saturating_add(u64::from(inside));
         if let Some(gap) = report.ground_gap {
             self.max_ground_gap = self.max_ground_gap.max(gap);

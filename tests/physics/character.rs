@@ -17,7 +17,7 @@ use tamias2d::shape::mass::moment_for_box;
 use tamias2d::shape::{Chain, ChainKind, Geometry, Segment, Shape, ShapeFilter};
 use tamias2d::space::Space;
 use tamias2d::{real, Real, Vect};
-use tamias2d_scenes::character_level::{script, CharacterGame, RunStats, FRAMES};
+use tamias2d_scenes::character_level::{inside_solid, script, CharacterGame, RunStats, FRAMES};
 
 const DT: Real = real!(0.0166666666666666666);
 const G: Real = real!(10);
@@ -471,27 +471,6 @@ fn the_platformer_level_runs_clean_and_restores_exactly() {
     // bytes too (the game's frame is serde data).
     let bytes = bincode::serde::encode_to_vec(game.save(), bincode::config::standard()).unwrap();
     assert!(!bytes.is_empty());
-}
-
-/// True if the character overlaps a solid (not one-way, not sensor) shape
-/// by more than `depth`.
-fn inside_solid(game: &CharacterGame, c: &Character, depth: Real) -> bool {
-    let world = c.world_shape(&game.config);
-    game.space
-        .shape_query(&world, ShapeFilter::ALL)
-        .iter()
-        .any(|(h, set)| {
-            let solid = game
-                .space
-                .shape(*h)
-                .is_some_and(|s| !s.sensor && !game.config.is_one_way(s));
-            solid
-                && set
-                    .points
-                    .iter()
-                    .take(set.count)
-                    .any(|p| p.distance < -depth)
-        })
 }
 
 proptest::proptest! {
