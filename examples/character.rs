@@ -8,7 +8,10 @@
 //! ```text
 //! cargo run --release --example character
 //! ```
+#![allow(clippy::float_arithmetic)] // timing report only
+
 use std::process::ExitCode;
+use std::time::Instant;
 
 use tamias2d_scenes::character_level::{script, CharacterGame, RunStats, FRAMES, STATES};
 
@@ -16,6 +19,7 @@ fn main() -> Result<ExitCode, Box<dyn std::error::Error>> {
     let mut game = CharacterGame::new()?;
     let mut stats = RunStats::default();
     let mut saved = None;
+    let start = Instant::now();
     for f in 0..FRAMES {
         if f == FRAMES / 2 {
             saved = Some(game.save());
@@ -23,6 +27,7 @@ fn main() -> Result<ExitCode, Box<dyn std::error::Error>> {
         game.step(&[script(f)])?;
         stats.observe(&game);
     }
+    let per_frame_us = start.elapsed().as_secs_f64() * 1e6 / FRAMES as f64;
     println!(
         "character: frames {}, fell through {}, stuck {}, max ground gap {:.4}",
         stats.frames,
@@ -36,6 +41,7 @@ fn main() -> Result<ExitCode, Box<dyn std::error::Error>> {
             stats.seen[k], stats.entered[k]
         );
     }
+    println!("time: {per_frame_us:.1} us per frame (the world's step and the move, this build)");
     let straight = game.checksum();
     let mut again = CharacterGame::new()?;
     again.restore(saved.as_ref().ok_or("frame 900 saved")?)?;
