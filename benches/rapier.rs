@@ -22,16 +22,15 @@
 
 use tamias2d_scenes::bench as common;
 
-use std::cell::RefCell;
 use std::hint::black_box;
-use std::rc::Rc;
 use std::time::{Duration, Instant};
+use tamias2d_scenes::shared::Shared;
 
 use common::{Config, Engine, RapierRun, TamiasRun};
 use criterion::Criterion;
 
 /// Per-iteration times of the samples criterion asked for, in seconds.
-type Samples = Rc<RefCell<Vec<f64>>>;
+type Samples = Shared<Vec<f64>>;
 
 /// Times one step of `engine` with criterion and returns the median of its
 /// samples (seconds per step).
@@ -41,8 +40,8 @@ fn bench_engine(
     engine: &mut dyn Engine,
     sample_size: usize,
 ) -> Option<f64> {
-    let samples: Samples = Rc::new(RefCell::new(Vec::new()));
-    let record = Rc::clone(&samples);
+    let samples: Samples = Shared::new(Vec::new());
+    let record = Shared::clone(&samples);
     let id = format!("{}/{}", scene, engine.name().to_lowercase());
     c.bench_function(&id, |b| {
         b.iter_custom(|iters| {

@@ -36,10 +36,9 @@
 
 use tamias2d_scenes::bench as common;
 
-use std::cell::RefCell;
 use std::hint::black_box;
-use std::rc::Rc;
 use std::time::{Duration, Instant};
+use tamias2d_scenes::shared::Shared;
 
 use common::median;
 use criterion::Criterion;
@@ -172,8 +171,8 @@ fn bench_switch(
     edit(&mut start.settings);
     let dt = s.scene.dt;
     let space = &mut s.scene.space;
-    let samples = Rc::new(RefCell::new(Vec::new()));
-    let record = Rc::clone(&samples);
+    let samples = Shared::new(Vec::new());
+    let record = Shared::clone(&samples);
     c.benchmark_group("switches")
         .bench_function(format!("{}/{variant}", s.name), |b| {
             b.iter_custom(|iters| {

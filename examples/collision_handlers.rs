@@ -12,8 +12,8 @@
 //! ```text
 //! cargo run --example collision_handlers
 //! ```
-use std::cell::{Cell, RefCell};
-use std::rc::Rc;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::{Arc, Mutex};
 
 use tamias2d::body::Body;
 use tamias2d::math::{Real, Vect};
@@ -58,10 +58,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     ball_shape.collision_type = BALL;
     space.add_shape(ball_shape)?;
 
-    // Handlers report into a shared log; `step` says when.
-    let step = Rc::new(Cell::new(0u32));
-    let log = Rc::new(RefCell::new(Vec::<String>::new()));
-    let resting_impulse = Rc::new(Cell::new(Vect::ZERO));
+    // Handlers report into a shared log; `step` says when. Callbacks are
+    // `Send + Sync` (so is the `Space`): shared state is `Arc`ed.
+    let step = Arc::new(AtomicU32::new(0));
+    let log = Arc::new(Mutex::new(Vec::<String>::new()));
+    let resting_impulse = Arc::new(Mutex::new(Vect::ZERO));
 
     let (s, l) = (step.clone(), log.clone());
     let h = space.add_collision_handler(PLATFORM, BALL);
@@ -73,21 +74,29 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         } else {
             "passes up through"
         };
-        l.borrow_mut()
-            .push(format!("step {:3}: the ball {what} the platform", s.get()));
+        if let Ok(mut log) = l.lock() {
+            let at = s.load(Ordering::Relaxed);
+            log.push(format!("step {at:3}: the ball {what} the platform"));
+        }
         from_above
     }));
     let r = resting_impulse.clone();
-    h.post_solve = Some(Box::new(move |ctx| r.set(ctx.arbiter.total_impulse())));
+    h.post_solve = Some(Box::new(move |ctx| {
+        if let Ok(mut r) = r.lock() {
+            *r = ctx.arbiter.total_impulse();
+        }
+    }));
 
     let (s, l) = (step.clone(), log.clone());
     space.add_collision_handler(BALL, COIN).begin = Some(Box::new(move |ctx| {
         let at = ctx.contact_point_set().points[0].point_a;
-        l.borrow_mut().push(format!(
-            "step {:3}: coin collected (contact at y = {:.2})",
-            s.get(),
-            at.y.to_f64()
-        ));
+        if let Ok(mut log) = l.lock() {
+            log.push(format!(
+                "step {:3}: coin collected (contact at y = {:.2})",
+                s.load(Ordering::Relaxed),
+                at.y.to_f64()
+            ));
+        }
         ctx.add_post_step_callback(
             u64::from(COIN),
             Box::new(move |space: &mut Space| {
@@ -99,9 +108,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     let dt = Real::ratio(1, 60);
     for i in 1..=240 {
-        step.set(i);
+        step.store(i, Ordering::Relaxed);
         space.step(dt)?;
-        for line in log.borrow_mut().drain(..) {
+        for line in log.lock().map_err(|_| "log")?.drain(..) {
             println!("{line}");
         }
     }
@@ -119,7 +128,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let weight_dt = Real::from_int(10) * dt;
     println!(
         "impulse holding the ball: {:.4} N·s per step (m·g·dt = {:.4})",
-        resting_impulse.get().length().to_f64(),
+        resting_impulse
+            .lock()
+            .map_err(|_| "impulse")?
+            .length()
+            .to_f64(),
         weight_dt.to_f64()
     );
     println!("checksum: {:#018x}", space.checksum());

@@ -63,6 +63,7 @@ pub mod joints;
 pub mod quality;
 pub mod registry;
 pub mod rng;
+pub mod shared;
 pub mod stacking;
 pub mod terrain;
 mod world;

@@ -41,11 +41,11 @@ pub struct Space {
 /// called instead of [`Body::update_velocity`] with the gravity, the
 /// per-step damping factor and `dt`. Must be deterministic (no floats, no
 /// outside state that differs between peers).
-pub type VelocityUpdateFn = Box<dyn FnMut(&mut Body, Vect, Real, Real)>;
+pub type VelocityUpdateFn = Box<dyn FnMut(&mut Body, Vect, Real, Real) + Send + Sync>;
 
 /// Custom position integration (Chipmunk `cpBodySetPositionUpdateFunc`):
 /// called instead of [`Body::update_position`] with `dt`.
-pub type PositionUpdateFn = Box<dyn FnMut(&mut Body, Real)>;
+pub type PositionUpdateFn = Box<dyn FnMut(&mut Body, Real) + Send + Sync>;
 
 /// Per-body custom integrators (closures: not simulation state).
 #[derive(Default)]
@@ -55,11 +55,11 @@ pub(crate) struct Integrators {
 }
 
 /// A callback that may reject the pair (`begin`, `pre_solve`).
-pub type FilterFn = Box<dyn FnMut(&mut ArbiterContext<'_>) -> bool>;
+pub type FilterFn = Box<dyn FnMut(&mut ArbiterContext<'_>) -> bool + Send + Sync>;
 /// A callback that only observes (`post_solve`, `separate`).
-pub type NotifyFn = Box<dyn FnMut(&mut ArbiterContext<'_>)>;
+pub type NotifyFn = Box<dyn FnMut(&mut ArbiterContext<'_>) + Send + Sync>;
 /// A post-step callback: runs once after the step with the whole space.
-pub type PostStepFn = Box<dyn FnOnce(&mut Space)>;
+pub type PostStepFn = Box<dyn FnOnce(&mut Space) + Send + Sync>;
 
 /// The four callbacks of a collision type pair (Chipmunk `cpCollisionHandler`).
 pub struct CollisionHandler {
@@ -103,7 +103,7 @@ pub(crate) struct HandlerTable {
 /// `cpConstraintPreSolveFunc` / `cpConstraintPostSolveFunc`). Not state:
 /// never saved, hashed or cloned; it must be deterministic (no floats, no
 /// outside state that differs between peers).
-pub type ConstraintFn = Box<dyn FnMut(&mut ConstraintContext<'_>)>;
+pub type ConstraintFn = Box<dyn FnMut(&mut ConstraintContext<'_>) + Send + Sync>;
 
 /// What a constraint callback sees: its constraint (mutable: a pre-solve
 /// callback may change parameters, e.g. a motor's rate, through the

@@ -1,7 +1,6 @@
 //! Collision handler semantics (MIS `spaceAddCollisionHandler`, Chipmunk's
 //! begin / pre-solve / post-solve / separate contract) and post-step callbacks.
-use std::cell::Cell;
-use std::rc::Rc;
+use tamias2d_scenes::shared::Shared;
 
 use tamias2d::arbiter::ArbiterState;
 use tamias2d::body::{Body, BodyHandle};
@@ -52,8 +51,8 @@ fn world(y: i32, e: Real) -> World {
     }
 }
 
-fn counter() -> Rc<Cell<u32>> {
-    Rc::new(Cell::new(0))
+fn counter() -> Shared<u32> {
+    Shared::new(0)
 }
 
 fn run(space: &mut Space, steps: u32) {
@@ -162,7 +161,7 @@ fn wildcard_handlers_fire_for_every_partner() {
 #[test]
 fn post_solve_sees_the_impulse_that_holds_the_ball_up() {
     let mut w = world(1, Real::ZERO);
-    let last = Rc::new(Cell::new(Vect::ZERO));
+    let last = Shared::new(Vect::ZERO);
     let l = last.clone();
     w.space.add_collision_handler(BALL, GROUND).post_solve = Some(Box::new(move |ctx| {
         l.set(ctx.arbiter.total_impulse());
@@ -251,4 +250,14 @@ fn locked_space_rejects_changes_from_handlers_paths() {
         w.space.remove_shape(w.ball_shape).is_err(),
         "removing twice is an error"
     );
+}
+
+/// Callbacks are `Send + Sync`, so a `Space` is: a game can move its world
+/// to another thread, share it with a query thread, or keep it as a Bevy
+/// resource.
+#[test]
+fn a_space_is_send_and_sync() {
+    fn send_sync<T: Send + Sync>() {}
+    send_sync::<Space>();
+    send_sync::<tamias2d::space::FrameState>();
 }

@@ -1370,7 +1370,7 @@ fn constraint_callbacks_survive_rollback_and_not_handle_reuse() {
     let a = body(&mut w, 1, 1, Vect::ZERO);
     let b = body(&mut w, 1, 1, Vect::from_ints(1, 0));
     let h = ok(w.add_constraint(ok(Constraint::new(a, b, ok(SimpleMotor::new(Real::ONE))))));
-    let calls = std::rc::Rc::new(std::cell::Cell::new(0u32));
+    let calls = tamias2d_scenes::shared::Shared::new(0u32);
     let counter = calls.clone();
     ok(w.set_constraint_post_solve(h, Some(Box::new(move |_| counter.set(counter.get() + 1)))));
     ok(w.step(DT));

@@ -8,8 +8,8 @@
 //! switches are pinned by an equivalent scene where one exists (friction
 //! off = every friction 0, restitution off = every elasticity 0, bias off =
 //! `collision_bias = 1`), and by behaviour otherwise (warm starting).
-use std::cell::Cell;
-use std::rc::Rc;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::Arc;
 use tamias2d::limits::Limits;
 
 use tamias2d::body::Body;
@@ -154,7 +154,7 @@ fn substeps_keep_the_time_steps_of_the_last_two_sub_steps() {
 /// post-step callback queued from each post-solve.
 struct Counted {
     space: Space,
-    calls: Rc<[Cell<u32>; 5]>,
+    calls: Arc<[AtomicU32; 5]>,
 }
 
 fn counted_world(substeps: u32) -> Counted {
@@ -187,33 +187,33 @@ fn counted_world(substeps: u32) -> Counted {
         .and_then(|s| s.with_material(Real::ONE, real!(0.5)))
         .unwrap_or_else(|e| panic!("{e}"));
     space.add_shape(circle).unwrap_or_else(|e| panic!("{e}"));
-    let calls: Rc<[Cell<u32>; 5]> = Rc::new(Default::default());
+    let calls: Arc<[AtomicU32; 5]> = Arc::new(Default::default());
     // Both shapes keep the default collision type 0.
     let h = space.add_wildcard_handler(0);
     let c = calls.clone();
     h.begin = Some(Box::new(move |_| {
-        c[0].set(c[0].get() + 1);
+        c[0].fetch_add(1, Ordering::Relaxed);
         true
     }));
     let c = calls.clone();
     h.pre_solve = Some(Box::new(move |_| {
-        c[1].set(c[1].get() + 1);
+        c[1].fetch_add(1, Ordering::Relaxed);
         true
     }));
     let c = calls.clone();
     h.post_solve = Some(Box::new(move |ctx| {
-        c[2].set(c[2].get() + 1);
+        c[2].fetch_add(1, Ordering::Relaxed);
         let c = c.clone();
         ctx.add_post_step_callback(
             1,
             Box::new(move |_| {
-                c[4].set(c[4].get() + 1);
+                c[4].fetch_add(1, Ordering::Relaxed);
             }),
         );
     }));
     let c = calls.clone();
     h.separate = Some(Box::new(move |_| {
-        c[3].set(c[3].get() + 1);
+        c[3].fetch_add(1, Ordering::Relaxed);
     }));
     Counted { space, calls }
 }
@@ -231,7 +231,12 @@ fn substeps_run_handlers_and_callbacks_in_every_sub_step() {
             b.space.step(sub).unwrap_or_else(|e| panic!("{e}"));
         }
     }
-    let counts = |c: &Counted| c.calls.iter().map(Cell::get).collect::<Vec<_>>();
+    let counts = |c: &Counted| {
+        c.calls
+            .iter()
+            .map(|n| n.load(Ordering::Relaxed))
+            .collect::<Vec<_>>()
+    };
     assert_eq!(
         counts(&a),
         counts(&b),

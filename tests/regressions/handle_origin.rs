@@ -11,8 +11,7 @@
 //! its arenas and on the handles stored in its state (shape → body,
 //! arbiters) whenever a state enters it (`from_state`, `snapshot::load`,
 //! `restore_state`, `load_snapshot`) and on `add_shape`.
-use std::cell::RefCell;
-use std::rc::Rc;
+use tamias2d_scenes::shared::Shared;
 
 use tamias2d::body::{Body, BodyHandle};
 use tamias2d::math::{Real, Vect, BB};
@@ -126,8 +125,8 @@ fn handler_contexts_hand_out_handles_of_their_space() {
     let mut a = world();
     let mut b = world();
     type Pair = (ShapeHandle, ShapeHandle, BodyHandle, BodyHandle);
-    let seen: Rc<RefCell<Vec<Pair>>> = Rc::default();
-    let log = Rc::clone(&seen);
+    let seen: Shared<Vec<Pair>> = Shared::default();
+    let log = Shared::clone(&seen);
     a.add_collision_handler(2, 1).pre_solve = Some(Box::new(move |ctx| {
         let (s1, s2) = ctx.shapes();
         let (b1, b2) = ctx.arbiter.bodies();

@@ -6,15 +6,14 @@
 //! bodies in the order of `ctx.shapes()` (Chipmunk's `cpArbiterGetBodies`
 //! follows `cpArbiterGetShapes` the same way); `Arbiter::shapes()` and
 //! `Arbiter::bodies()` stay in one (canonical) order.
-use std::cell::RefCell;
-use std::rc::Rc;
+use tamias2d_scenes::shared::Shared;
 
 use tamias2d::body::{Body, BodyHandle};
 use tamias2d::math::{Real, Vect};
 use tamias2d::shape::Shape;
 use tamias2d::space::{ShapeHandle, Space};
 
-type Seen = Rc<RefCell<Vec<(bool, ShapeHandle, ShapeHandle, BodyHandle, BodyHandle)>>>;
+type Seen = Shared<Vec<(bool, ShapeHandle, ShapeHandle, BodyHandle, BodyHandle)>>;
 
 /// Ground (type 1) added first, so the arbiter's shape a is the ground; a
 /// ball (type 2) resting on it.
@@ -53,8 +52,8 @@ fn check(w: &mut Space, seen: &Seen) {
     }
 }
 
-fn recorder(seen: &Seen) -> Box<dyn FnMut(&mut tamias2d::space::ArbiterContext<'_>) -> bool> {
-    let log = Rc::clone(seen);
+fn recorder(seen: &Seen) -> tamias2d::space::handlers::FilterFn {
+    let log = Shared::clone(seen);
     Box::new(move |ctx| {
         let (s1, s2) = ctx.shapes();
         let (b1, b2) = ctx.bodies();
@@ -66,7 +65,7 @@ fn recorder(seen: &Seen) -> Box<dyn FnMut(&mut tamias2d::space::ArbiterContext<'
 #[test]
 fn swapped_pair_handler_sees_bodies_in_its_shape_order() {
     let (mut w, ground, ball) = world();
-    let seen: Seen = Rc::default();
+    let seen: Seen = Shared::default();
     w.add_collision_handler(2, 1).pre_solve = Some(recorder(&seen));
     check(&mut w, &seen);
     let (swapped, _, _, b1, b2) = seen.borrow()[0];
@@ -87,14 +86,14 @@ fn swapped_pair_handler_sees_bodies_in_its_shape_order() {
 #[test]
 fn unswapped_and_wildcard_handlers_agree_too() {
     let (mut w, ground, _) = world();
-    let seen: Seen = Rc::default();
+    let seen: Seen = Shared::default();
     w.add_collision_handler(1, 2).begin = Some(recorder(&seen));
     check(&mut w, &seen);
     assert_eq!(seen.borrow()[0].3, ground);
 
     // The wildcard of type 2 (the arbiter's shape b) runs swapped.
     let (mut w, _, ball) = world();
-    let seen: Seen = Rc::default();
+    let seen: Seen = Shared::default();
     w.add_wildcard_handler(2).begin = Some(recorder(&seen));
     check(&mut w, &seen);
     assert!(seen.borrow()[0].0);

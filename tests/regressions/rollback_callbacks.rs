@@ -13,8 +13,7 @@
 //! * collision handlers are keyed by collision type: nothing to restore;
 //! * post-step callbacks still pending when a state is restored belong to
 //!   the abandoned frames: `restore_state` discards them.
-use std::cell::Cell;
-use std::rc::Rc;
+use tamias2d_scenes::shared::Shared;
 
 use tamias2d::body::{Body, BodyHandle};
 use tamias2d::math::{Real, Vect};
@@ -141,8 +140,8 @@ fn handlers_survive_a_rollback_of_a_removed_body() {
     let mut c = Shape::circle_shape_new(b, Real::HALF, Vect::ZERO).unwrap();
     c.collision_type = 2;
     w.add_shape(c).unwrap();
-    let begins = Rc::new(Cell::new(0));
-    let n = Rc::clone(&begins);
+    let begins = Shared::new(0);
+    let n = Shared::clone(&begins);
     w.add_collision_handler(2, 1).begin = Some(Box::new(move |_| {
         n.set(n.get() + 1);
         true
@@ -161,14 +160,14 @@ fn pending_post_step_callbacks_are_discarded_by_a_rollback() {
     let mut w = world();
     ball(&mut w, 10);
     let saved = w.state().clone();
-    let ran = Rc::new(Cell::new(0));
-    let r = Rc::clone(&ran);
+    let ran = Shared::new(0);
+    let r = Shared::clone(&ran);
     assert!(w.add_post_step_callback(7, Box::new(move |_| r.set(r.get() + 1))));
     w.restore_state(&saved);
     w.step(dt()).unwrap();
     assert_eq!(ran.get(), 0, "a callback of the abandoned frames ran");
     // Without a rollback it runs after the next step.
-    let r = Rc::clone(&ran);
+    let r = Shared::clone(&ran);
     assert!(w.add_post_step_callback(7, Box::new(move |_| r.set(r.get() + 1))));
     w.step(dt()).unwrap();
     assert_eq!(ran.get(), 1);

@@ -2,7 +2,6 @@
 //! every shape that moved, and the lists of moving and sleeping boxes the
 //! broadphase reads. A level's static shapes are skipped while it is
 //! unchanged (`space::level`). In pieces between the threads.
-use core::cell::Cell;
 
 use crate::arena::Arena;
 use crate::body::{Body, BodyType};
@@ -41,7 +40,7 @@ pub(crate) fn update_shape_caches(
     state: &WorldState,
     caches: &mut Vec<Option<ShapeCache>>,
     bp: &mut BroadphaseCache,
-    level_cache: &Cell<Option<LevelIndex>>,
+    level_cache: &crate::space::caches::LevelCache,
     pieces: &mut Vec<CachePiece>,
 ) {
     let rewrite = Rewrite {
