@@ -184,7 +184,7 @@ fn push_players(
 
 /// A crate every 25 frames, dropped at a place the frame number picks.
 fn rain_crates(mut commands: Commands, frame: Res<GameFrame>) {
-    if frame.0 % 25 != 0 {
+    if !frame.0.is_multiple_of(25) {
         return;
     }
     let x = Real::from_int(((frame.0 / 25) * 7 % 17) as i32 - 8);
@@ -200,7 +200,7 @@ fn rain_crates(mut commands: Commands, frame: Res<GameFrame>) {
 fn clear_crates(mut commands: Commands, frame: Res<GameFrame>, crates: Query<(Entity, &Crate)>) {
     for (entity, c) in &crates {
         if frame.0 == c.born + 150 {
-            if c.born % 50 == 0 {
+            if c.born.is_multiple_of(50) {
                 commands.entity(entity).despawn_rollback();
             } else {
                 commands.entity(entity).despawn();
