@@ -131,7 +131,7 @@ impl RollbackGame for Game {
             }
         }
         self.charges.frame += 1;
-        if self.charges.frame % 30 == 0 {
+        if self.charges.frame.is_multiple_of(30) {
             self.charges.left = self.charges.left.map(|c| (c + 1).min(2));
         }
         Ok(self.space.step(Real::ratio(1, 60))?)
