@@ -110,7 +110,7 @@ pub struct CharacterGame {
 }
 
 /// A saved frame of the game.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct SavedFrame {
     frame: u64,
     space: FrameState,
@@ -291,6 +291,37 @@ impl CharacterGame {
         self.frame = saved.frame;
         self.players.clone_from(&saved.players);
         Ok(())
+    }
+}
+
+/// The game under GGRS (feature `ggrs`): each player's input is its
+/// [`Buttons`], the saved state a [`SavedFrame`] (the space's frame, the
+/// players and the frame number), the checksum [`CharacterGame::checksum`].
+#[cfg(feature = "ggrs")]
+impl tamias2d_ggrs::RollbackGame for CharacterGame {
+    type Input = Buttons;
+    type State = SavedFrame;
+
+    fn save_into(&self, state: &mut SavedFrame) {
+        self.space.save_frame(&mut state.space);
+        state.frame = self.frame;
+        state.players.clone_from(&self.players);
+    }
+
+    fn load(&mut self, state: &SavedFrame) -> Result<(), tamias2d::replay::BoxError> {
+        Ok(self.restore(state)?)
+    }
+
+    fn advance(
+        &mut self,
+        inputs: &[(Buttons, tamias2d_ggrs::ggrs::InputStatus)],
+    ) -> Result<(), tamias2d::replay::BoxError> {
+        let buttons: Vec<Buttons> = inputs.iter().map(|&(b, _)| b).collect();
+        Ok(self.step(&buttons)?)
+    }
+
+    fn checksum(&self) -> u64 {
+        CharacterGame::checksum(self)
     }
 }
 

@@ -1,14 +1,16 @@
 //! The little two-player game shared by the GGRS and rollback examples and
-//! by `tests/determinism/ggrs.rs` (feature `ggrs`): `bowl_boxes_100` (100 boxes dropped into a bowl) plus
-//! two player balls, each driven by a `u8` button mask.
+//! by `tests/determinism/ggrs.rs` (feature `ggrs`): `bowl_boxes_100` (100
+//! boxes dropped into a bowl) plus two player balls, each driven by a `u8`
+//! button mask.
 //!
 //! Buttons decode deterministically into [`replay::Input`]s
 //! ([`decode_buttons`]): left and right push with a force for one step,
 //! jump is an impulse at the centre of gravity, spin is a torque. The game
-//! state for rollback is the world's [`FrameState`] alone (the in-memory
-//! fast path: `save_frame` to save, `restore_frame` to load; the static
-//! bowl is the level, never copied); the frame number is the space's step
-//! stamp.
+//! is a [`RollbackGame`] whose state is the world's [`FrameState`] alone
+//! (`save_frame` to save, `restore_frame` to load; the static bowl is the
+//! level, never copied); the frame number is the space's step count. The
+//! sessions are `tamias2d-ggrs`'s: [`run_synctest`] and [`run_p2p`] only
+//! fix the players, the scripted buttons and the reference run.
 #![allow(
     dead_code, // each example uses a part
     clippy::float_arithmetic,
@@ -19,18 +21,15 @@
     clippy::indexing_slicing
 )]
 
-use std::net::SocketAddr;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use crate::{self as scenes, rng::SplitMix64, BodyDesc, BodyKind, ShapeDesc};
-use ggrs::{
-    DesyncDetection, GgrsError, GgrsEvent, GgrsRequest, InputStatus, PlayerType, PredictRepeatLast,
-    SessionState, UdpNonBlockingSocket,
-};
 use tamias2d::body::BodyHandle;
-use tamias2d::replay::{self, Input};
-use tamias2d::space::{FrameState, Space};
+use tamias2d::replay::{self, BoxError, Input};
+use tamias2d::space::{FrameState, Space, SpaceError};
 use tamias2d::{real, Real, Vect};
+use tamias2d_ggrs::ggrs::InputStatus;
+use tamias2d_ggrs::{Error, Loopback, RollbackGame};
 
 /// Push left.
 pub const LEFT: u8 = 1 << 0;
@@ -48,16 +47,9 @@ const JUMP_IMPULSE: Real = real!(60);
 /// Torque of a spin.
 const SPIN_TORQUE: Real = real!(4000);
 
-/// The GGRS configuration: `u8` button masks, the world state as the saved
-/// state, UDP socket addresses.
-pub struct GgrsConfig;
-
-impl ggrs::Config for GgrsConfig {
-    type Input = u8;
-    type InputPredictor = PredictRepeatLast;
-    type State = FrameState;
-    type Address = SocketAddr;
-}
+/// The GGRS configuration: `u8` button masks, the world's frame as the
+/// saved state, UDP socket addresses.
+pub type GgrsConfig = tamias2d_ggrs::GgrsConfig<Game>;
 
 /// The world, its time step and the two player bodies.
 pub struct Game {
@@ -67,9 +59,6 @@ pub struct Game {
     pub dt: Real,
     /// Player 0's and player 1's ball.
     pub players: [BodyHandle; 2],
-    /// `checksums[f]`: checksum of the state saved for frame `f` (the last
-    /// save wins: a re-simulation overwrites its frames).
-    pub checksums: Vec<u64>,
     /// Frames simulated, re-simulations included.
     pub advances: u64,
     /// Rollbacks (load requests) served.
@@ -107,7 +96,6 @@ impl Game {
             dt: scene.dt,
             space: scene.space,
             players,
-            checksums: Vec::new(),
             advances: 0,
             loads: 0,
             sabotage: false,
@@ -133,7 +121,6 @@ impl Game {
             dt: scene.dt,
             space: scene.space,
             players,
-            checksums: Vec::new(),
             advances: 0,
             loads: 0,
             sabotage: false,
@@ -149,6 +136,11 @@ impl Game {
 
     /// One frame: every player's buttons, then one step.
     pub fn advance(&mut self, buttons: &[u8]) {
+        self.try_advance(buttons).expect("step");
+    }
+
+    /// [`Game::advance`], with the step's error as a value.
+    pub fn try_advance(&mut self, buttons: &[u8]) -> Result<(), SpaceError> {
         let mut inputs = Vec::new();
         for (&player, &mask) in self.players.iter().zip(buttons) {
             inputs.extend(decode_buttons(&self.space, player, mask));
@@ -159,46 +151,42 @@ impl Game {
                 torque: Real::ONE,
             });
         }
-        replay::apply_inputs(&mut self.space, &inputs).expect("players exist");
-        self.space.step(self.dt).expect("step");
+        replay::apply_inputs(&mut self.space, &inputs)?;
+        self.space.step(self.dt)?;
         self.advances += 1;
+        Ok(())
+    }
+}
+
+/// The game under GGRS: the saved state is the space's frame; a
+/// disconnected player's buttons count as none.
+impl RollbackGame for Game {
+    type Input = u8;
+    type State = FrameState;
+
+    fn save_into(&self, state: &mut FrameState) {
+        self.space.save_frame(state);
     }
 
-    /// Serves GGRS requests in order: save = the frame plus its checksum
-    /// (widened to u128), load = restore the frame, advance = inputs + step.
-    pub fn fulfil(&mut self, requests: Vec<GgrsRequest<GgrsConfig>>) {
-        for request in requests {
-            match request {
-                GgrsRequest::SaveGameState { cell, frame } => {
-                    assert_eq!(u64::try_from(frame).ok(), Some(self.frame()), "save frame");
-                    let checksum = self.space.checksum();
-                    let f = usize::try_from(frame).expect("frame ≥ 0");
-                    self.checksums.truncate(f);
-                    self.checksums.push(checksum);
-                    let mut state = FrameState::default();
-                    self.space.save_frame(&mut state);
-                    cell.save(frame, Some(state), Some(u128::from(checksum)));
-                }
-                GgrsRequest::LoadGameState { cell, frame } => {
-                    let state = cell.load().expect("a saved state");
-                    self.space
-                        .restore_frame(&state)
-                        .expect("a frame of this level");
-                    assert_eq!(u64::try_from(frame).ok(), Some(self.frame()), "load frame");
-                    self.loads += 1;
-                }
-                GgrsRequest::AdvanceFrame { inputs } => {
-                    let buttons: Vec<u8> = inputs
-                        .iter()
-                        .map(|&(mask, status)| match status {
-                            InputStatus::Disconnected => 0,
-                            InputStatus::Confirmed | InputStatus::Predicted => mask,
-                        })
-                        .collect();
-                    self.advance(&buttons);
-                }
-            }
-        }
+    fn load(&mut self, state: &FrameState) -> Result<(), BoxError> {
+        self.space.restore_frame(state)?;
+        self.loads += 1;
+        Ok(())
+    }
+
+    fn advance(&mut self, inputs: &[(u8, InputStatus)]) -> Result<(), BoxError> {
+        let buttons: Vec<u8> = inputs
+            .iter()
+            .map(|&(mask, status)| match status {
+                InputStatus::Disconnected => 0,
+                InputStatus::Confirmed | InputStatus::Predicted => mask,
+            })
+            .collect();
+        Ok(self.try_advance(&buttons)?)
+    }
+
+    fn checksum(&self) -> u64 {
+        self.space.checksum()
     }
 }
 
@@ -246,30 +234,22 @@ pub fn scripted_buttons(player: usize, frame: u64, hold: u64) -> u8 {
     (rng.next_u64() & 0x0F) as u8
 }
 
-/// Runs a GGRS [`SyncTestSession`](ggrs::SyncTestSession): every frame is
-/// simulated, then the last `check_distance` frames are rolled back and
-/// re-simulated and their checksums compared with the first run's. Both
-/// players' inputs are [`scripted_buttons`] held `hold` frames. Returns the
-/// game after `frames` frames, or GGRS's error (a checksum mismatch means
-/// the simulation is not deterministic under rollback).
+/// Runs a GGRS [`SyncTestSession`](tamias2d_ggrs::ggrs::SyncTestSession)
+/// ([`tamias2d_ggrs::run_synctest`]): every frame is simulated, then the
+/// last `check_distance` frames are rolled back and re-simulated and their
+/// checksums compared with the first run's. Both players' inputs are
+/// [`scripted_buttons`] held `hold` frames. Returns the game after
+/// `frames` frames, or the error (a checksum mismatch means the
+/// simulation is not deterministic under rollback).
 pub fn run_synctest(
     game: &mut Game,
     frames: u64,
     check_distance: usize,
     hold: u64,
-) -> Result<(), GgrsError> {
-    let mut session = ggrs::SessionBuilder::<GgrsConfig>::new()
-        .with_num_players(2)?
-        .with_max_prediction_window(check_distance + 1)
-        .with_check_distance(check_distance)
-        .start_synctest_session()?;
-    for frame in 0..frames {
-        for player in 0..2 {
-            session.add_local_input(player, scripted_buttons(player, frame, hold))?;
-        }
-        let requests = session.advance_frame()?;
-        game.fulfil(requests);
-    }
+) -> Result<(), Error> {
+    tamias2d_ggrs::run_synctest(game, 2, frames, check_distance, |player, frame| {
+        scripted_buttons(player, frame, hold)
+    })?;
     Ok(())
 }
 
@@ -304,138 +284,35 @@ pub struct P2pOutcome {
     /// Each peer's checksum of frame `frames`.
     pub checksums: [u64; 2],
     /// First frame whose saved checksums differ between the peers.
-    pub first_mismatch: Option<usize>,
+    pub first_mismatch: Option<u64>,
     /// Rollbacks each peer served.
     pub loads: [u64; 2],
     /// Frames each peer simulated, re-simulations included.
     pub advances: [u64; 2],
 }
 
-/// A UDP port free on this machine right now (bind to port 0, read the
-/// port, release it).
-fn free_port() -> std::io::Result<u16> {
-    let probe = std::net::UdpSocket::bind(("127.0.0.1", 0))?;
-    Ok(probe.local_addr()?.port())
-}
-
-/// Two [`P2PSession`](ggrs::P2PSession) peers in this process, talking UDP
-/// over 127.0.0.1, each with one local player (peer `i` plays player `i`,
-/// buttons [`scripted_buttons`] held `hold` frames), run until both have
-/// confirmed `frames` frames plus a margin. Desync detection is on (every
-/// 10 frames): a `DesyncDetected` event is an error, as is a timeout.
-pub fn run_p2p(frames: u64, hold: u64, timeout: Duration) -> Result<P2pOutcome, String> {
-    let err = |e: GgrsError| e.to_string();
-    let ports = [
-        free_port().map_err(|e| e.to_string())?,
-        free_port().map_err(|e| e.to_string())?,
-    ];
-    let addr = |port: u16| SocketAddr::from(([127, 0, 0, 1], port));
-    let mut sessions = Vec::new();
-    for (me, &port) in ports.iter().enumerate() {
-        let other = 1 - me;
-        let socket = UdpNonBlockingSocket::bind_to_port(port).map_err(|e| e.to_string())?;
-        let session = ggrs::SessionBuilder::<GgrsConfig>::new()
-            .with_num_players(2)
-            .map_err(err)?
-            .with_input_delay(P2P_INPUT_DELAY as usize)
-            .with_desync_detection_mode(DesyncDetection::On { interval: 10 })
-            // A loaded test machine may pause this process for a while; a
-            // peer must not be dropped for that (its inputs would then be
-            // "disconnected" zeros and the run would differ from the
-            // reference).
-            .with_disconnect_timeout(Duration::from_secs(60))
-            .with_disconnect_notify_delay(Duration::from_secs(30))
-            .add_player(PlayerType::Local, me)
-            .map_err(err)?
-            .add_player(PlayerType::Remote(addr(ports[other])), other)
-            .map_err(err)?
-            .start_p2p_session(socket)
-            .map_err(err)?;
-        sessions.push(session);
-    }
-    let deadline = Instant::now() + timeout;
-    while sessions
-        .iter()
-        .any(|s| s.current_state() != SessionState::Running)
-    {
-        for s in &mut sessions {
-            s.poll_remote_clients();
-            s.events().for_each(drop);
-        }
-        if Instant::now() > deadline {
-            return Err("peers did not synchronize in time".into());
-        }
-        std::thread::sleep(Duration::from_millis(1));
-    }
-
+/// Two [`P2PSession`](tamias2d_ggrs::ggrs::P2PSession) peers in this
+/// process ([`tamias2d_ggrs::run_loopback`]), talking UDP over 127.0.0.1,
+/// each with one local player (peer `i` plays player `i`, buttons
+/// [`scripted_buttons`] held `hold` frames, input delay
+/// [`P2P_INPUT_DELAY`]), run until both have confirmed `frames` frames
+/// plus a margin. Desync detection is on (every 10 frames): a
+/// `DesyncDetected` event is an error, as is a timeout.
+pub fn run_p2p(frames: u64, hold: u64, timeout: Duration) -> Result<P2pOutcome, Error> {
+    let mut setup = Loopback::new(frames);
+    setup.timeout = timeout;
+    setup.options.input_delay = P2P_INPUT_DELAY as usize;
     let mut games = [Game::new(), Game::new()];
-    let mut bursts = SplitMix64::new(0xB0057);
-    let target = i32::try_from(frames + 10).map_err(|e| e.to_string())?;
-    // One extra round after both confirmed the target serves any rollback
-    // the last received inputs call for.
-    let mut extra_rounds = 1;
-    loop {
-        let done = sessions.iter().all(|s| s.confirmed_frame() >= target);
-        if done {
-            if extra_rounds == 0 {
-                break;
-            }
-            extra_rounds -= 1;
-        }
-        for (me, (session, game)) in sessions.iter_mut().zip(&mut games).enumerate() {
-            // Each peer advances a varying number of frames per turn, so
-            // each runs ahead of the other's inputs now and then, predicts
-            // wrong and rolls back.
-            let burst = 1 + bursts.next_u64() % 4;
-            for _ in 0..burst {
-                session.poll_remote_clients();
-                for event in session.events() {
-                    match event {
-                        GgrsEvent::DesyncDetected {
-                            frame,
-                            local_checksum,
-                            remote_checksum,
-                            ..
-                        } => {
-                            return Err(format!(
-                                "peer {me}: desync at frame {frame}: \
-                                 {local_checksum:#x} vs {remote_checksum:#x}"
-                            ))
-                        }
-                        GgrsEvent::Disconnected { addr } => {
-                            return Err(format!("peer {me}: {addr} disconnected"))
-                        }
-                        _ => {}
-                    }
-                }
-                let frame = u64::try_from(session.current_frame()).unwrap_or(0);
-                session
-                    .add_local_input(me, scripted_buttons(me, frame, hold))
-                    .map_err(err)?;
-                match session.advance_frame() {
-                    Ok(requests) => game.fulfil(requests),
-                    Err(GgrsError::PredictionThreshold) => break,
-                    Err(e) => return Err(format!("peer {me}: {e}")),
-                }
-            }
-        }
-        if Instant::now() > deadline {
-            return Err(format!(
-                "timed out at frames {} / {}",
-                sessions[0].current_frame(),
-                sessions[1].current_frame()
-            ));
-        }
-    }
-    let n = usize::try_from(frames).map_err(|e| e.to_string())?;
-    let [a, b] = &games;
-    let first_mismatch = (0..=n).find(|&f| a.checksums.get(f) != b.checksums.get(f));
-    let at = |g: &Game| g.checksums.get(n).copied().unwrap_or(0);
+    let outcome = tamias2d_ggrs::run_loopback(&mut games, &setup, |player, frame| {
+        scripted_buttons(player, frame, hold)
+    })?;
+    let [a, b] = outcome.checksums(frames).map(|c| c.unwrap_or(0));
+    let [ta, tb] = &outcome.tallies;
     Ok(P2pOutcome {
         frames,
-        checksums: [at(a), at(b)],
-        first_mismatch,
-        loads: [a.loads, b.loads],
-        advances: [a.advances, b.advances],
+        checksums: [a, b],
+        first_mismatch: outcome.first_mismatch,
+        loads: [ta.loads, tb.loads],
+        advances: [ta.advances, tb.advances],
     })
 }

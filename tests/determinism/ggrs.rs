@@ -2,7 +2,8 @@
 //! last 7 frames on every frame and compares checksums (a mismatch is an
 //! error), and two `P2PSession` peers over loopback UDP must end with the
 //! same checksums. The game is `tamias2d_scenes::ggrs_game` (bowl_boxes_100 with two
-//! player balls).
+//! player balls); the sessions and the request loop are `tamias2d-ggrs`'s.
+use tamias2d_ggrs::ggrs::GgrsError;
 use tamias2d_scenes::ggrs_game;
 
 use ggrs_game::{
@@ -83,7 +84,7 @@ fn synctest_catches_a_nondeterministic_game() {
     let mut game = Game::new();
     game.sabotage = true;
     match run_synctest(&mut game, 60, 7, 3) {
-        Err(ggrs::GgrsError::MismatchedChecksum { .. }) => {}
+        Err(tamias2d_ggrs::Error::Ggrs(GgrsError::MismatchedChecksum { .. })) => {}
         other => panic!("expected a checksum mismatch, got {other:?}"),
     }
 }
@@ -138,18 +139,10 @@ fn synctest_on_the_soft_step_agrees_with_a_straight_run() {
 /// straight run.
 #[test]
 fn synctest_of_a_two_character_game_agrees_with_a_straight_run() {
-    use ggrs::{GgrsRequest, PredictRepeatLast, SessionBuilder};
     use tamias2d::{real, Real};
-    use tamias2d_scenes::character_level::{Buttons, CharacterGame, SavedFrame};
+    use tamias2d_scenes::character_level::{Buttons, CharacterGame};
     use tamias2d_scenes::rng::SplitMix64;
 
-    struct Config;
-    impl ggrs::Config for Config {
-        type Input = u8;
-        type InputPredictor = PredictRepeatLast;
-        type State = SavedFrame;
-        type Address = std::net::SocketAddr;
-    }
     fn mask(player: usize, frame: u64) -> u8 {
         let mut rng = SplitMix64::new(0xC4A2 ^ ((player as u64) << 32) ^ (frame / 10));
         (rng.next_u64() & 0b111) as u8
@@ -162,37 +155,10 @@ fn synctest_of_a_two_character_game_agrees_with_a_straight_run() {
     }
     let xs = [Real::ZERO, real!(-3)];
     let mut game = CharacterGame::with_players(&xs).unwrap();
-    let mut session = SessionBuilder::<Config>::new()
-        .with_num_players(2)
-        .unwrap()
-        .with_max_prediction_window(8)
-        .with_check_distance(7)
-        .start_synctest_session()
-        .unwrap();
-    let mut loads = 0u64;
-    for frame in 0..SYNCTEST_FRAMES {
-        for p in 0..2 {
-            session.add_local_input(p, mask(p, frame)).unwrap();
-        }
-        for request in session
-            .advance_frame()
-            .expect("deterministic under rollback")
-        {
-            match request {
-                GgrsRequest::SaveGameState { cell, frame } => {
-                    cell.save(frame, Some(game.save()), Some(u128::from(game.checksum())));
-                }
-                GgrsRequest::LoadGameState { cell, .. } => {
-                    game.restore(&cell.load().unwrap()).unwrap();
-                    loads += 1;
-                }
-                GgrsRequest::AdvanceFrame { inputs } => {
-                    let b: Vec<Buttons> = inputs.iter().map(|&(m, _)| decode(m)).collect();
-                    game.step(&b).unwrap();
-                }
-            }
-        }
-    }
+    let tally =
+        tamias2d_ggrs::run_synctest(&mut game, 2, SYNCTEST_FRAMES, 7, |p, f| decode(mask(p, f)))
+            .expect("deterministic under rollback");
+    let loads = tally.loads;
     assert!(loads >= SYNCTEST_FRAMES - 8, "rolled back every frame");
     let mut straight = CharacterGame::with_players(&xs).unwrap();
     for frame in 0..SYNCTEST_FRAMES {
