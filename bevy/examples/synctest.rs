@@ -47,20 +47,35 @@ struct Outcome {
     bodies: usize,
     mismatches: u32,
     loads: u64,
+    /// Every live body entity maps to its body and back, and the map has
+    /// no other entry: the entity map followed the respawned entities.
+    map_consistent: bool,
 }
 
 fn run(check_distance: usize, sabotage: bool) -> Outcome {
     let mut app = synctest_app(check_distance);
     app.world_mut().resource_mut::<Sabotage>().on = sabotage;
     run_frames(&mut app, FRAMES);
+    let mut live = app.world_mut().query::<(Entity, &RigidBody)>();
+    let live: Vec<(Entity, Option<_>)> = live
+        .iter(app.world())
+        .map(|(e, rb)| (e, rb.handle()))
+        .collect();
     let world = app.world();
     let physics = world.resource::<Physics>();
+    let map_consistent = live.len() == physics.entities().count()
+        && live.iter().all(|&(e, h)| {
+            h.is_some()
+                && physics.body_of(e) == h
+                && h.and_then(|h| physics.entity_of(h)) == Some(e)
+        });
     Outcome {
         checksum: physics.checksum(),
         score: world.resource::<Score>().0,
         bodies: physics.space().bodies().count(),
         mismatches: world.resource::<Mismatches>().0,
         loads: world.resource::<Counters>().loads,
+        map_consistent,
     }
 }
 
@@ -77,7 +92,8 @@ fn main() {
     );
     let same = rolled.checksum == straight.checksum && rolled.score == straight.score;
     println!("  the same world as a straight run: {same}");
-    if rolled.mismatches != 0 || !same {
+    println!("  entity map consistent after rollbacks: {}", rolled.map_consistent);
+    if rolled.mismatches != 0 || !same || !rolled.map_consistent {
         std::process::exit(1);
     }
 }
@@ -99,6 +115,10 @@ mod tests {
         assert_eq!(straight.loads, 0, "the straight run never rolls back");
         assert_eq!(rolled.checksum, straight.checksum);
         assert_eq!(rolled.score, straight.score);
+        assert!(
+            rolled.map_consistent,
+            "the entity map lost track after rollbacks"
+        );
         // The game did what it is for: crates came and went, players hit them.
         assert!(rolled.score > 0, "no player touched a crate");
         assert!(

@@ -4,8 +4,9 @@
 //! handle in the space. The link is what lets rollback restore a component
 //! without building it again.
 use bevy_ecs::component::Component;
+use bevy_transform::components::Transform;
 use tamias2d::body::{Body, BodyHandle, BodyType};
-use tamias2d::math::Transform;
+use tamias2d::math::Transform as Placement;
 use tamias2d::math::{Real, Vect};
 use tamias2d::shape::{CollisionType, Shape, ShapeFilter, ShapeHandle};
 
@@ -20,6 +21,7 @@ use crate::hooks;
 /// component keeps the handle ([`RigidBody::handle`]).
 #[derive(Component, Clone, Debug, PartialEq)]
 #[component(on_add = hooks::body_added, on_remove = hooks::body_removed)]
+#[require(Transform)]
 pub struct RigidBody {
     pub(crate) body_type: BodyType,
     pub(crate) position: Vect,
@@ -280,7 +282,7 @@ impl Collider {
                     radius,
                 } => Shape::box_shape_new(body, *width, *height, *radius),
                 ColliderShape::Polygon { points, radius } => {
-                    Shape::poly_shape_new(body, points, &Transform::IDENTITY, *radius)
+                    Shape::poly_shape_new(body, points, &Placement::IDENTITY, *radius)
                 }
                 ColliderShape::Segment { a, b, radius } => {
                     Shape::segment_shape_new(body, *a, *b, *radius)
