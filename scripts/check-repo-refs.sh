@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fails if the engine, the fixtures, the CLI, the GGRS adapter or the docs send a reader outside
+# Fails if the engine, the fixtures, the CLI, the GGRS and Bevy crates or the docs send a reader outside
 # the repository: to the design notes, the interface specification or the
 # scene list kept elsewhere, or to the requirements document (SRS) that is not
 # available at all. The repository explains itself: the interface is
@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 paths=()
-for p in src docs README.md scenes cli web ggrs; do
+for p in src docs README.md scenes cli web ggrs bevy; do
     [ -e "$p" ] && paths+=("$p")
 done
 
