@@ -92,7 +92,10 @@ fn main() {
     );
     let same = rolled.checksum == straight.checksum && rolled.score == straight.score;
     println!("  the same world as a straight run: {same}");
-    println!("  entity map consistent after rollbacks: {}", rolled.map_consistent);
+    println!(
+        "  entity map consistent after rollbacks: {}",
+        rolled.map_consistent
+    );
     if rolled.mismatches != 0 || !same || !rolled.map_consistent {
         std::process::exit(1);
     }

@@ -8,7 +8,7 @@
 //! reports contacts ([`ContactStarted`], [`ContactEnded`]). Queries (rays,
 //! shape casts, points) go through the [`PhysicsQuery`] system parameter.
 //!
-//! With the `ggrs` feature, [`TamiasPlugin::rollback`] steps in
+//! With the `ggrs` feature, `TamiasPlugin::rollback()` steps in
 //! `bevy_ggrs`'s `GgrsSchedule` and registers everything rollback needs:
 //! the resource (saved and restored as one value, its entity map with it),
 //! the components, the `Rollback` marker and the checksum GGRS compares.

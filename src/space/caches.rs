@@ -10,7 +10,7 @@ use super::body_shapes::BodyShapes;
 use super::ccd::CcdCache;
 use super::frame_state::FrameState;
 use super::islands::SleepScratch;
-use super::level::LevelIndex;
+
 use super::step::{ShapeCache, StepCache};
 
 /// Caches derived from the state, never serialized: one struct per stage,
@@ -43,7 +43,7 @@ pub(crate) struct Caches {
     pub(crate) sleep: SleepScratch,
     /// The level's digest and slot runs (`space/level.rs`), computed on
     /// first use; `None` after a change to the level.
-    pub(crate) level: LevelCache,
+    pub(crate) level: super::level::LevelCache,
     /// Body slots given out by `body_mut` while not static since the level
     /// was last settled (one may have been made static), each with whether
     /// it was dynamic then (one may have been made static or kinematic).
@@ -54,29 +54,4 @@ pub(crate) struct Caches {
     pub(crate) spare_frame: FrameState,
     /// The threads the step may use ([`Space::set_threads`](super::Space::set_threads)).
     pub(crate) threads: crate::threads::Threads,
-}
-
-/// The level index cache. A `Mutex` rather than a `Cell`, so that a `Space`
-/// is `Sync` (a Bevy resource, a world shared with a query thread): it is
-/// filled from `&self` paths (saving a frame), never contended, and a
-/// poisoned lock still holds a valid `Option`.
-#[derive(Default)]
-pub(crate) struct LevelCache(std::sync::Mutex<Option<LevelIndex>>);
-
-impl LevelCache {
-    /// Takes the cached index out, leaving `None`.
-    pub(crate) fn take(&self) -> Option<LevelIndex> {
-        self.0
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-            .take()
-    }
-
-    /// Replaces the cached index.
-    pub(crate) fn set(&self, level: Option<LevelIndex>) {
-        *self
-            .0
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner) = level;
-    }
 }

@@ -111,3 +111,28 @@ mod tests {
         assert!(runs(core::iter::empty()).is_empty());
     }
 }
+
+/// The level index cache. A `Mutex` rather than a `Cell`, so that a `Space`
+/// is `Sync` (a Bevy resource, a world shared with a query thread): it is
+/// filled from `&self` paths (saving a frame), never contended, and a
+/// poisoned lock still holds a valid `Option`.
+#[derive(Default)]
+pub(crate) struct LevelCache(std::sync::Mutex<Option<LevelIndex>>);
+
+impl LevelCache {
+    /// Takes the cached index out, leaving `None`.
+    pub(crate) fn take(&self) -> Option<LevelIndex> {
+        self.0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .take()
+    }
+
+    /// Replaces the cached index.
+    pub(crate) fn set(&self, level: Option<LevelIndex>) {
+        *self
+            .0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner) = level;
+    }
+}

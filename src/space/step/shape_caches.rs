@@ -40,7 +40,7 @@ pub(crate) fn update_shape_caches(
     state: &WorldState,
     caches: &mut Vec<Option<ShapeCache>>,
     bp: &mut BroadphaseCache,
-    level_cache: &crate::space::caches::LevelCache,
+    level_cache: &crate::space::level::LevelCache,
     pieces: &mut Vec<CachePiece>,
 ) {
     let rewrite = Rewrite {
