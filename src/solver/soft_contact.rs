@@ -27,7 +27,10 @@
 use crate::arbiter::Arbiter;
 use crate::arena::Arena;
 use crate::body::Body;
-use crate::math::{below_2_62, Bounded, FixedArith, Real, Rot, Saturating, Unsaturated, Vect};
+use crate::math::{
+    below_2_62, range_record, FixedArith, Ranged, Real, Rot, Saturating, Unsaturated, Vect,
+    RANGED_INPUT,
+};
 
 use super::contact_solver::{color_arbiters, ContactSolver};
 use super::graph;
@@ -388,19 +391,54 @@ fn solve_manifold(
     p: &SoftContactParams,
     use_bias: bool,
 ) {
-    let (saved, saved_bodies) = (impulses(rows), *copy);
-    if rows.iter().all(|r| r.bounded) {
-        let mut fast = Bounded(Unsaturated::new());
-        let [a, b] = copy;
-        manifold_pass(rows, a, b, motion, p, use_bias, &mut fast);
-        if !fast.0.overflowed() {
+    if manifold_record(rows, copy, motion, p) < RANGED_INPUT {
+        let saved = impulses(rows);
+        let mut fast = Ranged::new();
+        let [mut a, mut b] = *copy;
+        manifold_pass(rows, &mut a, &mut b, motion, p, use_bias, &mut fast);
+        if !fast.overflowed() {
+            *copy = [a, b];
             return;
         }
+        restore_impulses(rows, saved);
     }
-    restore_impulses(rows, saved);
-    *copy = saved_bodies;
     let [a, b] = copy;
     manifold_pass(rows, a, b, motion, p, use_bias, &mut Saturating);
+}
+
+/// The range record of what a solve pass of a manifold reads and adds
+/// ([`Ranged`]'s input check; `u64::MAX` if a row's constants are not
+/// bounded). Below [`RANGED_INPUT`] (`2^58`) with every rounded product
+/// at most `2^60`, no addition of the pass wraps: a body is changed at
+/// most 4 times (2 normal and 2 friction rows), so its velocities stay
+/// below `2^58 + 4·2^60 < 2^63` and their differences below
+/// `2·(2^58 + 3·2^60) < 2^63`; the separation is below `2^58 + 2·2^60`
+/// (plus the slop, below `2^58`); an impulse minus a product, and the new
+/// impulse minus the old, below `2^58 + 2^61 + 2^58`.
+#[inline(always)]
+fn manifold_record(
+    rows: &[SoftContact],
+    copy: &[SolverBody; 2],
+    motion: &[Motion],
+    p: &SoftContactParams,
+) -> u64 {
+    let [a, b] = copy;
+    let mut rec = range_record(&[a.v.x, a.v.y, a.w, b.v.x, b.v.y, b.w, p.slop]);
+    if let Some(first) = rows.first() {
+        let none = Motion::default();
+        let ma = motion.get(first.a as usize).unwrap_or(&none);
+        let mb = motion.get(first.b as usize).unwrap_or(&none);
+        rec |= range_record(&[
+            ma.dp.x, ma.dp.y, ma.dq_c1, ma.dq_s, mb.dp.x, mb.dp.y, mb.dq_c1, mb.dq_s,
+        ]);
+    }
+    for r in rows {
+        if !r.bounded {
+            return u64::MAX;
+        }
+        rec |= range_record(&[r.jn, r.jt, r.dist, r.surface_t]);
+    }
+    rec
 }
 
 /// What preparing a manifold reads.
@@ -558,16 +596,20 @@ fn scale_impulses(rows: &mut [SoftContact], dt_coef: Real) {
 /// first as [`solve_manifold`].
 #[inline(always)]
 fn warm_start_manifold(rows: &[SoftContact], copy: &mut [SolverBody; 2]) {
-    let saved = *copy;
-    let mut fast = Unsaturated::new();
-    let [a, b] = copy;
-    for r in rows {
-        r.apply(a, b, r.jn, r.jt, &mut fast);
+    // Each body changes once per row (at most 2), by rounded products of
+    // at most 2^60 (`Ranged`): from below 2^58, no addition wraps.
+    let [a0, b0] = copy;
+    if range_record(&[a0.v.x, a0.v.y, a0.w, b0.v.x, b0.v.y, b0.w]) < RANGED_INPUT {
+        let mut fast = Ranged::new();
+        let [mut a, mut b] = *copy;
+        for r in rows {
+            r.apply(&mut a, &mut b, r.jn, r.jt, &mut fast);
+        }
+        if !fast.overflowed() {
+            *copy = [a, b];
+            return;
+        }
     }
-    if !fast.overflowed() {
-        return;
-    }
-    *copy = saved;
     let [a, b] = copy;
     for r in rows {
         r.apply(a, b, r.jn, r.jt, &mut Saturating);
