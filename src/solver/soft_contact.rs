@@ -90,6 +90,12 @@ pub(crate) struct SoftContact {
     n: Vect,
     /// Separation at the collide.
     dist: Real,
+    /// The separation the last relax pass estimated (`dist` before the
+    /// first): the motion does not change between a relax pass and the
+    /// next sub-step's solve, so the solve reuses it (the same bits: both
+    /// are the saturating evaluation of the same formula on the same
+    /// values, the fast path's agreeing with it whenever it is kept).
+    sep: Real,
     /// `n·r1`, `n·r2`: with `r × n`, what a rotation of the anchors does
     /// to the separation.
     nr_a: Real,
@@ -391,7 +397,7 @@ fn solve_manifold(
     p: &SoftContactParams,
     use_bias: bool,
 ) {
-    if manifold_record(rows, copy, motion, p) < RANGED_INPUT {
+    if manifold_record(rows, copy, motion, p, use_bias) < RANGED_INPUT {
         let saved = impulses(rows);
         let mut fast = Ranged::new();
         let [mut a, mut b] = *copy;
@@ -421,10 +427,15 @@ fn manifold_record(
     copy: &[SolverBody; 2],
     motion: &[Motion],
     p: &SoftContactParams,
+    use_bias: bool,
 ) -> u64 {
     let [a, b] = copy;
     let mut rec = range_record(&[a.v.x, a.v.y, a.w, b.v.x, b.v.y, b.w, p.slop]);
-    if let Some(first) = rows.first() {
+    if use_bias {
+        for r in rows {
+            rec |= range_record(&[r.sep]);
+        }
+    } else if let Some(first) = rows.first() {
         let none = Motion::default();
         let ma = motion.get(first.a as usize).unwrap_or(&none);
         let mb = motion.get(first.b as usize).unwrap_or(&none);
@@ -512,6 +523,7 @@ fn prepare_manifold(job: &PrepareJob<'_>, i: u32, arb: &Arbiter, out: &mut [Soft
             slot: slot as u32,
             n,
             dist: c.dist,
+            sep: c.dist,
             nr_a: n.dot(r1),
             nr_b: n.dot(r2),
             rn_a,
@@ -647,7 +659,15 @@ fn manifold_pass<A: FixedArith>(
     ar: &mut A,
 ) {
     for r in rows.iter_mut() {
-        let s = r.separation(motion, ar);
+        // The solve pass follows the positions' relax pass of the last
+        // sub-step (or the prepare, with no motion: `dist` exactly).
+        let s = if use_bias {
+            r.sep
+        } else {
+            let s = r.separation(motion, ar);
+            r.sep = s;
+            s
+        };
         r.solve_normal(a, b, s, p, use_bias, ar);
     }
     if p.friction {
@@ -834,5 +854,158 @@ impl SoftContact {
         self.jn = ar.sub(old, jn).max(Real::ZERO);
         let djn = ar.sub(self.jn, old);
         self.apply_along(a, b, self.n, [self.kn_a, self.kn_b], djn, ar);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Raw values over the whole range: small, scene-like, near the
+    /// range check's edge (2^58) and the extremes.
+    fn bits() -> impl Strategy<Value = i64> {
+        prop_oneof![
+            (-(1i64 << 36)..(1i64 << 36)),
+            (any::<i64>(), 0u32..63).prop_map(|(v, s)| v >> s),
+            (-4i64..4).prop_map(|k| (1i64 << 58).wrapping_add(k)),
+            (-4i64..4).prop_map(|k| (-(1i64 << 58)).wrapping_add(k)),
+            any::<i64>(),
+            Just(i64::MIN),
+            Just(i64::MAX),
+        ]
+    }
+
+    /// Scene-like values (products up to past `Ranged`'s record limit)
+    /// with a few at the range check's edge.
+    fn mid() -> impl Strategy<Value = i64> {
+        prop_oneof![
+            20 => -(1i64 << 47)..(1i64 << 47),
+            1 => (-4i64..4).prop_map(|k| (1i64 << 58).wrapping_add(k)),
+            1 => (-4i64..4).prop_map(|k| (-(1i64 << 58)).wrapping_add(k)),
+        ]
+    }
+
+    /// Cases that took the fast path and kept it (coverage, printed).
+    static FAST: core::sync::atomic::AtomicU64 = core::sync::atomic::AtomicU64::new(0);
+    static CASES: core::sync::atomic::AtomicU64 = core::sync::atomic::AtomicU64::new(0);
+
+    fn rows_from(v: &mut impl Iterator<Item = i64>, count: usize) -> Vec<SoftContact> {
+        let mut r = || Real::from_bits(v.next().unwrap_or(0));
+        (0..count)
+            .map(|slot| {
+                let n = Vect::new(r(), r());
+                let (nr_a, nr_b, rn_a, rn_b, rt_a, rt_b) = (r(), r(), r(), r(), r(), r());
+                SoftContact {
+                    a: 0,
+                    b: 1,
+                    arbiter: 0,
+                    slot: slot as u32,
+                    n,
+                    dist: r(),
+                    sep: r(),
+                    nr_a,
+                    nr_b,
+                    rn_a,
+                    rn_b,
+                    rt_a,
+                    rt_b,
+                    kn_a: r(),
+                    kn_b: r(),
+                    kt_a: r(),
+                    kt_b: r(),
+                    m_inv_a: r(),
+                    m_inv_b: r(),
+                    n_mass: r(),
+                    t_mass: r(),
+                    friction: r(),
+                    restitution: Real::ZERO,
+                    surface_t: r(),
+                    approach: Real::ZERO,
+                    soft: Softness {
+                        bias_rate: r(),
+                        mass_scale: r(),
+                        impulse_scale: r(),
+                    },
+                    jn: r(),
+                    jt: r(),
+                    max_jn: r(),
+                    bounded: below_2_62(&[n.x, n.y, nr_a, nr_b, rn_a, rn_b, rt_a, rt_b]),
+                }
+            })
+            .collect()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(20_000))]
+        /// The `Ranged` fast path (with its range check and fallback)
+        /// gives the saturating reference's bits on any input.
+        #[test]
+        fn ranged_passes_match_the_saturating_reference(
+            vals in prop_oneof![
+                prop::collection::vec(bits(), 80),
+                prop::collection::vec(mid(), 80),
+                prop::collection::vec(-(1i64 << 36)..(1i64 << 36), 80),
+            ],
+            two in any::<bool>(),
+            use_bias in any::<bool>(),
+            friction in any::<bool>(),
+        ) {
+            let mut v = vals.into_iter();
+            let rows = rows_from(&mut v, if two { 2 } else { 1 });
+            let mut r = || Real::from_bits(v.next().unwrap_or(0));
+            let body = |r: &mut dyn FnMut() -> Real| SolverBody {
+                v: Vect::new(r(), r()),
+                w: r(),
+                ..SolverBody::default()
+            };
+            let bodies = [body(&mut r), body(&mut r)];
+            let motion = [0, 1].map(|_| Motion {
+                dp: Vect::new(r(), r()),
+                dq_c1: r(),
+                dq_s: r(),
+                ..Motion::default()
+            });
+            let p = SoftContactParams {
+                contact: Softness::RIGID,
+                fixed: Softness::RIGID,
+                h_inv: r(),
+                slop: r(),
+                push_out: r(),
+                restitution_threshold: Real::ZERO,
+                friction,
+                restitution: false,
+            };
+            let (mut fast_rows, mut ref_rows) = (rows.clone(), rows.clone());
+            {
+                use core::sync::atomic::Ordering::Relaxed;
+                let mut probe_rows = rows.clone();
+                let [mut a, mut b] = bodies;
+                let mut ar = Ranged::new();
+                let kept = manifold_record(&rows, &bodies, &motion, &p, use_bias) < RANGED_INPUT && {
+                    manifold_pass(&mut probe_rows, &mut a, &mut b, &motion, &p, use_bias, &mut ar);
+                    !ar.overflowed()
+                };
+                let cases = CASES.fetch_add(1, Relaxed) + 1;
+                let fast = FAST.fetch_add(u64::from(kept), Relaxed) + u64::from(kept);
+                if cases % 5000 == 0 {
+                    eprintln!("fast path kept in {fast} of {cases} cases");
+                }
+            }
+            let mut fast = bodies;
+            solve_manifold(&mut fast_rows, &mut fast, &motion, &p, use_bias);
+            let [mut a, mut b] = bodies;
+            manifold_pass(&mut ref_rows, &mut a, &mut b, &motion, &p, use_bias, &mut Saturating);
+            prop_assert_eq!(format!("{fast_rows:?}"), format!("{ref_rows:?}"));
+            prop_assert_eq!(format!("{fast:?}"), format!("{:?}", [a, b]));
+
+            let mut fast = bodies;
+            warm_start_manifold(&rows, &mut fast);
+            let [mut a, mut b] = bodies;
+            for row in &rows {
+                row.apply(&mut a, &mut b, row.jn, row.jt, &mut Saturating);
+            }
+            prop_assert_eq!(format!("{fast:?}"), format!("{:?}", [a, b]));
+        }
     }
 }
