@@ -14,6 +14,6 @@ pub use bb::BB;
 pub use real::{Real, RealError};
 pub use rot::Rot;
 pub use transform::Transform;
-pub(crate) use unsaturated::{below_2_62, Bounded};
+pub(crate) use unsaturated::{below_2_62, range_record, Bounded, Ranged, RANGED_INPUT};
 pub use unsaturated::{FixedArith, Saturating, Unsaturated};
 pub use vect::Vect;

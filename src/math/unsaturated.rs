@@ -240,6 +240,100 @@ impl FixedArith for Bounded {
     }
 }
 
+/// The bound [`Ranged`] checks a manifold's state against (raw bits,
+/// `2^26` in `Real` units): see [`Ranged`].
+pub(crate) const RANGED_INPUT: u64 = 1 << 58;
+
+/// `Ranged`'s product record limit: a recorded high word below `2^28`
+/// means `|p| < 2^92`, a rounded result of at most `2^60`.
+const RANGED_WIDE_LIMIT: u64 = 1 << 28;
+
+/// [`Bounded`] for a kernel whose *inputs* a range check accepted once
+/// (every state value below [`RANGED_INPUT`], checked per manifold by the
+/// caller) and whose additions are few and shallow enough that, with every
+/// rounded product at most `2^60` (this type's tighter product record), no
+/// sum can leave `i64`: additions and subtractions are then plain wrapping
+/// operations without a flag (the same bits as the saturating ones, which
+/// agree on every in-range result). The caller proves the depth bound for
+/// its kernel; a false alarm of the product record only costs the
+/// saturating rerun, never a bit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Ranged(pub(crate) Unsaturated);
+
+impl Ranged {
+    /// A clear record.
+    #[inline(always)]
+    pub(crate) const fn new() -> Ranged {
+        Ranged(Unsaturated::new())
+    }
+
+    /// True if a product left the window (or a checked operation wrapped).
+    #[inline(always)]
+    pub(crate) const fn overflowed(self) -> bool {
+        self.0.overflow | (self.0.wide >= RANGED_WIDE_LIMIT)
+    }
+}
+
+/// The OR of `|v|` (one's complement) over `values`, to compare with
+/// [`RANGED_INPUT`] once: 3 instructions a value.
+#[inline(always)]
+pub(crate) fn range_record(values: &[Real]) -> u64 {
+    values.iter().fold(0u64, |acc, v| {
+        let x = v.to_bits();
+        acc | (x ^ (x >> 63)) as u64
+    })
+}
+
+impl FixedArith for Ranged {
+    #[inline(always)]
+    fn add(&mut self, a: Real, b: Real) -> Real {
+        Real::from_bits(a.to_bits().wrapping_add(b.to_bits()))
+    }
+    #[inline(always)]
+    fn sub(&mut self, a: Real, b: Real) -> Real {
+        Real::from_bits(a.to_bits().wrapping_sub(b.to_bits()))
+    }
+    #[inline(always)]
+    fn mul(&mut self, a: Real, b: Real) -> Real {
+        self.0.mul(a, b)
+    }
+    #[inline(always)]
+    fn mul_add2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real {
+        self.0.mul_add2(a, b, c, d)
+    }
+    #[inline(always)]
+    fn mul_sub2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real {
+        self.0.mul_sub2(a, b, c, d)
+    }
+    #[inline(always)]
+    fn dot4(&mut self, x: [Real; 4], y: [Real; 4]) -> Real {
+        self.0.dot4(x, y)
+    }
+    #[inline(always)]
+    fn dot4_bounded(&mut self, x: [Real; 4], y: [Real; 4]) -> Real {
+        Bounded(Unsaturated::new()).dot4_bounded_into(&mut self.0, x, y)
+    }
+    #[inline(always)]
+    fn neg_const(&mut self, c: Real) -> Real {
+        Real::from_bits(c.to_bits().wrapping_neg())
+    }
+}
+
+impl Bounded {
+    /// [`FixedArith::dot4_bounded`] recording into `u`.
+    #[inline(always)]
+    fn dot4_bounded_into(self, u: &mut Unsaturated, x: [Real; 4], y: [Real; 4]) -> Real {
+        let [x0, x1, x2, x3] = x;
+        let [y0, y1, y2, y3] = y;
+        let p = |a: Real, b: Real| wide_mul(a.to_bits(), b.to_bits());
+        let sum = p(x0, y0)
+            .wrapping_add(p(x1, y1))
+            .wrapping_add(p(x2, y2))
+            .wrapping_add(p(x3, y3));
+        u.round(sum)
+    }
+}
+
 /// [`FixedArith`] by [`Real`]'s saturating operators.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Saturating;

@@ -27,7 +27,10 @@
 use crate::arbiter::Arbiter;
 use crate::arena::Arena;
 use crate::body::Body;
-use crate::math::{below_2_62, Bounded, FixedArith, Real, Rot, Saturating, Unsaturated, Vect};
+use crate::math::{
+    below_2_62, range_record, FixedArith, Ranged, Real, Rot, Saturating, Unsaturated, Vect,
+    RANGED_INPUT,
+};
 
 use super::contact_solver::{color_arbiters, ContactSolver};
 use super::graph;
@@ -87,6 +90,12 @@ pub(crate) struct SoftContact {
     n: Vect,
     /// Separation at the collide.
     dist: Real,
+    /// The separation the last relax pass estimated (`dist` before the
+    /// first): the motion does not change between a relax pass and the
+    /// next sub-step's solve, so the solve reuses it (the same bits: both
+    /// are the saturating evaluation of the same formula on the same
+    /// values, the fast path's agreeing with it whenever it is kept).
+    sep: Real,
     /// `n·r1`, `n·r2`: with `r × n`, what a rotation of the anchors does
     /// to the separation.
     nr_a: Real,
@@ -388,19 +397,59 @@ fn solve_manifold(
     p: &SoftContactParams,
     use_bias: bool,
 ) {
-    let (saved, saved_bodies) = (impulses(rows), *copy);
-    if rows.iter().all(|r| r.bounded) {
-        let mut fast = Bounded(Unsaturated::new());
-        let [a, b] = copy;
-        manifold_pass(rows, a, b, motion, p, use_bias, &mut fast);
-        if !fast.0.overflowed() {
+    if manifold_record(rows, copy, motion, p, use_bias) < RANGED_INPUT {
+        let saved = impulses(rows);
+        let mut fast = Ranged::new();
+        let [mut a, mut b] = *copy;
+        manifold_pass(rows, &mut a, &mut b, motion, p, use_bias, &mut fast);
+        if !fast.overflowed() {
+            *copy = [a, b];
             return;
         }
+        restore_impulses(rows, saved);
     }
-    restore_impulses(rows, saved);
-    *copy = saved_bodies;
     let [a, b] = copy;
     manifold_pass(rows, a, b, motion, p, use_bias, &mut Saturating);
+}
+
+/// The range record of what a solve pass of a manifold reads and adds
+/// ([`Ranged`]'s input check; `u64::MAX` if a row's constants are not
+/// bounded). Below [`RANGED_INPUT`] (`2^58`) with every rounded product
+/// at most `2^60`, no addition of the pass wraps: a body is changed at
+/// most 4 times (2 normal and 2 friction rows), so its velocities stay
+/// below `2^58 + 4·2^60 < 2^63` and their differences below
+/// `2·(2^58 + 3·2^60) < 2^63`; the separation is below `2^58 + 2·2^60`
+/// (plus the slop, below `2^58`); an impulse minus a product, and the new
+/// impulse minus the old, below `2^58 + 2^61 + 2^58`.
+#[inline(always)]
+fn manifold_record(
+    rows: &[SoftContact],
+    copy: &[SolverBody; 2],
+    motion: &[Motion],
+    p: &SoftContactParams,
+    use_bias: bool,
+) -> u64 {
+    let [a, b] = copy;
+    let mut rec = range_record(&[a.v.x, a.v.y, a.w, b.v.x, b.v.y, b.w, p.slop]);
+    if use_bias {
+        for r in rows {
+            rec |= range_record(&[r.sep]);
+        }
+    } else if let Some(first) = rows.first() {
+        let none = Motion::default();
+        let ma = motion.get(first.a as usize).unwrap_or(&none);
+        let mb = motion.get(first.b as usize).unwrap_or(&none);
+        rec |= range_record(&[
+            ma.dp.x, ma.dp.y, ma.dq_c1, ma.dq_s, mb.dp.x, mb.dp.y, mb.dq_c1, mb.dq_s,
+        ]);
+    }
+    for r in rows {
+        if !r.bounded {
+            return u64::MAX;
+        }
+        rec |= range_record(&[r.jn, r.jt, r.dist, r.surface_t]);
+    }
+    rec
 }
 
 /// What preparing a manifold reads.
@@ -474,6 +523,7 @@ fn prepare_manifold(job: &PrepareJob<'_>, i: u32, arb: &Arbiter, out: &mut [Soft
             slot: slot as u32,
             n,
             dist: c.dist,
+            sep: c.dist,
             nr_a: n.dot(r1),
             nr_b: n.dot(r2),
             rn_a,
@@ -558,16 +608,20 @@ fn scale_impulses(rows: &mut [SoftContact], dt_coef: Real) {
 /// first as [`solve_manifold`].
 #[inline(always)]
 fn warm_start_manifold(rows: &[SoftContact], copy: &mut [SolverBody; 2]) {
-    let saved = *copy;
-    let mut fast = Unsaturated::new();
-    let [a, b] = copy;
-    for r in rows {
-        r.apply(a, b, r.jn, r.jt, &mut fast);
+    // Each body changes once per row (at most 2), by rounded products of
+    // at most 2^60 (`Ranged`): from below 2^58, no addition wraps.
+    let [a0, b0] = copy;
+    if range_record(&[a0.v.x, a0.v.y, a0.w, b0.v.x, b0.v.y, b0.w]) < RANGED_INPUT {
+        let mut fast = Ranged::new();
+        let [mut a, mut b] = *copy;
+        for r in rows {
+            r.apply(&mut a, &mut b, r.jn, r.jt, &mut fast);
+        }
+        if !fast.overflowed() {
+            *copy = [a, b];
+            return;
+        }
     }
-    if !fast.overflowed() {
-        return;
-    }
-    *copy = saved;
     let [a, b] = copy;
     for r in rows {
         r.apply(a, b, r.jn, r.jt, &mut Saturating);
@@ -605,7 +659,15 @@ fn manifold_pass<A: FixedArith>(
     ar: &mut A,
 ) {
     for r in rows.iter_mut() {
-        let s = r.separation(motion, ar);
+        // The solve pass follows the positions' relax pass of the last
+        // sub-step (or the prepare, with no motion: `dist` exactly).
+        let s = if use_bias {
+            r.sep
+        } else {
+            let s = r.separation(motion, ar);
+            r.sep = s;
+            s
+        };
         r.solve_normal(a, b, s, p, use_bias, ar);
     }
     if p.friction {
@@ -792,5 +854,158 @@ impl SoftContact {
         self.jn = ar.sub(old, jn).max(Real::ZERO);
         let djn = ar.sub(self.jn, old);
         self.apply_along(a, b, self.n, [self.kn_a, self.kn_b], djn, ar);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Raw values over the whole range: small, scene-like, near the
+    /// range check's edge (2^58) and the extremes.
+    fn bits() -> impl Strategy<Value = i64> {
+        prop_oneof![
+            (-(1i64 << 36)..(1i64 << 36)),
+            (any::<i64>(), 0u32..63).prop_map(|(v, s)| v >> s),
+            (-4i64..4).prop_map(|k| (1i64 << 58).wrapping_add(k)),
+            (-4i64..4).prop_map(|k| (-(1i64 << 58)).wrapping_add(k)),
+            any::<i64>(),
+            Just(i64::MIN),
+            Just(i64::MAX),
+        ]
+    }
+
+    /// Scene-like values (products up to past `Ranged`'s record limit)
+    /// with a few at the range check's edge.
+    fn mid() -> impl Strategy<Value = i64> {
+        prop_oneof![
+            20 => -(1i64 << 47)..(1i64 << 47),
+            1 => (-4i64..4).prop_map(|k| (1i64 << 58).wrapping_add(k)),
+            1 => (-4i64..4).prop_map(|k| (-(1i64 << 58)).wrapping_add(k)),
+        ]
+    }
+
+    /// Cases that took the fast path and kept it (coverage, printed).
+    static FAST: core::sync::atomic::AtomicU64 = core::sync::atomic::AtomicU64::new(0);
+    static CASES: core::sync::atomic::AtomicU64 = core::sync::atomic::AtomicU64::new(0);
+
+    fn rows_from(v: &mut impl Iterator<Item = i64>, count: usize) -> Vec<SoftContact> {
+        let mut r = || Real::from_bits(v.next().unwrap_or(0));
+        (0..count)
+            .map(|slot| {
+                let n = Vect::new(r(), r());
+                let (nr_a, nr_b, rn_a, rn_b, rt_a, rt_b) = (r(), r(), r(), r(), r(), r());
+                SoftContact {
+                    a: 0,
+                    b: 1,
+                    arbiter: 0,
+                    slot: slot as u32,
+                    n,
+                    dist: r(),
+                    sep: r(),
+                    nr_a,
+                    nr_b,
+                    rn_a,
+                    rn_b,
+                    rt_a,
+                    rt_b,
+                    kn_a: r(),
+                    kn_b: r(),
+                    kt_a: r(),
+                    kt_b: r(),
+                    m_inv_a: r(),
+                    m_inv_b: r(),
+                    n_mass: r(),
+                    t_mass: r(),
+                    friction: r(),
+                    restitution: Real::ZERO,
+                    surface_t: r(),
+                    approach: Real::ZERO,
+                    soft: Softness {
+                        bias_rate: r(),
+                        mass_scale: r(),
+                        impulse_scale: r(),
+                    },
+                    jn: r(),
+                    jt: r(),
+                    max_jn: r(),
+                    bounded: below_2_62(&[n.x, n.y, nr_a, nr_b, rn_a, rn_b, rt_a, rt_b]),
+                }
+            })
+            .collect()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(20_000))]
+        /// The `Ranged` fast path (with its range check and fallback)
+        /// gives the saturating reference's bits on any input.
+        #[test]
+        fn ranged_passes_match_the_saturating_reference(
+            vals in prop_oneof![
+                prop::collection::vec(bits(), 80),
+                prop::collection::vec(mid(), 80),
+                prop::collection::vec(-(1i64 << 36)..(1i64 << 36), 80),
+            ],
+            two in any::<bool>(),
+            use_bias in any::<bool>(),
+            friction in any::<bool>(),
+        ) {
+            let mut v = vals.into_iter();
+            let rows = rows_from(&mut v, if two { 2 } else { 1 });
+            let mut r = || Real::from_bits(v.next().unwrap_or(0));
+            let body = |r: &mut dyn FnMut() -> Real| SolverBody {
+                v: Vect::new(r(), r()),
+                w: r(),
+                ..SolverBody::default()
+            };
+            let bodies = [body(&mut r), body(&mut r)];
+            let motion = [0, 1].map(|_| Motion {
+                dp: Vect::new(r(), r()),
+                dq_c1: r(),
+                dq_s: r(),
+                ..Motion::default()
+            });
+            let p = SoftContactParams {
+                contact: Softness::RIGID,
+                fixed: Softness::RIGID,
+                h_inv: r(),
+                slop: r(),
+                push_out: r(),
+                restitution_threshold: Real::ZERO,
+                friction,
+                restitution: false,
+            };
+            let (mut fast_rows, mut ref_rows) = (rows.clone(), rows.clone());
+            {
+                use core::sync::atomic::Ordering::Relaxed;
+                let mut probe_rows = rows.clone();
+                let [mut a, mut b] = bodies;
+                let mut ar = Ranged::new();
+                let kept = manifold_record(&rows, &bodies, &motion, &p, use_bias) < RANGED_INPUT && {
+                    manifold_pass(&mut probe_rows, &mut a, &mut b, &motion, &p, use_bias, &mut ar);
+                    !ar.overflowed()
+                };
+                let cases = CASES.fetch_add(1, Relaxed) + 1;
+                let fast = FAST.fetch_add(u64::from(kept), Relaxed) + u64::from(kept);
+                if cases % 5000 == 0 {
+                    eprintln!("fast path kept in {fast} of {cases} cases");
+                }
+            }
+            let mut fast = bodies;
+            solve_manifold(&mut fast_rows, &mut fast, &motion, &p, use_bias);
+            let [mut a, mut b] = bodies;
+            manifold_pass(&mut ref_rows, &mut a, &mut b, &motion, &p, use_bias, &mut Saturating);
+            prop_assert_eq!(format!("{fast_rows:?}"), format!("{ref_rows:?}"));
+            prop_assert_eq!(format!("{fast:?}"), format!("{:?}", [a, b]));
+
+            let mut fast = bodies;
+            warm_start_manifold(&rows, &mut fast);
+            let [mut a, mut b] = bodies;
+            for row in &rows {
+                row.apply(&mut a, &mut b, row.jn, row.jt, &mut Saturating);
+            }
+            prop_assert_eq!(format!("{fast:?}"), format!("{:?}", [a, b]));
+        }
     }
 }
