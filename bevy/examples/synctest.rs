@@ -47,6 +47,8 @@ struct Outcome {
     bodies: usize,
     mismatches: u32,
     loads: u64,
+    /// What the plugin reported it could not do (none expected).
+    errors: Vec<(Entity, String)>,
     /// Every live body entity maps to its body and back, and the map has
     /// no other entry: the entity map followed the respawned entities.
     map_consistent: bool,
@@ -75,6 +77,7 @@ fn run(check_distance: usize, sabotage: bool) -> Outcome {
         bodies: physics.space().bodies().count(),
         mismatches: world.resource::<Mismatches>().0,
         loads: world.resource::<Counters>().loads,
+        errors: world.resource::<PhysicsErrors>().errors.clone(),
         map_consistent,
     }
 }
@@ -96,7 +99,11 @@ fn main() {
         "  entity map consistent after rollbacks: {}",
         rolled.map_consistent
     );
-    if rolled.mismatches != 0 || !same || !rolled.map_consistent {
+    for (entity, error) in rolled.errors.iter().chain(&straight.errors) {
+        println!("  plugin error ({entity}): {error}");
+    }
+    let clean = rolled.errors.is_empty() && straight.errors.is_empty();
+    if rolled.mismatches != 0 || !same || !rolled.map_consistent || !clean {
         std::process::exit(1);
     }
 }

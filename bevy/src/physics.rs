@@ -19,13 +19,13 @@ use crate::contacts::Contact;
 /// body up by its entity with [`body_of`](Self::body_of).
 #[derive(Resource, Clone)]
 pub struct Physics {
-    space: Space,
-    dt: Real,
+    pub(crate) space: Space,
+    pub(crate) dt: Real,
     /// The entity of every body built from a [`RigidBody`](crate::RigidBody),
     /// in handle order (iteration is deterministic).
-    entities: BTreeMap<BodyHandle, Entity>,
+    pub(crate) entities: BTreeMap<BodyHandle, Entity>,
     /// The reverse of `entities`.
-    bodies: BTreeMap<Entity, BodyHandle>,
+    pub(crate) bodies: BTreeMap<Entity, BodyHandle>,
     /// Shape pairs touching after the last step, sorted.
     pub(crate) touching: Vec<Contact>,
     pub(crate) started: Vec<Contact>,

@@ -97,12 +97,20 @@ pub fn game_app(session: Session<Config>, local_players: Vec<usize>) -> App {
         .checksum_resource_with_hash::<Score>()
         .rollback_component_with_copy::<Player>()
         .rollback_component_with_copy::<Crate>()
+        .rollback_component_with_copy::<Ledge>()
         .add_systems(Startup, setup)
         .add_systems(ReadInputs, read_inputs)
         .add_systems(LoadWorld, count_loads)
         .add_systems(
             GgrsSchedule,
-            (tick, push_players, rain_crates, clear_crates, sabotage)
+            (
+                tick,
+                push_players,
+                rain_crates,
+                clear_crates,
+                move_the_ledge,
+                sabotage,
+            )
                 .chain()
                 .before(PhysicsSystems::Step),
         )
@@ -194,6 +202,31 @@ fn rain_crates(mut commands: Commands, frame: Res<GameFrame>) {
         Collider::rectangle(real!(0.8), real!(0.8)).with_density(real!(0.5)),
     ));
 }
+
+/// A static ledge appears at frame 300 and goes at frame 450: the level
+/// itself changes inside the rollback window.
+fn move_the_ledge(
+    mut commands: Commands,
+    frame: Res<GameFrame>,
+    ledges: Query<Entity, With<Ledge>>,
+) {
+    if frame.0 == 300 {
+        commands.spawn((
+            Ledge,
+            RigidBody::fixed().at(Vect::from_ints(0, 4)),
+            Collider::rectangle(real!(6), real!(0.4)),
+        ));
+    }
+    if frame.0 == 450 {
+        for ledge in &ledges {
+            commands.entity(ledge).despawn();
+        }
+    }
+}
+
+/// The ledge.
+#[derive(Component, Clone, Copy)]
+pub struct Ledge;
 
 /// Crates live 150 frames; half leave through bevy_ggrs' deferred
 /// despawn, half through a plain despawn: rollback handles both.
