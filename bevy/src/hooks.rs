@@ -128,7 +128,7 @@ pub(crate) fn body_removed(mut world: DeferredWorld, ctx: HookContext) {
     if let Some(mut physics) = live_physics(&mut world) {
         // A body another entity owns now (a stale link) is left alone.
         if physics.unlink(handle, entity) {
-            let _ = physics.space_mut().remove_body(handle);
+            physics.pending.bodies.insert(handle);
         }
     }
 }
@@ -165,10 +165,7 @@ pub(crate) fn collider_removed(mut world: DeferredWorld, ctx: HookContext) {
         return;
     };
     if let Some(mut physics) = live_physics(&mut world) {
-        for h in handles {
-            // Stale when the body went first (its shapes went with it).
-            let _ = physics.space_mut().remove_shape(h);
-        }
+        physics.pending.shapes.extend(handles);
     }
 }
 
@@ -215,7 +212,6 @@ pub(crate) fn joint_removed(mut world: DeferredWorld, ctx: HookContext) {
         return;
     };
     if let Some(mut physics) = live_physics(&mut world) {
-        // Stale when a body went first (its joints went with it).
-        let _ = physics.space_mut().remove_constraint(handle);
+        physics.pending.constraints.insert(handle);
     }
 }

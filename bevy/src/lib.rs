@@ -19,6 +19,10 @@
 //!   inserted (command order, which a game's systems fix), never in query
 //!   order: Bevy's iteration order follows archetypes and entity ids, which
 //!   differ between peers once rollbacks have respawned entities.
+//! - **Removals in handle order.** Despawns often come from a query loop;
+//!   the bodies, shapes and joints they take out leave the space at the
+//!   next step, sorted by handle, so the free lists (and the next handles)
+//!   are the same on every peer. Spawn in an order the game fixes.
 //! - **No floats in.** Positions, velocities and sizes are fixed point
 //!   ([`tamias2d::Real`], [`tamias2d::Vect`]); `Transform` is written, never
 //!   read. Bevy's `Time` is not read either: each step advances by

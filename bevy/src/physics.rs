@@ -3,7 +3,9 @@ use std::collections::BTreeMap;
 
 use bevy_ecs::entity::{EntityMapper, MapEntities};
 use bevy_ecs::prelude::*;
+use std::collections::BTreeSet;
 use tamias2d::body::BodyHandle;
+use tamias2d::constraint::ConstraintHandle;
 use tamias2d::math::Real;
 use tamias2d::shape::ShapeHandle;
 use tamias2d::space::Space;
@@ -30,6 +32,9 @@ pub struct Physics {
     pub(crate) touching: Vec<Contact>,
     pub(crate) started: Vec<Contact>,
     pub(crate) ended: Vec<Contact>,
+    /// What removed components and despawned entities took out, removed
+    /// from the space before the next step in handle order.
+    pub(crate) pending: Removals,
     /// Set while bevy_ggrs restores a frame: the component hooks then leave
     /// the space alone, since the restored resource already holds it.
     pub(crate) restoring: bool,
@@ -55,6 +60,7 @@ impl Physics {
             touching: Vec::new(),
             started: Vec::new(),
             ended: Vec::new(),
+            pending: Removals::default(),
             restoring: false,
         }
     }
@@ -127,6 +133,26 @@ impl Physics {
         self.bodies.insert(entity, body);
     }
 
+    /// Removes what removed components and despawned entities took out:
+    /// joints, then shapes, then bodies, each in handle order, so the
+    /// space (its free lists, hence the next handles) does not depend on
+    /// the order the game despawned them in, a query's order, which
+    /// differs between peers. The step does it first; call it to see the
+    /// space without them sooner. Stale handles (a joint that went with its
+    /// body) are skipped.
+    pub fn flush_removals(&mut self) {
+        let pending = std::mem::take(&mut self.pending);
+        for h in pending.constraints {
+            let _ = self.space.remove_constraint(h);
+        }
+        for h in pending.shapes {
+            let _ = self.space.remove_shape(h);
+        }
+        for h in pending.bodies {
+            let _ = self.space.remove_body(h);
+        }
+    }
+
     /// Forgets `entity`'s body if `body` is still the one it owns.
     pub(crate) fn unlink(&mut self, body: BodyHandle, entity: Entity) -> bool {
         if self.entities.get(&body) != Some(&entity) {
@@ -136,6 +162,14 @@ impl Physics {
         self.bodies.remove(&entity);
         true
     }
+}
+
+/// Removals waiting for the next step, sorted by handle.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Removals {
+    pub(crate) bodies: BTreeSet<BodyHandle>,
+    pub(crate) shapes: BTreeSet<ShapeHandle>,
+    pub(crate) constraints: BTreeSet<ConstraintHandle>,
 }
 
 impl MapEntities for Physics {

@@ -88,6 +88,7 @@ impl Plugin for TamiasPlugin {
 /// One step; an error (the world's own validation) is reported, and the
 /// world stays as it was before the step.
 fn step(mut physics: ResMut<Physics>, mut errors: ResMut<PhysicsErrors>) {
+    physics.flush_removals();
     let dt = physics.dt();
     if let Err(e) = physics.space_mut().step(dt) {
         errors

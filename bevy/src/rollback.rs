@@ -31,7 +31,7 @@ use tamias2d::space::{FrameState, Space};
 use crate::body::{Collider, RigidBody};
 use crate::contacts::Contact;
 use crate::joint::Joint;
-use crate::physics::{Physics, PhysicsErrors};
+use crate::physics::{Physics, PhysicsErrors, Removals};
 
 pub(crate) fn register(app: &mut App) {
     app.init_resource::<PhysicsSnapshots>()
@@ -77,7 +77,7 @@ fn body_despawned_for_rollback(
         return;
     };
     if physics.unlink(handle, entity) {
-        let _ = physics.space_mut().remove_body(handle);
+        physics.pending.bodies.insert(handle);
     }
 }
 
@@ -90,6 +90,7 @@ struct Snapshot {
     touching: Vec<Contact>,
     started: Vec<Contact>,
     ended: Vec<Contact>,
+    pending: Removals,
 }
 
 /// Frames bevy_ggrs may roll back to: a safety cap on top of dropping
@@ -144,6 +145,7 @@ fn save_physics(
     snap.touching.clone_from(&physics.touching);
     snap.started.clone_from(&physics.started);
     snap.ended.clone_from(&physics.ended);
+    snap.pending.clone_from(&physics.pending);
     let level = snap.frame.level_digest();
     snapshots
         .levels
@@ -193,4 +195,5 @@ fn load_physics(
     physics.touching.clone_from(&snap.touching);
     physics.started.clone_from(&snap.started);
     physics.ended.clone_from(&snap.ended);
+    physics.pending.clone_from(&snap.pending);
 }

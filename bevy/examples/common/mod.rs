@@ -13,6 +13,7 @@ use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
 use core::time::Duration;
+use tamias2d::constraint::PivotJoint;
 use tamias2d::{real, Real, Vect};
 use tamias2d_bevy::bevy_ggrs::prelude::*;
 use tamias2d_bevy::bevy_ggrs::{
@@ -203,19 +204,33 @@ fn rain_crates(mut commands: Commands, frame: Res<GameFrame>) {
     ));
 }
 
-/// A static ledge appears at frame 300 and goes at frame 450: the level
-/// itself changes inside the rollback window.
+/// A static ledge appears at frame 300, with a weight hanging from it by a
+/// pivot joint, and all three go at frame 450: the level itself, and a
+/// joint between entities, come and go inside the rollback window.
 fn move_the_ledge(
     mut commands: Commands,
     frame: Res<GameFrame>,
     ledges: Query<Entity, With<Ledge>>,
 ) {
     if frame.0 == 300 {
-        commands.spawn((
-            Ledge,
-            RigidBody::fixed().at(Vect::from_ints(0, 4)),
-            Collider::rectangle(real!(6), real!(0.4)),
-        ));
+        let ledge = commands
+            .spawn((
+                Ledge,
+                RigidBody::fixed().at(Vect::from_ints(0, 4)),
+                Collider::rectangle(real!(6), real!(0.4)),
+            ))
+            .id();
+        let weight = commands
+            .spawn((
+                Ledge,
+                RigidBody::dynamic().at(Vect::new(real!(2.5), real!(3))),
+                Collider::circle(real!(0.3)),
+            ))
+            .id();
+        // Commands apply in order: both bodies exist when the joint is built.
+        if let Ok(pivot) = PivotJoint::new(Vect::new(real!(1.5), Real::ZERO), Vect::ZERO) {
+            commands.spawn((Ledge, Joint::new(ledge, weight, pivot)));
+        }
     }
     if frame.0 == 450 {
         for ledge in &ledges {
