@@ -4,7 +4,9 @@
 use bevy::prelude::*;
 use tamias2d::body::Body;
 use tamias2d::constraint::PivotJoint;
-use tamias2d::shape::{Shape, ShapeFilter};
+use tamias2d::math::Rot;
+use tamias2d::shape::{Circle, Geometry, Shape, ShapeFilter};
+use tamias2d::space::ShapeCast;
 use tamias2d::space::Space;
 use tamias2d::{real, Real, Vect};
 use tamias2d_bevy::prelude::*;
@@ -350,6 +352,20 @@ fn queries_name_the_entity_they_hit() {
     assert_eq!(
         all.iter().map(|h| h.entity).collect::<Vec<_>>(),
         vec![Some(ball), Some(floor)]
+    );
+    // A ball of radius 0.25 cast down from (-3, 5) meets the floor after
+    // 4.75 of its 10 m: fraction 0.475.
+    let cast = ShapeCast::new(
+        Geometry::Circle(Circle::new(real!(0.25), Vect::ZERO)),
+        Vect::from_ints(-3, 5),
+        Rot::IDENTITY,
+        Vect::from_ints(0, -10),
+    );
+    let hit = query.shape_cast(&cast, ShapeFilter::ALL).unwrap();
+    assert_eq!(hit.entity, Some(floor));
+    assert!(
+        (hit.info.fraction - real!(0.475)).abs() < real!(0.001),
+        "{hit:?}"
     );
     let near = query
         .point_nearest(Vect::from_ints(-5, 1), Real::from_int(2), ShapeFilter::ALL)
