@@ -5,11 +5,13 @@
 //!
 //! `cargo run -p tamias2d-bevy --example synctest` prints
 //! `synctest: 600 frames, check distance 7, 0 mismatches`; `cargo test`
-//! runs the same checks (this example is a test target too).
+//! runs the same checks (this example is a test target too). With
+//! `-- --pile N`, N boxes start piled on the floor: a heavier world, to
+//! time the rolled-back run (`--release`).
 mod common;
 
 use bevy::prelude::*;
-use common::{game_app, run_frames, Config, Counters, Sabotage, Score};
+use common::{game_app, run_frames, Config, Counters, Pile, Sabotage, Score};
 use tamias2d_bevy::bevy_ggrs::prelude::*;
 use tamias2d_bevy::prelude::*;
 
@@ -47,6 +49,8 @@ struct Outcome {
     bodies: usize,
     mismatches: u32,
     loads: u64,
+    /// Wall time of the run.
+    seconds: f64,
     /// What the plugin reported it could not do (none expected).
     errors: Vec<(Entity, String)>,
     /// Every live body entity maps to its body and back, and the map has
@@ -54,10 +58,13 @@ struct Outcome {
     map_consistent: bool,
 }
 
-fn run(check_distance: usize, sabotage: bool) -> Outcome {
+fn run(check_distance: usize, sabotage: bool, pile: i32) -> Outcome {
     let mut app = synctest_app(check_distance);
     app.world_mut().resource_mut::<Sabotage>().on = sabotage;
+    app.insert_resource(Pile(pile));
+    let start = std::time::Instant::now();
     run_frames(&mut app, FRAMES);
+    let seconds = start.elapsed().as_secs_f64();
     let mut live = app.world_mut().query::<(Entity, &RigidBody)>();
     let live: Vec<(Entity, Option<_>)> = live
         .iter(app.world())
@@ -77,14 +84,26 @@ fn run(check_distance: usize, sabotage: bool) -> Outcome {
         bodies: physics.space().bodies().count(),
         mismatches: world.resource::<Mismatches>().0,
         loads: world.resource::<Counters>().loads,
+        seconds,
         errors: world.resource::<PhysicsErrors>().errors.clone(),
         map_consistent,
     }
 }
 
 fn main() {
-    let rolled = run(CHECK_DISTANCE, false);
-    let straight = run(0, false);
+    let args: Vec<String> = std::env::args().collect();
+    let pile = match args.iter().position(|a| a == "--pile") {
+        None => 0,
+        Some(i) => match args.get(i + 1).map(|n| n.parse::<i32>()) {
+            Some(Ok(n)) if (0..=2000).contains(&n) => n,
+            _ => {
+                eprintln!("--pile takes a number of boxes, 0 to 2000");
+                std::process::exit(2);
+            }
+        },
+    };
+    let rolled = run(CHECK_DISTANCE, false, pile);
+    let straight = run(0, false, pile);
     println!(
         "synctest: {FRAMES} frames, check distance {CHECK_DISTANCE}, {} mismatches",
         rolled.mismatches
@@ -95,6 +114,12 @@ fn main() {
     );
     let same = rolled.checksum == straight.checksum && rolled.score == straight.score;
     println!("  the same world as a straight run: {same}");
+    if pile > 0 {
+        println!(
+            "  {pile} boxes piled: {:.2} s rolled back, {:.2} s straight",
+            rolled.seconds, straight.seconds
+        );
+    }
     println!(
         "  entity map consistent after rollbacks: {}",
         rolled.map_consistent
@@ -114,8 +139,8 @@ mod tests {
 
     #[test]
     fn synctest_at_check_distance_7_has_no_mismatch_and_ends_as_a_straight_run() {
-        let rolled = run(CHECK_DISTANCE, false);
-        let straight = run(0, false);
+        let rolled = run(CHECK_DISTANCE, false, 0);
+        let straight = run(0, false, 0);
         assert_eq!(rolled.mismatches, 0);
         assert!(
             rolled.loads >= (FRAMES as u64) - 8,
@@ -140,7 +165,7 @@ mod tests {
 
     #[test]
     fn a_desync_is_caught() {
-        let sabotaged = run(CHECK_DISTANCE, true);
+        let sabotaged = run(CHECK_DISTANCE, true, 0);
         assert!(sabotaged.mismatches > 0, "the sabotage went unnoticed");
     }
 }

@@ -93,6 +93,7 @@ pub fn game_app(session: Session<Config>, local_players: Vec<usize>) -> App {
         .init_resource::<Score>()
         .init_resource::<Counters>()
         .init_resource::<Sabotage>()
+        .init_resource::<Pile>()
         .rollback_resource_with_copy::<GameFrame>()
         .rollback_resource_with_copy::<Score>()
         .checksum_resource_with_hash::<Score>()
@@ -119,12 +120,27 @@ pub fn game_app(session: Session<Config>, local_players: Vec<usize>) -> App {
     app
 }
 
+/// Boxes piled on the floor at the start (0 by default): a heavier world
+/// for timing the rollback (`synctest -- --pile 300`).
+#[derive(Resource, Default)]
+pub struct Pile(pub i32);
+
 /// Which players this app scripts.
 #[derive(Resource)]
 struct LocalScript(Vec<usize>);
 
-fn setup(mut commands: Commands, mut physics: ResMut<Physics>) {
+fn setup(mut commands: Commands, mut physics: ResMut<Physics>, pile: Res<Pile>) {
     physics.set_dt(Real::ratio(1, 60));
+    for i in 0..pile.0 {
+        let (column, row) = (i % 20 - 10, 1 + i / 20);
+        commands.spawn((
+            RigidBody::dynamic().at(Vect::new(
+                Real::from_int(column) * Real::HALF,
+                Real::from_int(row) * Real::HALF,
+            )),
+            Collider::rectangle(real!(0.45), real!(0.45)),
+        ));
+    }
     // The box: floor and walls (static bodies).
     let wall = |a: Vect, b: Vect| {
         (
