@@ -110,7 +110,7 @@ pub(crate) fn relative_velocity<A: FixedArith>(
 
 /// `v + perp(r)·ω`, with `perp(r) = (−r.y, r.x)`.
 #[inline(always)]
-fn point_velocity<A: FixedArith>(body: &SolverBody, r: Vect, ar: &mut A) -> Vect {
+pub(crate) fn point_velocity<A: FixedArith>(body: &SolverBody, r: Vect, ar: &mut A) -> Vect {
     let perp = Vect::new(neg(r.y, ar), r.x);
     let spin = mult(perp, body.w, ar);
     add(body.v, spin, ar)

@@ -34,7 +34,7 @@ use crate::math::{
 
 use super::contact_solver::{color_arbiters, ContactSolver};
 use super::graph;
-use super::kernel::{effective_mass, load_pair, store_pair};
+use super::kernel::{effective_mass, load_pair, point_velocity, store_pair, sub};
 use super::softness::Softness;
 use super::sweep::{self, ManifoldRow};
 use super::SolverBody;
@@ -128,11 +128,13 @@ pub(crate) struct SoftContact {
     /// Largest normal impulse applied this step (restitution applies only
     /// to points that pushed).
     max_jn: Real,
-    /// The constants that multiply in the passes' dot products (`n`, `n·r`,
-    /// `r × n`, `r × t`) are below `2^62` raw: the passes may run in
-    /// [`Bounded`] arithmetic; otherwise (positions near the edge of the
-    /// range) in saturating arithmetic.
-    bounded: bool,
+    /// The range record of the row's constants the passes add (`dist`,
+    /// `surface_t`), or `u64::MAX` unless the constants that multiply in
+    /// the passes' dot products (`n`, `n·r`, `r × n`, `r × t`) are below
+    /// `2^62` raw: then the passes run in saturating arithmetic (positions
+    /// near the edge of the range), else they may run in [`Ranged`]
+    /// arithmetic.
+    constant_record: u64,
 }
 
 /// The soft rows of a step and the bodies' motion.
@@ -444,10 +446,7 @@ fn manifold_record(
         ]);
     }
     for r in rows {
-        if !r.bounded {
-            return u64::MAX;
-        }
-        rec |= range_record(&[r.jn, r.jt, r.dist, r.surface_t]);
+        rec |= r.constant_record | range_record(&[r.jn, r.jt]);
     }
     rec
 }
@@ -510,11 +509,23 @@ fn prepare_manifold(job: &PrepareJob<'_>, i: u32, arb: &Arbiter, out: &mut [Soft
     let t = n.perp();
     for ((slot, c), row) in arb.contacts().iter().enumerate().zip(out) {
         let (r1, r2) = (c.r1, c.r2);
-        let (rn_a, rn_b) = (r1.cross(n), r2.cross(n));
-        let (rt_a, rt_b) = (r1.cross(t), r2.cross(t));
-        let k_n = a.m_inv + b.m_inv + a.i_inv * rn_a * rn_a + b.i_inv * rn_b * rn_b;
-        let k_t = a.m_inv + b.m_inv + a.i_inv * rt_a * rt_a + b.i_inv * rt_b * rt_b;
-        let vr = (b.v + r2.perp() * b.w) - (a.v + r1.perp() * a.w);
+        let k = RowConstants::of(a, b, n, t, r1, r2, arb.surface_velocity);
+        let RowConstants {
+            rn_a,
+            rn_b,
+            rt_a,
+            rt_b,
+            nr_a,
+            nr_b,
+            kn_a,
+            kn_b,
+            kt_a,
+            kt_b,
+            k_n,
+            k_t,
+            approach,
+            surface_t,
+        } = k;
         *row = SoftContact {
             a: ia,
             b: ib,
@@ -524,16 +535,16 @@ fn prepare_manifold(job: &PrepareJob<'_>, i: u32, arb: &Arbiter, out: &mut [Soft
             n,
             dist: c.dist,
             sep: c.dist,
-            nr_a: n.dot(r1),
-            nr_b: n.dot(r2),
+            nr_a,
+            nr_b,
             rn_a,
             rn_b,
             rt_a,
             rt_b,
-            kn_a: a.i_inv * rn_a,
-            kn_b: b.i_inv * rn_b,
-            kt_a: a.i_inv * rt_a,
-            kt_b: b.i_inv * rt_b,
+            kn_a,
+            kn_b,
+            kt_a,
+            kt_b,
             m_inv_a: a.m_inv,
             m_inv_b: b.m_inv,
             n_mass: effective_mass(k_n),
@@ -548,8 +559,8 @@ fn prepare_manifold(job: &PrepareJob<'_>, i: u32, arb: &Arbiter, out: &mut [Soft
                 Real::ZERO
             },
             restitution: arb.restitution,
-            surface_t: arb.surface_velocity.dot(t),
-            approach: vr.dot(n),
+            surface_t,
+            approach,
             soft: if fixed { params.fixed } else { params.contact },
             jn: c.jn_acc,
             jt: if params.friction {
@@ -558,8 +569,103 @@ fn prepare_manifold(job: &PrepareJob<'_>, i: u32, arb: &Arbiter, out: &mut [Soft
                 Real::ZERO
             },
             max_jn: Real::ZERO,
-            bounded: below_2_62(&[n.x, n.y, n.dot(r1), n.dot(r2), rn_a, rn_b, rt_a, rt_b]),
+            constant_record: if below_2_62(&[n.x, n.y, nr_a, nr_b, rn_a, rn_b, rt_a, rt_b]) {
+                range_record(&[c.dist, surface_t])
+            } else {
+                u64::MAX
+            },
         };
+    }
+}
+
+/// A row's constants from its anchors, computed once per step: the lever
+/// arms across the normal and the tangent, `I⁻¹` times them, the
+/// effective masses' denominators, and the approach and surface speeds.
+#[derive(Clone, Copy, Debug)]
+struct RowConstants {
+    rn_a: Real,
+    rn_b: Real,
+    rt_a: Real,
+    rt_b: Real,
+    nr_a: Real,
+    nr_b: Real,
+    kn_a: Real,
+    kn_b: Real,
+    kt_a: Real,
+    kt_b: Real,
+    k_n: Real,
+    k_t: Real,
+    approach: Real,
+    surface_t: Real,
+}
+
+impl RowConstants {
+    /// In [`Unsaturated`] arithmetic first (no saturation test per
+    /// operation), in saturating arithmetic if that overflowed: the bits of
+    /// the saturating formulas either way.
+    #[inline(always)]
+    fn of(
+        a: &SolverBody,
+        b: &SolverBody,
+        n: Vect,
+        t: Vect,
+        r1: Vect,
+        r2: Vect,
+        surface: Vect,
+    ) -> RowConstants {
+        let mut fast = Unsaturated::new();
+        let k = Self::with(a, b, n, t, [r1, r2], surface, &mut fast);
+        if !fast.overflowed() {
+            return k;
+        }
+        Self::with(a, b, n, t, [r1, r2], surface, &mut Saturating)
+    }
+
+    /// The formulas, operation for operation those of the saturating
+    /// operators they replaced: `r × d` and `d·r` rounded once, `k(d) =
+    /// m_a⁻¹ + m_b⁻¹ + (I_a⁻¹ (r1 × d))(r1 × d) + (I_b⁻¹ (r2 × d))(r2 × d)`
+    /// added left to right, `v_r = (v_b + perp(r2) ω_b) − (v_a + perp(r1)
+    /// ω_a)`.
+    #[inline(always)]
+    fn with<A: FixedArith>(
+        a: &SolverBody,
+        b: &SolverBody,
+        n: Vect,
+        t: Vect,
+        [r1, r2]: [Vect; 2],
+        surface: Vect,
+        ar: &mut A,
+    ) -> RowConstants {
+        let cross = |r: Vect, d: Vect, ar: &mut A| ar.mul_sub2(r.x, d.y, r.y, d.x);
+        let (rn_a, rn_b) = (cross(r1, n, ar), cross(r2, n, ar));
+        let (rt_a, rt_b) = (cross(r1, t, ar), cross(r2, t, ar));
+        let (kn_a, kn_b) = (ar.mul(a.i_inv, rn_a), ar.mul(b.i_inv, rn_b));
+        let (kt_a, kt_b) = (ar.mul(a.i_inv, rt_a), ar.mul(b.i_inv, rt_b));
+        let m_ab = ar.add(a.m_inv, b.m_inv);
+        let k = |ka: Real, ra: Real, kb: Real, rb: Real, ar: &mut A| {
+            let (qa, qb) = (ar.mul(ka, ra), ar.mul(kb, rb));
+            let s = ar.add(m_ab, qa);
+            ar.add(s, qb)
+        };
+        let k_n = k(kn_a, rn_a, kn_b, rn_b, ar);
+        let k_t = k(kt_a, rt_a, kt_b, rt_b, ar);
+        let vr = sub(point_velocity(b, r2, ar), point_velocity(a, r1, ar), ar);
+        RowConstants {
+            rn_a,
+            rn_b,
+            rt_a,
+            rt_b,
+            nr_a: ar.mul_add2(n.x, r1.x, n.y, r1.y),
+            nr_b: ar.mul_add2(n.x, r2.x, n.y, r2.y),
+            kn_a,
+            kn_b,
+            kt_a,
+            kt_b,
+            k_n,
+            k_t,
+            approach: ar.mul_add2(vr.x, n.x, vr.y, n.y),
+            surface_t: ar.mul_add2(surface.x, t.x, surface.y, t.y),
+        }
     }
 }
 
@@ -739,14 +845,32 @@ impl SoftContact {
         let p = Vect::new(ar.mul_sub2(n.x, jn, n.y, jt), ar.mul_add2(n.y, jn, n.x, jt));
         let dwa = ar.mul_add2(self.kn_a, jn, self.kt_a, jt);
         let dwb = ar.mul_add2(self.kn_b, jn, self.kt_b, jt);
-        let (dva, dvb) = (
-            Vect::new(ar.mul(p.x, self.m_inv_a), ar.mul(p.y, self.m_inv_a)),
-            Vect::new(ar.mul(p.x, self.m_inv_b), ar.mul(p.y, self.m_inv_b)),
-        );
+        let (dva, dvb) = self.velocity_changes(p, ar);
         a.v = Vect::new(ar.sub(a.v.x, dva.x), ar.sub(a.v.y, dva.y));
         a.w = ar.sub(a.w, dwa);
         b.v = Vect::new(ar.add(b.v.x, dvb.x), ar.add(b.v.y, dvb.y));
         b.w = ar.add(b.w, dwb);
+    }
+
+    /// `p·m_a⁻¹` and `p·m_b⁻¹`, the second taken from the first when the
+    /// inverse masses are equal (a pile of like bodies), and exactly 0 for a
+    /// body of infinite mass (a contact with the ground): the same bits and
+    /// the same overflow record as the four products (the record is an OR,
+    /// which a repeated product, or a product of 0, leaves unchanged).
+    #[inline(always)]
+    fn velocity_changes<A: FixedArith>(&self, p: Vect, ar: &mut A) -> (Vect, Vect) {
+        let times = |m: Real, ar: &mut A| {
+            if m.is_zero() {
+                Vect::ZERO
+            } else {
+                Vect::new(ar.mul(p.x, m), ar.mul(p.y, m))
+            }
+        };
+        let dva = times(self.m_inv_a, ar);
+        if self.m_inv_b == self.m_inv_a {
+            return (dva, dva);
+        }
+        (dva, times(self.m_inv_b, ar))
     }
 
     /// An impulse `j` along the unit direction `d` (the normal or the
@@ -765,10 +889,7 @@ impl SoftContact {
         let [ka, kb] = k;
         let p = Vect::new(ar.mul(d.x, j), ar.mul(d.y, j));
         let (dwa, dwb) = (ar.mul(ka, j), ar.mul(kb, j));
-        let (dva, dvb) = (
-            Vect::new(ar.mul(p.x, self.m_inv_a), ar.mul(p.y, self.m_inv_a)),
-            Vect::new(ar.mul(p.x, self.m_inv_b), ar.mul(p.y, self.m_inv_b)),
-        );
+        let (dva, dvb) = self.velocity_changes(p, ar);
         a.v = Vect::new(ar.sub(a.v.x, dva.x), ar.sub(a.v.y, dva.y));
         a.w = ar.sub(a.w, dwa);
         b.v = Vect::new(ar.add(b.v.x, dvb.x), ar.add(b.v.y, dvb.y));
@@ -896,7 +1017,7 @@ mod tests {
             .map(|slot| {
                 let n = Vect::new(r(), r());
                 let (nr_a, nr_b, rn_a, rn_b, rt_a, rt_b) = (r(), r(), r(), r(), r(), r());
-                SoftContact {
+                let mut row = SoftContact {
                     a: 0,
                     b: 1,
                     arbiter: 0,
@@ -930,8 +1051,15 @@ mod tests {
                     jn: r(),
                     jt: r(),
                     max_jn: r(),
-                    bounded: below_2_62(&[n.x, n.y, nr_a, nr_b, rn_a, rn_b, rt_a, rt_b]),
-                }
+                    constant_record: 0,
+                };
+                row.constant_record = if below_2_62(&[n.x, n.y, nr_a, nr_b, rn_a, rn_b, rt_a, rt_b])
+                {
+                    range_record(&[row.dist, row.surface_t])
+                } else {
+                    u64::MAX
+                };
+                row
             })
             .collect()
     }
@@ -1006,6 +1134,89 @@ mod tests {
                 row.apply(&mut a, &mut b, row.jn, row.jt, &mut Saturating);
             }
             prop_assert_eq!(format!("{fast:?}"), format!("{:?}", [a, b]));
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(5_000))]
+        /// A row's constants from the fast path give the bits of the
+        /// saturating operators' formulas (the prepare they replaced), on
+        /// any input, overflowing ones included.
+        #[test]
+        fn row_constants_match_the_operator_formulas(
+            v in prop::collection::vec(bits(), 18),
+        ) {
+            let x = |k: usize| Real::from_bits(v.get(k).copied().unwrap_or(0));
+            let body = |k: usize| SolverBody {
+                v: Vect::new(x(k), x(k + 1)),
+                w: x(k + 2),
+                m_inv: x(k + 3),
+                i_inv: x(k + 4),
+                ..SolverBody::default()
+            };
+            let (a, b) = (body(0), body(5));
+            let (n, r1, r2, surface) = (
+                Vect::new(x(10), x(11)),
+                Vect::new(x(12), x(13)),
+                Vect::new(x(14), x(15)),
+                Vect::new(x(16), x(17)),
+            );
+            let t = n.perp();
+            let k = RowConstants::of(&a, &b, n, t, r1, r2, surface);
+            let (rn_a, rn_b) = (r1.cross(n), r2.cross(n));
+            let (rt_a, rt_b) = (r1.cross(t), r2.cross(t));
+            let vr = (b.v + r2.perp() * b.w) - (a.v + r1.perp() * a.w);
+            let got = [
+                k.rn_a, k.rn_b, k.rt_a, k.rt_b, k.nr_a, k.nr_b, k.kn_a, k.kn_b, k.kt_a, k.kt_b,
+                k.k_n, k.k_t, k.approach, k.surface_t,
+            ];
+            let want = [
+                rn_a,
+                rn_b,
+                rt_a,
+                rt_b,
+                n.dot(r1),
+                n.dot(r2),
+                a.i_inv * rn_a,
+                b.i_inv * rn_b,
+                a.i_inv * rt_a,
+                b.i_inv * rt_b,
+                a.m_inv + b.m_inv + a.i_inv * rn_a * rn_a + b.i_inv * rn_b * rn_b,
+                a.m_inv + b.m_inv + a.i_inv * rt_a * rt_a + b.i_inv * rt_b * rt_b,
+                vr.dot(n),
+                surface.dot(t),
+            ];
+            prop_assert_eq!(got, want);
+        }
+    }
+
+    proptest! {
+        /// Sharing the velocity change of equal inverse masses and skipping
+        /// those of infinite mass gives the four products' bits and the
+        /// same overflow record.
+        #[test]
+        fn velocity_changes_are_the_four_products(
+            px in bits(), py in bits(), ma in bits(), mb in bits(), pick in 0u8..4,
+        ) {
+            let m = |x: i64| Real::from_bits(x);
+            let (m_inv_a, m_inv_b) = match pick {
+                0 => (m(ma), m(ma)),
+                1 => (Real::ZERO, m(mb)),
+                2 => (m(ma), Real::ZERO),
+                _ => (m(ma), m(mb)),
+            };
+            let row = SoftContact { m_inv_a, m_inv_b, ..SoftContact::default() };
+            let p = Vect::new(m(px), m(py));
+            let mut fast = Unsaturated::new();
+            let got = row.velocity_changes(p, &mut fast);
+            let mut each = Unsaturated::new();
+            let want = (
+                Vect::new(each.mul(p.x, m_inv_a), each.mul(p.y, m_inv_a)),
+                Vect::new(each.mul(p.x, m_inv_b), each.mul(p.y, m_inv_b)),
+            );
+            prop_assert_eq!(got, want);
+            prop_assert_eq!(fast, each);
+            prop_assert_eq!(row.velocity_changes(p, &mut Saturating), (p * m_inv_a, p * m_inv_b));
         }
     }
 }

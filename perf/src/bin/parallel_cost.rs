@@ -18,6 +18,9 @@
 //! `--iterations N` runs every world at N solver iterations (a point of the
 //! trade curve: what the colored order needs to match the canonical one).
 //!
+//! `--soft` times the soft step instead (always in the colored order): 1
+//! against N threads.
+//!
 //! Needs the `parallel` feature, which `perf/Cargo.toml` turns on:
 //! `cargo run --release -p tamias2d-perf --bin parallel_cost` (from the
 //! repository root).
@@ -35,6 +38,9 @@ const DEFAULT_SCENES: [&str; 4] = [
 ];
 const QUALITY_SCENES: [&str; 4] = ["pyramid_20", "many_pyramids_4x4", "pyramid_100", "stack_10"];
 
+/// `--soft`: the soft step instead of the sequential solver.
+static SOFT: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
 /// `--iterations`: the solver iterations of every world (0: the scene's).
 static ITERATIONS: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
 
@@ -46,6 +52,10 @@ fn world(scene: &str, colored: bool, threads: usize) -> ScriptedWorld {
         desc.settings.iterations = iterations;
     }
     desc.settings.colored_solver = colored;
+    if SOFT.load(std::sync::atomic::Ordering::Relaxed) {
+        desc.settings.solver =
+            tamias2d::space::Solver::Soft(tamias2d::space::SoftStep::default()).into();
+    }
     let mut w = desc.build().expect("the scene builds");
     w.space.set_threads(threads).expect("the threads start");
     w
@@ -57,13 +67,22 @@ fn median(v: &mut [f64]) -> f64 {
 }
 
 fn speed(scenes: &[String], threads: usize, samples: usize) {
+    let soft = SOFT.load(std::sync::atomic::Ordering::Relaxed);
     println!("threads: 1 and {threads}; sleeping off; median ms per step of {samples} samples of 10 steps");
-    println!(
-        "| scene | canonical, 1 | canonical, {threads} | speed-up | colored, 1 | colored, {threads} | speed-up | colored {threads} / canonical 1 |"
-    );
-    println!("|---|---:|---:|---:|---:|---:|---:|---:|");
+    // The soft step always solves in the colored order: one pair of
+    // configurations.
+    let configs: &[(bool, usize)] = if soft {
+        println!("| scene | soft step, 1 thread | soft step, {threads} | speed-up |");
+        println!("|---|---:|---:|---:|");
+        &[(true, 1), (true, threads)]
+    } else {
+        println!(
+            "| scene | canonical, 1 | canonical, {threads} | speed-up | colored, 1 | colored, {threads} | speed-up | colored {threads} / canonical 1 |"
+        );
+        println!("|---|---:|---:|---:|---:|---:|---:|---:|");
+        &[(false, 1), (false, threads), (true, 1), (true, threads)]
+    };
     for scene in scenes {
-        let configs = [(false, 1), (false, threads), (true, 1), (true, threads)];
         let mut worlds: Vec<ScriptedWorld> =
             configs.iter().map(|&(c, t)| world(scene, c, t)).collect();
         for w in &mut worlds {
@@ -79,15 +98,19 @@ fn speed(scenes: &[String], threads: usize, samples: usize) {
         }
         // Same configuration but the thread count: the same bits.
         let sums: Vec<u64> = worlds.iter().map(|w| w.space.checksum()).collect();
-        assert_eq!(
-            sums[0], sums[1],
-            "{scene}: canonical solver, thread counts differ"
-        );
-        assert_eq!(
-            sums[2], sums[3],
-            "{scene}: colored solver, thread counts differ"
-        );
+        for pair in sums.chunks(2) {
+            assert_eq!(pair[0], pair[1], "{scene}: thread counts differ");
+        }
         let m: Vec<f64> = times.iter_mut().map(|t| median(t)).collect();
+        if soft {
+            println!(
+                "| `{scene}` | {:.2} | {:.2} | {:.2}× |",
+                m[0],
+                m[1],
+                m[0] / m[1]
+            );
+            continue;
+        }
         println!(
             "| `{scene}` | {:.2} | {:.2} | {:.2}× | {:.2} | {:.2} | {:.2}× | {:.2}× |",
             m[0],
@@ -183,6 +206,7 @@ fn main() {
     while let Some(a) = args.next() {
         match a.as_str() {
             "--quality" => quality_mode = true,
+            "--soft" => SOFT.store(true, std::sync::atomic::Ordering::Relaxed),
             "--threads" => threads = args.next().and_then(|n| n.parse().ok()).unwrap_or(2),
             "--samples" => samples = args.next().and_then(|n| n.parse().ok()).unwrap_or(15),
             "--iterations" => ITERATIONS.store(
