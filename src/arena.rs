@@ -426,6 +426,37 @@ impl<T> Arena<T> {
         split(&mut self.slots, piece.max(1), f);
     }
 
+    /// Runs `f` on every live object and the element of `others` at its
+    /// slot (slots past the end of `others` are skipped), in pieces of
+    /// `piece` slots split between threads: for work on each object alone.
+    pub(crate) fn zip_values_split<U, F>(&self, others: &mut [U], piece: usize, f: &F)
+    where
+        T: Sync,
+        U: Send,
+        F: Fn(&T, &mut U) + Sync,
+    {
+        crate::threads::zip_split(&self.slots, others, piece, &|s: &Slot<T>, u| {
+            if let Some(v) = s.value.as_ref() {
+                f(v, u);
+            }
+        });
+    }
+
+    /// [`zip_values_split`](Self::zip_values_split) with the objects
+    /// mutable and `others` read.
+    pub(crate) fn zip_values_mut_split<U, F>(&mut self, others: &[U], piece: usize, f: &F)
+    where
+        T: Send,
+        U: Sync,
+        F: Fn(&mut T, &U) + Sync,
+    {
+        crate::threads::zip_split(others, &mut self.slots, piece, &|u, s: &mut Slot<T>| {
+            if let Some(v) = s.value.as_mut() {
+                f(v, u);
+            }
+        });
+    }
+
     /// Checks the internal invariants: the free list names exactly the empty
     /// slots, each once, and `len` counts the full ones. Used by snapshot
     /// loading and by tests; returns a description of the first violation.

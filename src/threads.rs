@@ -143,6 +143,32 @@ pub(crate) fn join<A: FnOnce() + Send, B: FnOnce() + Send>(a: A, b: B) {
     b();
 }
 
+/// `f(src[i], dst[i])` for every `i` of both, halves in parallel (through
+/// [`join`]) down to pieces of `piece` (at least 1): for work on each pair
+/// alone, which gives the same result however it is split.
+pub(crate) fn zip_split<S: Sync, D: Send>(
+    src: &[S],
+    dst: &mut [D],
+    piece: usize,
+    f: &(impl Fn(&S, &mut D) + Sync),
+) {
+    let len = src.len().min(dst.len());
+    if len <= piece.max(1) {
+        src.iter().zip(dst.iter_mut()).for_each(|(s, d)| f(s, d));
+        return;
+    }
+    let (Some((src_l, src_r)), Some((dst_l, dst_r))) = (
+        src.split_at_checked(len / 2),
+        dst.split_at_mut_checked(len / 2),
+    ) else {
+        return;
+    };
+    join(
+        || zip_split(src_l, dst_l, piece, f),
+        || zip_split(src_r, dst_r, piece, f),
+    );
+}
+
 /// The thread that steps, taking part in the parallel stages.
 #[cfg(feature = "parallel")]
 mod main {

@@ -333,17 +333,17 @@ impl ContactSolver {
 
     /// Velocities and bias velocities back into the awake dynamic bodies.
     pub(crate) fn store_velocities(&self, bodies: &mut Arena<Body>) {
-        for (h, body) in bodies.iter_mut() {
+        // Body by body (slot i from solver slot i), in pieces the threads
+        // share.
+        bodies.zip_values_mut_split(&self.bodies, 512, &|body: &mut Body, s: &SolverBody| {
             if body.body_type() != BodyType::Dynamic || body.is_sleeping() {
-                continue;
+                return;
             }
-            if let Some(s) = self.bodies.get(h.index() as usize) {
-                body.v = s.v;
-                body.w = s.w;
-                body.v_bias = s.v_bias;
-                body.w_bias = s.w_bias;
-            }
-        }
+            body.v = s.v;
+            body.w = s.w;
+            body.v_bias = s.v_bias;
+            body.w_bias = s.w_bias;
+        });
     }
 }
 

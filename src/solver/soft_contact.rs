@@ -356,11 +356,13 @@ impl SoftContacts {
     /// were integrated: `Δp = p − p₀`, `Δq = q·q₀⁻¹` (exact while a body
     /// has not moved).
     pub(crate) fn track_motion(&mut self, bodies: &Arena<Body>) {
-        for (h, body) in bodies.iter() {
-            if body.is_sleeping() {
-                continue;
-            }
-            if let Some(m) = self.motion.get_mut(h.index() as usize) {
+        bodies.zip_values_split(
+            &mut self.motion,
+            BODY_PIECE,
+            &|body: &Body, m: &mut Motion| {
+                if body.is_sleeping() {
+                    return;
+                }
                 m.dp = body.p - m.p0;
                 (m.dq_c1, m.dq_s) = if body.rot == m.rot0 {
                     (Real::ZERO, Real::ZERO)
@@ -368,8 +370,8 @@ impl SoftContacts {
                     let dq = body.rot.compose(m.rot0.inv()).as_vect();
                     (dq.x - Real::ONE, dq.y)
                 };
-            }
-        }
+            },
+        );
     }
 
     /// The soft rows' accumulated impulses into the arbiters' manifold
@@ -457,6 +459,9 @@ struct PrepareJob<'a> {
     bodies: &'a [SolverBody],
     params: &'a SoftContactParams,
 }
+
+/// Body slots per piece of the split motion tracking (a few µs).
+const BODY_PIECE: usize = 512;
 
 /// Manifolds per piece of the split preparation.
 const PREPARE_PIECE: usize = 32;

@@ -110,22 +110,28 @@ impl SharedBody {
     }
 }
 
-/// Copies `bodies` into `shared` (resized to match).
+/// Copies `bodies` into `shared` (resized to match), in pieces the threads
+/// share.
 pub(crate) fn share(bodies: &[SolverBody], shared: &mut Vec<SharedBody>) {
     if shared.len() != bodies.len() {
         shared.clear();
         shared.resize_with(bodies.len(), SharedBody::default);
     }
-    for (s, b) in shared.iter().zip(bodies) {
-        s.store(b);
-    }
+    copy_split(bodies, shared, &|b, s| s.store(b));
 }
 
-/// Copies `shared` back into `bodies`.
+/// Copies `shared` back into `bodies`, in pieces the threads share.
 pub(crate) fn unshare(shared: &[SharedBody], bodies: &mut [SolverBody]) {
-    for (b, s) in bodies.iter_mut().zip(shared) {
-        *b = s.load();
-    }
+    copy_split(shared, bodies, &|s, b| *b = s.load());
+}
+
+/// Bodies per piece of the copies (a few µs of copying).
+const COPY_PIECE: usize = 1024;
+
+/// `f(src[i], dst[i])` for every `i` of both, split between threads
+/// ([`crate::threads::zip_split`]).
+fn copy_split<S: Sync, D: Send>(src: &[S], dst: &mut [D], f: &(impl Fn(&S, &mut D) + Sync)) {
+    crate::threads::zip_split(src, dst, COPY_PIECE, f);
 }
 
 /// Runs `kernel` on one manifold's `rows` with a copy of its two bodies
