@@ -128,12 +128,12 @@ pub(crate) struct SoftContact {
     /// Largest normal impulse applied this step (restitution applies only
     /// to points that pushed).
     max_jn: Real,
-    /// The range record of the row's constants the passes add (`dist`,
-    /// `surface_t`), or `u64::MAX` unless the constants that multiply in
-    /// the passes' dot products (`n`, `n·r`, `r × n`, `r × t`) are below
-    /// `2^62` raw: then the passes run in saturating arithmetic (positions
-    /// near the edge of the range), else they may run in [`Ranged`]
-    /// arithmetic.
+    /// The range record of the constants the passes add (`dist`,
+    /// `surface_t`) when the constants that multiply in the passes' dot
+    /// products (`n`, `n·r`, `r × n`, `r × t`) are below `2^62` raw, so
+    /// that the passes may run in [`Ranged`] arithmetic; `u64::MAX`
+    /// otherwise (positions near the edge of the range), which sends them
+    /// to saturating arithmetic.
     constant_record: u64,
 }
 
