@@ -149,6 +149,9 @@ pub(crate) struct SoftContacts {
     color_rows: [u32; graph::COLORS + 2],
     /// The bodies while threads share them.
     shared: Vec<sweep::SharedBody>,
+    /// Whether any row has restitution (else the restitution pass has
+    /// nothing to do, and skips reading every row).
+    bouncy: bool,
 }
 
 impl SoftContacts {
@@ -189,13 +192,15 @@ impl SoftContacts {
         // threads (inline on one), each writing only its own rows.
         soft.manifold_rows.clear();
         let mut count = 0u32;
+        soft.bouncy = false;
         for &i in graph.order() {
             soft.manifold_rows.push(count);
+            let Some(arb) = arbiters.get(i as usize) else {
+                continue;
+            };
             // At most MAX_CONTACTS_PER_ARBITER (2) rows per arbiter.
-            let n = arbiters
-                .get(i as usize)
-                .map_or(0, |a| a.contacts().len() as u32);
-            count = count.saturating_add(n);
+            count = count.saturating_add(arb.contacts().len() as u32);
+            soft.bouncy |= !arb.restitution.is_zero();
         }
         soft.manifold_rows.push(count);
         soft.rows.truncate(count as usize);
@@ -251,15 +256,17 @@ impl SoftContacts {
         self.manifold_rows.len().saturating_sub(1)
     }
 
-    /// [`warm_start`](Self::warm_start) (with warm starting on) and
-    /// [`solve`](Self::solve) on threads: each color's manifolds split
-    /// between them on shared bodies ([`sweep`]), the same bits.
+    /// [`warm_start`](Self::warm_start) and [`solve`](Self::solve) passes,
+    /// in order, on threads: each color's manifolds split between them on
+    /// shared bodies ([`sweep`]), the same bits. The bodies are shared once
+    /// for all the `passes` (each sharing moves every body between the
+    /// cores' caches).
     pub(crate) fn solve_split(
         &mut self,
         bodies: &mut [SolverBody],
         graph: &graph::ConstraintGraph,
         params: &SoftContactParams,
-        pass: SoftPass,
+        passes: &[SoftPass],
     ) {
         let SoftContacts {
             rows,
@@ -267,14 +274,8 @@ impl SoftContacts {
             manifold_rows,
             color_rows,
             shared,
+            ..
         } = self;
-        if let SoftPass::WarmStart(None) = pass {
-            for row in rows.iter_mut() {
-                row.jn = Real::ZERO;
-                row.jt = Real::ZERO;
-            }
-            return;
-        }
         let layout = sweep::ColorLayout {
             graph,
             color_rows,
@@ -282,15 +283,24 @@ impl SoftContacts {
         };
         sweep::share(bodies, shared);
         let motion = motion.as_slice();
-        let kernel = |m: &mut [SoftContact], copy: &mut [SolverBody; 2]| match pass {
-            SoftPass::WarmStart(Some(dt_coef)) => {
-                scale_impulses(m, dt_coef);
-                warm_start_manifold(m, copy);
+        for &pass in passes {
+            let kernel = |m: &mut [SoftContact], copy: &mut [SolverBody; 2]| match pass {
+                SoftPass::WarmStart(Some(dt_coef)) => {
+                    scale_impulses(m, dt_coef);
+                    warm_start_manifold(m, copy);
+                }
+                SoftPass::WarmStart(None) => {}
+                SoftPass::Solve { use_bias } => solve_manifold(m, copy, motion, params, use_bias),
+            };
+            if let SoftPass::WarmStart(None) = pass {
+                for row in rows.iter_mut() {
+                    row.jn = Real::ZERO;
+                    row.jt = Real::ZERO;
+                }
+            } else {
+                sweep::for_each_color(rows, layout, shared, &kernel);
             }
-            SoftPass::WarmStart(None) => {}
-            SoftPass::Solve { use_bias } => solve_manifold(m, copy, motion, params, use_bias),
-        };
-        sweep::for_each_color(rows, layout, shared, &kernel);
+        }
         sweep::unshare(shared, bodies);
     }
 
@@ -327,7 +337,7 @@ impl SoftContacts {
     /// the sub-steps: points that approached faster than the threshold and
     /// pushed get the bounce `−e·approach` as their normal velocity.
     pub(crate) fn restitution(&mut self, bodies: &mut [SolverBody], params: &SoftContactParams) {
-        if !params.restitution {
+        if !params.restitution || !self.bouncy {
             return;
         }
         for row in &mut self.rows {

@@ -150,20 +150,23 @@ impl Space {
         Ok(())
     }
 
-    /// A pass over the soft contacts: with threads, each color split
-    /// between them; on one, in place in the same order (the same bits).
-    fn soft_contact_pass(&mut self, params: &SoftContactParams, pass: SoftPass) {
+    /// Passes over the soft contacts, in order: with threads, each color
+    /// split between them; on one, in place in the same order (the same
+    /// bits).
+    fn soft_contact_passes(&mut self, params: &SoftContactParams, passes: &[SoftPass]) {
         let solver = &mut self.caches.solver;
         let soft = &mut self.caches.soft_contacts;
         // A few manifolds are not worth sharing the bodies for (any split
         // gives the same bits).
         if self.caches.threads.parallel() && soft.manifolds() >= SPLIT_MIN_MANIFOLDS {
-            soft.solve_split(&mut solver.bodies, &solver.graph, params, pass);
+            soft.solve_split(&mut solver.bodies, &solver.graph, params, passes);
             return;
         }
-        match pass {
-            SoftPass::WarmStart(warm) => soft.warm_start(&mut solver.bodies, warm),
-            SoftPass::Solve { use_bias } => soft.solve(&mut solver.bodies, params, use_bias),
+        for &pass in passes {
+            match pass {
+                SoftPass::WarmStart(warm) => soft.warm_start(&mut solver.bodies, warm),
+                SoftPass::Solve { use_bias } => soft.solve(&mut solver.bodies, params, use_bias),
+            }
         }
     }
 
@@ -193,22 +196,29 @@ impl Space {
         self.integrate_velocities(&ctx); // IntegrateVelocities
         self.prepare_constraint_rows(ctx.dt, ctx.dt_inv, Some(coef.joints)); // Prepare: joints
         let warm = warm.map(|c| if i == 0 { c } else { Real::ONE });
-        self.soft_contact_pass(&coef.contacts, SoftPass::WarmStart(warm)); // WarmStart
-        if let Some(c) = warm {
-            if !self.caches.constraints.is_empty() {
+        let (warm_start, solve) = (
+            SoftPass::WarmStart(warm),
+            SoftPass::Solve { use_bias: true },
+        );
+        match warm {
+            // The joints' warm start comes between the contacts' and the
+            // solve.
+            Some(c) if !self.caches.constraints.is_empty() => {
+                self.soft_contact_passes(&coef.contacts, &[warm_start]); // WarmStart
                 self.caches
                     .constraints
                     .warm_start(&mut self.caches.solver.bodies, c);
+                self.soft_contact_passes(&coef.contacts, &[solve]); // Solve
             }
+            _ => self.soft_contact_passes(&coef.contacts, &[warm_start, solve]), // WarmStart, Solve
         }
-        self.soft_contact_pass(&coef.contacts, SoftPass::Solve { use_bias: true }); // Solve
         self.caches
             .constraints
             .iterate(&mut self.caches.solver.bodies);
         self.caches.solver.store_velocities(&mut self.state.bodies);
         self.integrate_positions(h); // IntegratePositions
         self.caches.soft_contacts.track_motion(&self.state.bodies);
-        self.soft_contact_pass(&coef.contacts, SoftPass::Solve { use_bias: false }); // Relax
+        self.soft_contact_passes(&coef.contacts, &[SoftPass::Solve { use_bias: false }]); // Relax
         self.caches.constraints.relax();
         self.caches
             .constraints
