@@ -1,15 +1,13 @@
-//! The threads a step may use (the `parallel` feature), and the two
-//! primitives the parallel stages split work with.
+//! The threads a step may use (the `parallel` feature), and the one
+//! primitive the parallel stages split work with.
 //!
-//! Nothing a step computes depends on the thread count: work is split
-//! into pieces whose boundaries depend only on the item count, and every
-//! piece writes only what no other piece of the same stage reads or writes
-//! (see [`solver::sweep`](crate::solver)). Most stages split in halves
-//! ([`join`]); the contact passes, dozens a step, hand one call to every
-//! thread ([`on_every_thread`]), and the calls claim the pieces. Without
-//! the feature, or with one thread, the pieces run one after the other.
-//! With threads, the thread that steps is one of them, and the others
-//! spin through the step ([`Threads::awake`]).
+//! Nothing a step computes depends on the thread count: work is split in
+//! halves down to pieces whose boundaries depend only on the item count,
+//! and every piece writes only what no other piece of the same stage
+//! reads or writes (see [`solver::sweep`](crate::solver)). Without the
+//! feature, or with one thread, the halves run one after the other. With
+//! threads, the thread that steps is one of them ([`join`]), and the
+//! others spin through the step ([`Threads::awake`]).
 
 /// The most threads a space may ask for: far beyond the cores of any
 /// machine a step would gain from, low enough that a mistaken count does
@@ -145,37 +143,6 @@ pub(crate) fn join<A: FnOnce() + Send, B: FnOnce() + Send>(a: A, b: B) {
     b();
 }
 
-/// Runs `f` once on every thread of the step (this one and each worker
-/// that is free), returning when every call has returned: for work that
-/// the calls claim among themselves (an atomic counter), where a call
-/// that finds nothing left returns at once. One hand-over per worker,
-/// instead of one per piece as [`join`]'s halves. Without threads, one
-/// call here.
-pub(crate) fn on_every_thread(f: &(impl Fn() + Sync)) {
-    #[cfg(feature = "parallel")]
-    fan(main::workers(), f);
-    #[cfg(not(feature = "parallel"))]
-    f();
-}
-
-/// How many threads [`on_every_thread`] runs its work on: this one and the
-/// step's workers.
-pub(crate) fn participants() -> usize {
-    #[cfg(feature = "parallel")]
-    return main::workers().saturating_add(1);
-    #[cfg(not(feature = "parallel"))]
-    1
-}
-
-/// `f` here and on `n` more threads ([`join`]'s hand-over).
-#[cfg(feature = "parallel")]
-fn fan(n: usize, f: &(impl Fn() + Sync)) {
-    match n.checked_sub(1) {
-        None => f(),
-        Some(rest) => join(f, || fan(rest, f)),
-    }
-}
-
 /// `f(src[i], dst[i])` for every `i` of both, halves in parallel (through
 /// [`join`]) down to pieces of `piece` (at least 1): for work on each pair
 /// alone, which gives the same result however it is split.
@@ -292,12 +259,6 @@ mod main {
                 Arc::clone(&h.pool)
             }))
         })
-    }
-
-    /// The workers of the step this thread runs (0 if it steps none, or
-    /// is one of them).
-    pub(super) fn workers() -> usize {
-        HANDOVER.with(|h| h.borrow().as_ref().map_or(0, |h| h.workers))
     }
 
     /// Sets its flag when dropped: when its half is done, or unwinding.

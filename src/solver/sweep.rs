@@ -7,11 +7,7 @@
 //! one after the other in place, however the color is split. Bodies the
 //! solver does not move (static, kinematic, sleeping: zero inverse mass and
 //! moment) may be in several of a color's manifolds; they are only read.
-use core::sync::atomic::{
-    AtomicBool, AtomicI64, AtomicUsize,
-    Ordering::{Acquire, Relaxed, Release},
-};
-use std::sync::{Mutex, PoisonError};
+use core::sync::atomic::{AtomicI64, Ordering::Relaxed};
 
 use super::block::{self, ManifoldBlock};
 use super::graph::{ConstraintGraph, COLORS};
@@ -61,7 +57,8 @@ impl ManifoldRow for ContactConstraint {
 /// A [`SolverBody`] threads can share: each field an atomic word, read
 /// and written with relaxed loads and stores (plain moves on 64-bit
 /// targets). Within a color no two threads touch the same movable body,
-/// so no ordering is needed; atomics make the sharing safe Rust.
+/// so no ordering is needed; atomics make the sharing safe Rust. One body
+/// per 64-byte cache line, so that threads never write the same line.
 #[derive(Debug, Default)]
 #[repr(align(64))]
 pub(crate) struct SharedBody {
@@ -207,37 +204,85 @@ pub(crate) fn warm_start_copy<const FRICTION: bool>(
     }
 }
 
-/// The fewest manifolds in a block (about 1 µs of work: several times the
-/// cost of claiming it and of the bodies' cache lines moving between
-/// cores).
+/// The fewest manifolds in a piece of a split color (about 1 µs of work:
+/// several times the cost of handing a piece to another thread).
 const MIN_PIECE: usize = 16;
 
-/// The most blocks a color is cut into: enough to balance 16 threads, few
-/// enough that the blocks are long.
+/// The most pieces a color is split into: enough to balance 16 threads,
+/// few enough that a large color's pieces are long (each split is a
+/// `join`, a hand-over between threads).
 const MAX_PIECES: usize = 16;
 
-/// The block size for a color of `manifolds`: set by the count alone.
+/// The piece size for a color of `manifolds`: set by the count alone.
 fn piece_size(manifolds: usize) -> usize {
     manifolds.div_ceil(MAX_PIECES).max(MIN_PIECE)
 }
 
-/// Runs `kernel` on each manifold of `rows` in order, with its bodies from
-/// `shared` ([`on_manifold_shared`]): `starts` holds each manifold's first
-/// row (absolute, as in the scratch) and the end.
-fn in_order<R: ManifoldRow, K>(rows: &mut [R], starts: &[u32], shared: &[SharedBody], kernel: &K)
-where
-    K: Fn(&mut [R], &mut [SolverBody; 2]),
+/// Runs `kernel` (such as [`solve_copy`]) on each manifold of `rows`, one
+/// color's or the overflow's, with its bodies from `shared`
+/// ([`on_manifold_shared`]): `starts` holds each manifold's first row
+/// (absolute, as in the scratch) and the end. A color's manifolds are
+/// split in halves down to pieces of [`piece_size`] (boundaries set by the
+/// count alone) and run in parallel inside a pool
+/// ([`crate::threads::join`]); any split gives the same bits, as no two
+/// manifolds of a color share a movable body. `split = false` (the
+/// overflow): in order.
+pub(crate) fn for_each_shared<R: ManifoldRow, K>(
+    rows: &mut [R],
+    starts: &[u32],
+    shared: &[SharedBody],
+    split: bool,
+    kernel: &K,
+) where
+    K: Fn(&mut [R], &mut [SolverBody; 2]) + Sync,
+{
+    let manifolds = starts.len().saturating_sub(1);
+    let piece = if split {
+        piece_size(manifolds)
+    } else {
+        usize::MAX
+    };
+    pieces(rows, starts, shared, piece, kernel);
+}
+
+/// [`for_each_shared`] down to pieces of at most `piece` manifolds.
+fn pieces<R: ManifoldRow, K>(
+    rows: &mut [R],
+    starts: &[u32],
+    shared: &[SharedBody],
+    piece: usize,
+    kernel: &K,
+) where
+    K: Fn(&mut [R], &mut [SolverBody; 2]) + Sync,
 {
     let base = starts.first().copied().unwrap_or(0);
-    for pair in starts.windows(2) {
-        let &[s, e] = pair else {
-            continue;
-        };
-        let range = s.wrapping_sub(base) as usize..e.wrapping_sub(base) as usize;
-        if let Some(manifold) = rows.get_mut(range) {
-            on_manifold_shared(manifold, shared, kernel);
+    let manifolds = starts.len().saturating_sub(1);
+    if manifolds <= piece {
+        for (k, &s) in starts.iter().enumerate().take(manifolds) {
+            let Some(&e) = starts.get(k.wrapping_add(1)) else {
+                continue;
+            };
+            let range = s.wrapping_sub(base) as usize..e.wrapping_sub(base) as usize;
+            if let Some(manifold) = rows.get_mut(range) {
+                on_manifold_shared(manifold, shared, kernel);
+            }
         }
+        return;
     }
+    let mid = manifolds / 2;
+    let cut = starts.get(mid).copied().unwrap_or(base);
+    let Some((left_rows, right_rows)) = rows.split_at_mut_checked(cut.wrapping_sub(base) as usize)
+    else {
+        return;
+    };
+    let (left_starts, right_starts) = (
+        starts.get(..=mid).unwrap_or(&[]),
+        starts.get(mid..).unwrap_or(&[]),
+    );
+    crate::threads::join(
+        || pieces(left_rows, left_starts, shared, piece, kernel),
+        || pieces(right_rows, right_starts, shared, piece, kernel),
+    );
 }
 
 /// Where the rows of each color are: the pre-step's placing pass.
@@ -252,18 +297,8 @@ pub(crate) struct ColorLayout<'a> {
 }
 
 /// Runs `kernel` on every manifold of `rows` on the shared bodies, color
-/// after color and the overflow last, in order: one pass of the step's
-/// order. Each color is cut into blocks of [`piece_size`] manifolds (the
-/// overflow into one, run in order); each thread of the step
-/// ([`crate::threads::on_every_thread`]) runs its share of every color
-/// (the same part of each, so that a body tends to stay in one core's
-/// cache), then any block of the color no thread has claimed yet (a
-/// thread that starts late, or not at all, leaves its share to the
-/// others), then waits until the color is done. A thread waits only on
-/// blocks that running threads have claimed, so the pass ends on any
-/// number of threads. Blocks are cut by the counts alone and no two
-/// blocks of a color share a movable body: the same bits however the
-/// threads take them. One hand-over per thread and pass.
+/// after color (each split between threads) and the overflow last, in
+/// order ([`for_each_shared`]): one pass of the step's order.
 pub(crate) fn for_each_color<R: ManifoldRow, K>(
     rows: &mut [R],
     layout: ColorLayout<'_>,
@@ -272,74 +307,6 @@ pub(crate) fn for_each_color<R: ManifoldRow, K>(
 ) where
     K: Fn(&mut [R], &mut [SolverBody; 2]) + Sync,
 {
-    let (blocks, colors) = color_blocks(rows, layout);
-    let participants = crate::threads::participants();
-    let arrived = AtomicUsize::new(0);
-    let done = AtomicUsize::new(0);
-    let run = |block: &ClaimedBlock<'_, R>| {
-        if block.claimed.swap(true, Relaxed) {
-            return;
-        }
-        {
-            let mut b = block.work.lock().unwrap_or_else(PoisonError::into_inner);
-            let Block { rows, starts } = &mut *b;
-            in_order(rows, starts, shared, kernel);
-        }
-        // Publishes the block's bodies to the threads that wait on it.
-        done.fetch_add(1, Release);
-    };
-    crate::threads::on_every_thread(&|| {
-        let me = arrived.fetch_add(1, Relaxed);
-        for pair in colors.windows(2) {
-            let &[first, end] = pair else {
-                continue;
-            };
-            let color = blocks.get(first..end).unwrap_or(&[]);
-            color
-                .get(part_of(color.len(), me, participants))
-                .unwrap_or(&[])
-                .iter()
-                .for_each(run);
-            color.iter().for_each(run);
-            wait_until(&done, end);
-        }
-    });
-}
-
-/// Participant `me`'s part of `len` blocks among `of` (empty past the
-/// last participant).
-fn part_of(len: usize, me: usize, of: usize) -> core::ops::Range<usize> {
-    let at = |k: usize| len.saturating_mul(k).checked_div(of).unwrap_or(0);
-    if me >= of {
-        return 0..0;
-    }
-    at(me)..at(me.saturating_add(1))
-}
-
-/// A block of a pass: whole manifolds of one color, run in order.
-struct Block<'a, R> {
-    rows: &'a mut [R],
-    /// Each manifold's first row (absolute), and the end.
-    starts: &'a [u32],
-}
-
-/// A block and whether a thread has claimed it (the lock is then taken
-/// once, by that thread).
-struct ClaimedBlock<'a, R> {
-    claimed: AtomicBool,
-    work: Mutex<Block<'a, R>>,
-}
-
-/// The blocks of a pass, in order: each color's manifolds in pieces of
-/// [`piece_size`], the overflow's in one; and each color's first block
-/// and the end.
-type Blocks<'a, R> = (Vec<ClaimedBlock<'a, R>>, [usize; COLORS + 2]);
-
-fn color_blocks<'a, R>(rows: &'a mut [R], layout: ColorLayout<'a>) -> Blocks<'a, R> {
-    let mut blocks = Vec::new();
-    let mut colors = [0usize; COLORS + 2];
-    let mut rest = rows;
-    let mut consumed = 0usize;
     for c in 0..=COLORS {
         let (Some(&start), Some(&end)) = (
             layout.color_rows.get(c),
@@ -347,79 +314,14 @@ fn color_blocks<'a, R>(rows: &'a mut [R], layout: ColorLayout<'a>) -> Blocks<'a,
         ) else {
             continue;
         };
+        let Some(rows) = rows.get_mut(start as usize..end as usize) else {
+            continue;
+        };
         let range = layout.graph.range(c);
         let starts = layout
             .manifold_rows
             .get(range.start..=range.end)
             .unwrap_or(&[]);
-        let manifolds = starts.len().saturating_sub(1);
-        let (Some(skip), Some(len)) = (
-            (start as usize).checked_sub(consumed),
-            end.checked_sub(start),
-        ) else {
-            continue;
-        };
-        let taken = core::mem::take(&mut rest);
-        let Some((_, tail)) = taken.split_at_mut_checked(skip) else {
-            continue;
-        };
-        let Some((mut color, tail)) = tail.split_at_mut_checked(len as usize) else {
-            continue;
-        };
-        rest = tail;
-        consumed = end as usize;
-        let piece = if c < COLORS {
-            piece_size(manifolds)
-        } else {
-            usize::MAX
-        };
-        let mut first = 0usize;
-        while first < manifolds {
-            let last = first.saturating_add(piece).min(manifolds);
-            let (Some(&s), Some(&e)) = (starts.get(first), starts.get(last)) else {
-                break;
-            };
-            let taken = core::mem::take(&mut color);
-            let Some((block_rows, tail)) = taken.split_at_mut_checked(e.saturating_sub(s) as usize)
-            else {
-                break;
-            };
-            color = tail;
-            blocks.push(ClaimedBlock {
-                claimed: AtomicBool::new(false),
-                work: Mutex::new(Block {
-                    rows: block_rows,
-                    starts: starts.get(first..=last).unwrap_or(&[]),
-                }),
-            });
-            first = last;
-        }
-        if let Some(end) = colors.get_mut(c.wrapping_add(1)) {
-            *end = blocks.len();
-        }
-    }
-    for k in 1..colors.len() {
-        // Colors skipped above (none in a consistent layout) end where the
-        // one before them does.
-        let before = colors.get(k.wrapping_sub(1)).copied().unwrap_or(0);
-        if let Some(c) = colors.get_mut(k) {
-            *c = (*c).max(before);
-        }
-    }
-    (blocks, colors)
-}
-
-/// Waits until `done` reaches `count`: spinning briefly, then giving the
-/// core away (with more threads than cores, the thread it waits on may
-/// need this one).
-fn wait_until(done: &AtomicUsize, count: usize) {
-    let mut spins = 0u32;
-    while done.load(Acquire) < count {
-        if spins < 256 {
-            spins = spins.wrapping_add(1);
-            core::hint::spin_loop();
-        } else {
-            std::thread::yield_now();
-        }
+        for_each_shared(rows, starts, shared, c < COLORS, kernel);
     }
 }
