@@ -72,6 +72,10 @@ pub struct BenchArgs {
     /// order the threads can share.
     #[arg(long)]
     colored_solver: bool,
+    /// The solver: `sequential` or `soft` (as `tamias run --solver`)
+    /// [default: the scene's].
+    #[arg(long, value_name = "KIND")]
+    solver: Option<source::SolverChoice>,
 }
 
 /// One row of the table.
@@ -86,7 +90,12 @@ struct Row {
 /// `tamias bench`.
 pub fn bench(args: &BenchArgs) -> Result<(), String> {
     if args.rollback {
-        return rollback::rollback(&args.scenes, args.warmup, args.samples.unwrap_or(20));
+        return rollback::rollback(
+            &args.scenes,
+            args.warmup,
+            args.samples.unwrap_or(20),
+            args.solver,
+        );
     }
     let base = if args.quick { QUICK_PLAN } else { FULL_PLAN };
     let plan = Plan {
@@ -111,6 +120,9 @@ pub fn bench(args: &BenchArgs) -> Result<(), String> {
         let mut desc = scenes::builtin(name)
             .ok_or_else(|| format!("unknown scene {name:?} (`tamias list` shows the scenes)"))?;
         desc.settings.colored_solver |= args.colored_solver;
+        if let Some(solver) = args.solver {
+            solver.apply(&mut desc.settings);
+        }
         descs.push(desc);
     }
     let threads = args.threads.map_or_else(source::all_cores, |n| n as usize);
@@ -120,10 +132,10 @@ pub fn bench(args: &BenchArgs) -> Result<(), String> {
     println!(
         "{} scenes; {threads} thread(s){}; warm-up {} steps, then {} samples of {} steps",
         descs.len(),
-        if args.colored_solver {
-            ", colored solver"
-        } else {
-            ""
+        match (args.colored_solver, args.solver) {
+            (_, Some(source::SolverChoice::Soft)) => ", soft step",
+            (true, _) => ", colored solver",
+            _ => "",
         },
         plan.warmup,
         plan.samples,

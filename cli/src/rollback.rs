@@ -64,7 +64,12 @@ pub fn default_warmup(name: &str) -> u32 {
 }
 
 /// `tamias bench --rollback`.
-pub fn rollback(names: &[String], warmup: Option<u32>, samples: u32) -> Result<(), String> {
+pub fn rollback(
+    names: &[String],
+    warmup: Option<u32>,
+    samples: u32,
+    solver: Option<source::SolverChoice>,
+) -> Result<(), String> {
     let names: Vec<String> = if names.is_empty() {
         DEFAULT_SCENES.iter().map(|s| (*s).to_owned()).collect()
     } else {
@@ -72,8 +77,11 @@ pub fn rollback(names: &[String], warmup: Option<u32>, samples: u32) -> Result<(
     };
     let mut descs = Vec::with_capacity(names.len());
     for name in &names {
-        let desc = scenes::builtin(name)
+        let mut desc = scenes::builtin(name)
             .ok_or_else(|| format!("unknown scene {name:?} (`tamias list` shows the scenes)"))?;
+        if let Some(solver) = solver {
+            solver.apply(&mut desc.settings);
+        }
         descs.push(desc);
     }
     if cfg!(debug_assertions) {
@@ -82,9 +90,14 @@ pub fn rollback(names: &[String], warmup: Option<u32>, samples: u32) -> Result<(
         );
     }
     println!(
-        "rollback budget: {} scenes, medians of {samples} samples; \
+        "rollback budget: {} scenes{}, medians of {samples} samples; \
          rollback = load + {FRAMES} x (step + save + checksum)",
-        descs.len()
+        descs.len(),
+        match solver {
+            Some(source::SolverChoice::Soft) => ", soft step",
+            Some(source::SolverChoice::Sequential) => ", sequential impulses",
+            None => "",
+        }
     );
     for desc in &descs {
         let steps = warmup.unwrap_or_else(|| default_warmup(&desc.name));
