@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Runs a Tamias2D scene file (`tamias scene dump NAME`) through Chipmunk2D
-(Munk2D, the fork of Chipmunk2D 7 that pymunk bundles as a C library) and, with `--ours`, through `tamias run`:
+(Munk2D, the fork of Chipmunk2D that pymunk bundles as a C library) and, with `--ours`, through `tamias run`:
 each engine's median time per step on one thread, and the deepest overlap.
 
 Chipmunk is the engine our sequential solver follows (the same settings:
