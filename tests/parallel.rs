@@ -12,6 +12,7 @@
 //! scene (every step validated costs time there); release, the whole
 //! golden run. Also here, with threads: GGRS SyncTest, snapshot
 //! continuation across thread counts, and a panicking handler.
+use tamias2d::space::Kernels;
 use tamias2d_scenes::REGISTRY;
 
 const THREADS: [usize; 5] = [1, 2, 3, 4, 8];
@@ -27,6 +28,17 @@ enum Order {
 
 /// The checksum after each of `steps` steps of scene `name`.
 fn checksums(name: &str, order: Order, threads: usize, steps: u32) -> Vec<u64> {
+    checksums_on(name, order, threads, Kernels::Auto, steps)
+}
+
+/// [`checksums`] on `kernels` (`Space::set_kernels`).
+fn checksums_on(
+    name: &str,
+    order: Order,
+    threads: usize,
+    kernels: Kernels,
+    steps: u32,
+) -> Vec<u64> {
     let mut desc = tamias2d_scenes::builtin(name).expect("a registered scene");
     desc.settings.colored_solver = order == Order::Colored;
     if order == Order::Soft {
@@ -35,6 +47,7 @@ fn checksums(name: &str, order: Order, threads: usize, steps: u32) -> Vec<u64> {
     let mut world = desc.build().expect("a valid scene");
     world.space.set_threads(threads).expect("threads start");
     assert_eq!(world.space.threads(), threads);
+    world.space.set_kernels(kernels);
     (0..steps)
         .map(|n| {
             world
@@ -108,6 +121,42 @@ fn every_thread_count_gives_the_bits_of_one_thread_at_every_step() {
                     panic!(
                         "{} ({order:?}): {threads} threads differ from 1 at step {}",
                         info.name,
+                        n + 1
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The soft step's wide kernels, forced on (compiled for AVX2 where the
+/// processor has it, and for the build's instruction set), give the
+/// scalar kernels' bits at every step on 1, 2, 3 and 4 threads (a step
+/// that splits its passes between threads runs the scalar ones; one
+/// with fewer manifolds than a split needs runs them in place). A debug
+/// build, where the wide kernels are 20–60 times slower, runs two short
+/// scenes; release, every golden scene.
+#[test]
+fn wide_kernels_give_the_scalar_bits_on_every_thread_count() {
+    let watchdog = Watchdog::new(std::time::Duration::from_secs(900));
+    let scenes: Vec<(&str, u32)> = if cfg!(debug_assertions) {
+        vec![("pyramid_20", 8), ("bowl_circles_100", 12)]
+    } else {
+        REGISTRY
+            .iter()
+            .filter_map(|info| Some((info.name, info.golden?.steps)))
+            .collect()
+    };
+    for (name, steps) in scenes {
+        let scalar = checksums_on(name, Order::Soft, 1, Kernels::Scalar, steps);
+        for kernels in [Kernels::Wide, Kernels::Portable] {
+            for threads in 1..=4 {
+                watchdog.at(format!("{name} ({kernels:?} kernels) on {threads} threads"));
+                let got = checksums_on(name, Order::Soft, threads, kernels, steps);
+                if let Some(n) = scalar.iter().zip(&got).position(|(a, b)| a != b) {
+                    panic!(
+                        "{name}: {kernels:?} kernels on {threads} threads differ from the \
+                         scalar ones at step {}",
                         n + 1
                     );
                 }

@@ -76,6 +76,10 @@ pub struct BenchArgs {
     /// [default: the scene's].
     #[arg(long, value_name = "KIND")]
     solver: Option<source::SolverChoice>,
+    /// The soft step's contact kernels: `auto`, `scalar`, `wide` or
+    /// `portable` (as `tamias run --kernels`) [default: auto].
+    #[arg(long, value_name = "KIND", value_parser = source::parse_kernels)]
+    kernels: Option<tamias2d::space::Kernels>,
 }
 
 /// One row of the table.
@@ -126,12 +130,14 @@ pub fn bench(args: &BenchArgs) -> Result<(), String> {
         descs.push(desc);
     }
     let threads = args.threads.map_or_else(source::all_cores, |n| n as usize);
+    let kernels = args.kernels.unwrap_or_default();
     if cfg!(debug_assertions) {
         eprintln!("note: a debug build; `cargo run --release -- bench` gives meaningful numbers");
     }
     println!(
-        "{} scenes; {threads} thread(s){}; warm-up {} steps, then {} samples of {} steps",
+        "{} scenes; {threads} thread(s), {} kernels{}; warm-up {} steps, then {} samples of {} steps",
         descs.len(),
+        kernels.describe(),
         match (args.colored_solver, args.solver) {
             (_, Some(source::SolverChoice::Soft)) => ", soft step",
             (true, _) => ", colored solver",
@@ -145,7 +151,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), String> {
     let mut rows = Vec::with_capacity(descs.len());
     for desc in &descs {
         bar.set_label(&format!("bench {}", desc.name));
-        rows.push(measure(desc, plan, threads, &mut bar)?);
+        rows.push(measure(desc, plan, threads, kernels, &mut bar)?);
     }
     bar.finish();
     print_table(&rows);
@@ -157,6 +163,7 @@ fn measure(
     desc: &scenes::SceneDesc,
     plan: Plan,
     threads: usize,
+    kernels: tamias2d::space::Kernels,
     bar: &mut Progress,
 ) -> Result<Row, String> {
     let mut sim = source::build(desc)?;
@@ -165,6 +172,7 @@ fn measure(
         .set_threads(threads)
         .map_err(|e| e.to_string())
         .map_err(fail)?;
+    sim.space.set_kernels(kernels);
     for _ in 0..plan.warmup {
         sim.step().map_err(|e| e.to_string()).map_err(fail)?;
         bar.inc(1);

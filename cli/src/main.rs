@@ -123,13 +123,19 @@ impl SceneOpts {
     }
 }
 
-/// Threads for the step: any count gives the same results.
+/// Threads and kernels for the step: any choice gives the same results.
 #[derive(Args, Clone, Copy)]
 struct ThreadOpts {
     /// Threads the step may use [default: all cores]; the results are the
     /// same with any count.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     threads: Option<u32>,
+    /// The soft step's contact kernels: `auto` (the fastest measured),
+    /// `scalar`, `wide` (in lanes, compiled for AVX2 where the processor
+    /// has it) or `portable` (in lanes, for the build's instruction set)
+    /// [default: auto]; the same results with any.
+    #[arg(long, value_name = "KIND", value_parser = source::parse_kernels)]
+    kernels: Option<tamias2d::space::Kernels>,
 }
 
 impl ThreadOpts {

@@ -215,7 +215,9 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
     let mut sim = source::build(&loaded)?;
     let threads = args.threads.count();
     sim.space.set_threads(threads).map_err(|e| e.to_string())?;
-    println!("threads: {threads}");
+    let kernels = args.threads.kernels.unwrap_or_default();
+    sim.space.set_kernels(kernels);
+    println!("threads: {threads}; kernels: {}", kernels.describe());
     let label = format!("scene {}", loaded.name);
     run_and_report(&mut sim, steps, &label, &args.render)
 }

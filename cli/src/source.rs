@@ -9,6 +9,20 @@ use tamias2d::real;
 use tamias2d::{Real, Vect};
 use tamias2d_scenes::{self as scenes, BodyDesc, BodyKind, SceneDesc, ScriptedWorld, ShapeDesc};
 
+/// `auto`, `scalar`, `wide` or `portable` (`--kernels`).
+pub fn parse_kernels(s: &str) -> Result<tamias2d::space::Kernels, String> {
+    use tamias2d::space::Kernels;
+    match s {
+        "auto" => Ok(Kernels::Auto),
+        "scalar" => Ok(Kernels::Scalar),
+        "wide" => Ok(Kernels::Wide),
+        "portable" => Ok(Kernels::Portable),
+        _ => Err(format!(
+            "{s:?}: the kernels are auto, scalar, wide or portable"
+        )),
+    }
+}
+
 /// Name of the CLI's own scene, what `tamias` with no arguments runs.
 pub const SHOWCASE: &str = "showcase";
 /// One-line description of the showcase for `tamias list`.

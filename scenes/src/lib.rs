@@ -74,4 +74,7 @@ pub use desc::{
     SoftStepDesc, SolverDesc, SpawnDesc,
 };
 pub use registry::{builtin, find, Golden, SceneInfo, Section, REGISTRY};
+/// The engine's kernel choice (`Space::set_kernels`), for the golden test,
+/// which names nothing outside this crate.
+pub use tamias2d::space::Kernels;
 pub use world::{BodyPath, LoadError, SceneError, ScriptedWorld};

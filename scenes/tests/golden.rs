@@ -61,7 +61,7 @@
 //! does); a scene registered without either fails
 //! [`every_registered_scene_has_a_golden`]. Under Miri (~1000× slower) only
 //! the Miri goldens run: small contact scenes for a few steps.
-use tamias2d_scenes::{Golden, SettingsDesc, REGISTRY};
+use tamias2d_scenes::{Golden, Kernels, SettingsDesc, REGISTRY};
 
 /// `(scene, golden)` this build checks: the Miri table under Miri, the
 /// native one otherwise.
@@ -160,11 +160,17 @@ fn checksum_after(name: &str, steps: u32) -> u64 {
 }
 
 fn checksum_with(name: &str, steps: u32, colored: bool) -> u64 {
-    checksum_of(name, steps, |s| s.colored_solver = colored)
+    checksum_of(name, steps, Kernels::Auto, |s| s.colored_solver = colored)
 }
 
-/// [`checksum_with`] after `adjust` changed the scene's settings.
-fn checksum_of(name: &str, steps: u32, adjust: impl FnOnce(&mut SettingsDesc)) -> u64 {
+/// [`checksum_with`] after `adjust` changed the scene's settings, on
+/// `kernels` (`Space::set_kernels`).
+fn checksum_of(
+    name: &str,
+    steps: u32,
+    kernels: Kernels,
+    adjust: impl FnOnce(&mut SettingsDesc),
+) -> u64 {
     let trace = std::env::var("TAMIAS_GOLDEN_TRACE").is_ok_and(|t| t == name || t == "all");
     let mut desc = tamias2d_scenes::builtin(name)
         .unwrap_or_else(|| panic!("{name} is not a registered scene"));
@@ -180,6 +186,7 @@ fn checksum_of(name: &str, steps: u32, adjust: impl FnOnce(&mut SettingsDesc)) -
         .space
         .set_threads(threads)
         .unwrap_or_else(|e| panic!("{name}: {threads} threads: {e}"));
+    world.space.set_kernels(kernels);
     if trace {
         println!("trace {name} 0 {:#018x}", world.space.checksum());
     }
@@ -281,18 +288,30 @@ fn soft_step_goldens_match_the_committed_values() {
     }
     let native: Vec<(&str, Golden)> = goldens();
     let mut wrong = Vec::new();
-    for &(name, g) in &native {
-        let got = checksum_of(name, g.steps, SettingsDesc::use_soft_step);
-        if std::env::var_os("TAMIAS_PRINT_GOLDENS").is_some() {
-            println!("    (\"{name}\", {got:#018x}),");
-        }
-        match SOFT_GOLDENS.iter().find(|(n, _)| *n == name) {
-            Some(&(_, want)) if want == got => {}
-            Some(&(_, want)) => wrong.push(format!(
-                "{name} after {} steps: got {got:#018x}, golden {want:#018x}",
-                g.steps
-            )),
-            None => wrong.push(format!("{name}: no soft-step golden (got {got:#018x})")),
+    // Every compiled form of the contact passes: the scalar kernels, the
+    // wide ones as this processor runs them (AVX2 where it has it), and
+    // the wide ones compiled for the build's instruction set. The last
+    // run 16 times slower than the scalar ones in a debug build: there
+    // they run on a few short scenes (`wide_kernels_in_a_debug_build`).
+    let mut forms = kernel_forms();
+    if cfg!(debug_assertions) {
+        forms.retain(|&k| k != Kernels::Portable);
+    }
+    for kernels in forms {
+        for &(name, g) in &native {
+            let got = checksum_of(name, g.steps, kernels, SettingsDesc::use_soft_step);
+            if kernels == Kernels::Scalar && std::env::var_os("TAMIAS_PRINT_GOLDENS").is_some() {
+                println!("    (\"{name}\", {got:#018x}),");
+            }
+            let how = kernels.describe();
+            match SOFT_GOLDENS.iter().find(|(n, _)| *n == name) {
+                Some(&(_, want)) if want == got => {}
+                Some(&(_, want)) => wrong.push(format!(
+                    "{name} after {} steps ({how} kernels): got {got:#018x}, golden {want:#018x}",
+                    g.steps
+                )),
+                None => wrong.push(format!("{name}: no soft-step golden (got {got:#018x})")),
+            }
         }
     }
     assert!(
@@ -303,6 +322,43 @@ fn soft_step_goldens_match_the_committed_values() {
         native.len(),
         wrong.join("\n  ")
     );
+}
+
+/// The compiled forms of the soft step's contact passes this processor
+/// has: the scalar kernels, the wide ones as it runs them (AVX2 where it
+/// has it) and the wide ones for the build's instruction set.
+fn kernel_forms() -> Vec<Kernels> {
+    let mut forms = vec![Kernels::Scalar, Kernels::Portable];
+    if Kernels::Wide.describe() != Kernels::Portable.describe() {
+        forms.insert(1, Kernels::Wide);
+    }
+    forms
+}
+
+/// The wide kernels in an unoptimised build (with its overflow checks):
+/// the scalar kernels' bits on short runs of a stack, boxes in a bowl and
+/// circles in a bowl (the full golden matrix runs in optimised builds).
+#[test]
+fn wide_kernels_in_a_debug_build() {
+    if cfg!(miri) || !cfg!(debug_assertions) {
+        return;
+    }
+    for (name, steps) in [
+        ("pyramid_20", 8),
+        ("bowl_boxes_100", 12),
+        ("bowl_circles_100", 12),
+    ] {
+        let scalar = checksum_of(name, steps, Kernels::Scalar, SettingsDesc::use_soft_step);
+        for kernels in kernel_forms() {
+            let got = checksum_of(name, steps, kernels, SettingsDesc::use_soft_step);
+            assert_eq!(
+                got,
+                scalar,
+                "{name} after {steps} steps: {} kernels differ from the scalar ones",
+                kernels.describe()
+            );
+        }
+    }
 }
 
 #[test]

@@ -3,6 +3,7 @@
 pub mod bb;
 pub(crate) mod exact;
 pub mod exp;
+pub(crate) mod lanes;
 pub mod real;
 pub mod rot;
 pub mod transform;

@@ -69,6 +69,7 @@ mod body;
 pub(crate) mod contact_solver;
 pub(crate) mod graph;
 pub(crate) mod kernel;
+mod kernels;
 mod reference;
 pub(crate) mod soft_contact;
 pub mod softness;
@@ -80,6 +81,7 @@ pub use body::SolverBody;
 pub(crate) use kernel::effective_mass;
 pub use kernel::k_scalar_body;
 use kernel::{load_pair, neg, store_pair};
+pub use kernels::Kernels;
 pub use reference::{
     apply_bias_impulse, apply_bias_impulses, apply_impulse, apply_impulses, k_scalar,
     normal_relative_velocity, relative_velocity, UnsolvableCollision,

@@ -54,4 +54,6 @@ pub(crate) struct Caches {
     pub(crate) spare_frame: FrameState,
     /// The threads the step may use ([`Space::set_threads`](super::Space::set_threads)).
     pub(crate) threads: crate::threads::Threads,
+    /// The compiled form of the contact passes ([`Space::set_kernels`](super::Space::set_kernels)).
+    pub(crate) kernels: crate::solver::Kernels,
 }

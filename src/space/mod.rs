@@ -34,6 +34,7 @@ mod world;
 use crate::limits::Limits;
 use core::fmt;
 
+pub use crate::solver::Kernels;
 pub use cast::ShapeCast;
 pub use ccd::MAX_TOI_ITERATIONS;
 pub use frame_state::FrameState;
@@ -91,9 +92,10 @@ impl Clone for Space {
     /// cloned (closures), the clone has none.
     fn clone(&self) -> Space {
         let mut space = Space::with_origin(self.state.clone(), self.origin);
-        // Not state: the same threads (a thread count changes no bit) and
-        // limits.
+        // Not state: the same threads and kernels (neither changes a bit)
+        // and limits.
         space.caches.threads = self.caches.threads.clone();
+        space.caches.kernels = self.caches.kernels;
         space.limits = self.limits;
         space
     }
@@ -211,6 +213,21 @@ impl Space {
     /// The thread count of [`set_threads`](Self::set_threads).
     pub fn threads(&self) -> usize {
         self.caches.threads.count()
+    }
+
+    /// Chooses the compiled form of the soft step's contact passes
+    /// ([`Kernels`]; the default is [`Kernels::Auto`]). Nothing a step
+    /// computes depends on it: every choice gives the same bits. The wide
+    /// kernels run on one thread (a step that splits its passes between
+    /// threads runs the scalar ones). Configuration, not state: kept by
+    /// restores and loads, not saved, copied by `clone`.
+    pub fn set_kernels(&mut self, kernels: Kernels) {
+        self.caches.kernels = kernels;
+    }
+
+    /// The kernels of [`set_kernels`](Self::set_kernels).
+    pub fn kernels(&self) -> Kernels {
+        self.caches.kernels
     }
 
     /// The settings.

@@ -121,6 +121,19 @@ impl Space {
                     .map(|(h, b)| (h, b.f, b.t)),
             );
         }
+        // The wide kernels run the passes that stay on this thread.
+        let split =
+            threads.parallel() && self.caches.soft_contacts.manifolds() >= SPLIT_MIN_MANIFOLDS;
+        let compiled = if split {
+            None
+        } else {
+            self.caches.kernels.wide()
+        };
+        self.caches.soft_contacts.use_wide(
+            compiled,
+            &self.caches.solver.graph,
+            &self.caches.solver.bodies,
+        );
         let first_coef = self.warm_start_coef();
         threads.awake(|| {
             for (i, h_i) in sub_step_dts(dt, substeps).enumerate() {

@@ -1,0 +1,606 @@
+//! Exact I32F32 arithmetic four values at a time, in the form integer SIMD
+//! computes it: the wide kernels' arithmetic.
+//!
+//! A [`Lane`] holds the raw bits of four [`Real`](super::Real)s. Every
+//! product rounds as `Real`'s (to nearest, ties away from zero), from
+//! 32×32→64-bit partial products: with `|a| = a_h·2^32 + a_l` and `|b| =
+//! b_h·2^32 + b_l`, `|a·b| = a_h·b_h·2^64 + (a_h·b_l + a_l·b_h)·2^32 +
+//! a_l·b_l`, four unsigned products each below `2^64` (AVX2's `vpmuludq`,
+//! four lanes an instruction), summed in 64 bits and the sign put back.
+//! Sums of products (`a·b + c·d`, 4-term dot products) round once, as
+//! `Real::mul_add2` and `Real::dot4`: the high parts and the low 32-bit
+//! remainders are summed apart, then rounded together.
+//!
+//! The sums may wrap where the result leaves the window; each lane keeps a
+//! **record** instead, nonzero once anything in that lane left the window:
+//! a partial product too large for its sum, a result of `2^60` or more
+//! (the bound [`Ranged`](super::Ranged)'s proofs assume for every rounded
+//! product), or an input that [`LaneArith::check_inputs`] found at or
+//! above `RANGED_INPUT` (`2^58`). Additions and subtractions wrap without
+//! a record, as `Ranged`'s: the caller proves its kernel's depth bound
+//! (the soft contacts' is in `solver::soft_contact`). A lane whose record
+//! is clear computed exactly the bits of the scalar kernels; a lane whose
+//! record is set is recomputed by the scalar kernel (a false alarm costs
+//! only that, never a bit).
+use super::unsaturated::RANGED_INPUT;
+
+/// Values per lane group.
+pub(crate) const LANES: usize = 4;
+
+/// The raw bits of four `Real`s.
+pub(crate) type Lane = [i64; LANES];
+
+/// The low 32 bits.
+const LOW: i64 = 0xffff_ffff;
+/// `2^31`: the rounding half, and the sign bit of a 32-bit value.
+const HALF: i64 = 1 << 31;
+/// Results at or above `2^60` in magnitude are recorded.
+const RESULT_BITS: u32 = 60;
+/// High partial products at or above `2^28` are recorded.
+const HIGH_BITS: u32 = 28;
+/// Inputs at or above [`RANGED_INPUT`] (`2^58`) are recorded.
+const INPUT_BITS: u32 = RANGED_INPUT.trailing_zeros();
+
+/// `x` in every lane.
+#[inline(always)]
+pub(crate) const fn splat(x: i64) -> Lane {
+    [x; LANES]
+}
+
+/// `f` lane by lane on two groups.
+#[inline(always)]
+fn zip(a: Lane, b: Lane, f: impl Fn(i64, i64) -> i64) -> Lane {
+    let mut out = a;
+    for (o, &y) in out.iter_mut().zip(&b) {
+        *o = f(*o, y);
+    }
+    out
+}
+
+/// The lane operations the arithmetic is built from, each one instruction
+/// on a processor with 64-bit integer lanes: [`Portable`] (plain Rust, for
+/// any processor) and [`tamias2d_simd::Avx2`] (AVX2 instructions, which
+/// the compiler does not reliably choose by itself). Both give the same
+/// bits: the operations are integer ones.
+pub(crate) trait Ops: Copy {
+    /// `a + b`, wrapping.
+    fn add(self, a: Lane, b: Lane) -> Lane;
+    /// `a − b`, wrapping.
+    fn sub(self, a: Lane, b: Lane) -> Lane;
+    /// `a ^ b`.
+    fn xor(self, a: Lane, b: Lane) -> Lane;
+    /// `a & b`.
+    fn and(self, a: Lane, b: Lane) -> Lane;
+    /// `a | b`.
+    fn or(self, a: Lane, b: Lane) -> Lane;
+    /// All ones where `a > b`, else 0.
+    fn gt(self, a: Lane, b: Lane) -> Lane;
+    /// The low 32 bits of `a` times those of `b` (unsigned, 64-bit
+    /// products).
+    fn mul_lo32(self, a: Lane, b: Lane) -> Lane;
+    /// `a >> 32`, logical.
+    fn shr32(self, a: Lane) -> Lane;
+    /// `a << 32`.
+    fn shl32(self, a: Lane) -> Lane;
+    /// `mask ? a : b` (`mask` all ones or 0).
+    fn select(self, mask: Lane, a: Lane, b: Lane) -> Lane;
+
+    /// All ones where `a < 0`, else 0.
+    #[inline(always)]
+    fn sign(self, a: Lane) -> Lane {
+        self.gt(splat(0), a)
+    }
+
+    /// `|a|` as unsigned bits (`i64::MIN` gives `2^63`).
+    #[inline(always)]
+    fn abs(self, a: Lane) -> Lane {
+        let s = self.sign(a);
+        self.sub(self.xor(a, s), s)
+    }
+
+    /// `−a`, wrapping.
+    #[inline(always)]
+    fn neg(self, a: Lane) -> Lane {
+        self.sub(splat(0), a)
+    }
+
+    /// `Real::min`.
+    #[inline(always)]
+    fn min(self, a: Lane, b: Lane) -> Lane {
+        self.select(self.gt(a, b), b, a)
+    }
+
+    /// `Real::max`.
+    #[inline(always)]
+    fn max(self, a: Lane, b: Lane) -> Lane {
+        self.select(self.gt(b, a), b, a)
+    }
+
+    /// All ones where `a > 0`, else 0.
+    #[inline(always)]
+    fn positive(self, a: Lane) -> Lane {
+        self.gt(a, splat(0))
+    }
+}
+
+/// [`Ops`] in plain Rust.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Portable;
+
+impl Ops for Portable {
+    #[inline(always)]
+    fn add(self, a: Lane, b: Lane) -> Lane {
+        zip(a, b, i64::wrapping_add)
+    }
+    #[inline(always)]
+    fn sub(self, a: Lane, b: Lane) -> Lane {
+        zip(a, b, i64::wrapping_sub)
+    }
+    #[inline(always)]
+    fn xor(self, a: Lane, b: Lane) -> Lane {
+        zip(a, b, |x, y| x ^ y)
+    }
+    #[inline(always)]
+    fn and(self, a: Lane, b: Lane) -> Lane {
+        zip(a, b, |x, y| x & y)
+    }
+    #[inline(always)]
+    fn or(self, a: Lane, b: Lane) -> Lane {
+        zip(a, b, |x, y| x | y)
+    }
+    #[inline(always)]
+    fn gt(self, a: Lane, b: Lane) -> Lane {
+        zip(a, b, |x, y| i64::from(x > y).wrapping_neg())
+    }
+    #[inline(always)]
+    fn mul_lo32(self, a: Lane, b: Lane) -> Lane {
+        zip(a, b, |x, y| (x & LOW).wrapping_mul(y & LOW))
+    }
+    #[inline(always)]
+    fn shr32(self, a: Lane) -> Lane {
+        a.map(|x| ((x as u64) >> 32) as i64)
+    }
+    #[inline(always)]
+    fn shl32(self, a: Lane) -> Lane {
+        a.map(|x| x << 32)
+    }
+    #[inline(always)]
+    fn select(self, mask: Lane, a: Lane, b: Lane) -> Lane {
+        zip(
+            zip(a, mask, |x, m| x & m),
+            zip(b, mask, |y, m| y & !m),
+            |x, y| x | y,
+        )
+    }
+}
+
+/// `[i64; 4]` as the unsigned lanes `tamias2d_simd` takes, and back (the
+/// same bits).
+#[inline(always)]
+fn u(a: Lane) -> [u64; LANES] {
+    a.map(|x| x as u64)
+}
+#[inline(always)]
+fn i(a: [u64; LANES]) -> Lane {
+    a.map(|x| x as i64)
+}
+
+impl Ops for tamias2d_simd::Avx2 {
+    #[inline(always)]
+    fn add(self, a: Lane, b: Lane) -> Lane {
+        i(tamias2d_simd::Avx2::add(self, u(a), u(b)))
+    }
+    #[inline(always)]
+    fn sub(self, a: Lane, b: Lane) -> Lane {
+        i(tamias2d_simd::Avx2::sub(self, u(a), u(b)))
+    }
+    #[inline(always)]
+    fn xor(self, a: Lane, b: Lane) -> Lane {
+        i(tamias2d_simd::Avx2::xor(self, u(a), u(b)))
+    }
+    #[inline(always)]
+    fn and(self, a: Lane, b: Lane) -> Lane {
+        i(tamias2d_simd::Avx2::and(self, u(a), u(b)))
+    }
+    #[inline(always)]
+    fn or(self, a: Lane, b: Lane) -> Lane {
+        i(tamias2d_simd::Avx2::or(self, u(a), u(b)))
+    }
+    #[inline(always)]
+    fn gt(self, a: Lane, b: Lane) -> Lane {
+        i(tamias2d_simd::Avx2::gt(self, u(a), u(b)))
+    }
+    #[inline(always)]
+    fn mul_lo32(self, a: Lane, b: Lane) -> Lane {
+        i(tamias2d_simd::Avx2::mul_lo32(self, u(a), u(b)))
+    }
+    #[inline(always)]
+    fn shr32(self, a: Lane) -> Lane {
+        i(tamias2d_simd::Avx2::shr32(self, u(a)))
+    }
+    #[inline(always)]
+    fn shl32(self, a: Lane) -> Lane {
+        i(tamias2d_simd::Avx2::shl32(self, u(a)))
+    }
+    #[inline(always)]
+    fn select(self, mask: Lane, a: Lane, b: Lane) -> Lane {
+        i(tamias2d_simd::Avx2::select(self, u(mask), u(a), u(b)))
+    }
+}
+
+/// `|x|` in one's complement (`|x|` for `x ≥ 0`, `|x| − 1` below): the
+/// magnitude a record compares, without the edge case of `i64::MIN`.
+#[inline(always)]
+fn magnitude(x: i64) -> u64 {
+    (x ^ (x >> 63)) as u64
+}
+
+/// Lane arithmetic with a record per lane (see the module docs), on the
+/// operations `O`.
+///
+/// The record is two OR-accumulated words per lane, tested once by
+/// [`left`](Self::left): `high`, the high partial products `a_h·b_h`
+/// (a lane left the window if one reached `2^28`), and `quotient`, the
+/// magnitudes of the rounded products and of a dot product's terms and
+/// result (left if one reached `2^60`). Below both no sum of partial
+/// products wrapped (see [`mul`](Self::mul)), a dot product's four terms
+/// (each below `2^60`) summed without wrapping, and every result is below
+/// `2^60`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct LaneArith<O: Ops> {
+    ops: O,
+    high: Lane,
+    quotient: Lane,
+}
+
+impl<O: Ops> LaneArith<O> {
+    /// Clear records.
+    #[inline(always)]
+    pub(crate) const fn new(ops: O) -> LaneArith<O> {
+        LaneArith {
+            ops,
+            high: [0; LANES],
+            quotient: [0; LANES],
+        }
+    }
+
+    /// The operations (the ones that record nothing: additions, choices).
+    #[inline(always)]
+    pub(crate) fn ops(&self) -> O {
+        self.ops
+    }
+
+    /// Per lane: true if the lane left the window (its results are
+    /// meaningless and the scalar kernel must recompute it).
+    #[inline(always)]
+    pub(crate) fn left(&self) -> [bool; LANES] {
+        let mut out = [false; LANES];
+        for ((o, &h), &q) in out.iter_mut().zip(&self.high).zip(&self.quotient) {
+            *o = ((h as u64) >> HIGH_BITS) | ((q as u64) >> RESULT_BITS) != 0;
+        }
+        out
+    }
+
+    /// Records every lane of `values` at or above `RANGED_INPUT` in
+    /// magnitude: the inputs a kernel's depth bound assumes.
+    #[inline(always)]
+    pub(crate) fn check_inputs(&mut self, values: &[Lane]) {
+        for v in values {
+            for (r, &x) in self.high.iter_mut().zip(v) {
+                *r |= ((magnitude(x) >> INPUT_BITS) << HIGH_BITS) as i64;
+            }
+        }
+    }
+
+    /// Records lanes where an input record (such as a row's precomputed
+    /// `constant_record`) is at or above `RANGED_INPUT`.
+    #[inline(always)]
+    pub(crate) fn check_records(&mut self, records: &[u64; LANES]) {
+        for (r, &x) in self.high.iter_mut().zip(records) {
+            *r |= ((x >> INPUT_BITS) << HIGH_BITS) as i64;
+        }
+    }
+
+    /// The partial products of `|a|·|b|` (`[hh, hl, lh, ll]`, each a
+    /// 32×32→64 product, no masks needed: the instruction reads only the
+    /// low halves) and the product's sign (all ones if negative),
+    /// recording `hh`.
+    #[inline(always)]
+    fn partials(&mut self, a: Lane, b: Lane) -> ([Lane; 4], Lane) {
+        let o = self.ops;
+        let sign = o.sign(o.xor(a, b));
+        let (ua, ub) = (o.abs(a), o.abs(b));
+        let (ah, bh) = (o.shr32(ua), o.shr32(ub));
+        let hh = o.mul_lo32(ah, bh);
+        self.high = o.or(self.high, hh);
+        (
+            [
+                hh,
+                o.mul_lo32(ah, ub),
+                o.mul_lo32(ua, bh),
+                o.mul_lo32(ua, ub),
+            ],
+            sign,
+        )
+    }
+
+    /// `|a·b| >> 32` truncated, from the partial products:
+    /// `hh·2^32 + hl + lh + (ll + round)/2^32` (`round`: `2^31` to round,
+    /// 0 to truncate), recorded. Exact (the sum does not wrap) whenever
+    /// `hh < 2^28`: then one of `a_h`, `b_h` is below `2^14`, so one of
+    /// `hl`, `lh` is below `2^46`, the other below `2^63` (`a_h ≤ 2^31`,
+    /// `b_l < 2^32`), and the sum below `2^60 + 2^46 + 2^63 + 2^32 <
+    /// 2^64`.
+    #[inline(always)]
+    fn quotient(&mut self, [hh, hl, lh, ll]: [Lane; 4], round: i64) -> Lane {
+        let o = self.ops;
+        let carry = if round == 0 {
+            o.shr32(ll)
+        } else {
+            o.shr32(o.add(ll, splat(round)))
+        };
+        let q = o.add(o.add(o.shl32(hh), o.add(hl, lh)), carry);
+        self.quotient = o.or(self.quotient, q);
+        q
+    }
+
+    /// `(x ^ s) − s`: `x` negated where `s` is all ones.
+    #[inline(always)]
+    fn signed(&self, x: Lane, s: Lane) -> Lane {
+        let o = self.ops;
+        o.sub(o.xor(x, s), s)
+    }
+
+    /// `a·b`, rounded as `Real`'s `*`.
+    #[inline(always)]
+    pub(crate) fn mul(&mut self, a: Lane, b: Lane) -> Lane {
+        let (p, sign) = self.partials(a, b);
+        let q = self.quotient(p, HALF);
+        self.signed(q, sign)
+    }
+
+    /// `Σ xᵢ·yᵢ` over `N ≤ 4` terms with one rounding, as `Real::mul_add2`
+    /// (`N = 2`) and `Real::dot4` (`N = 4`).
+    #[inline(always)]
+    pub(crate) fn dot<const N: usize>(&mut self, x: [Lane; N], y: [Lane; N]) -> Lane {
+        let o = self.ops;
+        let mut high = [0i64; LANES];
+        let mut low = [0i64; LANES];
+        for (&a, &b) in x.iter().zip(&y) {
+            let (p, sign) = self.partials(a, b);
+            // Each term's quotient below 2^60 (recorded), so a sum of four
+            // stays below 2^62.
+            let q = self.quotient(p, 0);
+            let [.., ll] = p;
+            high = o.add(high, self.signed(q, sign));
+            low = o.add(low, self.signed(o.and(ll, splat(LOW)), sign));
+        }
+        // |low| < 4·2^32: its carry (or borrow) into the high part (the
+        // top half sign-extended from 32 bits), then `h·2^32 + l` rounded
+        // with `l` in [0, 2^32); the total is negative exactly when `h`
+        // is, and rounds away from zero with `l + 2^31 − 1` there.
+        let carry = o.sub(o.xor(o.shr32(low), splat(HALF)), splat(HALF));
+        let h = o.add(high, carry);
+        let l = o.and(low, splat(LOW));
+        let up = o.shr32(o.add(o.add(l, splat(HALF)), o.sign(h)));
+        let q = o.add(h, up);
+        self.quotient = o.or(self.quotient, o.xor(q, o.sign(q)));
+        q
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::{Ranged, Real};
+    use proptest::prelude::*;
+
+    /// Values that reach every branch: any bits, any magnitude, small,
+    /// ties (odd multiples of 2^31), the extremes.
+    fn any_bits() -> impl Strategy<Value = i64> {
+        prop_oneof![
+            any::<i64>(),
+            (any::<i64>(), 0u32..63).prop_map(|(v, s)| v >> s),
+            (-64i64..64),
+            (-(1i64 << 20)..(1 << 20)).prop_map(|k| k.wrapping_mul(2).wrapping_add(1) << 31),
+            Just(i64::MIN),
+            Just(i64::MAX),
+            Just(1i64 << 60),
+            Just(-(1i64 << 60)),
+            Just((1i64 << 58) - 1),
+            Just(1i64 << 58),
+        ]
+    }
+
+    const EDGES: [i64; 24] = [
+        0,
+        1,
+        -1,
+        2,
+        -3,
+        1 << 31,
+        -(1 << 31),
+        (1 << 31) + 1,
+        -(1 << 31) - 1,
+        1 << 32,
+        -(1 << 32),
+        (1 << 32) + 1,
+        -(1 << 32) - 1,
+        (1 << 33) + 1,
+        i64::MAX,
+        i64::MIN,
+        i64::MIN + 1,
+        1 << 59,
+        -(1 << 59),
+        (1 << 61) - 1,
+        1 << 62,
+        u32::MAX as i64,
+        -(u32::MAX as i64),
+        (1 << 44) + (1 << 31),
+    ];
+
+    /// A clear record gives `Real`'s bits; a set one only where the scalar
+    /// fast path could not promise its bound either (`|a·b| ≥ 2^91`, a
+    /// result near `2^59` or more).
+    fn check_mul(a: i64, b: i64) -> Result<(), TestCaseError> {
+        let mut ar = LaneArith::new(Portable);
+        let [got, ..] = ar.mul([a, 0, 0, 0], [b, 0, 0, 0]);
+        let [left, ..] = ar.left();
+        let want = Real::from_bits(a) * Real::from_bits(b);
+        let p = (i128::from(a) * i128::from(b)).unsigned_abs();
+        if left {
+            prop_assert!(p >= 1u128 << 91, "false alarm {} * {}", a, b);
+        } else {
+            prop_assert_eq!(got, want.to_bits(), "{} * {}", a, b);
+            prop_assert!(want.to_bits().unsigned_abs() <= 1 << 60);
+            // And the scalar fast path agrees.
+            let mut fast = Ranged::new();
+            use crate::math::FixedArith;
+            prop_assert_eq!(fast.mul(Real::from_bits(a), Real::from_bits(b)), want);
+        }
+        Ok(())
+    }
+
+    fn check_dot(x: [i64; 4], y: [i64; 4]) -> Result<(), TestCaseError> {
+        let r = Real::from_bits;
+        let col = |v: [i64; 4]| v.map(|e| [e, 0, 0, 0]);
+        let mut ar4 = LaneArith::new(Portable);
+        let [got4, ..] = ar4.dot(col(x), col(y));
+        let want4 = Real::dot4(x.map(r), y.map(r));
+        let mut ar2 = LaneArith::new(Portable);
+        let [got2, ..] = ar2.dot(
+            [[x[0], 0, 0, 0], [x[1], 0, 0, 0]],
+            [[y[0], 0, 0, 0], [y[1], 0, 0, 0]],
+        );
+        let want2 = Real::mul_add2(r(x[0]), r(y[0]), r(x[1]), r(y[1]));
+        // The exact sum (None if it leaves i128: four products of 2^126).
+        let sum = x.iter().zip(&y).try_fold(0i128, |s, (&a, &b)| {
+            s.checked_add(i128::from(a) * i128::from(b))
+        });
+        let big = x
+            .iter()
+            .zip(&y)
+            .any(|(&a, &b)| (i128::from(a) * i128::from(b)).unsigned_abs() >= 1u128 << 89)
+            || sum.is_none_or(|s| s.unsigned_abs() >= (1u128 << 92) - (1 << 31));
+        let [left4, ..] = ar4.left();
+        prop_assert!(big || !left4, "false alarm {:?} {:?}", x, y);
+        if !left4 {
+            prop_assert_eq!(got4, want4.to_bits(), "dot4 {:?} {:?}", x, y);
+        }
+        if !ar2.left()[0] {
+            prop_assert_eq!(got2, want2.to_bits(), "mul_add2 {:?} {:?}", x, y);
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn products_at_ties_and_edges() {
+        for a in EDGES {
+            for b in EDGES {
+                check_mul(a, b).unwrap();
+            }
+        }
+    }
+
+    #[test]
+    fn dots_at_ties() {
+        // Sums landing on ties of either sign, and remainders that borrow.
+        let h = 1i64 << 31;
+        for (x, y) in [
+            ([h, h, 0, 0], [1, 0, 0, 0]),
+            ([h, -h, h, 0], [1, 1, 1, 0]),
+            ([-h, 0, 0, 0], [1, 0, 0, 0]),
+            ([3 * h, -1, 0, 0], [1, 1, 0, 0]),
+            ([-3 * h, 1, 0, 0], [1, 1, 0, 0]),
+            ([1 << 32, -1, 0, 0], [1 << 32, 1, 0, 0]),
+            (
+                [i64::MAX >> 20, -(i64::MAX >> 20), 5, -7],
+                [1 << 20, 1 << 20, 3, 11],
+            ),
+        ] {
+            check_dot(x, y).unwrap();
+        }
+        for a in EDGES {
+            for b in EDGES {
+                check_dot([a, b, a.wrapping_neg(), 1], [b, a, 1 << 31, b]).unwrap();
+            }
+        }
+    }
+
+    #[test]
+    fn inputs_at_the_window_edge() {
+        let mut ar = LaneArith::new(Portable);
+        let edge = RANGED_INPUT as i64;
+        ar.check_inputs(&[[edge - 1, -edge, edge, -edge - 1]]);
+        assert_eq!(ar.left(), [false, false, true, true]);
+        let mut ar = LaneArith::new(Portable);
+        ar.check_records(&[0, RANGED_INPUT - 1, RANGED_INPUT, u64::MAX]);
+        assert_eq!(ar.left(), [false, false, true, true]);
+    }
+
+    #[test]
+    fn selections() {
+        let a = [3, -1, 0, i64::MIN];
+        let b = [-3, 1, 0, i64::MAX];
+        let o = Portable;
+        assert_eq!(o.min(a, b), [-3, -1, 0, i64::MIN]);
+        assert_eq!(o.max(a, b), [3, 1, 0, i64::MAX]);
+        assert_eq!(o.positive(a), [-1, 0, 0, 0]);
+        assert_eq!(o.select(o.positive(a), a, b), [3, 1, 0, i64::MAX]);
+        assert_eq!(o.abs([i64::MIN, -5, 5, 0]), [i64::MIN, 5, 5, 0]);
+        assert_eq!(o.neg([i64::MIN, -5, 5, 0]), [i64::MIN, 5, -5, 0]);
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(20_000))]
+        #[test]
+        fn products_equal_reals(a in any_bits(), b in any_bits()) {
+            check_mul(a, b)?;
+        }
+
+        #[test]
+        fn dots_equal_reals(x in prop::array::uniform4(any_bits()), y in prop::array::uniform4(any_bits())) {
+            check_dot(x, y)?;
+        }
+
+        /// The AVX2 operations give the portable ones' bits and records
+        /// (where the processor has AVX2; elsewhere there is nothing to
+        /// compare).
+        #[test]
+        fn avx2_equals_portable(
+            a in prop::array::uniform4(any_bits()),
+            b in prop::array::uniform4(any_bits()),
+            c in prop::array::uniform4(any_bits()),
+            d in prop::array::uniform4(any_bits()),
+        ) {
+            let Some(v) = tamias2d_simd::Avx2::new() else {
+                return Ok(());
+            };
+            let (mut p, mut w) = (LaneArith::new(Portable), LaneArith::new(v));
+            prop_assert_eq!(p.mul(a, b), w.mul(a, b));
+            prop_assert_eq!(p.dot([a, b, c, d], [d, c, b, a]), w.dot([a, b, c, d], [d, c, b, a]));
+            prop_assert_eq!(p.dot([a, c], [b, d]), w.dot([a, c], [b, d]));
+            prop_assert_eq!(p.left(), w.left());
+            let o = Portable;
+            prop_assert_eq!(o.min(a, b), Ops::min(v, a, b));
+            prop_assert_eq!(o.max(a, b), Ops::max(v, a, b));
+            prop_assert_eq!(o.select(o.positive(c), a, b), Ops::select(v, Ops::positive(v, c), a, b));
+            prop_assert_eq!(o.neg(d), Ops::neg(v, d));
+        }
+
+        #[test]
+        fn lanes_are_independent(a in prop::array::uniform4(any_bits()), b in prop::array::uniform4(any_bits())) {
+            let mut ar = LaneArith::new(Portable);
+            let got = ar.mul(a, b);
+            let left = ar.left();
+            for (((&x, &y), &g), &l) in a.iter().zip(&b).zip(&got).zip(&left) {
+                let mut one = LaneArith::new(Portable);
+                let [alone, ..] = one.mul([x, 0, 0, 0], [y, 0, 0, 0]);
+                prop_assert_eq!(l, one.left()[0]);
+                if !l {
+                    prop_assert_eq!(g, alone);
+                }
+            }
+        }
+    }
+}

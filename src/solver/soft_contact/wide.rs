@@ -1,0 +1,958 @@
+//! The soft contacts' wide kernels: the warm start, solve and relax passes
+//! on four manifolds of one color at a time, in lanes
+//! ([`LaneArith`](crate::math::lanes::LaneArith)), with the bits of the
+//! scalar kernels.
+//!
+//! Within a color no two manifolds share a body the solver moves (module
+//! `graph`), so four of them are four independent computations: a
+//! **batch** holds their rows' constants structure-of-arrays (one
+//! [`Lane`] per field and point), gathered once per step, and each pass
+//! gathers the eight bodies' velocities, runs every operation of the
+//! scalar manifold pass on the four lanes at once, and scatters them back.
+//! A manifold with one point gets a second point of zeros, which applies
+//! an impulse of exactly 0. Where the scalar pass computes one branch
+//! (apart or overlapping, soft or rigid), the lanes compute both and
+//! select: a rigid row's `jn·1 + 0·jn_acc` is `jn` exactly, so the soft
+//! formula gives the rigid row's bits.
+//!
+//! A lane whose record is set (an input or a product left the window,
+//! module `lanes`) is not scattered: that manifold is run again by the
+//! scalar kernel from its state before the pass, exactly as if the lanes
+//! had never seen it. The other lanes' bodies are untouched by it (the
+//! color's promise), so the order does not matter. Manifolds that cannot
+//! join a batch (the overflow color, a color's last one to three, a body
+//! paired with itself) run the scalar kernel in place.
+//!
+//! The batches hold the rows' running impulses and separations while the
+//! sub-steps run; [`SoftContacts`](super::SoftContacts) writes them back
+//! to its rows before anything else reads the rows.
+use crate::math::lanes::{Lane, LaneArith, Ops, Portable, LANES};
+use crate::math::Real;
+use crate::solver::graph;
+use crate::solver::SolverBody;
+
+use super::row::{
+    on_bodies, scale_impulses, solve_manifold, warm_start_manifold, Motion, SoftContact,
+    SoftContactParams,
+};
+
+/// One point (the first or the second) of four manifolds: every field of
+/// [`SoftContact`] a pass reads or writes, one lane per manifold.
+#[derive(Clone, Copy, Debug, Default)]
+struct PointLanes {
+    n_x: Lane,
+    n_y: Lane,
+    dist: Lane,
+    nr_a: Lane,
+    nr_b: Lane,
+    rn_a: Lane,
+    rn_b: Lane,
+    rt_a: Lane,
+    rt_b: Lane,
+    kn_a: Lane,
+    kn_b: Lane,
+    kt_a: Lane,
+    kt_b: Lane,
+    n_mass: Lane,
+    t_mass: Lane,
+    friction: Lane,
+    surface_t: Lane,
+    constant_record: [u64; LANES],
+    /// The running state: the separation, the accumulated impulses and
+    /// the largest normal impulse of the step.
+    state: PointState,
+}
+
+/// What a pass changes in a point's lanes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct PointState {
+    sep: Lane,
+    jn: Lane,
+    jt: Lane,
+    max_jn: Lane,
+}
+
+/// Four manifolds of one color.
+#[derive(Clone, Copy, Debug, Default)]
+struct Batch {
+    /// Each manifold's body slots.
+    a: [u32; LANES],
+    b: [u32; LANES],
+    /// Each manifold's first row in `SoftContacts::rows`, and its count
+    /// (1 or 2).
+    first: [u32; LANES],
+    count: [u32; LANES],
+    /// The most points of the four manifolds (1 or 2): the points the
+    /// passes solve.
+    points_used: usize,
+    m_inv_a: Lane,
+    m_inv_b: Lane,
+    /// Each manifold's softness (contact or fixed).
+    bias_rate: Lane,
+    mass_scale: Lane,
+    impulse_scale: Lane,
+    points: [PointLanes; 2],
+}
+
+/// One step of the plan: a batch, or one manifold for the scalar kernel.
+#[derive(Clone, Copy, Debug)]
+enum Piece {
+    Batch(u32),
+    /// A manifold's rows, `start..end` in `SoftContacts::rows`.
+    Rows(u32, u32),
+}
+
+/// How the wide kernels are compiled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Compiled {
+    /// For the build's instruction set.
+    Portable,
+    /// For AVX2 (the processor has it).
+    Avx2,
+}
+
+/// The batches of one step and the order of the passes.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct WideContacts {
+    batches: Vec<Batch>,
+    plan: Vec<Piece>,
+    /// How the passes run this step (`None`: the wide kernels are off).
+    compiled: Option<Compiled>,
+}
+
+impl WideContacts {
+    /// Whether the passes run the plan this step.
+    pub(crate) fn is_on(&self) -> bool {
+        self.compiled.is_some()
+    }
+
+    /// Turns the wide kernels off (the rows hold the state).
+    pub(crate) fn clear(&mut self) {
+        self.batches.clear();
+        self.plan.clear();
+        self.compiled = None;
+    }
+
+    /// The plan of a step: each color's manifolds in batches of four, the
+    /// rest (and the overflow) one by one.
+    pub(crate) fn build(
+        &mut self,
+        compiled: Compiled,
+        rows: &[SoftContact],
+        manifold_rows: &[u32],
+        graph: &graph::ConstraintGraph,
+        bodies: &[SolverBody],
+    ) {
+        self.clear();
+        let rows_of = |m: usize| {
+            let start = manifold_rows.get(m).copied().unwrap_or(0);
+            let end = manifold_rows
+                .get(m.saturating_add(1))
+                .copied()
+                .unwrap_or(start);
+            (start, end.max(start))
+        };
+        for c in 0..=graph::COLORS {
+            // Manifolds of one and of two points batch apart (a batch
+            // solves as many points as its largest manifold has).
+            let mut pending: [[usize; LANES]; 2] = [[0; LANES]; 2];
+            let mut counts = [0usize; 2];
+            for m in graph.range(c) {
+                let (start, end) = rows_of(m);
+                let joins = c < graph::COLORS
+                    && rows.get(start as usize).is_some_and(|r| {
+                        r.a != r.b && (r.a as usize) < bodies.len() && (r.b as usize) < bodies.len()
+                    })
+                    && matches!(end.wrapping_sub(start), 1 | 2)
+                    && rows
+                        .get(start as usize..end as usize)
+                        .is_some_and(shares_manifold_constants);
+                if !joins {
+                    self.plan.push(Piece::Rows(start, end));
+                    continue;
+                }
+                let kind = usize::from(end.wrapping_sub(start) == 2);
+                let (Some(group), Some(n)) = (pending.get_mut(kind), counts.get_mut(kind)) else {
+                    continue;
+                };
+                if let Some(slot) = group.get_mut(*n) {
+                    *slot = m;
+                    *n = n.saturating_add(1);
+                }
+                if *n == LANES {
+                    let batch = gather_batch(group.map(rows_of), rows);
+                    self.plan.push(Piece::Batch(self.batches.len() as u32));
+                    self.batches.push(batch);
+                    *n = 0;
+                }
+            }
+            for (group, &n) in pending.iter().zip(&counts) {
+                for &m in group.iter().take(n) {
+                    let (start, end) = rows_of(m);
+                    self.plan.push(Piece::Rows(start, end));
+                }
+            }
+        }
+        self.compiled = Some(compiled);
+    }
+
+    /// The batches' state back into `rows` (the wide kernels stay on).
+    pub(crate) fn write_back(&self, rows: &mut [SoftContact]) {
+        for batch in &self.batches {
+            for lane in 0..LANES {
+                put_lane(batch, lane, rows);
+            }
+        }
+    }
+
+    /// The warm start (see `SoftContacts::warm_start`) over the plan.
+    pub(crate) fn warm_start(
+        &mut self,
+        rows: &mut [SoftContact],
+        bodies: &mut [SolverBody],
+        warm: Option<Real>,
+    ) {
+        let Some(dt_coef) = warm else {
+            for row in rows.iter_mut() {
+                row.jn = Real::ZERO;
+                row.jt = Real::ZERO;
+            }
+            for point in self.batches.iter_mut().flat_map(|b| &mut b.points) {
+                point.state.jn = [0; LANES];
+                point.state.jt = [0; LANES];
+            }
+            return;
+        };
+        self.run(Pass::WarmStart(dt_coef), rows, bodies, &[]);
+    }
+
+    /// A solve (`use_bias`) or relax pass over the plan.
+    pub(crate) fn solve(
+        &mut self,
+        rows: &mut [SoftContact],
+        bodies: &mut [SolverBody],
+        motion: &[Motion],
+        params: &SoftContactParams,
+        use_bias: bool,
+    ) {
+        self.run(Pass::Solve(*params, use_bias), rows, bodies, motion);
+    }
+
+    /// `pass` over the plan, compiled as the step chose.
+    fn run(
+        &mut self,
+        pass: Pass,
+        rows: &mut [SoftContact],
+        bodies: &mut [SolverBody],
+        motion: &[Motion],
+    ) {
+        use tamias2d_simd::Kernel;
+        let avx2 = match self.compiled {
+            Some(Compiled::Avx2) => tamias2d_simd::Avx2::new(),
+            Some(Compiled::Portable) | None => None,
+        };
+        let (plan, batches) = (&self.plan, &mut self.batches);
+        match avx2 {
+            Some(ops) => {
+                let job = PlanPass {
+                    ops,
+                    pass,
+                    plan,
+                    batches,
+                    rows,
+                    bodies,
+                    motion,
+                };
+                // The same bits either way: run here only if the
+                // processor lost AVX2 since the check, which it cannot.
+                tamias2d_simd::run_avx2(job).unwrap_or_else(Kernel::run);
+            }
+            None => PlanPass {
+                ops: Portable,
+                pass,
+                plan,
+                batches,
+                rows,
+                bodies,
+                motion,
+            }
+            .run(),
+        }
+    }
+}
+
+/// Which pass.
+#[derive(Clone, Copy, Debug)]
+enum Pass {
+    WarmStart(Real),
+    Solve(SoftContactParams, bool),
+}
+
+/// One pass over the plan on the lane operations `O`: the kernel
+/// `tamias2d_simd` compiles for AVX2.
+struct PlanPass<'a, O: Ops> {
+    ops: O,
+    pass: Pass,
+    plan: &'a [Piece],
+    batches: &'a mut [Batch],
+    rows: &'a mut [SoftContact],
+    bodies: &'a mut [SolverBody],
+    motion: &'a [Motion],
+}
+
+impl<O: Ops> tamias2d_simd::Kernel for PlanPass<'_, O> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let PlanPass {
+            ops,
+            pass,
+            plan,
+            batches,
+            rows,
+            bodies,
+            motion,
+        } = self;
+        for &piece in plan {
+            match piece {
+                Piece::Batch(i) => {
+                    let Some(batch) = batches.get_mut(i as usize) else {
+                        continue;
+                    };
+                    match pass {
+                        Pass::WarmStart(dt_coef) => {
+                            warm_start_batch(ops, batch, bodies, rows, dt_coef);
+                        }
+                        Pass::Solve(p, use_bias) => {
+                            solve_batch(ops, batch, bodies, rows, motion, &p, use_bias);
+                        }
+                    }
+                }
+                Piece::Rows(start, end) => {
+                    let Some(m) = rows.get_mut(start as usize..end as usize) else {
+                        continue;
+                    };
+                    match pass {
+                        Pass::WarmStart(dt_coef) => {
+                            scale_impulses(m, dt_coef);
+                            on_bodies(m, bodies, |m, copy| warm_start_manifold(m, copy));
+                        }
+                        Pass::Solve(p, use_bias) => on_bodies(m, bodies, |m, copy| {
+                            solve_manifold(m, copy, motion, &p, use_bias);
+                        }),
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// True when a manifold's rows agree on what a batch keeps once per
+/// manifold: the inverse masses and the softness (the prepare gives every
+/// row of a manifold those of its bodies).
+fn shares_manifold_constants(rows: &[SoftContact]) -> bool {
+    let Some(first) = rows.first() else {
+        return false;
+    };
+    rows.iter()
+        .all(|r| r.m_inv_a == first.m_inv_a && r.m_inv_b == first.m_inv_b && r.soft == first.soft)
+}
+
+/// The lanes of four manifolds' rows (`(start, end)` each).
+fn gather_batch(manifolds: [(u32, u32); LANES], rows: &[SoftContact]) -> Batch {
+    let mut batch = Batch::default();
+    for (lane, &(start, end)) in manifolds.iter().enumerate() {
+        let Some(first) = rows.get(start as usize) else {
+            continue;
+        };
+        set(&mut batch.a, lane, first.a);
+        set(&mut batch.b, lane, first.b);
+        set(&mut batch.first, lane, start);
+        set(&mut batch.count, lane, end.wrapping_sub(start));
+        batch.points_used = batch
+            .points_used
+            .max(end.wrapping_sub(start) as usize)
+            .min(2);
+        set(&mut batch.m_inv_a, lane, first.m_inv_a.to_bits());
+        set(&mut batch.m_inv_b, lane, first.m_inv_b.to_bits());
+        set(&mut batch.bias_rate, lane, first.soft.bias_rate.to_bits());
+        set(&mut batch.mass_scale, lane, first.soft.mass_scale.to_bits());
+        set(
+            &mut batch.impulse_scale,
+            lane,
+            first.soft.impulse_scale.to_bits(),
+        );
+        for (point, row) in batch
+            .points
+            .iter_mut()
+            .zip(rows.get(start as usize..end as usize).unwrap_or(&[]))
+        {
+            let bits = |v: Real| v.to_bits();
+            set(&mut point.n_x, lane, bits(row.n.x));
+            set(&mut point.n_y, lane, bits(row.n.y));
+            set(&mut point.dist, lane, bits(row.dist));
+            set(&mut point.nr_a, lane, bits(row.nr_a));
+            set(&mut point.nr_b, lane, bits(row.nr_b));
+            set(&mut point.rn_a, lane, bits(row.rn_a));
+            set(&mut point.rn_b, lane, bits(row.rn_b));
+            set(&mut point.rt_a, lane, bits(row.rt_a));
+            set(&mut point.rt_b, lane, bits(row.rt_b));
+            set(&mut point.kn_a, lane, bits(row.kn_a));
+            set(&mut point.kn_b, lane, bits(row.kn_b));
+            set(&mut point.kt_a, lane, bits(row.kt_a));
+            set(&mut point.kt_b, lane, bits(row.kt_b));
+            set(&mut point.n_mass, lane, bits(row.n_mass));
+            set(&mut point.t_mass, lane, bits(row.t_mass));
+            set(&mut point.friction, lane, bits(row.friction));
+            set(&mut point.surface_t, lane, bits(row.surface_t));
+            set(&mut point.constant_record, lane, row.constant_record);
+            set(&mut point.state.sep, lane, bits(row.sep));
+            set(&mut point.state.jn, lane, bits(row.jn));
+            set(&mut point.state.jt, lane, bits(row.jt));
+            set(&mut point.state.max_jn, lane, bits(row.max_jn));
+        }
+    }
+    batch
+}
+
+/// `values[lane] = v` (nothing past the end).
+#[inline(always)]
+fn set<T>(values: &mut [T; LANES], lane: usize, v: T) {
+    if let Some(slot) = values.get_mut(lane) {
+        *slot = v;
+    }
+}
+
+/// `values[lane]` (0 past the end).
+#[inline(always)]
+fn get(values: &Lane, lane: usize) -> Real {
+    Real::from_bits(values.get(lane).copied().unwrap_or(0))
+}
+
+/// A lane's state into its rows.
+#[inline(always)]
+fn put_lane(batch: &Batch, lane: usize, rows: &mut [SoftContact]) {
+    let start = batch.first.get(lane).copied().unwrap_or(0) as usize;
+    let count = batch.count.get(lane).copied().unwrap_or(0) as usize;
+    let Some(out) = rows.get_mut(start..start.saturating_add(count)) else {
+        return;
+    };
+    for (row, point) in out.iter_mut().zip(&batch.points) {
+        let s = &point.state;
+        row.sep = get(&s.sep, lane);
+        row.jn = get(&s.jn, lane);
+        row.jt = get(&s.jt, lane);
+        row.max_jn = get(&s.max_jn, lane);
+    }
+}
+
+/// A lane's state from its rows (after the scalar kernel ran it).
+#[inline(always)]
+fn take_lane(batch: &mut Batch, lane: usize, rows: &[SoftContact]) {
+    let start = batch.first.get(lane).copied().unwrap_or(0) as usize;
+    let count = batch.count.get(lane).copied().unwrap_or(0) as usize;
+    let Some(from) = rows.get(start..start.saturating_add(count)) else {
+        return;
+    };
+    for (row, point) in from.iter().zip(&mut batch.points) {
+        let s = &mut point.state;
+        set(&mut s.sep, lane, row.sep.to_bits());
+        set(&mut s.jn, lane, row.jn.to_bits());
+        set(&mut s.jt, lane, row.jt.to_bits());
+        set(&mut s.max_jn, lane, row.max_jn.to_bits());
+    }
+}
+
+/// Four bodies' velocities.
+#[derive(Clone, Copy, Debug)]
+struct BodyLanes {
+    vx: Lane,
+    vy: Lane,
+    w: Lane,
+}
+
+impl BodyLanes {
+    #[inline(always)]
+    fn gather(bodies: &[SolverBody], slots: &[u32; LANES]) -> BodyLanes {
+        let mut out = BodyLanes {
+            vx: [0; LANES],
+            vy: [0; LANES],
+            w: [0; LANES],
+        };
+        for (lane, &slot) in slots.iter().enumerate() {
+            if let Some(b) = bodies.get(slot as usize) {
+                set(&mut out.vx, lane, b.v.x.to_bits());
+                set(&mut out.vy, lane, b.v.y.to_bits());
+                set(&mut out.w, lane, b.w.to_bits());
+            }
+        }
+        out
+    }
+
+    /// Writes back the lanes not `left`.
+    #[inline(always)]
+    fn scatter(&self, bodies: &mut [SolverBody], slots: &[u32; LANES], left: &[bool; LANES]) {
+        for (lane, (&slot, &l)) in slots.iter().zip(left).enumerate() {
+            if l {
+                continue;
+            }
+            if let Some(b) = bodies.get_mut(slot as usize) {
+                b.v.x = get(&self.vx, lane);
+                b.v.y = get(&self.vy, lane);
+                b.w = get(&self.w, lane);
+            }
+        }
+    }
+
+    /// `dv` and `dw` added (`add`) or taken away.
+    #[inline(always)]
+    fn change<O: Ops>(&mut self, o: O, dv: (Lane, Lane), dw: Lane, add: bool) {
+        if add {
+            self.vx = o.add(self.vx, dv.0);
+            self.vy = o.add(self.vy, dv.1);
+            self.w = o.add(self.w, dw);
+        } else {
+            self.vx = o.sub(self.vx, dv.0);
+            self.vy = o.sub(self.vy, dv.1);
+            self.w = o.sub(self.w, dw);
+        }
+    }
+}
+
+/// `Real` bits in every lane.
+#[inline(always)]
+fn lane_of(v: Real) -> Lane {
+    [v.to_bits(); LANES]
+}
+
+/// An impulse `p = d·j` along `d` with angular terms `k`: `SoftContact::
+/// apply_along`, lane by lane.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn apply_along<O: Ops>(
+    a: &mut BodyLanes,
+    b: &mut BodyLanes,
+    batch: &Batch,
+    d: (Lane, Lane),
+    k: (Lane, Lane),
+    j: Lane,
+    ar: &mut LaneArith<O>,
+) {
+    let o = ar.ops();
+    let (px, py) = (ar.mul(d.0, j), ar.mul(d.1, j));
+    let (dwa, dwb) = (ar.mul(k.0, j), ar.mul(k.1, j));
+    let dva = (ar.mul(px, batch.m_inv_a), ar.mul(py, batch.m_inv_a));
+    let dvb = (ar.mul(px, batch.m_inv_b), ar.mul(py, batch.m_inv_b));
+    a.change(o, dva, dwa, false);
+    b.change(o, dvb, dwb, true);
+}
+
+/// The velocity of b relative to a along `(dx, dy)` with lever terms
+/// `(r_b, −r_a)`: `dot4([Δv, ω_b, ω_a], [d, r_b, −r_a])`.
+#[inline(always)]
+fn relative_velocity<O: Ops>(
+    a: &BodyLanes,
+    b: &BodyLanes,
+    d: (Lane, Lane),
+    r_b: Lane,
+    neg_r_a: Lane,
+    ar: &mut LaneArith<O>,
+) -> Lane {
+    let o = ar.ops();
+    let dvx = o.sub(b.vx, a.vx);
+    let dvy = o.sub(b.vy, a.vy);
+    ar.dot([dvx, dvy, b.w, a.w], [d.0, d.1, r_b, neg_r_a])
+}
+
+/// The solve (`use_bias`) or relax pass of a batch: `manifold_pass` on
+/// four lanes, the lanes that left the window run again by the scalar
+/// kernel; returns how many.
+#[inline(always)]
+fn solve_batch<O: Ops>(
+    ops: O,
+    batch: &mut Batch,
+    bodies: &mut [SolverBody],
+    rows: &mut [SoftContact],
+    motion: &[Motion],
+    p: &SoftContactParams,
+    use_bias: bool,
+) -> usize {
+    let mut a = BodyLanes::gather(bodies, &batch.a);
+    let mut b = BodyLanes::gather(bodies, &batch.b);
+    let mut ar = LaneArith::new(ops);
+    let o = ops;
+    ar.check_inputs(&[a.vx, a.vy, a.w, b.vx, b.vy, b.w, lane_of(p.slop)]);
+    let mut state = batch.points.map(|pt| pt.state);
+    let used = batch.points_used;
+    for (pt, s) in batch.points.iter().zip(&state) {
+        ar.check_records(&pt.constant_record);
+        ar.check_inputs(&[s.jn, s.jt]);
+    }
+    // The motion since the collide (relax pass only).
+    let mut ma = [[0i64; LANES]; 4];
+    let mut mb = [[0i64; LANES]; 4];
+    if use_bias {
+        for s in &state {
+            ar.check_inputs(&[s.sep]);
+        }
+    } else {
+        let none = Motion::default();
+        for lane in 0..LANES {
+            let m_a = batch
+                .a
+                .get(lane)
+                .and_then(|&i| motion.get(i as usize))
+                .unwrap_or(&none);
+            let m_b = batch
+                .b
+                .get(lane)
+                .and_then(|&i| motion.get(i as usize))
+                .unwrap_or(&none);
+            for (out, m) in [(&mut ma, m_a), (&mut mb, m_b)] {
+                let [dx, dy, c1, s1] = out;
+                set(dx, lane, m.dp.x.to_bits());
+                set(dy, lane, m.dp.y.to_bits());
+                set(c1, lane, m.dq_c1.to_bits());
+                set(s1, lane, m.dq_s.to_bits());
+            }
+        }
+        ar.check_inputs(&ma);
+        ar.check_inputs(&mb);
+    }
+    let zero = [0i64; LANES];
+    let one = lane_of(Real::ONE);
+    let neg_push_out = lane_of(-p.push_out);
+    for (pt, st) in batch.points.iter().zip(&mut state).take(used) {
+        // The separation: kept from the last relax pass, or estimated.
+        let s = if use_bias {
+            st.sep
+        } else {
+            let [adx, ady, ac1, as1] = ma;
+            let [bdx, bdy, bc1, bs1] = mb;
+            let dx = o.sub(bdx, adx);
+            let dy = o.sub(bdy, ady);
+            let moved_b = ar.dot([dx, dy, bc1, bs1], [pt.n_x, pt.n_y, pt.nr_b, pt.rn_b]);
+            let turned_a = ar.dot([ac1, as1], [pt.nr_a, pt.rn_a]);
+            let s = o.add(pt.dist, o.sub(moved_b, turned_a));
+            st.sep = s;
+            s
+        };
+        // The normal row: apart, the gap closes within the sub-step
+        // (rigid); overlapping, the soft push (solve) or nothing (relax).
+        let apart = o.positive(s);
+        let close = ar.mul(s, lane_of(p.h_inv));
+        let (bias, mass_scale, impulse_scale) = if use_bias {
+            let overlap = o.min(o.add(s, lane_of(p.slop)), zero);
+            let push = o.max(ar.mul(overlap, batch.bias_rate), neg_push_out);
+            (
+                o.select(apart, close, push),
+                o.select(apart, one, batch.mass_scale),
+                o.select(apart, zero, batch.impulse_scale),
+            )
+        } else {
+            (o.select(apart, close, zero), one, zero)
+        };
+        let vn = relative_velocity(&a, &b, (pt.n_x, pt.n_y), pt.rn_b, o.neg(pt.rn_a), &mut ar);
+        let err = o.add(vn, bias);
+        let jn = ar.mul(err, pt.n_mass);
+        let scaled = ar.mul(jn, mass_scale);
+        let back = ar.mul(st.jn, impulse_scale);
+        let jn = o.add(scaled, back);
+        let old = st.jn;
+        st.jn = o.max(o.sub(old, jn), zero);
+        let djn = o.sub(st.jn, old);
+        st.max_jn = o.max(st.max_jn, djn);
+        apply_along(
+            &mut a,
+            &mut b,
+            batch,
+            (pt.n_x, pt.n_y),
+            (pt.kn_a, pt.kn_b),
+            djn,
+            &mut ar,
+        );
+    }
+    if p.friction {
+        for (pt, st) in batch.points.iter().zip(&mut state).take(used) {
+            let t = (o.neg(pt.n_y), pt.n_x);
+            let vt = relative_velocity(&a, &b, t, pt.rt_b, o.neg(pt.rt_a), &mut ar);
+            let vt = o.add(vt, pt.surface_t);
+            let jt_max = ar.mul(st.jn, pt.friction);
+            let djt = ar.mul(vt, pt.t_mass);
+            let old = st.jt;
+            st.jt = o.min(o.max(o.sub(old, djt), o.neg(jt_max)), jt_max);
+            let jt = o.sub(st.jt, old);
+            apply_along(&mut a, &mut b, batch, t, (pt.kt_a, pt.kt_b), jt, &mut ar);
+        }
+    }
+    let left = ar.left();
+    a.scatter(bodies, &batch.a, &left);
+    b.scatter(bodies, &batch.b, &left);
+    if left.contains(&true) {
+        // The lanes that left keep their state from before the pass, for
+        // the scalar kernel to start from.
+        for (pt, st) in batch.points.iter_mut().zip(&state) {
+            pt.state = keep_left(pt.state, *st, &left);
+        }
+        rerun_left(batch, bodies, rows, &left, |m, copy| {
+            solve_manifold(m, copy, motion, p, use_bias);
+        })
+    } else {
+        for (pt, st) in batch.points.iter_mut().zip(&state) {
+            pt.state = *st;
+        }
+        0
+    }
+}
+
+/// `new` where the lane did not leave, `old` where it did.
+#[inline(always)]
+fn keep_left(old: PointState, new: PointState, left: &[bool; LANES]) -> PointState {
+    let pick = |o: Lane, n: Lane| {
+        let mut out = n;
+        for ((x, &o), &l) in out.iter_mut().zip(&o).zip(left) {
+            if l {
+                *x = o;
+            }
+        }
+        out
+    };
+    PointState {
+        sep: pick(old.sep, new.sep),
+        jn: pick(old.jn, new.jn),
+        jt: pick(old.jt, new.jt),
+        max_jn: pick(old.max_jn, new.max_jn),
+    }
+}
+
+/// The warm start of a batch: `warm_start_manifold` on four lanes;
+/// returns how many lanes ran again on the scalar kernel.
+#[inline(always)]
+fn warm_start_batch<O: Ops>(
+    ops: O,
+    batch: &mut Batch,
+    bodies: &mut [SolverBody],
+    rows: &mut [SoftContact],
+    dt_coef: Real,
+) -> usize {
+    if dt_coef != Real::ONE {
+        // The first sub-step after a change of time step (rare): the
+        // scalar kernel's saturating products.
+        for pt in &mut batch.points {
+            for v in pt.state.jn.iter_mut().chain(&mut pt.state.jt) {
+                *v = (Real::from_bits(*v) * dt_coef).to_bits();
+            }
+        }
+    }
+    let mut a = BodyLanes::gather(bodies, &batch.a);
+    let mut b = BodyLanes::gather(bodies, &batch.b);
+    let mut ar = LaneArith::new(ops);
+    let o = ops;
+    ar.check_inputs(&[a.vx, a.vy, a.w, b.vx, b.vy, b.w]);
+    for pt in batch.points.iter().take(batch.points_used) {
+        // The negated normal component below needs the constants' bound.
+        ar.check_records(&pt.constant_record);
+        let (jn, jt) = (pt.state.jn, pt.state.jt);
+        let px = ar.dot([pt.n_x, o.neg(pt.n_y)], [jn, jt]);
+        let py = ar.dot([pt.n_y, pt.n_x], [jn, jt]);
+        let dwa = ar.dot([pt.kn_a, pt.kt_a], [jn, jt]);
+        let dwb = ar.dot([pt.kn_b, pt.kt_b], [jn, jt]);
+        let dva = (ar.mul(px, batch.m_inv_a), ar.mul(py, batch.m_inv_a));
+        let dvb = (ar.mul(px, batch.m_inv_b), ar.mul(py, batch.m_inv_b));
+        a.change(o, dva, dwa, false);
+        b.change(o, dvb, dwb, true);
+    }
+    let left = ar.left();
+    a.scatter(bodies, &batch.a, &left);
+    b.scatter(bodies, &batch.b, &left);
+    if left.contains(&true) {
+        rerun_left(batch, bodies, rows, &left, |m, copy| {
+            warm_start_manifold(m, copy);
+        })
+    } else {
+        0
+    }
+}
+
+/// The lanes that left the window, run again by the scalar kernel `f`
+/// from their state before the pass (which the batch still holds);
+/// returns how many.
+#[cold]
+#[inline(never)]
+fn rerun_left(
+    batch: &mut Batch,
+    bodies: &mut [SolverBody],
+    rows: &mut [SoftContact],
+    left: &[bool; LANES],
+    mut f: impl FnMut(&mut [SoftContact], &mut [SolverBody; 2]),
+) -> usize {
+    let mut count = 0usize;
+    for (lane, _) in left.iter().enumerate().filter(|(_, &l)| l) {
+        count = count.saturating_add(1);
+        put_lane(batch, lane, rows);
+        let start = batch.first.get(lane).copied().unwrap_or(0) as usize;
+        let count = batch.count.get(lane).copied().unwrap_or(0) as usize;
+        if let Some(m) = rows.get_mut(start..start.saturating_add(count)) {
+            on_bodies(m, bodies, &mut f);
+        }
+        take_lane(batch, lane, rows);
+    }
+    count
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vect;
+    use crate::solver::soft_contact::row::tests::{bits, mid, rows_from};
+    use crate::solver::softness::Softness;
+    use proptest::prelude::*;
+
+    /// Lanes that left their window in the cases so far, and cases
+    /// (coverage of the rerun path, printed).
+    static LEFT: core::sync::atomic::AtomicU64 = core::sync::atomic::AtomicU64::new(0);
+    static CASES: core::sync::atomic::AtomicU64 = core::sync::atomic::AtomicU64::new(0);
+
+    /// Four manifolds (bodies `2k`, `2k + 1`, of one or two points each),
+    /// eight bodies, their motion and the parameters, from `v`.
+    #[allow(clippy::type_complexity)]
+    fn case(
+        v: Vec<i64>,
+        points: [bool; LANES],
+        friction: bool,
+    ) -> (
+        Vec<SoftContact>,
+        [(u32, u32); LANES],
+        Vec<SolverBody>,
+        Vec<Motion>,
+        SoftContactParams,
+    ) {
+        let mut v = v.into_iter().cycle();
+        let mut rows = Vec::new();
+        let mut manifolds = [(0u32, 0u32); LANES];
+        for (k, (m, &two)) in manifolds.iter_mut().zip(&points).enumerate() {
+            let start = rows.len() as u32;
+            let mine = rows_from(&mut v, if two { 2 } else { 1 });
+            for mut row in mine.iter().copied() {
+                (row.a, row.b, row.arbiter) = (2 * k as u32, 2 * k as u32 + 1, k as u32);
+                // One manifold's rows share its bodies' masses and its
+                // softness (as the prepare makes them).
+                if let Some(first) = mine.first() {
+                    (row.m_inv_a, row.m_inv_b, row.soft) =
+                        (first.m_inv_a, first.m_inv_b, first.soft);
+                }
+                rows.push(row);
+            }
+            *m = (start, rows.len() as u32);
+        }
+        let mut r = || Real::from_bits(v.next().unwrap_or(0));
+        let bodies = (0..2 * LANES)
+            .map(|_| SolverBody {
+                v: Vect::new(r(), r()),
+                w: r(),
+                m_inv: r(),
+                i_inv: r(),
+                ..SolverBody::default()
+            })
+            .collect();
+        let motion = (0..2 * LANES)
+            .map(|_| Motion {
+                dp: Vect::new(r(), r()),
+                dq_c1: r(),
+                dq_s: r(),
+                ..Motion::default()
+            })
+            .collect();
+        let p = SoftContactParams {
+            contact: Softness::RIGID,
+            fixed: Softness::RIGID,
+            h_inv: r(),
+            slop: r(),
+            push_out: r(),
+            restitution_threshold: Real::ZERO,
+            friction,
+            restitution: false,
+        };
+        (rows, manifolds, bodies, motion, p)
+    }
+
+    /// A pass of the wide kernel on `ops` against the scalar kernel on
+    /// each manifold: the same rows, bodies and bits.
+    fn compare<O: Ops>(
+        ops: O,
+        vals: Vec<i64>,
+        points: [bool; LANES],
+        friction: bool,
+        pass: Option<bool>,
+    ) -> Result<(), TestCaseError> {
+        let (rows, manifolds, bodies, motion, p) = case(vals, points, friction);
+        // Scalar.
+        let (mut s_rows, mut s_bodies) = (rows.clone(), bodies.clone());
+        for &(start, end) in &manifolds {
+            let m = &mut s_rows[start as usize..end as usize];
+            match pass {
+                Some(use_bias) => on_bodies(m, &mut s_bodies, |m, copy| {
+                    solve_manifold(m, copy, &motion, &p, use_bias);
+                }),
+                None => on_bodies(m, &mut s_bodies, |m, copy| warm_start_manifold(m, copy)),
+            }
+        }
+        // Wide.
+        let (mut w_rows, mut w_bodies) = (rows.clone(), bodies.clone());
+        let mut batch = gather_batch(manifolds, &w_rows);
+        let left = match pass {
+            Some(use_bias) => solve_batch(
+                ops,
+                &mut batch,
+                &mut w_bodies,
+                &mut w_rows,
+                &motion,
+                &p,
+                use_bias,
+            ),
+            None => warm_start_batch(ops, &mut batch, &mut w_bodies, &mut w_rows, Real::ONE),
+        };
+        LEFT.fetch_add(left as u64, core::sync::atomic::Ordering::Relaxed);
+        for lane in 0..LANES {
+            put_lane(&batch, lane, &mut w_rows);
+        }
+        prop_assert_eq!(format!("{w_rows:?}"), format!("{s_rows:?}"));
+        prop_assert_eq!(format!("{w_bodies:?}"), format!("{s_bodies:?}"));
+        Ok(())
+    }
+
+    fn values() -> impl Strategy<Value = Vec<i64>> {
+        prop_oneof![
+            prop::collection::vec(bits(), 200),
+            prop::collection::vec(mid(), 200),
+            prop::collection::vec(-(1i64 << 36)..(1i64 << 36), 200),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2_000))]
+        /// The wide kernels, portable and (where the processor has it)
+        /// AVX2, give the scalar kernels' bits on any input: in the
+        /// window, at its edges and past them (where lanes run again on
+        /// the scalar kernel).
+        #[test]
+        fn wide_passes_match_the_scalar_kernels(
+            vals in values(),
+            points in prop::array::uniform4(any::<bool>()),
+            friction in any::<bool>(),
+            pass in prop_oneof![Just(None), Just(Some(true)), Just(Some(false))],
+        ) {
+            compare(Portable, vals.clone(), points, friction, pass)?;
+            if let Some(avx2) = tamias2d_simd::Avx2::new() {
+                compare(avx2, vals.clone(), points, friction, pass)?;
+            }
+            // Coverage: how often a lane left (and ran the scalar kernel).
+            use core::sync::atomic::Ordering::Relaxed;
+            let cases = CASES.fetch_add(1, Relaxed) + 1;
+            if cases % 1000 == 0 {
+                eprintln!("cases {cases}, lanes left so far {}", LEFT.load(Relaxed));
+            }
+        }
+    }
+}
