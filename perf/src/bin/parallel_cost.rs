@@ -1,6 +1,6 @@
 //! The parallel step's figures for `docs/performance.md` ("The parallel
-//! step"): `parallel_cost [--quality] [--soft] [--threads N] [--samples N]
-//! [--quantile Q] [scene...]`.
+//! step"): `parallel_cost [--quality] [--soft] [--scalar] [--threads N]
+//! [--samples N] [--quantile Q] [scene...]`.
 //!
 //! **Speed** (default): each scene (default `pyramid_100`,
 //! `many_pyramids_10x10`, `bowl_boxes_1000`, `rain_4000`) with sleeping
@@ -24,7 +24,10 @@
 //! steadier figure for comparing two builds on a shared machine).
 //!
 //! `--soft` times the soft step instead (always in the colored order): 1
-//! against N threads.
+//! against N threads. `--scalar` runs its scalar contact kernels on both
+//! (by default one thread runs the wide ones where the processor has
+//! AVX2; a step that splits its passes between threads runs the scalar
+//! ones).
 //!
 //! Needs the `parallel` feature, which `perf/Cargo.toml` turns on:
 //! `cargo run --release -p tamias2d-perf --bin parallel_cost` (from the
@@ -49,6 +52,11 @@ static QUANTILE: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize
 /// `--soft`: the soft step instead of the sequential solver.
 static SOFT: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
+/// `--scalar`: the scalar contact kernels (`Kernels::Scalar`) instead of
+/// the default (`Kernels::Auto`: the wide ones where the processor has
+/// AVX2 and the passes stay on one thread).
+static SCALAR: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
 /// `--iterations`: the solver iterations of every world (0: the scene's).
 static ITERATIONS: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
 
@@ -66,6 +74,9 @@ fn world(scene: &str, colored: bool, threads: usize) -> ScriptedWorld {
     }
     let mut w = desc.build().expect("the scene builds");
     w.space.set_threads(threads).expect("the threads start");
+    if SCALAR.load(std::sync::atomic::Ordering::Relaxed) {
+        w.space.set_kernels(tamias2d::space::Kernels::Scalar);
+    }
     w
 }
 
@@ -225,6 +236,7 @@ fn main() {
         match a.as_str() {
             "--quality" => quality_mode = true,
             "--soft" => SOFT.store(true, std::sync::atomic::Ordering::Relaxed),
+            "--scalar" => SCALAR.store(true, std::sync::atomic::Ordering::Relaxed),
             "--quantile" => QUANTILE.store(
                 args.next().and_then(|n| n.parse().ok()).unwrap_or(50),
                 std::sync::atomic::Ordering::Relaxed,
