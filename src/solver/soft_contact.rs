@@ -43,6 +43,7 @@ use row::{
 };
 pub(crate) use row::{Motion, SoftContact, SoftContactParams};
 pub(crate) use wide::Compiled;
+use wide::Pass;
 /// The soft rows of a step and the bodies' motion.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct SoftContacts {
@@ -169,7 +170,13 @@ impl SoftContacts {
     /// accumulators start from 0.
     pub(crate) fn warm_start(&mut self, bodies: &mut [SolverBody], warm: Option<Real>) {
         if self.wide.is_on() {
-            self.wide.warm_start(&mut self.rows, bodies, warm);
+            match warm {
+                Some(dt_coef) => {
+                    self.wide
+                        .run(Pass::WarmStart(dt_coef), &mut self.rows, bodies, &[]);
+                }
+                None => self.wide.zero_impulses(&mut self.rows),
+            }
             return;
         }
         let Some(dt_coef) = warm else {
@@ -200,8 +207,9 @@ impl SoftContacts {
     }
 
     /// [`warm_start`](Self::warm_start) and [`solve`](Self::solve) passes,
-    /// in order, on threads: each color's manifolds split between them on
-    /// shared bodies ([`sweep`]), the same bits. The bodies are shared once
+    /// in order, on threads: each color's manifolds (or, with the wide
+    /// kernels, its batches) split between them on shared bodies
+    /// ([`sweep`]), the same bits. The bodies are shared once
     /// for all the `passes` (each sharing moves every body between the
     /// cores' caches).
     pub(crate) fn solve_split(
@@ -211,13 +219,13 @@ impl SoftContacts {
         params: &SoftContactParams,
         passes: &[SoftPass],
     ) {
-        self.end_passes();
         let SoftContacts {
             rows,
             motion,
             manifold_rows,
             color_rows,
             shared,
+            wide,
             ..
         } = self;
         let layout = sweep::ColorLayout {
@@ -236,13 +244,21 @@ impl SoftContacts {
                 SoftPass::WarmStart(None) => {}
                 SoftPass::Solve { use_bias } => solve_manifold(m, copy, motion, params, use_bias),
             };
-            if let SoftPass::WarmStart(None) = pass {
-                for row in rows.iter_mut() {
-                    row.jn = Real::ZERO;
-                    row.jt = Real::ZERO;
+            match pass {
+                SoftPass::WarmStart(None) if wide.is_on() => wide.zero_impulses(rows),
+                SoftPass::WarmStart(None) => {
+                    for row in rows.iter_mut() {
+                        row.jn = Real::ZERO;
+                        row.jt = Real::ZERO;
+                    }
                 }
-            } else {
-                sweep::for_each_color(rows, layout, shared, &kernel);
+                SoftPass::WarmStart(Some(dt_coef)) if wide.is_on() => {
+                    wide.run_shared(Pass::WarmStart(dt_coef), rows, shared, motion);
+                }
+                SoftPass::Solve { use_bias } if wide.is_on() => {
+                    wide.run_shared(Pass::Solve(*params, use_bias), rows, shared, motion);
+                }
+                _ => sweep::for_each_color(rows, layout, shared, &kernel),
             }
         }
         sweep::unshare(shared, bodies);
@@ -261,9 +277,8 @@ impl SoftContacts {
         use_bias: bool,
     ) {
         if self.wide.is_on() {
-            let motion = &self.motion;
-            self.wide
-                .solve(&mut self.rows, bodies, motion, params, use_bias);
+            let pass = Pass::Solve(*params, use_bias);
+            self.wide.run(pass, &mut self.rows, bodies, &self.motion);
             return;
         }
         let motion = &self.motion;

@@ -76,7 +76,7 @@ impl Clone for SharedBody {
 impl SharedBody {
     /// The body's current value.
     #[inline(always)]
-    fn load(&self) -> SolverBody {
+    pub(crate) fn load(&self) -> SolverBody {
         let [vx, vy, w, bx, by, bw, m, i] = self
             .words
             .each_ref()
@@ -104,7 +104,7 @@ impl SharedBody {
 
     /// Sets the velocities (the solver never changes the inverse masses).
     #[inline(always)]
-    fn store_velocities(&self, b: &SolverBody) {
+    pub(crate) fn store_velocities(&self, b: &SolverBody) {
         let words = [b.v.x, b.v.y, b.w, b.v_bias.x, b.v_bias.y, b.w_bias];
         for (x, r) in self.words.iter().zip(words) {
             x.store(r.to_bits(), Relaxed);

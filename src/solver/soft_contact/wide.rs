@@ -27,13 +27,12 @@
 //! sub-steps run; [`SoftContacts`](super::SoftContacts) writes them back
 //! to its rows before anything else reads the rows.
 use crate::math::lanes::{Lane, LaneArith, Ops, Portable, LANES};
-use crate::math::Real;
-use crate::solver::graph;
-use crate::solver::SolverBody;
+use crate::math::{Real, Vect};
+use crate::solver::softness::Softness;
+use crate::solver::{graph, sweep, SolverBody};
 
 use super::row::{
-    on_bodies, scale_impulses, solve_manifold, warm_start_manifold, Motion, SoftContact,
-    SoftContactParams,
+    scale_impulses, solve_manifold, warm_start_manifold, Motion, SoftContact, SoftContactParams,
 };
 
 /// One point (the first or the second) of four manifolds: every field of
@@ -94,14 +93,6 @@ struct Batch {
     points: [PointLanes; 2],
 }
 
-/// One step of the plan: a batch, or one manifold for the scalar kernel.
-#[derive(Clone, Copy, Debug)]
-enum Piece {
-    Batch(u32),
-    /// A manifold's rows, `start..end` in `SoftContacts::rows`.
-    Rows(u32, u32),
-}
-
 /// How the wide kernels are compiled.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Compiled {
@@ -111,17 +102,23 @@ pub(crate) enum Compiled {
     Avx2,
 }
 
-/// The batches of one step and the order of the passes.
+/// The batches of one step, and what runs in each color.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct WideContacts {
     batches: Vec<Batch>,
-    plan: Vec<Piece>,
+    /// Each color's first batch (the overflow has none), and the end.
+    color_batches: Vec<u32>,
+    /// The manifolds the scalar kernel runs, as row ranges, color by
+    /// color (the overflow's last).
+    scalar: Vec<(u32, u32)>,
+    /// Each color's first manifold in `scalar`, and the end.
+    color_scalar: Vec<u32>,
     /// How the passes run this step (`None`: the wide kernels are off).
     compiled: Option<Compiled>,
 }
 
 impl WideContacts {
-    /// Whether the passes run the plan this step.
+    /// Whether the passes run the batches this step.
     pub(crate) fn is_on(&self) -> bool {
         self.compiled.is_some()
     }
@@ -129,12 +126,14 @@ impl WideContacts {
     /// Turns the wide kernels off (the rows hold the state).
     pub(crate) fn clear(&mut self) {
         self.batches.clear();
-        self.plan.clear();
+        self.color_batches.clear();
+        self.scalar.clear();
+        self.color_scalar.clear();
         self.compiled = None;
     }
 
-    /// The plan of a step: each color's manifolds in batches of four, the
-    /// rest (and the overflow) one by one.
+    /// The batches of a step: each color's manifolds in batches of four,
+    /// the rest (and the overflow) for the scalar kernel.
     pub(crate) fn build(
         &mut self,
         compiled: Compiled,
@@ -153,6 +152,8 @@ impl WideContacts {
             (start, end.max(start))
         };
         for c in 0..=graph::COLORS {
+            self.color_batches.push(self.batches.len() as u32);
+            self.color_scalar.push(self.scalar.len() as u32);
             // Manifolds of one and of two points batch apart (a batch
             // solves as many points as its largest manifold has).
             let mut pending: [[usize; LANES]; 2] = [[0; LANES]; 2];
@@ -168,7 +169,7 @@ impl WideContacts {
                         .get(start as usize..end as usize)
                         .is_some_and(shares_manifold_constants);
                 if !joins {
-                    self.plan.push(Piece::Rows(start, end));
+                    self.scalar.push((start, end));
                     continue;
                 }
                 let kind = usize::from(end.wrapping_sub(start) == 2);
@@ -180,19 +181,17 @@ impl WideContacts {
                     *n = n.saturating_add(1);
                 }
                 if *n == LANES {
-                    let batch = gather_batch(group.map(rows_of), rows);
-                    self.plan.push(Piece::Batch(self.batches.len() as u32));
-                    self.batches.push(batch);
+                    self.batches.push(gather_batch(group.map(rows_of), rows));
                     *n = 0;
                 }
             }
             for (group, &n) in pending.iter().zip(&counts) {
-                for &m in group.iter().take(n) {
-                    let (start, end) = rows_of(m);
-                    self.plan.push(Piece::Rows(start, end));
-                }
+                self.scalar
+                    .extend(group.iter().take(n).map(|&m| rows_of(m)));
             }
         }
+        self.color_batches.push(self.batches.len() as u32);
+        self.color_scalar.push(self.scalar.len() as u32);
         self.compiled = Some(compiled);
     }
 
@@ -205,143 +204,271 @@ impl WideContacts {
         }
     }
 
-    /// The warm start (see `SoftContacts::warm_start`) over the plan.
-    pub(crate) fn warm_start(
-        &mut self,
-        rows: &mut [SoftContact],
-        bodies: &mut [SolverBody],
-        warm: Option<Real>,
-    ) {
-        let Some(dt_coef) = warm else {
-            for row in rows.iter_mut() {
-                row.jn = Real::ZERO;
-                row.jt = Real::ZERO;
-            }
-            for point in self.batches.iter_mut().flat_map(|b| &mut b.points) {
-                point.state.jn = [0; LANES];
-                point.state.jt = [0; LANES];
-            }
-            return;
-        };
-        self.run(Pass::WarmStart(dt_coef), rows, bodies, &[]);
+    /// Warm starting off: every accumulated impulse starts from 0.
+    pub(crate) fn zero_impulses(&mut self, rows: &mut [SoftContact]) {
+        for row in rows.iter_mut() {
+            row.jn = Real::ZERO;
+            row.jt = Real::ZERO;
+        }
+        for point in self.batches.iter_mut().flat_map(|b| &mut b.points) {
+            point.state.jn = [0; LANES];
+            point.state.jt = [0; LANES];
+        }
     }
 
-    /// A solve (`use_bias`) or relax pass over the plan.
-    pub(crate) fn solve(
-        &mut self,
-        rows: &mut [SoftContact],
-        bodies: &mut [SolverBody],
-        motion: &[Motion],
-        params: &SoftContactParams,
-        use_bias: bool,
-    ) {
-        self.run(Pass::Solve(*params, use_bias), rows, bodies, motion);
-    }
-
-    /// `pass` over the plan, compiled as the step chose.
-    fn run(
+    /// `pass` in place, color after color: a color's batches, then its
+    /// other manifolds.
+    pub(crate) fn run(
         &mut self,
         pass: Pass,
         rows: &mut [SoftContact],
         bodies: &mut [SolverBody],
         motion: &[Motion],
     ) {
-        use tamias2d_simd::Kernel;
-        let avx2 = match self.compiled {
-            Some(Compiled::Avx2) => tamias2d_simd::Avx2::new(),
-            Some(Compiled::Portable) | None => None,
-        };
-        let (plan, batches) = (&self.plan, &mut self.batches);
-        match avx2 {
-            Some(ops) => {
-                let job = PlanPass {
-                    ops,
-                    pass,
-                    plan,
-                    batches,
-                    rows,
-                    bodies,
-                    motion,
-                };
-                // The same bits either way: run here only if the
-                // processor lost AVX2 since the check, which it cannot.
-                tamias2d_simd::run_avx2(job).unwrap_or_else(Kernel::run);
+        let compiled = self.compiled;
+        for c in 0..=graph::COLORS {
+            let batches = part_mut(&mut self.batches, &self.color_batches, c);
+            dispatch(compiled, pass, batches, InPlace(bodies), motion);
+            for &(start, end) in part(&self.scalar, &self.color_scalar, c) {
+                if let Some(m) = rows.get_mut(start as usize..end as usize) {
+                    scalar_pass(pass, m, &mut InPlace(bodies), motion);
+                }
             }
-            None => PlanPass {
-                ops: Portable,
-                pass,
-                plan,
-                batches,
-                rows,
-                bodies,
-                motion,
+        }
+    }
+
+    /// `pass` on bodies threads share, color after color: a color's
+    /// batches split between the threads (halves down to
+    /// [`BATCH_PIECE`]s; any split gives the same bits, as no two
+    /// manifolds of a color share a body the solver moves), then its
+    /// other manifolds on this thread.
+    pub(crate) fn run_shared(
+        &mut self,
+        pass: Pass,
+        rows: &mut [SoftContact],
+        shared: &[sweep::SharedBody],
+        motion: &[Motion],
+    ) {
+        let compiled = self.compiled;
+        for c in 0..=graph::COLORS {
+            let batches = part_mut(&mut self.batches, &self.color_batches, c);
+            split_batches(compiled, pass, batches, Shared(shared), motion);
+            for &(start, end) in part(&self.scalar, &self.color_scalar, c) {
+                if let Some(m) = rows.get_mut(start as usize..end as usize) {
+                    scalar_pass(pass, m, &mut Shared(shared), motion);
+                }
             }
-            .run(),
+        }
+    }
+}
+
+/// Batches per piece of a split color (about 2 µs of work).
+const BATCH_PIECE: usize = 8;
+
+/// [`dispatch`] on `batches` in halves on threads, down to
+/// [`BATCH_PIECE`]s.
+fn split_batches(
+    compiled: Option<Compiled>,
+    pass: Pass,
+    batches: &mut [Batch],
+    store: Shared<'_>,
+    motion: &[Motion],
+) {
+    if batches.len() <= BATCH_PIECE {
+        dispatch(compiled, pass, batches, store, motion);
+        return;
+    }
+    let (left, right) = batches.split_at_mut(batches.len() / 2);
+    crate::threads::join(
+        || split_batches(compiled, pass, left, store, motion),
+        || split_batches(compiled, pass, right, store, motion),
+    );
+}
+
+/// Part `c` of `items`, whose parts start at `starts` (and end at the
+/// next start).
+fn part<'a, T>(items: &'a [T], starts: &[u32], c: usize) -> &'a [T] {
+    let start = starts.get(c).copied().unwrap_or(0) as usize;
+    let end = starts.get(c.saturating_add(1)).copied().unwrap_or(0) as usize;
+    items.get(start..end.max(start)).unwrap_or(&[])
+}
+
+/// [`part`], mutable.
+fn part_mut<'a, T>(items: &'a mut [T], starts: &[u32], c: usize) -> &'a mut [T] {
+    let start = starts.get(c).copied().unwrap_or(0) as usize;
+    let end = starts.get(c.saturating_add(1)).copied().unwrap_or(0) as usize;
+    items.get_mut(start..end.max(start)).unwrap_or(&mut [])
+}
+
+/// The scalar kernel's `pass` on one manifold's rows.
+#[inline(always)]
+fn scalar_pass<S: BodyStore>(pass: Pass, m: &mut [SoftContact], store: &mut S, motion: &[Motion]) {
+    match pass {
+        Pass::WarmStart(dt_coef) => {
+            scale_impulses(m, dt_coef);
+            on_store(m, store, |m, copy| warm_start_manifold(m, copy));
+        }
+        Pass::Solve(p, use_bias) => on_store(m, store, |m, copy| {
+            solve_manifold(m, copy, motion, &p, use_bias);
+        }),
+    }
+}
+
+/// Where a pass reads and writes the bodies: in place, or shared between
+/// threads.
+trait BodyStore {
+    /// The body in `slot` (`None` past the end).
+    fn load(&self, slot: u32) -> Option<SolverBody>;
+    /// Its new velocities.
+    fn store(&mut self, slot: u32, body: &SolverBody);
+}
+
+/// The bodies in place (one thread).
+struct InPlace<'a>(&'a mut [SolverBody]);
+
+impl BodyStore for InPlace<'_> {
+    #[inline(always)]
+    fn load(&self, slot: u32) -> Option<SolverBody> {
+        self.0.get(slot as usize).copied()
+    }
+    #[inline(always)]
+    fn store(&mut self, slot: u32, body: &SolverBody) {
+        if let Some(b) = self.0.get_mut(slot as usize) {
+            (b.v, b.w) = (body.v, body.w);
+        }
+    }
+}
+
+/// The bodies threads share ([`sweep::SharedBody`]).
+#[derive(Clone, Copy)]
+struct Shared<'a>(&'a [sweep::SharedBody]);
+
+impl BodyStore for Shared<'_> {
+    #[inline(always)]
+    fn load(&self, slot: u32) -> Option<SolverBody> {
+        self.0.get(slot as usize).map(sweep::SharedBody::load)
+    }
+    #[inline(always)]
+    fn store(&mut self, slot: u32, body: &SolverBody) {
+        if let Some(b) = self.0.get(slot as usize) {
+            b.store_velocities(body);
+        }
+    }
+}
+
+/// True for a body the solver moves (a nonzero inverse mass or moment);
+/// the others come out of a pass unchanged and are not stored, so that
+/// threads sharing one never write its cache line.
+#[inline(always)]
+fn movable(b: &SolverBody) -> bool {
+    !b.m_inv.is_zero() || !b.i_inv.is_zero()
+}
+
+/// Runs `f` on one manifold's rows with a copy of its two bodies from
+/// `store`, and stores the movable ones back (nothing for a body paired
+/// with itself, or a slot out of range): the in-place kernel's bits.
+#[inline(always)]
+fn on_store<S: BodyStore>(
+    rows: &mut [SoftContact],
+    store: &mut S,
+    f: impl FnOnce(&mut [SoftContact], &mut [SolverBody; 2]),
+) {
+    let Some(first) = rows.first() else {
+        return;
+    };
+    let (ia, ib) = (first.a, first.b);
+    if ia == ib {
+        return;
+    }
+    let (Some(a), Some(b)) = (store.load(ia), store.load(ib)) else {
+        return;
+    };
+    let mut copy = [a, b];
+    f(rows, &mut copy);
+    for (slot, body) in [ia, ib].into_iter().zip(&copy) {
+        if movable(body) {
+            store.store(slot, body);
         }
     }
 }
 
 /// Which pass.
 #[derive(Clone, Copy, Debug)]
-enum Pass {
+pub(crate) enum Pass {
     WarmStart(Real),
     Solve(SoftContactParams, bool),
 }
 
-/// One pass over the plan on the lane operations `O`: the kernel
+/// `pass` on `batches`, in AVX2 instructions when the step chose them.
+#[inline(always)]
+fn dispatch<S: BodyStore>(
+    compiled: Option<Compiled>,
+    pass: Pass,
+    batches: &mut [Batch],
+    store: S,
+    motion: &[Motion],
+) {
+    use tamias2d_simd::Kernel;
+    if batches.is_empty() {
+        return;
+    }
+    let avx2 = match compiled {
+        Some(Compiled::Avx2) => tamias2d_simd::Avx2::new(),
+        Some(Compiled::Portable) | None => None,
+    };
+    match avx2 {
+        // The same bits either way: `run_avx2` hands the job back only if
+        // the processor lost AVX2 since the check, which it cannot.
+        Some(ops) => {
+            let job = BatchPass {
+                ops,
+                pass,
+                batches,
+                store,
+                motion,
+            };
+            tamias2d_simd::run_avx2(job).unwrap_or_else(Kernel::run);
+        }
+        None => BatchPass {
+            ops: Portable,
+            pass,
+            batches,
+            store,
+            motion,
+        }
+        .run(),
+    }
+}
+
+/// One pass over batches on the lane operations `O`: the kernel
 /// `tamias2d_simd` compiles for AVX2.
-struct PlanPass<'a, O: Ops> {
+struct BatchPass<'a, O: Ops, S: BodyStore> {
     ops: O,
     pass: Pass,
-    plan: &'a [Piece],
     batches: &'a mut [Batch],
-    rows: &'a mut [SoftContact],
-    bodies: &'a mut [SolverBody],
+    store: S,
     motion: &'a [Motion],
 }
 
-impl<O: Ops> tamias2d_simd::Kernel for PlanPass<'_, O> {
+impl<O: Ops, S: BodyStore> tamias2d_simd::Kernel for BatchPass<'_, O, S> {
     type Output = ();
 
     #[inline(always)]
     fn run(self) {
-        let PlanPass {
+        let BatchPass {
             ops,
             pass,
-            plan,
             batches,
-            rows,
-            bodies,
+            mut store,
             motion,
         } = self;
-        for &piece in plan {
-            match piece {
-                Piece::Batch(i) => {
-                    let Some(batch) = batches.get_mut(i as usize) else {
-                        continue;
-                    };
-                    match pass {
-                        Pass::WarmStart(dt_coef) => {
-                            warm_start_batch(ops, batch, bodies, rows, dt_coef);
-                        }
-                        Pass::Solve(p, use_bias) => {
-                            solve_batch(ops, batch, bodies, rows, motion, &p, use_bias);
-                        }
-                    }
+        for batch in batches {
+            match pass {
+                Pass::WarmStart(dt_coef) => {
+                    warm_start_batch(ops, batch, &mut store, dt_coef);
                 }
-                Piece::Rows(start, end) => {
-                    let Some(m) = rows.get_mut(start as usize..end as usize) else {
-                        continue;
-                    };
-                    match pass {
-                        Pass::WarmStart(dt_coef) => {
-                            scale_impulses(m, dt_coef);
-                            on_bodies(m, bodies, |m, copy| warm_start_manifold(m, copy));
-                        }
-                        Pass::Solve(p, use_bias) => on_bodies(m, bodies, |m, copy| {
-                            solve_manifold(m, copy, motion, &p, use_bias);
-                        }),
-                    }
+                Pass::Solve(p, use_bias) => {
+                    solve_batch(ops, batch, &mut store, motion, &p, use_bias);
                 }
             }
         }
@@ -447,15 +574,55 @@ fn put_lane(batch: &Batch, lane: usize, rows: &mut [SoftContact]) {
     }
 }
 
-/// A lane's state from its rows (after the scalar kernel ran it).
+/// A lane's rows as the scalar kernels read them, rebuilt from the batch
+/// (every field a pass reads; the restitution's and the write-back's
+/// are left at 0), and their count.
+fn lane_rows(batch: &Batch, lane: usize) -> ([SoftContact; 2], usize) {
+    let mut out = [SoftContact::default(); 2];
+    let count = batch.count.get(lane).copied().unwrap_or(0) as usize;
+    for (row, pt) in out.iter_mut().zip(&batch.points) {
+        let at = |v: &Lane| get(v, lane);
+        *row = SoftContact {
+            a: batch.a.get(lane).copied().unwrap_or(0),
+            b: batch.b.get(lane).copied().unwrap_or(0),
+            n: Vect::new(at(&pt.n_x), at(&pt.n_y)),
+            dist: at(&pt.dist),
+            sep: at(&pt.state.sep),
+            nr_a: at(&pt.nr_a),
+            nr_b: at(&pt.nr_b),
+            rn_a: at(&pt.rn_a),
+            rn_b: at(&pt.rn_b),
+            rt_a: at(&pt.rt_a),
+            rt_b: at(&pt.rt_b),
+            kn_a: at(&pt.kn_a),
+            kn_b: at(&pt.kn_b),
+            kt_a: at(&pt.kt_a),
+            kt_b: at(&pt.kt_b),
+            m_inv_a: at(&batch.m_inv_a),
+            m_inv_b: at(&batch.m_inv_b),
+            n_mass: at(&pt.n_mass),
+            t_mass: at(&pt.t_mass),
+            friction: at(&pt.friction),
+            surface_t: at(&pt.surface_t),
+            soft: Softness {
+                bias_rate: at(&batch.bias_rate),
+                mass_scale: at(&batch.mass_scale),
+                impulse_scale: at(&batch.impulse_scale),
+            },
+            jn: at(&pt.state.jn),
+            jt: at(&pt.state.jt),
+            max_jn: at(&pt.state.max_jn),
+            constant_record: pt.constant_record.get(lane).copied().unwrap_or(u64::MAX),
+            ..SoftContact::default()
+        };
+    }
+    (out, count.min(2))
+}
+
+/// A lane's state from its rows (after the scalar kernel ran them).
 #[inline(always)]
 fn take_lane(batch: &mut Batch, lane: usize, rows: &[SoftContact]) {
-    let start = batch.first.get(lane).copied().unwrap_or(0) as usize;
-    let count = batch.count.get(lane).copied().unwrap_or(0) as usize;
-    let Some(from) = rows.get(start..start.saturating_add(count)) else {
-        return;
-    };
-    for (row, point) in from.iter().zip(&mut batch.points) {
+    for (row, point) in rows.iter().zip(&mut batch.points) {
         let s = &mut point.state;
         set(&mut s.sep, lane, row.sep.to_bits());
         set(&mut s.jn, lane, row.jn.to_bits());
@@ -470,38 +637,43 @@ struct BodyLanes {
     vx: Lane,
     vy: Lane,
     w: Lane,
+    /// Which are bodies the solver moves (the others are not stored).
+    movable: [bool; LANES],
 }
 
 impl BodyLanes {
     #[inline(always)]
-    fn gather(bodies: &[SolverBody], slots: &[u32; LANES]) -> BodyLanes {
+    fn gather<S: BodyStore>(store: &S, slots: &[u32; LANES]) -> BodyLanes {
         let mut out = BodyLanes {
             vx: [0; LANES],
             vy: [0; LANES],
             w: [0; LANES],
+            movable: [false; LANES],
         };
         for (lane, &slot) in slots.iter().enumerate() {
-            if let Some(b) = bodies.get(slot as usize) {
+            if let Some(b) = store.load(slot) {
                 set(&mut out.vx, lane, b.v.x.to_bits());
                 set(&mut out.vy, lane, b.v.y.to_bits());
                 set(&mut out.w, lane, b.w.to_bits());
+                set(&mut out.movable, lane, movable(&b));
             }
         }
         out
     }
 
-    /// Writes back the lanes not `left`.
+    /// Stores the movable bodies of the lanes not `left`.
     #[inline(always)]
-    fn scatter(&self, bodies: &mut [SolverBody], slots: &[u32; LANES], left: &[bool; LANES]) {
-        for (lane, (&slot, &l)) in slots.iter().zip(left).enumerate() {
-            if l {
+    fn scatter<S: BodyStore>(&self, store: &mut S, slots: &[u32; LANES], left: &[bool; LANES]) {
+        for (lane, ((&slot, &l), &m)) in slots.iter().zip(left).zip(&self.movable).enumerate() {
+            if l || !m {
                 continue;
             }
-            if let Some(b) = bodies.get_mut(slot as usize) {
-                b.v.x = get(&self.vx, lane);
-                b.v.y = get(&self.vy, lane);
-                b.w = get(&self.w, lane);
-            }
+            let body = SolverBody {
+                v: Vect::new(get(&self.vx, lane), get(&self.vy, lane)),
+                w: get(&self.w, lane),
+                ..SolverBody::default()
+            };
+            store.store(slot, &body);
         }
     }
 
@@ -569,17 +741,16 @@ fn relative_velocity<O: Ops>(
 /// four lanes, the lanes that left the window run again by the scalar
 /// kernel; returns how many.
 #[inline(always)]
-fn solve_batch<O: Ops>(
+fn solve_batch<O: Ops, S: BodyStore>(
     ops: O,
     batch: &mut Batch,
-    bodies: &mut [SolverBody],
-    rows: &mut [SoftContact],
+    store: &mut S,
     motion: &[Motion],
     p: &SoftContactParams,
     use_bias: bool,
 ) -> usize {
-    let mut a = BodyLanes::gather(bodies, &batch.a);
-    let mut b = BodyLanes::gather(bodies, &batch.b);
+    let mut a = BodyLanes::gather(store, &batch.a);
+    let mut b = BodyLanes::gather(store, &batch.b);
     let mut ar = LaneArith::new(ops);
     let o = ops;
     ar.check_inputs(&[a.vx, a.vy, a.w, b.vx, b.vy, b.w, lane_of(p.slop)]);
@@ -687,15 +858,15 @@ fn solve_batch<O: Ops>(
         }
     }
     let left = ar.left();
-    a.scatter(bodies, &batch.a, &left);
-    b.scatter(bodies, &batch.b, &left);
+    a.scatter(store, &batch.a, &left);
+    b.scatter(store, &batch.b, &left);
     if left.contains(&true) {
         // The lanes that left keep their state from before the pass, for
         // the scalar kernel to start from.
         for (pt, st) in batch.points.iter_mut().zip(&state) {
             pt.state = keep_left(pt.state, *st, &left);
         }
-        rerun_left(batch, bodies, rows, &left, |m, copy| {
+        rerun_left(batch, store, &left, |m, copy| {
             solve_manifold(m, copy, motion, p, use_bias);
         })
     } else {
@@ -729,11 +900,10 @@ fn keep_left(old: PointState, new: PointState, left: &[bool; LANES]) -> PointSta
 /// The warm start of a batch: `warm_start_manifold` on four lanes;
 /// returns how many lanes ran again on the scalar kernel.
 #[inline(always)]
-fn warm_start_batch<O: Ops>(
+fn warm_start_batch<O: Ops, S: BodyStore>(
     ops: O,
     batch: &mut Batch,
-    bodies: &mut [SolverBody],
-    rows: &mut [SoftContact],
+    store: &mut S,
     dt_coef: Real,
 ) -> usize {
     if dt_coef != Real::ONE {
@@ -745,8 +915,8 @@ fn warm_start_batch<O: Ops>(
             }
         }
     }
-    let mut a = BodyLanes::gather(bodies, &batch.a);
-    let mut b = BodyLanes::gather(bodies, &batch.b);
+    let mut a = BodyLanes::gather(store, &batch.a);
+    let mut b = BodyLanes::gather(store, &batch.b);
     let mut ar = LaneArith::new(ops);
     let o = ops;
     ar.check_inputs(&[a.vx, a.vy, a.w, b.vx, b.vy, b.w]);
@@ -764,10 +934,10 @@ fn warm_start_batch<O: Ops>(
         b.change(o, dvb, dwb, true);
     }
     let left = ar.left();
-    a.scatter(bodies, &batch.a, &left);
-    b.scatter(bodies, &batch.b, &left);
+    a.scatter(store, &batch.a, &left);
+    b.scatter(store, &batch.b, &left);
     if left.contains(&true) {
-        rerun_left(batch, bodies, rows, &left, |m, copy| {
+        rerun_left(batch, store, &left, |m, copy| {
             warm_start_manifold(m, copy);
         })
     } else {
@@ -776,27 +946,23 @@ fn warm_start_batch<O: Ops>(
 }
 
 /// The lanes that left the window, run again by the scalar kernel `f`
-/// from their state before the pass (which the batch still holds);
-/// returns how many.
+/// from their state before the pass (which the batch still holds), on
+/// rows rebuilt from the batch; returns how many.
 #[cold]
 #[inline(never)]
-fn rerun_left(
+fn rerun_left<S: BodyStore>(
     batch: &mut Batch,
-    bodies: &mut [SolverBody],
-    rows: &mut [SoftContact],
+    store: &mut S,
     left: &[bool; LANES],
     mut f: impl FnMut(&mut [SoftContact], &mut [SolverBody; 2]),
 ) -> usize {
     let mut count = 0usize;
     for (lane, _) in left.iter().enumerate().filter(|(_, &l)| l) {
         count = count.saturating_add(1);
-        put_lane(batch, lane, rows);
-        let start = batch.first.get(lane).copied().unwrap_or(0) as usize;
-        let count = batch.count.get(lane).copied().unwrap_or(0) as usize;
-        if let Some(m) = rows.get_mut(start..start.saturating_add(count)) {
-            on_bodies(m, bodies, &mut f);
-        }
-        take_lane(batch, lane, rows);
+        let (mut rows, n) = lane_rows(batch, lane);
+        let m = rows.get_mut(..n).unwrap_or(&mut []);
+        on_store(m, store, &mut f);
+        take_lane(batch, lane, m);
     }
     count
 }
@@ -804,9 +970,8 @@ fn rerun_left(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::Vect;
+    use crate::solver::soft_contact::row::on_bodies;
     use crate::solver::soft_contact::row::tests::{bits, mid, rows_from};
-    use crate::solver::softness::Softness;
     use proptest::prelude::*;
 
     /// Lanes that left their window in the cases so far, and cases
@@ -901,17 +1066,10 @@ mod tests {
         // Wide.
         let (mut w_rows, mut w_bodies) = (rows.clone(), bodies.clone());
         let mut batch = gather_batch(manifolds, &w_rows);
+        let mut store = InPlace(&mut w_bodies);
         let left = match pass {
-            Some(use_bias) => solve_batch(
-                ops,
-                &mut batch,
-                &mut w_bodies,
-                &mut w_rows,
-                &motion,
-                &p,
-                use_bias,
-            ),
-            None => warm_start_batch(ops, &mut batch, &mut w_bodies, &mut w_rows, Real::ONE),
+            Some(use_bias) => solve_batch(ops, &mut batch, &mut store, &motion, &p, use_bias),
+            None => warm_start_batch(ops, &mut batch, &mut store, Real::ONE),
         };
         LEFT.fetch_add(left as u64, core::sync::atomic::Ordering::Relaxed);
         for lane in 0..LANES {

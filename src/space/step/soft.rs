@@ -121,16 +121,8 @@ impl Space {
                     .map(|(h, b)| (h, b.f, b.t)),
             );
         }
-        // The wide kernels run the passes that stay on this thread.
-        let split =
-            threads.parallel() && self.caches.soft_contacts.manifolds() >= SPLIT_MIN_MANIFOLDS;
-        let compiled = if split {
-            None
-        } else {
-            self.caches.kernels.wide()
-        };
         self.caches.soft_contacts.use_wide(
-            compiled,
+            self.caches.kernels.wide(),
             &self.caches.solver.graph,
             &self.caches.solver.bodies,
         );
