@@ -1,13 +1,4 @@
-//! Runs a kernel compiled for AVX2 when the processor has it.
-//!
-//! This is the one `unsafe` call of Tamias2D: calling a
-//! `#[target_feature(enable = "avx2")]` function is `unsafe` because a
-//! processor without AVX2 would stop on an illegal instruction. It is made
-//! only after the standard library's runtime check said the processor has
-//! AVX2. The kernel itself is safe Rust; AVX2 changes which instructions
-//! the compiler may choose for it, never what it computes (integer
-//! arithmetic has no rounding modes or fused operations), so a kernel
-//! gives the same bits either way.
+#![doc = include_str!("../README.md")]
 #![no_std]
 
 #[cfg(target_arch = "x86_64")]
@@ -86,7 +77,7 @@ impl Avx2 {
 
 /// Defines a method of [`Avx2`] as one intrinsic on two lanes.
 macro_rules! binary {
-    ($(#[$doc:meta])* $name:ident, $intrinsic:ident) => {
+    ($(#[$doc:meta])* $name:ident) => {
         $(#[$doc])*
         #[inline(always)]
         pub fn $name(self, a: U64x4, b: U64x4) -> U64x4 {
@@ -108,33 +99,33 @@ macro_rules! binary {
 impl Avx2 {
     binary!(
         /// `a + b` lane by lane, wrapping (`vpaddq`).
-        add, add
+        add
     );
     binary!(
         /// `a − b` lane by lane, wrapping (`vpsubq`).
-        sub, sub
+        sub
     );
     binary!(
         /// `a ^ b` (`vpxor`).
-        xor, xor
+        xor
     );
     binary!(
         /// `a & b` (`vpand`).
-        and, and
+        and
     );
     binary!(
         /// `a | b` (`vpor`).
-        or, or
+        or
     );
     binary!(
         /// All ones where `a > b` as signed 64-bit integers, else 0
         /// (`vpcmpgtq`).
-        gt, gt
+        gt
     );
     binary!(
         /// The low 32 bits of `a` times the low 32 bits of `b`, 64-bit
         /// products (`vpmuludq`).
-        mul_lo32, mul_lo32
+        mul_lo32
     );
 
     /// `mask ? a : b` lane by lane, `mask` all ones or 0 (`vpblendvb`).
