@@ -99,6 +99,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), String> {
             args.warmup,
             args.samples.unwrap_or(20),
             args.solver,
+            args.kernels.unwrap_or_default(),
         );
     }
     let base = if args.quick { QUICK_PLAN } else { FULL_PLAN };

@@ -69,6 +69,7 @@ pub fn rollback(
     warmup: Option<u32>,
     samples: u32,
     solver: Option<source::SolverChoice>,
+    kernels: tamias2d::space::Kernels,
 ) -> Result<(), String> {
     let names: Vec<String> = if names.is_empty() {
         DEFAULT_SCENES.iter().map(|s| (*s).to_owned()).collect()
@@ -90,25 +91,31 @@ pub fn rollback(
         );
     }
     println!(
-        "rollback budget: {} scenes{}, medians of {samples} samples; \
+        "rollback budget: {} scenes{}, {} kernels, medians of {samples} samples; \
          rollback = load + {FRAMES} x (step + save + checksum)",
         descs.len(),
         match solver {
             Some(source::SolverChoice::Soft) => ", soft step",
             Some(source::SolverChoice::Sequential) => ", sequential impulses",
             None => "",
-        }
+        },
+        kernels.describe()
     );
     for desc in &descs {
         let steps = warmup.unwrap_or_else(|| default_warmup(&desc.name));
-        measure(desc, steps, samples).map_err(|e| format!("scene {}: {e}", desc.name))?;
+        measure(desc, steps, samples, kernels).map_err(|e| format!("scene {}: {e}", desc.name))?;
     }
     Ok(())
 }
 
 /// Builds `desc`, steps it `warmup` times and returns the world and its dt.
-fn warm(desc: &scenes::SceneDesc, warmup: u32) -> Result<(Space, Real), String> {
+fn warm(
+    desc: &scenes::SceneDesc,
+    warmup: u32,
+    kernels: tamias2d::space::Kernels,
+) -> Result<(Space, Real), String> {
     let mut sim = source::build(desc)?;
+    sim.space.set_kernels(kernels);
     for _ in 0..warmup {
         sim.step().map_err(|e| e.to_string())?;
     }
@@ -134,9 +141,14 @@ fn median_ms(samples: u32, mut op: impl FnMut() -> Result<(), String>) -> Result
 }
 
 /// Measures and prints one scene.
-fn measure(desc: &scenes::SceneDesc, warmup: u32, samples: u32) -> Result<(), String> {
+fn measure(
+    desc: &scenes::SceneDesc,
+    warmup: u32,
+    samples: u32,
+    kernels: tamias2d::space::Kernels,
+) -> Result<(), String> {
     let err = |e: &dyn std::fmt::Display| e.to_string();
-    let (space, dt) = warm(desc, warmup)?;
+    let (space, dt) = warm(desc, warmup, kernels)?;
     let bodies = space.bodies().count();
     let moving = space
         .bodies()
@@ -183,7 +195,7 @@ fn measure(desc: &scenes::SceneDesc, warmup: u32, samples: u32) -> Result<(), St
     );
     let mut off = desc.clone();
     off.settings.sleep_time_threshold = SLEEP_NEVER;
-    let (mut awake, _) = warm(&off, warmup)?;
+    let (mut awake, _) = warm(&off, warmup, kernels)?;
     let step_off = median_ms(samples, || awake.step(dt).map_err(|e| err(&e)))?;
 
     let mut frames: Vec<Vec<u8>> = vec![Vec::new(); FRAMES];

@@ -9,8 +9,10 @@
 //! [`Lane`] per field and point), gathered once per step, and each pass
 //! gathers the eight bodies' velocities, runs every operation of the
 //! scalar manifold pass on the four lanes at once, and scatters them back.
-//! A manifold with one point gets a second point of zeros, which applies
-//! an impulse of exactly 0. Where the scalar pass computes one branch
+//! Manifolds of one point and of two batch apart, and a batch solves as
+//! many points as its largest manifold has (a missing point is zeros,
+//! which applies an impulse of exactly 0). Where the scalar pass computes
+//! one branch
 //! (apart or overlapping, soft or rigid), the lanes compute both and
 //! select: a rigid row's `jn·1 + 0·jn_acc` is `jn` exactly, so the soft
 //! formula gives the rigid row's bits.
@@ -20,8 +22,12 @@
 //! scalar kernel from its state before the pass, exactly as if the lanes
 //! had never seen it. The other lanes' bodies are untouched by it (the
 //! color's promise), so the order does not matter. Manifolds that cannot
-//! join a batch (the overflow color, a color's last one to three, a body
-//! paired with itself) run the scalar kernel in place.
+//! join a batch (the overflow color, a color's last one to three of each
+//! kind, a body paired with itself, rows that do not share their bodies'
+//! masses and softness) run the scalar kernel, after the color's batches.
+//! With threads a color's batches are split between them on the shared
+//! bodies; the kernels read and write bodies through a [`BodyStore`], in
+//! place or shared.
 //!
 //! The batches hold the rows' running impulses and separations while the
 //! sub-steps run; [`SoftContacts`](super::SoftContacts) writes them back
