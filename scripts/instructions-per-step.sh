@@ -11,7 +11,10 @@
 # one codegen unit, so the count does not move with how the compiler splits
 # the crate into units), or runs the binary TAMIAS_BIN names (to compare
 # two builds). TAMIAS_ARGS adds arguments to every run (e.g.
-# TAMIAS_ARGS="--solver soft").
+# TAMIAS_ARGS="--solver soft"). The soft step's contact passes run on the
+# scalar kernels (TAMIAS_KERNELS, default `scalar`): valgrind 3 cannot
+# decode some of the AVX instructions of the wide kernels, and the run
+# would stop at the first (a count of 0).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 n=100
@@ -23,7 +26,8 @@ if [[ -z "$bin" ]]; then
 fi
 out=$(mktemp -d)
 total() { # total SCENE STEPS: the instructions of the whole run
-    valgrind --tool=callgrind --callgrind-out-file="$out/cg" "$bin" run "$1" --steps "$2" --threads 1 ${TAMIAS_ARGS:-} >/dev/null 2>&1
+    valgrind --tool=callgrind --callgrind-out-file="$out/cg" "$bin" run "$1" --steps "$2" --threads 1 \
+        --kernels "${TAMIAS_KERNELS:-scalar}" ${TAMIAS_ARGS:-} >/dev/null 2>&1
     awk '/^summary:/ {print $2}' "$out/cg"
 }
 for scene in "$@"; do
