@@ -290,12 +290,13 @@ fn soft_step_goldens_match_the_committed_values() {
     let mut wrong = Vec::new();
     // Every compiled form of the contact passes: the scalar kernels, the
     // wide ones as this processor runs them (AVX2 where it has it), and
-    // the wide ones compiled for the build's instruction set. The last
-    // run 16 times slower than the scalar ones in a debug build: there
-    // they run on a few short scenes (`wide_kernels_in_a_debug_build`).
+    // the wide ones compiled for the build's instruction set. Unoptimised,
+    // the wide kernels run about 60 times slower than the scalar ones: a
+    // debug build runs them on a few short scenes instead
+    // (`wide_kernels_in_a_debug_build`).
     let mut forms = kernel_forms();
     if cfg!(debug_assertions) {
-        forms.retain(|&k| k != Kernels::Portable);
+        forms.retain(|&k| k == Kernels::Scalar);
     }
     for kernels in forms {
         for &(name, g) in &native {
@@ -336,18 +337,15 @@ fn kernel_forms() -> Vec<Kernels> {
 }
 
 /// The wide kernels in an unoptimised build (with its overflow checks):
-/// the scalar kernels' bits on short runs of a stack, boxes in a bowl and
-/// circles in a bowl (the full golden matrix runs in optimised builds).
+/// the scalar kernels' bits on short runs of a stack (manifolds of two
+/// points) and of circles in a bowl (of one point). The full golden
+/// matrix runs in optimised builds.
 #[test]
 fn wide_kernels_in_a_debug_build() {
     if cfg!(miri) || !cfg!(debug_assertions) {
         return;
     }
-    for (name, steps) in [
-        ("pyramid_20", 8),
-        ("bowl_boxes_100", 12),
-        ("bowl_circles_100", 12),
-    ] {
+    for (name, steps) in [("pyramid_20", 8), ("bowl_circles_100", 12)] {
         let scalar = checksum_of(name, steps, Kernels::Scalar, SettingsDesc::use_soft_step);
         for kernels in kernel_forms() {
             let got = checksum_of(name, steps, kernels, SettingsDesc::use_soft_step);

@@ -11,13 +11,16 @@ use super::soft_contact::Compiled;
 /// in AVX2 instructions: for the x86_64 baseline (SSE2), for other
 /// processors and for wasm they are slower than the scalar ones
 /// (`docs/performance.md`, "Wide kernels"), so [`Kernels::Auto`] runs them
-/// only where the processor has AVX2.
+/// only where the processor has AVX2, and only in optimised builds.
 /// Configuration, not state: never saved in a snapshot.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Kernels {
     /// The fastest measured on this processor: the wide kernels in AVX2
     /// instructions where it has AVX2 (a runtime check), the scalar ones
-    /// elsewhere. The default.
+    /// elsewhere. The default. A build with debug assertions (an
+    /// unoptimised build, as a rule) runs the scalar ones: unoptimised,
+    /// every lane operation is a call and the wide kernels run about 60
+    /// times slower.
     #[default]
     Auto,
     /// The scalar kernels only.
@@ -35,6 +38,7 @@ impl Kernels {
     pub(crate) fn wide(self) -> Option<Compiled> {
         match self {
             Kernels::Scalar => None,
+            Kernels::Auto if cfg!(debug_assertions) => None,
             Kernels::Auto | Kernels::Wide if tamias2d_simd::has_avx2() => Some(Compiled::Avx2),
             Kernels::Auto => None,
             Kernels::Wide | Kernels::Portable => Some(Compiled::Portable),
