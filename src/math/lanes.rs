@@ -96,13 +96,6 @@ pub(crate) trait Ops: Copy {
         self.gt(splat(0), a)
     }
 
-    /// `|a|` as unsigned bits (`i64::MIN` gives `2^63`).
-    #[inline(always)]
-    fn abs(self, a: Lane) -> Lane {
-        let s = self.sign(a);
-        self.sub(self.xor(a, s), s)
-    }
-
     /// `−a`, wrapping.
     #[inline(always)]
     fn neg(self, a: Lane) -> Lane {
@@ -240,6 +233,18 @@ fn magnitude(x: i64) -> u64 {
     (x ^ (x >> 63)) as u64
 }
 
+/// One factor of lane products as the partial products take it: its
+/// magnitude, the magnitude's high half, and its sign (all ones where
+/// negative). A factor that several products share (a row's constant,
+/// an impulse applied through several terms) is split once
+/// ([`LaneArith::factor`]); the products' bits do not depend on it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Factor {
+    mag: Lane,
+    high: Lane,
+    sign: Lane,
+}
+
 /// Lane arithmetic with a record per lane (see the module docs), on the
 /// operations `O`.
 ///
@@ -306,24 +311,36 @@ impl<O: Ops> LaneArith<O> {
         }
     }
 
+    /// `a` split for products ([`Factor`]): `|a|` as unsigned bits
+    /// (`i64::MIN` gives `2^63`), its high half, its sign.
+    #[inline(always)]
+    pub(crate) fn factor(&self, a: Lane) -> Factor {
+        let o = self.ops;
+        let sign = o.sign(a);
+        let mag = o.sub(o.xor(a, sign), sign);
+        Factor {
+            mag,
+            high: o.shr32(mag),
+            sign,
+        }
+    }
+
     /// The partial products of `|a|·|b|` (`[hh, hl, lh, ll]`, each a
     /// 32×32→64 product, no masks needed: the instruction reads only the
     /// low halves) and the product's sign (all ones if negative),
     /// recording `hh`.
     #[inline(always)]
-    fn partials(&mut self, a: Lane, b: Lane) -> ([Lane; 4], Lane) {
+    fn partials(&mut self, a: &Factor, b: &Factor) -> ([Lane; 4], Lane) {
         let o = self.ops;
-        let sign = o.sign(o.xor(a, b));
-        let (ua, ub) = (o.abs(a), o.abs(b));
-        let (ah, bh) = (o.shr32(ua), o.shr32(ub));
-        let hh = o.mul_lo32(ah, bh);
+        let sign = o.xor(a.sign, b.sign);
+        let hh = o.mul_lo32(a.high, b.high);
         self.high = o.or(self.high, hh);
         (
             [
                 hh,
-                o.mul_lo32(ah, ub),
-                o.mul_lo32(ua, bh),
-                o.mul_lo32(ua, ub),
+                o.mul_lo32(a.high, b.mag),
+                o.mul_lo32(a.mag, b.high),
+                o.mul_lo32(a.mag, b.mag),
             ],
             sign,
         )
@@ -359,6 +376,20 @@ impl<O: Ops> LaneArith<O> {
     /// `a·b`, rounded as `Real`'s `*`.
     #[inline(always)]
     pub(crate) fn mul(&mut self, a: Lane, b: Lane) -> Lane {
+        let (a, b) = (self.factor(a), self.factor(b));
+        self.mul_factors(&a, &b)
+    }
+
+    /// `a·b` of a value and a split factor.
+    #[inline(always)]
+    pub(crate) fn mul_by(&mut self, a: Lane, b: &Factor) -> Lane {
+        let a = self.factor(a);
+        self.mul_factors(&a, b)
+    }
+
+    /// `a·b` of two split factors.
+    #[inline(always)]
+    pub(crate) fn mul_factors(&mut self, a: &Factor, b: &Factor) -> Lane {
         let (p, sign) = self.partials(a, b);
         let q = self.quotient(p, HALF);
         self.signed(q, sign)
@@ -368,18 +399,42 @@ impl<O: Ops> LaneArith<O> {
     /// (`N = 2`) and `Real::dot4` (`N = 4`).
     #[inline(always)]
     pub(crate) fn dot<const N: usize>(&mut self, x: [Lane; N], y: [Lane; N]) -> Lane {
-        let o = self.ops;
-        let mut high = [0i64; LANES];
-        let mut low = [0i64; LANES];
+        let mut sum = Sum::default();
         for (&a, &b) in x.iter().zip(&y) {
-            let (p, sign) = self.partials(a, b);
-            // Each term's quotient below 2^60 (recorded), so a sum of four
-            // stays below 2^62.
-            let q = self.quotient(p, 0);
-            let [.., ll] = p;
-            high = o.add(high, self.signed(q, sign));
-            low = o.add(low, self.signed(o.and(ll, splat(LOW)), sign));
+            let (a, b) = (self.factor(a), self.factor(b));
+            self.add_term(&mut sum, &a, &b);
         }
+        self.round_sum(sum)
+    }
+
+    /// [`dot`](Self::dot) with the second factors split.
+    #[inline(always)]
+    pub(crate) fn dot_by<const N: usize>(&mut self, x: [Lane; N], y: &[Factor; N]) -> Lane {
+        let mut sum = Sum::default();
+        for (&a, b) in x.iter().zip(y) {
+            let a = self.factor(a);
+            self.add_term(&mut sum, &a, b);
+        }
+        self.round_sum(sum)
+    }
+
+    /// One term `a·b` of a dot product, unrounded.
+    #[inline(always)]
+    fn add_term(&mut self, sum: &mut Sum, a: &Factor, b: &Factor) {
+        let o = self.ops;
+        let (p, sign) = self.partials(a, b);
+        // Each term's quotient below 2^60 (recorded), so a sum of four
+        // stays below 2^62.
+        let q = self.quotient(p, 0);
+        let [.., ll] = p;
+        sum.high = o.add(sum.high, self.signed(q, sign));
+        sum.low = o.add(sum.low, self.signed(o.and(ll, splat(LOW)), sign));
+    }
+
+    /// A dot product's terms rounded once.
+    #[inline(always)]
+    fn round_sum(&mut self, Sum { high, low }: Sum) -> Lane {
+        let o = self.ops;
         // |low| < 4·2^32: its carry (or borrow) into the high part (the
         // top half sign-extended from 32 bits), then `h·2^32 + l` rounded
         // with `l` in [0, 2^32); the total is negative exactly when `h`
@@ -392,6 +447,14 @@ impl<O: Ops> LaneArith<O> {
         self.quotient = o.or(self.quotient, o.xor(q, o.sign(q)));
         q
     }
+}
+
+/// A dot product's terms before the rounding: the truncated quotients
+/// and the 32-bit remainders, each signed, summed apart.
+#[derive(Clone, Copy, Default)]
+struct Sum {
+    high: Lane,
+    low: Lane,
 }
 
 #[cfg(test)]
@@ -552,7 +615,10 @@ mod tests {
         assert_eq!(o.max(a, b), [3, 1, 0, i64::MAX]);
         assert_eq!(o.positive(a), [-1, 0, 0, 0]);
         assert_eq!(o.select(o.positive(a), a, b), [3, 1, 0, i64::MAX]);
-        assert_eq!(o.abs([i64::MIN, -5, 5, 0]), [i64::MIN, 5, 5, 0]);
+        let f = LaneArith::new(o).factor([i64::MIN, -5, 5, 0]);
+        assert_eq!(f.mag, [i64::MIN, 5, 5, 0]);
+        assert_eq!(f.high, [1 << 31, 0, 0, 0]);
+        assert_eq!(f.sign, [-1, -1, 0, 0]);
         assert_eq!(o.neg([i64::MIN, -5, 5, 0]), [i64::MIN, 5, -5, 0]);
     }
 

@@ -21,10 +21,12 @@
 //! module `lanes`) is not scattered: that manifold is run again by the
 //! scalar kernel from its state before the pass, exactly as if the lanes
 //! had never seen it. The other lanes' bodies are untouched by it (the
-//! color's promise), so the order does not matter. Manifolds that cannot
-//! join a batch (the overflow color, a color's last one to three of each
-//! kind, a body paired with itself, rows that do not share their bodies'
-//! masses and softness) run the scalar kernel, after the color's batches.
+//! color's promise), so the order does not matter. A color's last three
+//! manifolds of a kind make a batch with one empty lane (no bodies, no
+//! impulse). Manifolds that cannot join a batch (the overflow color, a
+//! color's last one or two of each kind, a body paired with itself, rows
+//! that do not share their bodies' masses and softness) run the scalar
+//! kernel, after the color's batches.
 //! With threads a color's batches are split between them on the shared
 //! bodies; the kernels read and write bodies through a [`BodyStore`], in
 //! place or shared.
@@ -192,8 +194,16 @@ impl WideContacts {
                 }
             }
             for (group, &n) in pending.iter().zip(&counts) {
-                self.scalar
-                    .extend(group.iter().take(n).map(|&m| rows_of(m)));
+                if n >= PADDED_BATCH {
+                    let mut manifolds = [(u32::MAX, u32::MAX); LANES];
+                    for (slot, &m) in manifolds.iter_mut().zip(group.iter().take(n)) {
+                        *slot = rows_of(m);
+                    }
+                    self.batches.push(gather_batch(manifolds, rows));
+                } else {
+                    self.scalar
+                        .extend(group.iter().take(n).map(|&m| rows_of(m)));
+                }
             }
         }
         self.color_batches.push(self.batches.len() as u32);
@@ -492,9 +502,19 @@ fn shares_manifold_constants(rows: &[SoftContact]) -> bool {
         .all(|r| r.m_inv_a == first.m_inv_a && r.m_inv_b == first.m_inv_b && r.soft == first.soft)
 }
 
-/// The lanes of four manifolds' rows (`(start, end)` each).
+/// The fewest manifolds a color's last batch of a kind takes (the rest
+/// of its lanes empty); fewer run the scalar kernel. A batch costs the
+/// same however many lanes it uses.
+const PADDED_BATCH: usize = LANES / 2 + 1;
+
+/// The lanes of four manifolds' rows (`(start, end)` each; an empty lane,
+/// `start` past the rows, has no bodies and applies nothing).
 fn gather_batch(manifolds: [(u32, u32); LANES], rows: &[SoftContact]) -> Batch {
-    let mut batch = Batch::default();
+    let mut batch = Batch {
+        a: [u32::MAX; LANES],
+        b: [u32::MAX; LANES],
+        ..Batch::default()
+    };
     for (lane, &(start, end)) in manifolds.iter().enumerate() {
         let Some(first) = rows.get(start as usize) else {
             continue;
@@ -704,43 +724,94 @@ fn lane_of(v: Real) -> Lane {
     [v.to_bits(); LANES]
 }
 
+/// A batch's inverse masses.
+#[derive(Clone, Copy)]
+struct Masses {
+    a: Lane,
+    b: Lane,
+    /// Every lane's two inverse masses are equal (a pile of like bodies):
+    /// the velocity changes of b are those of a.
+    same: bool,
+}
+
+impl Masses {
+    #[inline(always)]
+    fn of(batch: &Batch) -> Masses {
+        Masses {
+            a: batch.m_inv_a,
+            b: batch.m_inv_b,
+            same: batch.m_inv_a == batch.m_inv_b,
+        }
+    }
+
+    /// `p·m_a⁻¹` and `p·m_b⁻¹` (the same products once when the masses
+    /// are equal: the same bits and the same record, an OR).
+    #[inline(always)]
+    fn velocity_changes<O: Ops>(
+        &self,
+        px: Lane,
+        py: Lane,
+        ar: &mut LaneArith<O>,
+    ) -> ((Lane, Lane), (Lane, Lane)) {
+        let (px, py) = (ar.factor(px), ar.factor(py));
+        let m = ar.factor(self.a);
+        let dva = (ar.mul_factors(&px, &m), ar.mul_factors(&py, &m));
+        if self.same {
+            return (dva, dva);
+        }
+        let m = ar.factor(self.b);
+        let dvb = (ar.mul_factors(&px, &m), ar.mul_factors(&py, &m));
+        (dva, dvb)
+    }
+}
+
+/// A direction of a point's rows and its angular terms: the normal
+/// `(n, r × n, I⁻¹ (r × n))` or the tangent.
+#[derive(Clone, Copy)]
+struct Direction {
+    x: Lane,
+    y: Lane,
+    /// `[r_b × d, −(r_a × d)]`: the relative velocity's lever terms.
+    levers: [Lane; 2],
+    /// `[I_a⁻¹ (r_a × d), I_b⁻¹ (r_b × d)]`.
+    k: [Lane; 2],
+}
+
 /// An impulse `p = d·j` along `d` with angular terms `k`: `SoftContact::
 /// apply_along`, lane by lane.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 fn apply_along<O: Ops>(
     a: &mut BodyLanes,
     b: &mut BodyLanes,
-    batch: &Batch,
-    d: (Lane, Lane),
-    k: (Lane, Lane),
+    masses: &Masses,
+    d: &Direction,
     j: Lane,
     ar: &mut LaneArith<O>,
 ) {
     let o = ar.ops();
-    let (px, py) = (ar.mul(d.0, j), ar.mul(d.1, j));
-    let (dwa, dwb) = (ar.mul(k.0, j), ar.mul(k.1, j));
-    let dva = (ar.mul(px, batch.m_inv_a), ar.mul(py, batch.m_inv_a));
-    let dvb = (ar.mul(px, batch.m_inv_b), ar.mul(py, batch.m_inv_b));
+    let j = ar.factor(j);
+    let (px, py) = (ar.mul_by(d.x, &j), ar.mul_by(d.y, &j));
+    let [ka, kb] = d.k;
+    let (dwa, dwb) = (ar.mul_by(ka, &j), ar.mul_by(kb, &j));
+    let (dva, dvb) = masses.velocity_changes(px, py, ar);
     a.change(o, dva, dwa, false);
     b.change(o, dvb, dwb, true);
 }
 
-/// The velocity of b relative to a along `(dx, dy)` with lever terms
-/// `(r_b, −r_a)`: `dot4([Δv, ω_b, ω_a], [d, r_b, −r_a])`.
+/// The velocity of b relative to a along `d`: `dot4([Δv, ω_b, ω_a], [d,
+/// r_b × d, −(r_a × d)])`.
 #[inline(always)]
 fn relative_velocity<O: Ops>(
     a: &BodyLanes,
     b: &BodyLanes,
-    d: (Lane, Lane),
-    r_b: Lane,
-    neg_r_a: Lane,
+    d: &Direction,
     ar: &mut LaneArith<O>,
 ) -> Lane {
     let o = ar.ops();
     let dvx = o.sub(b.vx, a.vx);
     let dvy = o.sub(b.vy, a.vy);
-    ar.dot([dvx, dvy, b.w, a.w], [d.0, d.1, r_b, neg_r_a])
+    let [rb, ra] = d.levers;
+    ar.dot([dvx, dvy, b.w, a.w], [d.x, d.y, rb, ra])
 }
 
 /// The solve (`use_bias`) or relax pass of a batch: `manifold_pass` on
@@ -800,7 +871,14 @@ fn solve_batch<O: Ops, S: BodyStore>(
     let zero = [0i64; LANES];
     let one = lane_of(Real::ONE);
     let neg_push_out = lane_of(-p.push_out);
+    let masses = Masses::of(batch);
     for (pt, st) in batch.points.iter().zip(&mut state).take(used) {
+        let normal = Direction {
+            x: pt.n_x,
+            y: pt.n_y,
+            levers: [pt.rn_b, o.neg(pt.rn_a)],
+            k: [pt.kn_a, pt.kn_b],
+        };
         // The separation: kept from the last relax pass, or estimated.
         let s = if use_bias {
             st.sep
@@ -830,7 +908,7 @@ fn solve_batch<O: Ops, S: BodyStore>(
         } else {
             (o.select(apart, close, zero), one, zero)
         };
-        let vn = relative_velocity(&a, &b, (pt.n_x, pt.n_y), pt.rn_b, o.neg(pt.rn_a), &mut ar);
+        let vn = relative_velocity(&a, &b, &normal, &mut ar);
         let err = o.add(vn, bias);
         let jn = ar.mul(err, pt.n_mass);
         let scaled = ar.mul(jn, mass_scale);
@@ -840,27 +918,24 @@ fn solve_batch<O: Ops, S: BodyStore>(
         st.jn = o.max(o.sub(old, jn), zero);
         let djn = o.sub(st.jn, old);
         st.max_jn = o.max(st.max_jn, djn);
-        apply_along(
-            &mut a,
-            &mut b,
-            batch,
-            (pt.n_x, pt.n_y),
-            (pt.kn_a, pt.kn_b),
-            djn,
-            &mut ar,
-        );
+        apply_along(&mut a, &mut b, &masses, &normal, djn, &mut ar);
     }
     if p.friction {
         for (pt, st) in batch.points.iter().zip(&mut state).take(used) {
-            let t = (o.neg(pt.n_y), pt.n_x);
-            let vt = relative_velocity(&a, &b, t, pt.rt_b, o.neg(pt.rt_a), &mut ar);
+            let tangent = Direction {
+                x: o.neg(pt.n_y),
+                y: pt.n_x,
+                levers: [pt.rt_b, o.neg(pt.rt_a)],
+                k: [pt.kt_a, pt.kt_b],
+            };
+            let vt = relative_velocity(&a, &b, &tangent, &mut ar);
             let vt = o.add(vt, pt.surface_t);
             let jt_max = ar.mul(st.jn, pt.friction);
             let djt = ar.mul(vt, pt.t_mass);
             let old = st.jt;
             st.jt = o.min(o.max(o.sub(old, djt), o.neg(jt_max)), jt_max);
             let jt = o.sub(st.jt, old);
-            apply_along(&mut a, &mut b, batch, t, (pt.kt_a, pt.kt_b), jt, &mut ar);
+            apply_along(&mut a, &mut b, &masses, &tangent, jt, &mut ar);
         }
     }
     let left = ar.left();
@@ -926,16 +1001,16 @@ fn warm_start_batch<O: Ops, S: BodyStore>(
     let mut ar = LaneArith::new(ops);
     let o = ops;
     ar.check_inputs(&[a.vx, a.vy, a.w, b.vx, b.vy, b.w]);
+    let masses = Masses::of(batch);
     for pt in batch.points.iter().take(batch.points_used) {
         // The negated normal component below needs the constants' bound.
         ar.check_records(&pt.constant_record);
-        let (jn, jt) = (pt.state.jn, pt.state.jt);
-        let px = ar.dot([pt.n_x, o.neg(pt.n_y)], [jn, jt]);
-        let py = ar.dot([pt.n_y, pt.n_x], [jn, jt]);
-        let dwa = ar.dot([pt.kn_a, pt.kt_a], [jn, jt]);
-        let dwb = ar.dot([pt.kn_b, pt.kt_b], [jn, jt]);
-        let dva = (ar.mul(px, batch.m_inv_a), ar.mul(py, batch.m_inv_a));
-        let dvb = (ar.mul(px, batch.m_inv_b), ar.mul(py, batch.m_inv_b));
+        let j = [ar.factor(pt.state.jn), ar.factor(pt.state.jt)];
+        let px = ar.dot_by([pt.n_x, o.neg(pt.n_y)], &j);
+        let py = ar.dot_by([pt.n_y, pt.n_x], &j);
+        let dwa = ar.dot_by([pt.kn_a, pt.kt_a], &j);
+        let dwb = ar.dot_by([pt.kn_b, pt.kt_b], &j);
+        let (dva, dvb) = masses.velocity_changes(px, py, &mut ar);
         a.change(o, dva, dwa, false);
         b.change(o, dvb, dwb, true);
     }
@@ -985,13 +1060,15 @@ mod tests {
     static LEFT: core::sync::atomic::AtomicU64 = core::sync::atomic::AtomicU64::new(0);
     static CASES: core::sync::atomic::AtomicU64 = core::sync::atomic::AtomicU64::new(0);
 
-    /// Four manifolds (bodies `2k`, `2k + 1`, of one or two points each),
+    /// Four manifolds (bodies `2k`, `2k + 1`, of one or two points each;
+    /// `like`: of equal inverse masses, as in a pile of like bodies),
     /// eight bodies, their motion and the parameters, from `v`.
     #[allow(clippy::type_complexity)]
     fn case(
         v: Vec<i64>,
         points: [bool; LANES],
         friction: bool,
+        like: bool,
     ) -> (
         Vec<SoftContact>,
         [(u32, u32); LANES],
@@ -1012,6 +1089,9 @@ mod tests {
                 if let Some(first) = mine.first() {
                     (row.m_inv_a, row.m_inv_b, row.soft) =
                         (first.m_inv_a, first.m_inv_b, first.soft);
+                }
+                if like {
+                    row.m_inv_b = row.m_inv_a;
                 }
                 rows.push(row);
             }
@@ -1050,17 +1130,21 @@ mod tests {
 
     /// A pass of the wide kernel on `ops` against the scalar kernel on
     /// each manifold: the same rows, bodies and bits.
+    /// `used`: the manifolds in the batch (the other lanes empty, as in a
+    /// color's last batch).
     fn compare<O: Ops>(
         ops: O,
         vals: Vec<i64>,
-        points: [bool; LANES],
-        friction: bool,
+        (points, friction, like, used): ([bool; LANES], bool, bool, usize),
         pass: Option<bool>,
     ) -> Result<(), TestCaseError> {
-        let (rows, manifolds, bodies, motion, p) = case(vals, points, friction);
+        let (rows, mut manifolds, bodies, motion, p) = case(vals, points, friction, like);
+        for m in manifolds.iter_mut().skip(used) {
+            *m = (u32::MAX, u32::MAX);
+        }
         // Scalar.
         let (mut s_rows, mut s_bodies) = (rows.clone(), bodies.clone());
-        for &(start, end) in &manifolds {
+        for &(start, end) in manifolds.iter().take(used) {
             let m = &mut s_rows[start as usize..end as usize];
             match pass {
                 Some(use_bias) => on_bodies(m, &mut s_bodies, |m, copy| {
@@ -1105,11 +1189,14 @@ mod tests {
             vals in values(),
             points in prop::array::uniform4(any::<bool>()),
             friction in any::<bool>(),
+            like in any::<bool>(),
+            used in prop_oneof![3 => Just(LANES), 1 => 1..LANES],
             pass in prop_oneof![Just(None), Just(Some(true)), Just(Some(false))],
         ) {
-            compare(Portable, vals.clone(), points, friction, pass)?;
+            let shape = (points, friction, like, used);
+            compare(Portable, vals.clone(), shape, pass)?;
             if let Some(avx2) = tamias2d_simd::Avx2::new() {
-                compare(avx2, vals.clone(), points, friction, pass)?;
+                compare(avx2, vals.clone(), shape, pass)?;
             }
             // Coverage: how often a lane left (and ran the scalar kernel).
             use core::sync::atomic::Ordering::Relaxed;
