@@ -57,11 +57,15 @@ impl Space {
                 computed = self.narrowphase(ia, ib, existing.as_ref());
                 computed.as_ref()
             };
-            if let Some(mut arb) = self.collide_pair(ia, ib, info, existing, &mut arbiters) {
-                if self.run_contact_handlers(&mut arb) {
-                    active.push(arbiters.len() as u32);
+            // Touched in place at the end of `arbiters`: an arbiter is
+            // some 250 bytes, and each move of it was a memcpy.
+            if self.collide_pair(ia, ib, info, existing, &mut arbiters) {
+                let index = arbiters.len().saturating_sub(1) as u32;
+                if let Some(arb) = arbiters.last_mut() {
+                    if self.run_contact_handlers(arb) {
+                        active.push(index);
+                    }
                 }
-                arbiters.push(arb);
             }
         }
         for arb in old_iter {
@@ -106,10 +110,10 @@ impl Space {
         collide_split(&view, pairs, &ids, infos);
     }
 
-    /// [`Stage::Narrowphase`](super::Stage::Narrowphase) for one candidate pair: the touched arbiter (the pair's
-    /// `existing` one or a new one), given the narrowphase's `info`. A pair
-    /// that does not touch retires its existing arbiter into `arbiters`
-    /// (retired) and gives `None`.
+    /// [`Stage::Narrowphase`](super::Stage::Narrowphase) for one candidate pair, given the narrowphase's
+    /// `info`: pushes the touched arbiter (the pair's `existing` one or a
+    /// new one) onto `arbiters` and gives true. A pair that does not touch
+    /// retires its existing arbiter into `arbiters` and gives false.
     fn collide_pair(
         &mut self,
         ia: u32,
@@ -117,26 +121,37 @@ impl Space {
         info: Option<&CollisionInfo>,
         existing: Option<Arbiter>,
         arbiters: &mut Vec<Arbiter>,
-    ) -> Option<Arbiter> {
+    ) -> bool {
         let Some(info) = info else {
             if let Some(arb) = existing {
                 self.retire(arb, arbiters);
             }
-            return None;
+            return false;
         };
         let stats = &mut self.caches.step.stats;
         stats.touching_pairs = stats.touching_pairs.saturating_add(1);
         stats.iteration_cap_hits = stats
             .iteration_cap_hits
             .saturating_add(u32::from(info.hit_iteration_cap));
-        let (ha, sa) = self.state.shapes.get_by_index(ia)?;
-        let (hb, sb) = self.state.shapes.get_by_index(ib)?;
-        let body_a = self.state.bodies.get(sa.body)?;
-        let body_b = self.state.bodies.get(sb.body)?;
-        let mut arb = existing.unwrap_or_else(|| Arbiter::new(ha, sa, hb, sb));
+        let (Some((ha, sa)), Some((hb, sb))) = (
+            self.state.shapes.get_by_index(ia),
+            self.state.shapes.get_by_index(ib),
+        ) else {
+            return false;
+        };
+        let (Some(body_a), Some(body_b)) = (
+            self.state.bodies.get(sa.body),
+            self.state.bodies.get(sb.body),
+        ) else {
+            return false;
+        };
+        arbiters.push(existing.unwrap_or_else(|| Arbiter::new(ha, sa, hb, sb)));
+        let Some(arb) = arbiters.last_mut() else {
+            return false;
+        };
         let centers = (body_a.center(), body_b.center());
         arb.touch(info, sa, sb, centers, self.state.stamp);
-        Some(arb)
+        true
     }
 
     /// Retires one arbiter whose shapes did not touch this step: the
