@@ -1170,6 +1170,73 @@ mod tests {
         Ok(())
     }
 
+    /// [`Portable`], counting the lane operations (each one AVX2
+    /// instruction in `tamias2d_simd::Avx2`).
+    #[derive(Clone, Copy)]
+    struct Counting<'a>(&'a core::cell::Cell<u64>);
+
+    macro_rules! counted {
+        ($($name:ident($($arg:ident),*)),* $(,)?) => {$(
+            fn $name(self, $($arg: Lane),*) -> Lane {
+                self.0.set(self.0.get() + 1);
+                Portable.$name($($arg),*)
+            }
+        )*};
+    }
+
+    impl Ops for Counting<'_> {
+        counted!(
+            add(a, b),
+            sub(a, b),
+            xor(a, b),
+            and(a, b),
+            or(a, b),
+            gt(a, b),
+            mul_lo32(a, b),
+            shr32(a),
+            shl32(a),
+            select(mask, a, b),
+        );
+    }
+
+    /// The lane operations of each pass over a batch of four two-point
+    /// manifolds with friction, per row (a manifold point): the figure
+    /// `docs/performance.md` reports, and a bound a change that adds
+    /// operations to the kernels has to move.
+    #[test]
+    fn lane_operations_per_row_and_pass() {
+        // Scene-like values: magnitudes up to 2 (raw 2^33), any bits.
+        let vals: Vec<i64> = (1..200i64)
+            .map(|k| k.wrapping_mul(0x9e37_79b9_7f4a_7c15_u64 as i64) >> 30)
+            .collect();
+        let (rows, manifolds, bodies, motion, p) = case(vals, [true; LANES], true, false);
+        let count = |pass: Option<bool>| {
+            let ops = core::cell::Cell::new(0);
+            let mut bodies = bodies.clone();
+            let mut batch = gather_batch(manifolds, &rows);
+            let mut store = InPlace(&mut bodies);
+            let left = match pass {
+                Some(use_bias) => solve_batch(
+                    Counting(&ops),
+                    &mut batch,
+                    &mut store,
+                    &motion,
+                    &p,
+                    use_bias,
+                ),
+                None => warm_start_batch(Counting(&ops), &mut batch, &mut store, Real::ONE),
+            };
+            assert_eq!(
+                left, 0,
+                "a lane left the window: the count would include a rerun"
+            );
+            ops.get() as f64 / (2 * LANES) as f64
+        };
+        let (warm, solve, relax) = (count(None), count(Some(true)), count(Some(false)));
+        eprintln!("lane operations per row: warm start {warm}, solve {solve}, relax {relax}");
+        assert!(warm <= 86.0 && solve <= 200.0 && relax <= 242.0);
+    }
+
     fn values() -> impl Strategy<Value = Vec<i64>> {
         prop_oneof![
             prop::collection::vec(bits(), 200),
