@@ -27,6 +27,10 @@
 //! built from: [`Portable`] in plain Rust, and `tamias2d_simd::Avx2`, one
 //! AVX2 instruction each (left to itself, the compiler's vectoriser turns
 //! some lane products back into scalar ones). Both give the same bits.
+//! Code the AVX2 kernel runs calls lane operations only from functions
+//! marked `#[inline(always)]`, never from a closure: a closure is not
+//! always inlined into the kernel, and outside it each AVX2 operation is
+//! a function call (a closure in `dot` once made the step 2× slower).
 use super::unsaturated::RANGED_INPUT;
 
 /// Values per lane group.
@@ -235,9 +239,9 @@ fn magnitude(x: i64) -> u64 {
 
 /// One factor of lane products as the partial products take it: its
 /// magnitude, the magnitude's high half, and its sign (all ones where
-/// negative). A factor that several products share (a row's constant,
-/// an impulse applied through several terms) is split once
-/// ([`LaneArith::factor`]); the products' bits do not depend on it.
+/// negative). A factor that several products share (the impulse a row
+/// applies through four terms, a momentum shared by two bodies) is split
+/// once ([`LaneArith::factor`]); the products' bits do not depend on it.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Factor {
     mag: Lane,
