@@ -242,11 +242,37 @@ fn magnitude(x: i64) -> u64 {
 /// negative). A factor that several products share (the impulse a row
 /// applies through four terms, a momentum shared by two bodies) is split
 /// once ([`LaneArith::factor`]); the products' bits do not depend on it.
+///
+/// A **short** factor is below `2^32` in magnitude in every lane (most
+/// row constants: unit normals, lever arms under a metre, effective
+/// masses and friction under 1): its high half is 0, so two of a
+/// product's four partial products are 0 and are not computed, nor is the
+/// high half ([`LaneArith::constant`]). The sums and the record are those
+/// of the four partial products (a 0 adds nothing to a sum and nothing to
+/// an OR), so the bits are the same.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Factor {
     mag: Lane,
     high: Lane,
     sign: Lane,
+    short: bool,
+}
+
+/// True if every lane of `a` is below `2^32` in magnitude: a short
+/// [`Factor`].
+#[inline(always)]
+pub(crate) fn is_short(a: &Lane) -> bool {
+    a.iter().all(|&x| x.unsigned_abs() < 1 << 32)
+}
+
+/// A product's partial products as the quotient sums them: the high one
+/// (`None` when a factor is short: it is 0), the middle sum `hl + lh`,
+/// and the low one.
+#[derive(Clone, Copy)]
+struct Partials {
+    hh: Option<Lane>,
+    mid: Lane,
+    ll: Lane,
 }
 
 /// Lane arithmetic with a record per lane (see the module docs), on the
@@ -319,35 +345,60 @@ impl<O: Ops> LaneArith<O> {
     /// (`i64::MIN` gives `2^63`), its high half, its sign.
     #[inline(always)]
     pub(crate) fn factor(&self, a: Lane) -> Factor {
+        self.constant(a, false)
+    }
+
+    /// [`factor`](Self::factor) of a value the caller knows to be short
+    /// ([`is_short`]) when `short` is true: the high half is not computed.
+    #[inline(always)]
+    pub(crate) fn constant(&self, a: Lane, short: bool) -> Factor {
         let o = self.ops;
         let sign = o.sign(a);
         let mag = o.sub(o.xor(a, sign), sign);
         Factor {
             mag,
-            high: o.shr32(mag),
+            high: if short { splat(0) } else { o.shr32(mag) },
             sign,
+            short,
         }
     }
 
-    /// The partial products of `|a|·|b|` (`[hh, hl, lh, ll]`, each a
-    /// 32×32→64 product, no masks needed: the instruction reads only the
-    /// low halves) and the product's sign (all ones if negative),
-    /// recording `hh`.
+    /// The partial products of `|a|·|b|` (each a 32×32→64 product, no
+    /// masks needed: the instruction reads only the low halves) and the
+    /// product's sign (all ones if negative), recording `hh`. With a
+    /// short factor `hh` and one middle product are 0 (not computed).
     #[inline(always)]
-    fn partials(&mut self, a: &Factor, b: &Factor) -> ([Lane; 4], Lane) {
+    fn partials(&mut self, a: &Factor, b: &Factor) -> (Partials, Lane) {
         let o = self.ops;
         let sign = o.xor(a.sign, b.sign);
-        let hh = o.mul_lo32(a.high, b.high);
-        self.high = o.or(self.high, hh);
-        (
-            [
-                hh,
-                o.mul_lo32(a.high, b.mag),
-                o.mul_lo32(a.mag, b.high),
-                o.mul_lo32(a.mag, b.mag),
-            ],
-            sign,
-        )
+        let ll = o.mul_lo32(a.mag, b.mag);
+        let p = match (a.short, b.short) {
+            (true, true) => Partials {
+                hh: None,
+                mid: splat(0),
+                ll,
+            },
+            (false, true) => Partials {
+                hh: None,
+                mid: o.mul_lo32(a.high, b.mag),
+                ll,
+            },
+            (true, false) => Partials {
+                hh: None,
+                mid: o.mul_lo32(a.mag, b.high),
+                ll,
+            },
+            (false, false) => {
+                let hh = o.mul_lo32(a.high, b.high);
+                self.high = o.or(self.high, hh);
+                Partials {
+                    hh: Some(hh),
+                    mid: o.add(o.mul_lo32(a.high, b.mag), o.mul_lo32(a.mag, b.high)),
+                    ll,
+                }
+            }
+        };
+        (p, sign)
     }
 
     /// `|a·b| >> 32` truncated, from the partial products:
@@ -356,16 +407,21 @@ impl<O: Ops> LaneArith<O> {
     /// `hh < 2^28`: then one of `a_h`, `b_h` is below `2^14`, so one of
     /// `hl`, `lh` is below `2^46`, the other below `2^63` (`a_h ≤ 2^31`,
     /// `b_l < 2^32`), and the sum below `2^60 + 2^46 + 2^63 + 2^32 <
-    /// 2^64`.
+    /// 2^64`. With a short factor `hh = 0` and the middle sum is one
+    /// product below `2^63`: exact too.
     #[inline(always)]
-    fn quotient(&mut self, [hh, hl, lh, ll]: [Lane; 4], round: i64) -> Lane {
+    fn quotient(&mut self, p: &Partials, round: i64) -> Lane {
         let o = self.ops;
         let carry = if round == 0 {
-            o.shr32(ll)
+            o.shr32(p.ll)
         } else {
-            o.shr32(o.add(ll, splat(round)))
+            o.shr32(o.add(p.ll, splat(round)))
         };
-        let q = o.add(o.add(o.shl32(hh), o.add(hl, lh)), carry);
+        let mid = match p.hh {
+            Some(hh) => o.add(o.shl32(hh), p.mid),
+            None => p.mid,
+        };
+        let q = o.add(mid, carry);
         self.quotient = o.or(self.quotient, q);
         q
     }
@@ -395,12 +451,13 @@ impl<O: Ops> LaneArith<O> {
     #[inline(always)]
     pub(crate) fn mul_factors(&mut self, a: &Factor, b: &Factor) -> Lane {
         let (p, sign) = self.partials(a, b);
-        let q = self.quotient(p, HALF);
+        let q = self.quotient(&p, HALF);
         self.signed(q, sign)
     }
 
     /// `Σ xᵢ·yᵢ` over `N ≤ 4` terms with one rounding, as `Real::mul_add2`
     /// (`N = 2`) and `Real::dot4` (`N = 4`).
+    #[cfg(test)]
     #[inline(always)]
     pub(crate) fn dot<const N: usize>(&mut self, x: [Lane; N], y: [Lane; N]) -> Lane {
         let mut sum = Sum::default();
@@ -422,6 +479,16 @@ impl<O: Ops> LaneArith<O> {
         self.round_sum(sum)
     }
 
+    /// [`dot`](Self::dot) of split factors.
+    #[inline(always)]
+    pub(crate) fn dot_factors<const N: usize>(&mut self, x: &[Factor; N], y: &[Factor; N]) -> Lane {
+        let mut sum = Sum::default();
+        for (a, b) in x.iter().zip(y) {
+            self.add_term(&mut sum, a, b);
+        }
+        self.round_sum(sum)
+    }
+
     /// One term `a·b` of a dot product, unrounded.
     #[inline(always)]
     fn add_term(&mut self, sum: &mut Sum, a: &Factor, b: &Factor) {
@@ -429,10 +496,9 @@ impl<O: Ops> LaneArith<O> {
         let (p, sign) = self.partials(a, b);
         // Each term's quotient below 2^60 (recorded), so a sum of four
         // stays below 2^62.
-        let q = self.quotient(p, 0);
-        let [.., ll] = p;
+        let q = self.quotient(&p, 0);
         sum.high = o.add(sum.high, self.signed(q, sign));
-        sum.low = o.add(sum.low, self.signed(o.and(ll, splat(LOW)), sign));
+        sum.low = o.add(sum.low, self.signed(o.and(p.ll, splat(LOW)), sign));
     }
 
     /// A dot product's terms rounded once.
@@ -661,6 +727,31 @@ mod tests {
             prop_assert_eq!(o.max(a, b), Ops::max(v, a, b));
             prop_assert_eq!(o.select(o.positive(c), a, b), Ops::select(v, Ops::positive(v, c), a, b));
             prop_assert_eq!(o.neg(d), Ops::neg(v, d));
+        }
+
+        /// Short factors skip the partial products that are 0: the bits
+        /// and the records of the full products (either factor short, or
+        /// both; and in dot products).
+        #[test]
+        fn short_factors_give_the_full_bits(
+            a in prop::array::uniform4(any_bits()),
+            b in prop::array::uniform4(-(1i64 << 32) + 1..(1i64 << 32)),
+            c in prop::array::uniform4(-(1i64 << 32) + 1..(1i64 << 32)),
+            d in prop::array::uniform4(any_bits()),
+        ) {
+            let (mut full, mut short) = (LaneArith::new(Portable), LaneArith::new(Portable));
+            prop_assert!(is_short(&b) && is_short(&c));
+            let (sb, sc) = (short.constant(b, true), short.constant(c, true));
+            let (fa, fd) = (short.factor(a), short.factor(d));
+            prop_assert_eq!(full.mul(a, b), short.mul_factors(&fa, &sb));
+            prop_assert_eq!(full.mul(b, a), short.mul_factors(&sb, &fa));
+            prop_assert_eq!(full.mul(b, c), short.mul_factors(&sb, &sc));
+            prop_assert_eq!(
+                full.dot([a, b, c, d], [b, a, d, c]),
+                short.dot_factors(&[fa, sb, sc, fd], &[sb, fa, fd, sc])
+            );
+            prop_assert_eq!(full.left(), short.left());
+            prop_assert_eq!((full.high, full.quotient), (short.high, short.quotient));
         }
 
         #[test]
