@@ -243,19 +243,21 @@ fn magnitude(x: i64) -> u64 {
 /// applies through four terms, a momentum shared by two bodies) is split
 /// once ([`LaneArith::factor`]); the products' bits do not depend on it.
 ///
-/// A **short** factor is below `2^32` in magnitude in every lane (most
-/// row constants: unit normals, lever arms under a metre, effective
-/// masses and friction under 1): its high half is 0, so two of a
-/// product's four partial products are 0 and are not computed, nor is the
-/// high half ([`LaneArith::constant`]). The sums and the record are those
+/// A **short** factor (`SHORT`) is below `2^32` in magnitude in every
+/// lane (most row constants: unit normals, lever arms under a metre,
+/// effective masses and friction under 1): its high half is 0, so two of
+/// a product's four partial products are 0 and are not computed, nor is
+/// the high half ([`LaneArith::split`]). The sums and the record are those
 /// of the four partial products (a 0 adds nothing to a sum and nothing to
-/// an OR), so the bits are the same.
+/// an OR), so the bits are the same. Shortness is part of the type, so
+/// that the kernels are compiled once for short and once for long
+/// constants, with no test per product (a test per product cost more
+/// instructions than the products it saved).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Factor {
+pub(crate) struct Factor<const SHORT: bool = false> {
     mag: Lane,
     high: Lane,
     sign: Lane,
-    short: bool,
 }
 
 /// True if every lane of `a` is below `2^32` in magnitude: a short
@@ -345,21 +347,21 @@ impl<O: Ops> LaneArith<O> {
     /// (`i64::MIN` gives `2^63`), its high half, its sign.
     #[inline(always)]
     pub(crate) fn factor(&self, a: Lane) -> Factor {
-        self.constant(a, false)
+        self.split(a)
     }
 
     /// [`factor`](Self::factor) of a value the caller knows to be short
-    /// ([`is_short`]) when `short` is true: the high half is not computed.
+    /// ([`is_short`]) in every lane when `SHORT` (else the same as
+    /// `factor`): the high half is not computed.
     #[inline(always)]
-    pub(crate) fn constant(&self, a: Lane, short: bool) -> Factor {
+    pub(crate) fn split<const SHORT: bool>(&self, a: Lane) -> Factor<SHORT> {
         let o = self.ops;
         let sign = o.sign(a);
         let mag = o.sub(o.xor(a, sign), sign);
         Factor {
             mag,
-            high: if short { splat(0) } else { o.shr32(mag) },
+            high: if SHORT { splat(0) } else { o.shr32(mag) },
             sign,
-            short,
         }
     }
 
@@ -368,11 +370,15 @@ impl<O: Ops> LaneArith<O> {
     /// product's sign (all ones if negative), recording `hh`. With a
     /// short factor `hh` and one middle product are 0 (not computed).
     #[inline(always)]
-    fn partials(&mut self, a: &Factor, b: &Factor) -> (Partials, Lane) {
+    fn partials<const A: bool, const B: bool>(
+        &mut self,
+        a: &Factor<A>,
+        b: &Factor<B>,
+    ) -> (Partials, Lane) {
         let o = self.ops;
         let sign = o.xor(a.sign, b.sign);
         let ll = o.mul_lo32(a.mag, b.mag);
-        let p = match (a.short, b.short) {
+        let p = match (A, B) {
             (true, true) => Partials {
                 hh: None,
                 mid: splat(0),
@@ -442,14 +448,18 @@ impl<O: Ops> LaneArith<O> {
 
     /// `a·b` of a value and a split factor.
     #[inline(always)]
-    pub(crate) fn mul_by(&mut self, a: Lane, b: &Factor) -> Lane {
+    pub(crate) fn mul_by<const B: bool>(&mut self, a: Lane, b: &Factor<B>) -> Lane {
         let a = self.factor(a);
         self.mul_factors(&a, b)
     }
 
     /// `a·b` of two split factors.
     #[inline(always)]
-    pub(crate) fn mul_factors(&mut self, a: &Factor, b: &Factor) -> Lane {
+    pub(crate) fn mul_factors<const A: bool, const B: bool>(
+        &mut self,
+        a: &Factor<A>,
+        b: &Factor<B>,
+    ) -> Lane {
         let (p, sign) = self.partials(a, b);
         let q = self.quotient(&p, HALF);
         self.signed(q, sign)
@@ -470,7 +480,11 @@ impl<O: Ops> LaneArith<O> {
 
     /// [`dot`](Self::dot) with the second factors split.
     #[inline(always)]
-    pub(crate) fn dot_by<const N: usize>(&mut self, x: [Lane; N], y: &[Factor; N]) -> Lane {
+    pub(crate) fn dot_by<const N: usize, const B: bool>(
+        &mut self,
+        x: [Lane; N],
+        y: &[Factor<B>; N],
+    ) -> Lane {
         let mut sum = Sum::default();
         for (&a, b) in x.iter().zip(y) {
             let a = self.factor(a);
@@ -481,7 +495,11 @@ impl<O: Ops> LaneArith<O> {
 
     /// [`dot`](Self::dot) of split factors.
     #[inline(always)]
-    pub(crate) fn dot_factors<const N: usize>(&mut self, x: &[Factor; N], y: &[Factor; N]) -> Lane {
+    pub(crate) fn dot_factors<const N: usize, const A: bool, const B: bool>(
+        &mut self,
+        x: &[Factor<A>; N],
+        y: &[Factor<B>; N],
+    ) -> Lane {
         let mut sum = Sum::default();
         for (a, b) in x.iter().zip(y) {
             self.add_term(&mut sum, a, b);
@@ -491,7 +509,12 @@ impl<O: Ops> LaneArith<O> {
 
     /// One term `a·b` of a dot product, unrounded.
     #[inline(always)]
-    fn add_term(&mut self, sum: &mut Sum, a: &Factor, b: &Factor) {
+    fn add_term<const A: bool, const B: bool>(
+        &mut self,
+        sum: &mut Sum,
+        a: &Factor<A>,
+        b: &Factor<B>,
+    ) {
         let o = self.ops;
         let (p, sign) = self.partials(a, b);
         // Each term's quotient below 2^60 (recorded), so a sum of four
@@ -741,15 +764,16 @@ mod tests {
         ) {
             let (mut full, mut short) = (LaneArith::new(Portable), LaneArith::new(Portable));
             prop_assert!(is_short(&b) && is_short(&c));
-            let (sb, sc) = (short.constant(b, true), short.constant(c, true));
+            let (sb, sc) = (short.split::<true>(b), short.split::<true>(c));
             let (fa, fd) = (short.factor(a), short.factor(d));
             prop_assert_eq!(full.mul(a, b), short.mul_factors(&fa, &sb));
             prop_assert_eq!(full.mul(b, a), short.mul_factors(&sb, &fa));
             prop_assert_eq!(full.mul(b, c), short.mul_factors(&sb, &sc));
             prop_assert_eq!(
-                full.dot([a, b, c, d], [b, a, d, c]),
-                short.dot_factors(&[fa, sb, sc, fd], &[sb, fa, fd, sc])
+                full.dot([a, d, a, d], [b, c, c, b]),
+                short.dot_factors(&[fa, fd, fa, fd], &[sb, sc, sc, sb])
             );
+            prop_assert_eq!(full.dot([b, c], [c, b]), short.dot_factors(&[sb, sc], &[sc, sb]));
             prop_assert_eq!(full.left(), short.left());
             prop_assert_eq!((full.high, full.quotient), (short.high, short.quotient));
         }
