@@ -981,7 +981,11 @@ struct RowPass<'a> {
 }
 
 /// A point's normal row (`SHORT`: its constants are short).
-#[inline(always)]
+// Inlined into the AVX2 kernel in optimised builds; unoptimised, each
+// copy inlined keeps its own stack slots, and the kernel's frame
+// outgrew a thread's stack.
+#[cfg_attr(debug_assertions, inline(never))]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn normal_row<O: Ops, const SHORT: bool>(
     pass: &RowPass<'_>,
     pt: &PointLanes,
@@ -1037,7 +1041,11 @@ fn normal_row<O: Ops, const SHORT: bool>(
 }
 
 /// A point's friction row (`SHORT`: its constants are short).
-#[inline(always)]
+// Inlined into the AVX2 kernel in optimised builds; unoptimised, each
+// copy inlined keeps its own stack slots, and the kernel's frame
+// outgrew a thread's stack.
+#[cfg_attr(debug_assertions, inline(never))]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn friction_row<O: Ops, const SHORT: bool>(
     pass: &RowPass<'_>,
     pt: &PointLanes,
@@ -1128,7 +1136,11 @@ fn warm_start_batch<O: Ops, S: BodyStore>(
 /// A point's warm start: the velocity changes `(dv_a, dv_b)`, `dω_a`,
 /// `dω_b` of its impulses `j = [jn, jt]` (`SHORT`: its constants are
 /// short).
-#[inline(always)]
+// Inlined into the AVX2 kernel in optimised builds; unoptimised, each
+// copy inlined keeps its own stack slots, and the kernel's frame
+// outgrew a thread's stack.
+#[cfg_attr(debug_assertions, inline(never))]
+#[cfg_attr(not(debug_assertions), inline(always))]
 #[allow(clippy::type_complexity)]
 fn warm_start_point<O: Ops, const SHORT: bool>(
     pt: &PointLanes,
