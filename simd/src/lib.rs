@@ -53,6 +53,18 @@ unsafe fn avx2<K: Kernel>(kernel: K) -> K::Output {
     kernel.run()
 }
 
+/// `kernel.run()` in a function of its own, compiled for AVX2 and never
+/// inlined: [`Avx2::run_part`].
+///
+/// # Safety
+/// The processor must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline(never)]
+unsafe fn avx2_part<K: Kernel>(kernel: K) -> K::Output {
+    kernel.run()
+}
+
 /// Four 64-bit lanes, as the engine's lane arithmetic holds them.
 pub type U64x4 = [u64; 4];
 
@@ -72,6 +84,27 @@ impl Avx2 {
     #[inline]
     pub fn new() -> Option<Avx2> {
         has_avx2().then_some(Avx2 { _proof: () })
+    }
+
+    /// Runs `kernel` compiled for AVX2 in a function of its own, never
+    /// inlined into its caller: a part of a kernel. Everything inlined
+    /// into one function is compiled as one, and the optimiser's time
+    /// grows faster than the function; a kernel whose inlined code would
+    /// be large compiles much faster cut into parts, at the cost of a
+    /// call (the part's data passes through memory).
+    #[inline(always)]
+    pub fn run_part<K: Kernel>(self, kernel: K) -> K::Output {
+        #[cfg(target_arch = "x86_64")]
+        {
+            // SAFETY: an `Avx2` exists only where `has_avx2()` held
+            // (`Avx2::new`), the only requirement of the AVX2 function.
+            unsafe { avx2_part(kernel) }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            let _ = self;
+            kernel.run()
+        }
     }
 }
 
@@ -296,6 +329,17 @@ mod tests {
                 assert!(!has_avx2());
                 assert_eq!(unrun.run(), plain);
             }
+        }
+    }
+
+    #[test]
+    fn a_part_gives_the_kernels_result() {
+        let a: [i64; 9] = [1, -2, 3, i64::MAX, i64::MIN, 7, 0, -1, 1 << 40];
+        let b: [i64; 9] = [5, 6, -7, 3, -1, 1 << 33, 9, i64::MIN, 1 << 30];
+        let plain = Dot(&a, &b).run();
+        match Avx2::new() {
+            Some(v) => assert_eq!(v.run_part(Dot(&a, &b)), plain),
+            None => assert!(!has_avx2()),
         }
     }
 }

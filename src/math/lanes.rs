@@ -93,6 +93,10 @@ pub(crate) trait Ops: Copy {
     fn shl32(self, a: Lane) -> Lane;
     /// `mask ? a : b` (`mask` all ones or 0).
     fn select(self, mask: Lane, a: Lane, b: Lane) -> Lane;
+    /// `kernel.run()` in a function of its own, never inlined (for
+    /// `Avx2`, compiled for AVX2): a part of a larger kernel, which then
+    /// compiles as parts instead of one function.
+    fn run_part<K: tamias2d_simd::Kernel>(self, kernel: K) -> K::Output;
 
     /// All ones where `a < 0`, else 0.
     #[inline(always)]
@@ -130,6 +134,10 @@ pub(crate) trait Ops: Copy {
 pub(crate) struct Portable;
 
 impl Ops for Portable {
+    #[inline(always)]
+    fn run_part<K: tamias2d_simd::Kernel>(self, kernel: K) -> K::Output {
+        portable_part(kernel)
+    }
     #[inline(always)]
     fn add(self, a: Lane, b: Lane) -> Lane {
         zip(a, b, i64::wrapping_add)
@@ -187,7 +195,17 @@ fn i(a: [u64; LANES]) -> Lane {
     a.map(|x| x as i64)
 }
 
+/// [`Portable`]'s [`Ops::run_part`].
+#[inline(never)]
+fn portable_part<K: tamias2d_simd::Kernel>(kernel: K) -> K::Output {
+    kernel.run()
+}
+
 impl Ops for tamias2d_simd::Avx2 {
+    #[inline(always)]
+    fn run_part<K: tamias2d_simd::Kernel>(self, kernel: K) -> K::Output {
+        tamias2d_simd::Avx2::run_part(self, kernel)
+    }
     #[inline(always)]
     fn add(self, a: Lane, b: Lane) -> Lane {
         i(tamias2d_simd::Avx2::add(self, u(a), u(b)))

@@ -931,19 +931,11 @@ fn solve_batch<O: Ops, S: BodyStore>(
     };
     let mut bodies = [a, b];
     for (pt, st) in batch.points.iter().zip(&mut state).take(used) {
-        if pt.short {
-            normal_row::<O, true>(&pass, pt, st, &mut bodies, &mut ar);
-        } else {
-            normal_row::<O, false>(&pass, pt, st, &mut bodies, &mut ar);
-        }
+        row_part(Row::Normal, &pass, pt, st, &mut bodies, &mut ar);
     }
     if p.friction {
         for (pt, st) in batch.points.iter().zip(&mut state).take(used) {
-            if pt.short {
-                friction_row::<O, true>(&pass, pt, st, &mut bodies, &mut ar);
-            } else {
-                friction_row::<O, false>(&pass, pt, st, &mut bodies, &mut ar);
-            }
+            row_part(Row::Friction, &pass, pt, st, &mut bodies, &mut ar);
         }
     }
     let [a, b] = bodies;
@@ -980,12 +972,83 @@ struct RowPass<'a> {
     impulse_scale: Lane,
 }
 
+/// Which row of a point.
+#[derive(Clone, Copy, Debug)]
+enum Row {
+    Normal,
+    Friction,
+}
+
+/// One point's `row` in a solve or relax pass, as a part of the pass
+/// kernel ([`Ops::run_part`]): a function of its own, compiled for the
+/// kernel's lane operations. Inlined, the rows' short and long copies
+/// made the pass kernel one function so large that optimising it took
+/// most of the engine's compile time; as parts, a call per row, whose
+/// lanes pass through memory.
+#[inline(always)]
+fn row_part<O: Ops>(
+    row: Row,
+    pass: &RowPass<'_>,
+    pt: &PointLanes,
+    st: &mut PointState,
+    bodies: &mut [BodyLanes; 2],
+    ar: &mut LaneArith<O>,
+) {
+    let o = ar.ops();
+    if pt.short {
+        o.run_part(RowPart::<O, true> {
+            row,
+            pass,
+            pt,
+            st,
+            bodies,
+            ar,
+        });
+    } else {
+        o.run_part(RowPart::<O, false> {
+            row,
+            pass,
+            pt,
+            st,
+            bodies,
+            ar,
+        });
+    }
+}
+
+/// What [`row_part`] hands to its part (`SHORT`: the point's constants
+/// are short).
+struct RowPart<'r, 'p, O: Ops, const SHORT: bool> {
+    row: Row,
+    pass: &'r RowPass<'p>,
+    pt: &'r PointLanes,
+    st: &'r mut PointState,
+    bodies: &'r mut [BodyLanes; 2],
+    ar: &'r mut LaneArith<O>,
+}
+
+impl<O: Ops, const SHORT: bool> tamias2d_simd::Kernel for RowPart<'_, '_, O, SHORT> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let RowPart {
+            row,
+            pass,
+            pt,
+            st,
+            bodies,
+            ar,
+        } = self;
+        match row {
+            Row::Normal => normal_row::<O, SHORT>(pass, pt, st, bodies, ar),
+            Row::Friction => friction_row::<O, SHORT>(pass, pt, st, bodies, ar),
+        }
+    }
+}
+
 /// A point's normal row (`SHORT`: its constants are short).
-// Inlined into the AVX2 kernel in optimised builds; unoptimised, each
-// copy inlined keeps its own stack slots, and the kernel's frame
-// outgrew a thread's stack.
-#[cfg_attr(debug_assertions, inline(never))]
-#[cfg_attr(not(debug_assertions), inline(always))]
+#[inline(always)]
 fn normal_row<O: Ops, const SHORT: bool>(
     pass: &RowPass<'_>,
     pt: &PointLanes,
@@ -1041,11 +1104,7 @@ fn normal_row<O: Ops, const SHORT: bool>(
 }
 
 /// A point's friction row (`SHORT`: its constants are short).
-// Inlined into the AVX2 kernel in optimised builds; unoptimised, each
-// copy inlined keeps its own stack slots, and the kernel's frame
-// outgrew a thread's stack.
-#[cfg_attr(debug_assertions, inline(never))]
-#[cfg_attr(not(debug_assertions), inline(always))]
+#[inline(always)]
 fn friction_row<O: Ops, const SHORT: bool>(
     pass: &RowPass<'_>,
     pt: &PointLanes,
@@ -1114,9 +1173,19 @@ fn warm_start_batch<O: Ops, S: BodyStore>(
         ar.check_records(&pt.constant_record);
         let j = [ar.factor(pt.state.jn), ar.factor(pt.state.jt)];
         let ((dva, dvb), dwa, dwb) = if pt.short {
-            warm_start_point::<O, true>(pt, &masses, &j, &mut ar)
+            o.run_part(WarmStartPart::<O, true> {
+                pt,
+                masses: &masses,
+                j: &j,
+                ar: &mut ar,
+            })
         } else {
-            warm_start_point::<O, false>(pt, &masses, &j, &mut ar)
+            o.run_part(WarmStartPart::<O, false> {
+                pt,
+                masses: &masses,
+                j: &j,
+                ar: &mut ar,
+            })
         };
         a.change(o, dva, dwa, false);
         b.change(o, dvb, dwb, true);
@@ -1133,14 +1202,28 @@ fn warm_start_batch<O: Ops, S: BodyStore>(
     }
 }
 
+/// A point's warm start as a part of the pass kernel (as [`row_part`]):
+/// [`warm_start_point`]'s arguments.
+struct WarmStartPart<'r, O: Ops, const SHORT: bool> {
+    pt: &'r PointLanes,
+    masses: &'r Masses,
+    j: &'r [Factor; 2],
+    ar: &'r mut LaneArith<O>,
+}
+
+impl<O: Ops, const SHORT: bool> tamias2d_simd::Kernel for WarmStartPart<'_, O, SHORT> {
+    type Output = (((Lane, Lane), (Lane, Lane)), Lane, Lane);
+
+    #[inline(always)]
+    fn run(self) -> Self::Output {
+        warm_start_point::<O, SHORT>(self.pt, self.masses, self.j, self.ar)
+    }
+}
+
 /// A point's warm start: the velocity changes `(dv_a, dv_b)`, `dω_a`,
 /// `dω_b` of its impulses `j = [jn, jt]` (`SHORT`: its constants are
 /// short).
-// Inlined into the AVX2 kernel in optimised builds; unoptimised, each
-// copy inlined keeps its own stack slots, and the kernel's frame
-// outgrew a thread's stack.
-#[cfg_attr(debug_assertions, inline(never))]
-#[cfg_attr(not(debug_assertions), inline(always))]
+#[inline(always)]
 #[allow(clippy::type_complexity)]
 fn warm_start_point<O: Ops, const SHORT: bool>(
     pt: &PointLanes,
@@ -1329,6 +1412,10 @@ mod tests {
             shl32(a),
             select(mask, a, b),
         );
+
+        fn run_part<K: tamias2d_simd::Kernel>(self, kernel: K) -> K::Output {
+            kernel.run()
+        }
     }
 
     /// The lane operations of each pass over a batch of four two-point
