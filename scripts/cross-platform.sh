@@ -17,10 +17,15 @@
 #   miri-s390x      s390x-unknown-linux-gnu (64-bit big-endian) under Miri
 #   miri-i686       i686-unknown-linux-gnu (32-bit) under Miri
 #   (Miri runs only the registry's small Miri goldens; see scenes/tests/golden.rs.)
-# and one opt-in platform, not in the default set (it costs about as much as
-# aarch64 again):
+# and opt-in platforms, not in the default set:
 #   s390x           s390x-unknown-linux-gnu (big-endian), release, under
 #                   qemu-user: the full table, where Miri runs a few steps
+#                   (it costs about as much as aarch64 again)
+#   i686-parallel   i686 release with the engine's `parallel` feature: the
+#                   goldens on 1 thread, then on 3 (one build, two runs)
+#   aarch64-parallel  the same for aarch64 under qemu-user
+# CI runs the *-parallel platforms instead of i686-release and aarch64: the
+# same 1-thread check, on a build that also has the threads.
 #
 # Usage: scripts/cross-platform.sh [platform...]   (default: all but s390x)
 #
@@ -293,15 +298,20 @@ run_platform() {
         i686-debug) runner cargo test --target i686-unknown-linux-gnu ;;
         i686-release) runner cargo test --release --target i686-unknown-linux-gnu ;;
         i686-parallel)
-            TAMIAS_GOLDEN_THREADS=3 runner cargo test --release --target i686-unknown-linux-gnu \
-                --features parallel
+            # One build, two runs (the second builds nothing): 1 thread, then 3.
+            runner cargo test --release --target i686-unknown-linux-gnu --features parallel &&
+                TAMIAS_GOLDEN_THREADS=3 runner cargo test --release --target i686-unknown-linux-gnu \
+                    --features parallel
             ;;
         aarch64-parallel)
             qemu=$(qemu_aarch64)
-            CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_LINKER=aarch64-linux-gnu-gcc \
-                CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_RUNNER="$qemu -L /usr/aarch64-linux-gnu" \
-                TAMIAS_GOLDEN_THREADS=3 runner cargo test --release --target aarch64-unknown-linux-gnu \
-                --features parallel
+            (
+                export CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_LINKER=aarch64-linux-gnu-gcc \
+                    CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_RUNNER="$qemu -L /usr/aarch64-linux-gnu"
+                runner cargo test --release --target aarch64-unknown-linux-gnu --features parallel &&
+                    TAMIAS_GOLDEN_THREADS=3 runner cargo test --release --target aarch64-unknown-linux-gnu \
+                        --features parallel
+            )
             ;;
         aarch64)
             qemu=$(qemu_aarch64)
