@@ -54,7 +54,7 @@ unsafe fn avx2<K: Kernel>(kernel: K) -> K::Output {
 }
 
 /// `kernel.run()` in a function of its own, compiled for AVX2 and never
-/// inlined: [`Avx2::run_part`].
+/// inlined: [`Avx2::run_in_part`].
 ///
 /// # Safety
 /// The processor must have AVX2.
@@ -93,7 +93,7 @@ impl Avx2 {
     /// be large compiles much faster cut into parts, at the cost of a
     /// call (the part's data passes through memory).
     #[inline(always)]
-    pub fn run_part<K: Kernel>(self, kernel: K) -> K::Output {
+    pub fn run_in_part<K: Kernel>(self, kernel: K) -> K::Output {
         #[cfg(target_arch = "x86_64")]
         {
             // SAFETY: an `Avx2` exists only where `has_avx2()` held
@@ -338,7 +338,7 @@ mod tests {
         let b: [i64; 9] = [5, 6, -7, 3, -1, 1 << 33, 9, i64::MIN, 1 << 30];
         let plain = Dot(&a, &b).run();
         match Avx2::new() {
-            Some(v) => assert_eq!(v.run_part(Dot(&a, &b)), plain),
+            Some(v) => assert_eq!(v.run_in_part(Dot(&a, &b)), plain),
             None => assert!(!has_avx2()),
         }
     }

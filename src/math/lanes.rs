@@ -204,7 +204,7 @@ fn portable_part<K: tamias2d_simd::Kernel>(kernel: K) -> K::Output {
 impl Ops for tamias2d_simd::Avx2 {
     #[inline(always)]
     fn run_part<K: tamias2d_simd::Kernel>(self, kernel: K) -> K::Output {
-        tamias2d_simd::Avx2::run_part(self, kernel)
+        tamias2d_simd::Avx2::run_in_part(self, kernel)
     }
     #[inline(always)]
     fn add(self, a: Lane, b: Lane) -> Lane {
