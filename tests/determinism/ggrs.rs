@@ -13,13 +13,24 @@ use ggrs_game::{
 /// 600 frames at check distance 7 (8 steps of a 103-body scene per frame).
 const SYNCTEST_FRAMES: u64 = 600;
 
+/// The frames a SyncTest runs in this build: [`SYNCTEST_FRAMES`] when
+/// optimised (CI runs these tests in release too), the first third in a
+/// debug build, where every step is validated and an unoptimised step
+/// costs about twenty times more (it still rolls back on every frame from
+/// the eighth).
+const FRAMES: u64 = if cfg!(debug_assertions) {
+    SYNCTEST_FRAMES / 3
+} else {
+    SYNCTEST_FRAMES
+};
+
 #[test]
 fn synctest_check_distance_7_agrees_with_a_straight_run() {
     let mut game = Game::new();
-    run_synctest(&mut game, SYNCTEST_FRAMES, 7, 3).expect("deterministic under rollback");
-    assert_eq!(game.frame(), SYNCTEST_FRAMES);
-    assert!(game.loads >= SYNCTEST_FRAMES - 8, "rolled back every frame");
-    let straight = run_straight(SYNCTEST_FRAMES, 3, 0);
+    run_synctest(&mut game, FRAMES, 7, 3).expect("deterministic under rollback");
+    assert_eq!(game.frame(), FRAMES);
+    assert!(game.loads >= FRAMES - 8, "rolled back every frame");
+    let straight = run_straight(FRAMES, 3, 0);
     assert_eq!(game.space.checksum(), straight.space.checksum());
     assert_eq!(game.space.state(), straight.space.state());
 }
@@ -27,20 +38,17 @@ fn synctest_check_distance_7_agrees_with_a_straight_run() {
 /// The joint scenes under rollback: `ragdolls_20` (pivot and
 /// rotary-limit joints, 2 sub-steps) and `car` (groove joints, damped
 /// springs, motors), their first two dynamic bodies driven by the players,
-/// 600 frames at check distance 7; the end state equals a straight run.
+/// [`FRAMES`] at check distance 7; the end state equals a straight run.
 #[test]
 fn synctest_on_the_joint_scenes_agrees_with_a_straight_run() {
     for name in ["ragdolls_20", "car"] {
         let mut game = Game::with_scene(name).unwrap_or_else(|| panic!("{name} is a game"));
-        run_synctest(&mut game, SYNCTEST_FRAMES, 7, 3)
+        run_synctest(&mut game, FRAMES, 7, 3)
             .unwrap_or_else(|e| panic!("{name}: not deterministic under rollback: {e}"));
-        assert_eq!(game.frame(), SYNCTEST_FRAMES, "{name}");
-        assert!(
-            game.loads >= SYNCTEST_FRAMES - 8,
-            "{name}: rolled back every frame"
-        );
+        assert_eq!(game.frame(), FRAMES, "{name}");
+        assert!(game.loads >= FRAMES - 8, "{name}: rolled back every frame");
         let fresh = Game::with_scene(name).unwrap_or_else(|| panic!("{name} is a game"));
-        let straight = run_straight_on(fresh, SYNCTEST_FRAMES, 3, 0);
+        let straight = run_straight_on(fresh, FRAMES, 3, 0);
         assert_eq!(game.space.checksum(), straight.space.checksum(), "{name}");
         assert_eq!(game.space.state(), straight.space.state(), "{name}");
         assert!(
@@ -100,15 +108,11 @@ fn p2p_two_peers_over_loopback_agree() {
 
 /// The soft step under rollback: `name` (`"bowl"`, the default game's
 /// pile in a bowl, or a game scene) switched to `Solver::Soft` before its
-/// first frame, 600 frames at check distance 7 (a debug build, where every
-/// step is validated, the first 300); the end state equals a straight run
-/// on the soft step. One test per scene, so that two run side by side.
+/// first frame, [`FRAMES`] at check distance 7; the end state equals a
+/// straight run on the soft step. One test per scene, so that two run side
+/// by side.
 fn synctest_on_the_soft_step(name: &str) {
-    let frames = if cfg!(debug_assertions) {
-        SYNCTEST_FRAMES / 2
-    } else {
-        SYNCTEST_FRAMES
-    };
+    let frames = FRAMES;
     let soft = |mut game: Game| {
         let settings = tamias2d::space::Settings {
             solver: tamias2d::space::Solver::SOFT,

@@ -1380,8 +1380,8 @@ mod tests {
         for lane in 0..LANES {
             put_lane(&batch, lane, &mut w_rows);
         }
-        prop_assert_eq!(format!("{w_rows:?}"), format!("{s_rows:?}"));
-        prop_assert_eq!(format!("{w_bodies:?}"), format!("{s_bodies:?}"));
+        prop_assert_eq!(w_rows, s_rows);
+        prop_assert_eq!(w_bodies, s_bodies);
         Ok(())
     }
 
