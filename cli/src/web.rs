@@ -9,9 +9,11 @@
 //!   connection, `Connection: close`): the static files, the `.wasm`, and
 //!   `POST /report`, where the page in `?check` mode posts its results.
 //! - **Check.** Starts headless Chromium on `/?check`, waits for the report,
-//!   and fails unless every golden scene's checksum computed in the browser
-//!   equals the native golden of the registry (compared here, not trusted
-//!   from the page) and the lockstep peers agreed on every confirmed frame.
+//!   and fails unless every golden check's checksum computed in the browser
+//!   (each golden scene on the canonical solver, the colored one and the
+//!   soft step on both kernel forms: `tamias2d_scenes::goldens::checks`)
+//!   equals the native golden (compared here, not trusted from the page)
+//!   and the lockstep peers agreed on every confirmed frame.
 //!   It prints the browser's frame time of `pyramid_20` and
 //!   `bowl_boxes_500` (mean over the first 300 steps from the build) beside
 //!   this native build's, measured the same way in this process.
@@ -24,7 +26,7 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use clap::Args;
-use tamias2d_scenes::REGISTRY;
+use tamias2d_scenes::goldens;
 
 /// `tamias web` arguments.
 #[derive(Args)]
@@ -305,23 +307,23 @@ fn judge(body: &str) -> Result<(), String> {
     let report: serde_json::Value =
         serde_json::from_str(body).map_err(|e| format!("the page's report is not JSON: {e}"))?;
     let got = report["goldens"].as_array().cloned().unwrap_or_default();
-    let expected: Vec<_> = REGISTRY
-        .iter()
-        .filter_map(|s| s.golden.map(|g| (s.name, g)))
-        .collect();
+    let expected = goldens::checks();
     let mut same = 0;
-    for (name, golden) in &expected {
-        let row = got.iter().find(|o| o["name"].as_str() == Some(name));
+    for check in &expected {
+        let name = check.label();
+        let row = got
+            .iter()
+            .find(|o| o["name"].as_str() == Some(name.as_str()));
         let computed = row
             .and_then(|o| o["computed"].as_str())
             .unwrap_or("missing");
         let steps = row.and_then(|o| o["steps"].as_u64());
-        let native = format!("{:#018x}", golden.checksum);
-        let ok = computed == native && steps == Some(u64::from(golden.steps));
+        let native = format!("{:#018x}", check.checksum);
+        let ok = computed == native && steps == Some(u64::from(check.steps));
         same += usize::from(ok);
         println!(
-            "{name:<22} {:>4} steps  browser {computed:<18}  native {native}  {}",
-            golden.steps,
+            "{name:<36} {:>4} steps  browser {computed:<18}  native {native}  {}",
+            check.steps,
             if ok { "same" } else { "DIFFERENT" }
         );
     }
@@ -337,7 +339,7 @@ fn judge(body: &str) -> Result<(), String> {
     );
     if same != expected.len() {
         return Err(format!(
-            "the browser computed different bits for {} of {} golden scenes",
+            "the browser computed different bits for {} of {} golden checks",
             expected.len() - same,
             expected.len()
         ));
@@ -393,15 +395,14 @@ mod tests {
     /// A report as the page posts it, with every golden as `checksum`
     /// returns it for each scene.
     fn report(checksum: impl Fn(&str, u64) -> u64, agreed: u64) -> String {
-        let goldens: Vec<_> = REGISTRY
+        let goldens: Vec<_> = goldens::checks()
             .iter()
-            .filter_map(|s| s.golden.map(|g| (s.name, g)))
-            .map(|(name, g)| {
+            .map(|c| {
                 serde_json::json!({
-                    "name": name,
-                    "steps": g.steps,
-                    "computed": format!("{:#018x}", checksum(name, g.checksum)),
-                    "golden": format!("{:#018x}", g.checksum),
+                    "name": c.label(),
+                    "steps": c.steps,
+                    "computed": format!("{:#018x}", checksum(&c.label(), c.checksum)),
+                    "golden": format!("{:#018x}", c.checksum),
                 })
             })
             .collect();
@@ -420,6 +421,18 @@ mod tests {
         assert_eq!(judge(&report(|_, c| c, 295)), Ok(()));
         // One scene one bit off: fails, whatever the page's own "golden" says.
         let off = report(|name, c| if name == "pendulum" { c ^ 1 } else { c }, 295);
+        assert!(judge(&off).is_err_and(|e| e.contains("1 of")));
+        // And one of the soft step's.
+        let off = report(
+            |name, c| {
+                if name == "pendulum soft portable" {
+                    c ^ 1
+                } else {
+                    c
+                }
+            },
+            295,
+        );
         assert!(judge(&off).is_err_and(|e| e.contains("1 of")));
         // A lockstep frame that disagreed.
         assert!(judge(&report(|_, c| c, 294)).is_err_and(|e| e.contains("lockstep")));

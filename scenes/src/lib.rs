@@ -59,6 +59,7 @@ pub mod dec;
 pub mod desc;
 #[cfg(feature = "ggrs")]
 pub mod ggrs_game;
+pub mod goldens;
 pub mod joints;
 pub mod quality;
 pub mod registry;

@@ -10,8 +10,10 @@
 //! the engine steps bit-identically everywhere.
 //!
 //! Besides the registry's goldens (the default, canonical solver) it
-//! checks [`COLORED_GOLDENS`] and [`SOFT_GOLDENS`], the same scenes with the colored solver and the soft step
-//! (`Settings::colored_solver`), natively. With `TAMIAS_GOLDEN_THREADS=N`
+//! checks [`goldens::COLORED`] and [`goldens::SOFT`] (in
+//! `scenes/src/goldens.rs`), the same scenes with the colored solver
+//! (`Settings::colored_solver`) and on the soft step, natively; the demo
+//! page computes all three tables in the browser. With `TAMIAS_GOLDEN_THREADS=N`
 //! every world steps on N threads: the script's `i686-parallel` and
 //! `aarch64-parallel` platforms build the engine with its `parallel`
 //! feature and run this test on 3 threads (the same values: no bit depends
@@ -35,8 +37,8 @@
 //! cargo test -p tamias2d-scenes --release --test golden -- --ignored --nocapture print_goldens
 //! ```
 //! or set `TAMIAS_PRINT_GOLDENS=1` on a normal run, which prints the values
-//! before checking them (and prints the colored-solver table, to paste
-//! into [`COLORED_GOLDENS`]). The Miri values are computed natively too: they
+//! before checking them (and prints the colored-solver and soft-step
+//! tables, to paste into [`goldens::COLORED`] and [`goldens::SOFT`]). The Miri values are computed natively too: they
 //! are the same scenes at fewer steps, so the values are
 //! platform-independent by the same promise.
 //!
@@ -61,6 +63,7 @@
 //! does); a scene registered without either fails
 //! [`every_registered_scene_has_a_golden`]. Under Miri (~1000× slower) only
 //! the Miri goldens run: small contact scenes for a few steps.
+use tamias2d_scenes::goldens;
 use tamias2d_scenes::{Golden, Kernels, SettingsDesc, REGISTRY};
 
 /// `(scene, golden)` this build checks: the Miri table under Miri, the
@@ -74,83 +77,6 @@ fn goldens() -> Vec<(&'static str, Golden)> {
         })
         .collect()
 }
-
-/// The checksums of the native golden scenes, at their golden step, with
-/// the colored solver on (`Settings::colored_solver`, the order threads
-/// share): the bits every platform and every thread count must give for
-/// it (`tests/threads.rs` checks the thread counts against this table).
-/// Not run under Miri (the Miri table is the canonical solver's).
-const COLORED_GOLDENS: &[(&str, u64)] = &[
-    ("bowl_circles_100", 0x67aa7ebf7604b5f5),
-    ("bowl_boxes_100", 0x4bc405bc897616aa),
-    ("bowl_hexagons_100", 0x6148e48a5354337b),
-    ("bouncy_circles_500", 0x5a4f32c4458129b9),
-    ("no_collide", 0x028dfaa930556694),
-    ("pyramid_20", 0x33ac3028c3f54ce5),
-    ("many_pyramids_4x4", 0x583f004fb9459b72),
-    ("rain_1000", 0xb502e9f1f260b79f),
-    ("tumbler_500", 0x35ca775b264aa4a1),
-    ("free_fall", 0x7f4bfcad9cc96c9d),
-    ("constant_force", 0x800f2b806658b63a),
-    ("projectile_45", 0xf4be14e2d76f5f06),
-    ("projectile_60", 0x180b0ea93c0a989c),
-    ("spin", 0x0124c9306443f234),
-    ("elastic_pair", 0xcc963996db5f05b2),
-    ("newtons_cradle", 0x56cfbbd59e85549b),
-    ("incline_slide", 0x98c0eee6ba6517f3),
-    ("incline_stick", 0x065f4704ff1d5be6),
-    ("stack_10", 0x4459f08045fb1e26),
-    ("sleep_wake", 0xb9a4de9824fab095),
-    ("bullets", 0xc1cda3aefeced93f),
-    ("pendulum", 0x3999466388625a7e),
-    ("chain_100", 0x292334c880d18bc9),
-    ("windmill", 0x5c4de02893ce0667),
-    ("gear_train", 0x2ef6ce4ee457cfc9),
-    ("spring_mass", 0xf76c8fde20738f27),
-    ("ratchet", 0x2fb066a05085725a),
-    ("rope_bridge", 0x66f41218b130fcbe),
-    ("ragdolls_20", 0x163dd2f75fd93ff3),
-    ("car", 0x5841eac8446eab12),
-    ("level_300", 0x8b0da822909ee6a2),
-];
-
-/// The registry's golden scenes and steps on the soft step
-/// (`SettingsDesc::use_soft_step`: the soft step's defaults scaled to each
-/// scene's length unit, one whole-pipeline sub-step), natively on every
-/// platform but Miri.
-const SOFT_GOLDENS: &[(&str, u64)] = &[
-    ("bowl_circles_100", 0x44201e4f9a8d7211),
-    ("bowl_boxes_100", 0x0b894c7688b3cb16),
-    ("bowl_hexagons_100", 0xfeacf2504981fd52),
-    ("bouncy_circles_500", 0xfbe029c880a02dd6),
-    ("no_collide", 0x3114c858fb2f0b6b),
-    ("pyramid_20", 0x73672e5ad155d3d6),
-    ("many_pyramids_4x4", 0x7c192a7374bfe179),
-    ("rain_1000", 0x2a0a6c032d5763af),
-    ("tumbler_500", 0x28bfd8d7aa813c0f),
-    ("free_fall", 0x7890415929c3ad71),
-    ("constant_force", 0xff3e3bee7c154c5a),
-    ("projectile_45", 0x12af88276b73db57),
-    ("projectile_60", 0xcc8bb5e24db71ccc),
-    ("spin", 0x47a9d208dc7df6ce),
-    ("elastic_pair", 0x0f01eedb2a0212e3),
-    ("newtons_cradle", 0x5f4844efa2540a6c),
-    ("incline_slide", 0x3ea4a2fdbd58ac9a),
-    ("incline_stick", 0x309b9acd6bba4f98),
-    ("stack_10", 0xfc6a7731c7082744),
-    ("sleep_wake", 0x6f8cbd4b0f699161),
-    ("bullets", 0x81342227aaa1b1ea),
-    ("pendulum", 0x47d8ab65d2b14131),
-    ("chain_100", 0xb171d24657e6cebe),
-    ("windmill", 0x0daa7c752b35d2fd),
-    ("gear_train", 0x7b7344e76ffbaded),
-    ("spring_mass", 0x71c4c90bb91d5b29),
-    ("ratchet", 0x106c7969ffbe1e5a),
-    ("rope_bridge", 0x414ffbba0dddd25f),
-    ("ragdolls_20", 0xfdb647ec0db76b77),
-    ("car", 0x1584e9b130455780),
-    ("level_300", 0x23a89d3218bea210),
-];
 
 /// Builds `name` (with the colored solver if `colored`) and steps it
 /// `steps` times; returns the checksum. Prints every step's checksum when
@@ -262,7 +188,7 @@ fn colored_solver_goldens_match_the_committed_values() {
         if std::env::var_os("TAMIAS_PRINT_GOLDENS").is_some() {
             println!("    (\"{name}\", {got:#018x}),");
         }
-        match COLORED_GOLDENS.iter().find(|(n, _)| *n == name) {
+        match goldens::COLORED.iter().find(|(n, _)| *n == name) {
             Some(&(_, want)) if want == got => {}
             Some(&(_, want)) => wrong.push(format!(
                 "{name} after {} steps: got {got:#018x}, golden {want:#018x}",
@@ -305,7 +231,7 @@ fn soft_step_goldens_match_the_committed_values() {
                 println!("    (\"{name}\", {got:#018x}),");
             }
             let how = kernels.describe();
-            match SOFT_GOLDENS.iter().find(|(n, _)| *n == name) {
+            match goldens::SOFT.iter().find(|(n, _)| *n == name) {
                 Some(&(_, want)) if want == got => {}
                 Some(&(_, want)) => wrong.push(format!(
                     "{name} after {} steps ({how} kernels): got {got:#018x}, golden {want:#018x}",
@@ -326,10 +252,11 @@ fn soft_step_goldens_match_the_committed_values() {
 }
 
 /// The compiled forms of the soft step's contact passes this processor
-/// has: the scalar kernels, the wide ones as it runs them (AVX2 where it
-/// has it) and the wide ones for the build's instruction set.
+/// has: those of every build ([`goldens::KERNEL_FORMS`]: the scalar
+/// kernels and the wide ones for the build's instruction set) and the wide
+/// ones as it runs them (AVX2 where it has it).
 fn kernel_forms() -> Vec<Kernels> {
-    let mut forms = vec![Kernels::Scalar, Kernels::Portable];
+    let mut forms = goldens::KERNEL_FORMS.to_vec();
     if Kernels::Wide.describe() != Kernels::Portable.describe() {
         forms.insert(1, Kernels::Wide);
     }

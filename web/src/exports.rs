@@ -315,13 +315,13 @@ pub extern "C" fn tamias_load() -> i32 {
     })
 }
 
-/// Number of golden scenes.
+/// Number of golden checks (scenes times solvers).
 #[no_mangle]
 pub extern "C" fn tamias_golden_count() -> i32 {
     count(golden::count())
 }
 
-/// Runs golden scene `index`; its outcome as JSON in the out buffer (see
+/// Runs golden check `index`; its outcome as JSON in the out buffer (see
 /// [`golden::Outcome::to_json`]).
 #[no_mangle]
 pub extern "C" fn tamias_golden_run(index: u32) -> i32 {

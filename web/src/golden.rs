@@ -1,31 +1,33 @@
-//! The "same bits" proof: every golden scene of the registry, stepped in
-//! the browser, against the checksum the native test suite commits.
+//! The "same bits" proof: every golden check of the scenes crate (each
+//! golden scene on the canonical solver, the colored one and the soft step
+//! on both kernel forms), stepped in the browser, against the checksum the
+//! native test suite commits.
 //!
 //! The native goldens are compiled in (they are constants of
-//! [`tamias2d_scenes::REGISTRY`], the table `scenes/tests/golden.rs` checks
-//! on every platform), so the page needs no file beside the `.wasm`. The
-//! browser test (`tamias web --check`) does not trust the page's verdict: it
-//! reads the checksums the page computed and compares them with the
-//! registry itself.
-use tamias2d_scenes::{Golden, REGISTRY};
+//! [`tamias2d_scenes::REGISTRY`] and [`tamias2d_scenes::goldens`], the
+//! tables `scenes/tests/golden.rs` checks on every platform), so the page
+//! needs no file beside the `.wasm`. The browser test (`tamias web
+//! --check`) does not trust the page's verdict: it reads the checksums the
+//! page computed and compares them with the tables itself.
+use tamias2d_scenes::goldens::{self, Check};
 
-/// The scenes with a native golden, in registry order.
-pub fn scenes() -> impl Iterator<Item = (&'static str, Golden)> {
-    REGISTRY
-        .iter()
-        .filter_map(|s| s.golden.map(|g| (s.name, g)))
+/// Every golden check, in [`goldens::checks`]'s order: each scene with a
+/// native golden on the canonical solver, the colored one, and the soft
+/// step on the scalar and the wide kernels.
+pub fn checks() -> Vec<Check> {
+    goldens::checks()
 }
 
-/// Number of golden scenes.
+/// Number of golden checks.
 pub fn count() -> usize {
-    scenes().count()
+    checks().len()
 }
 
-/// One golden scene run here.
+/// One golden check run here.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Outcome {
-    /// Registry name.
-    pub name: &'static str,
+    /// The check's label ([`Check::label`]: the scene, then the solver).
+    pub name: String,
     /// Steps taken from the built scene.
     pub steps: u32,
     /// The checksum this build computed after them.
@@ -53,22 +55,18 @@ impl Outcome {
     }
 }
 
-/// Builds golden scene `index` (registry order) and steps it to its
-/// golden's step count. Errors name the scene and what failed.
+/// Runs golden check `index` ([`checks`] order). Errors name the check and
+/// what failed.
 pub fn run(index: usize) -> Result<Outcome, String> {
-    let (name, golden) = scenes()
-        .nth(index)
-        .ok_or_else(|| format!("no golden scene {index} (there are {})", count()))?;
-    let desc = tamias2d_scenes::builtin(name).ok_or_else(|| format!("{name}: not built in"))?;
-    let mut world = desc.build().map_err(|e| format!("{name}: {e}"))?;
-    world
-        .step_n(golden.steps)
-        .map_err(|e| format!("{name}: {e}"))?;
+    let all = checks();
+    let check = all
+        .get(index)
+        .ok_or_else(|| format!("no golden check {index} (there are {})", all.len()))?;
     Ok(Outcome {
-        name,
-        steps: golden.steps,
-        computed: world.space.checksum(),
-        golden: golden.checksum,
+        name: check.label(),
+        steps: check.steps,
+        computed: check.run()?,
+        golden: check.checksum,
     })
 }
 
@@ -78,14 +76,15 @@ mod tests {
 
     #[test]
     fn a_small_golden_scene_agrees_natively() -> Result<(), String> {
-        // The cheapest golden scenes (one or two bodies) run in a debug
-        // test in milliseconds; all of them run in the browser test and in
-        // scenes/tests/golden.rs.
-        let cheap: Vec<usize> = scenes()
+        // The checks of the cheapest golden scenes (one or two bodies)
+        // run in a debug test in milliseconds; all of them run in the
+        // browser test and in scenes/tests/golden.rs.
+        let cheap: Vec<usize> = checks()
+            .iter()
             .enumerate()
-            .filter(|(_, (name, _))| tamias2d_scenes::find(name).is_some_and(|s| s.bodies <= 2))
+            .filter(|(_, c)| tamias2d_scenes::find(c.scene).is_some_and(|s| s.bodies <= 2))
             .map(|(i, _)| i)
-            .take(3)
+            .take(8)
             .collect();
         assert!(!cheap.is_empty());
         for i in cheap {
@@ -100,6 +99,6 @@ mod tests {
 
     #[test]
     fn an_unknown_index_is_an_error() {
-        assert!(run(count()).is_err_and(|e| e.contains("no golden scene")));
+        assert!(run(count()).is_err_and(|e| e.contains("no golden check")));
     }
 }

@@ -1,5 +1,5 @@
 // The demo page: a playground, the "same bits" panel and the lockstep view.
-// `?check` runs the browser test first (every golden scene, two frame-time
+// `?check` runs the browser test first (every golden check, two frame-time
 // figures, a lockstep run) and posts the results to the server's /report
 // (`tamias web --check` reads them), then plays as usual.
 import { Tamias } from './tamias.js';
