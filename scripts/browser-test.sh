@@ -22,8 +22,10 @@ if ! command -v chromium >/dev/null; then
     apt-get install -y -qq --no-install-recommends chromium >/dev/null
 fi
 # TAMIAS names a `tamias` binary built already (CI passes the one its
-# release tests built, so the CLI is not built a second time with other
-# engine features); otherwise cargo builds and runs it.
+# debug tests built: the CLI only serves the page and judges its report,
+# the engine the page runs is the wasm build `tamias web` makes; an
+# unoptimised `tamias` prints the browser's frame times without native
+# ones); otherwise cargo builds and runs an optimised one.
 if [ -n "${TAMIAS:-}" ]; then
     "$TAMIAS" web --check "$@"
 else

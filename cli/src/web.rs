@@ -16,7 +16,8 @@
 //!   and the lockstep peers agreed on every confirmed frame.
 //!   It prints the browser's frame time of `pyramid_20` and
 //!   `bowl_boxes_500` (mean over the first 300 steps from the build) beside
-//!   this native build's, measured the same way in this process.
+//!   this native build's, measured the same way in this process (an
+//!   optimised `tamias` only).
 //!   `--screenshot PNG` also saves a picture of the page after the test.
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{TcpListener, TcpStream};
@@ -360,11 +361,23 @@ fn judge(body: &str) -> Result<(), String> {
     Ok(())
 }
 
-/// Prints the page's frame times beside this build's.
+/// Prints the page's frame times beside this build's (an unoptimised
+/// build, such as the one CI's debug tests leave for its browser stage,
+/// prints the page's alone: its own steps would be no fair comparison).
 fn frame_times(body: &str) -> Result<(), String> {
     let report: serde_json::Value = serde_json::from_str(body).unwrap_or_default();
     for name in ["pyramid_20", "bowl_boxes_500"] {
         let browser = report["timings"][name].as_f64();
+        if cfg!(debug_assertions) {
+            match browser {
+                Some(b) => println!(
+                    "frame time {name}: browser {b:.3} ms/step (native not timed: this `tamias` \
+                     is an unoptimised build)"
+                ),
+                None => println!("frame time {name}: browser missing"),
+            }
+            continue;
+        }
         let native = native_frame_time(name)?;
         match browser {
             Some(b) => println!(
