@@ -28,8 +28,9 @@
 #                   qemu costs half a minute; the threads run every
 #                   arithmetic routine the 1-thread step runs, and the
 #                   1-thread path runs on every other platform)
-# CI runs the *-parallel platforms instead of i686-release and aarch64: the
-# same golden check, on a build that also has the threads.
+# CI runs i686-parallel (instead of i686-release: the same golden check, on
+# a build that also has the threads) and miri-s390x; `.ci/run` says why it
+# leaves aarch64 to a developer's run.
 #
 # Usage: scripts/cross-platform.sh [platform...]   (default: all but s390x)
 #
