@@ -467,7 +467,11 @@ fn small_angle_rot(theta: Real) -> Rot {
     if theta.abs() > SERIES_MAX_ANGLE {
         return Rot::from_angle(theta);
     }
-    let t2 = theta * theta;
+    // Every product below has one factor of at most 1/4 (θ, θ² ≤ 1/16) and
+    // the other at most 1 (θ, the coefficients, the Horner sums, which stay
+    // in (0, 1]): raw products below 2^62, so `mul_small` gives the bits of
+    // `*` in one 64-bit multiply.
+    let t2 = theta.mul_small(theta);
     // Horner form; the coefficient constants are 1/k! rounded to nearest.
     const C2: Real = Real::from_bits(2_147_483_648); // 1/2
     const C4: Real = Real::from_bits(178_956_971); // 1/24
@@ -476,8 +480,9 @@ fn small_angle_rot(theta: Real) -> Rot {
     const S3: Real = Real::from_bits(715_827_883); // 1/6
     const S5: Real = Real::from_bits(35_791_394); // 1/120
     const S7: Real = Real::from_bits(852_176); // 1/5040
-    let c = Real::ONE - t2 * (C2 - t2 * (C4 - t2 * (C6 - t2 * C8)));
-    let s = theta * (Real::ONE - t2 * (S3 - t2 * (S5 - t2 * S7)));
+    let m = |a: Real, b: Real| a.mul_small(b);
+    let c = Real::ONE - m(t2, C2 - m(t2, C4 - m(t2, C6 - m(t2, C8))));
+    let s = m(theta, Real::ONE - m(t2, S3 - m(t2, S5 - m(t2, S7))));
     Rot { c, s }
 }
 
@@ -1061,7 +1066,43 @@ mod tests {
         ]
     }
 
+    /// [`small_angle_rot`]'s series in `Real`'s saturating operators: its
+    /// one-multiply products must give these bits.
+    fn small_angle_rot_reference(theta: Real) -> Rot {
+        let t2 = theta * theta;
+        let [c2, c4, c6, c8] =
+            [2_147_483_648, 178_956_971, 5_965_232, 106_522].map(Real::from_bits);
+        let [s3, s5, s7] = [715_827_883, 35_791_394, 852_176].map(Real::from_bits);
+        let c = Real::ONE - t2 * (c2 - t2 * (c4 - t2 * (c6 - t2 * c8)));
+        let s = theta * (Real::ONE - t2 * (s3 - t2 * (s5 - t2 * s7)));
+        Rot { c, s }
+    }
+
+    #[test]
+    fn small_angle_series_matches_saturating_products() {
+        // Every angle of the series' window on a prime stride, and its edges.
+        let edge = SERIES_MAX_ANGLE.to_bits();
+        let swept = (-edge..=edge).step_by(104_729);
+        let edges = [-edge, -edge + 1, -1, 0, 1, edge - 1, edge];
+        for raw in swept.chain(edges) {
+            let theta = Real::from_bits(raw);
+            assert_eq!(
+                small_angle_rot(theta),
+                small_angle_rot_reference(theta),
+                "θ raw {raw}"
+            );
+        }
+    }
+
     proptest::proptest! {
+        /// The series' one-multiply products give the saturating products'
+        /// bits at every angle of its window.
+        #[test]
+        fn small_angle_series_is_exact(raw in -(1i64 << 30)..=(1i64 << 30)) {
+            let theta = Real::from_bits(raw);
+            proptest::prop_assert_eq!(small_angle_rot(theta), small_angle_rot_reference(theta));
+        }
+
         /// The integrator's shortcuts (no damping, no force, no
         /// acceleration) and the idle test's early "fast" exit give exactly
         /// the results of the full formulas.

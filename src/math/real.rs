@@ -269,6 +269,20 @@ impl Real {
         Real(round_shift_sat(wide_mul(self.0, rhs.0)))
     }
 
+    /// `self · rhs` rounded like `*` (nearest, ties away from zero) in one
+    /// 64-bit multiply, for factors whose raw product lies below `2^62` in
+    /// magnitude (one factor at most 1 and the other at most 1/4, say):
+    /// then neither the product nor its rounding bias can wrap and nothing
+    /// saturates, so the bits are those of `*` without its 128-bit product
+    /// and saturation tests. Crate-private: the bound is the caller's
+    /// promise, and a broken one would wrap silently.
+    #[inline(always)]
+    pub(crate) const fn mul_small(self, rhs: Real) -> Real {
+        let p = self.0.wrapping_mul(rhs.0);
+        let bias = (1i64 << (FRAC_BITS - 1)).wrapping_sub((p < 0) as i64);
+        Real(p.wrapping_add(bias) >> FRAC_BITS)
+    }
+
     /// Round-to-nearest, saturating division; see the module docs for `/ 0`.
     #[inline]
     pub const fn div_const(self, rhs: Real) -> Real {

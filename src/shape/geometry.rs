@@ -578,13 +578,27 @@ impl Poly {
     /// whole polygon twice.
     fn write_world_over(&self, pos: Vect, rot: Rot, out: &mut Poly) {
         let n = self.count();
+        out.radius = self.radius;
+        // A box (four points: the common polygon) with its sizes known to the compiler.
+        if let (Ok(src), Ok(dst)) = (
+            <&[Vect; 4]>::try_from(self.verts()),
+            <&mut [Vect; 4]>::try_from(out.verts.get_mut(..n).unwrap_or(&mut [])),
+        ) {
+            place_box_points(src, dst, pos, rot);
+            if let (Ok(src), Ok(dst)) = (
+                <&[Vect; 4]>::try_from(self.normals()),
+                <&mut [Vect; 4]>::try_from(out.normals.get_mut(..n).unwrap_or(&mut [])),
+            ) {
+                place_box_points(src, dst, Vect::ZERO, rot);
+                return;
+            }
+        }
         for (dst, src) in out.verts.iter_mut().zip(&self.verts).take(n) {
             *dst = pos + rot.apply(*src);
         }
         for (dst, src) in out.normals.iter_mut().zip(&self.normals).take(n) {
             *dst = rot.apply(*src);
         }
-        out.radius = self.radius;
     }
 
     /// Bounding box.
@@ -593,6 +607,30 @@ impl Poly {
         let first = it.next().copied().unwrap_or(Vect::ZERO);
         it.fold(BB::for_point(first), |bb, v| bb.expand(*v))
             .grow(self.radius)
+    }
+}
+
+/// `dst[i] = pos + rot.apply(src[i])` for a box's four points, the same
+/// bits, rotating only two of them where the box is symmetric about its
+/// body's origin (a centred box; every box's normals): where point `i + 2`
+/// is exactly `−src[i]`, its rotation is exactly the negated rotation of
+/// `src[i]`, since the rounding of `rotate` (nearest, ties away from zero)
+/// is symmetric under negation. Only a saturated rotation breaks that
+/// symmetry (`Real::MIN` has no negation): it is rotated again.
+#[inline(always)]
+fn place_box_points(src: &[Vect; 4], dst: &mut [Vect; 4], pos: Vect, rot: Rot) {
+    let (src_lo, src_hi) = src.split_at(2);
+    let (dst_lo, dst_hi) = dst.split_at_mut(2);
+    let opposite = |a: Real, b: Real| a.to_bits().checked_neg() == Some(b.to_bits());
+    for (((s0, s1), d0), d1) in src_lo.iter().zip(src_hi).zip(dst_lo).zip(dst_hi) {
+        let r0 = rot.apply(*s0);
+        let mirrored = opposite(s0.x, s1.x)
+            && opposite(s0.y, s1.y)
+            && !r0.x.is_saturated()
+            && !r0.y.is_saturated();
+        let r1 = if mirrored { -r0 } else { rot.apply(*s1) };
+        *d0 = pos + r0;
+        *d1 = pos + r1;
     }
 }
 
@@ -802,6 +840,41 @@ impl Poly {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    proptest::proptest! {
+        /// A polygon symmetric about its origin (a box, a mirrored hexagon)
+        /// placed by mirroring half its rotated points gives `to_world`'s
+        /// bits at any size, angle and position, the saturating edges of
+        /// `Real` included.
+        #[test]
+        fn mirrored_placement_is_to_world(
+            (hx, hy, k) in (1i64..(1 << 62), 1i64..(1 << 62), 0i64..(1 << 40)),
+            (c, s) in (proptest::num::i64::ANY, proptest::num::i64::ANY),
+            (px, py) in (proptest::num::i64::ANY, proptest::num::i64::ANY),
+            hexagon in proptest::bool::ANY,
+        ) {
+            let (x, y) = (Real::from_bits(hx), Real::from_bits(hy));
+            let w = Real::from_bits(k);
+            let v = |x: Real, y: Real| Vect::new(x, y);
+            let points = if hexagon {
+                vec![v(x, Real::ZERO), v(w, y), v(-w, y), v(-x, Real::ZERO), v(-w, -y), v(w, -y)]
+            } else {
+                vec![v(x, y), v(-x, y), v(-x, -y), v(x, -y)]
+            };
+            // Unchecked, as a snapshot could hold it: any extent, normals from the edges.
+            let poly = Poly::from_ccw_unchecked(&points, Real::ZERO);
+            let rot = crate::math::Rot { c: Real::from_bits(c), s: Real::from_bits(s) };
+            let pos = Vect::new(Real::from_bits(px), Real::from_bits(py));
+            let mut out = poly;
+            poly.write_world_over(pos, rot, &mut out);
+            proptest::prop_assert_eq!(out, poly.to_world(pos, rot));
+            // A unit rotation and a near position: no saturation anywhere.
+            let rot = crate::math::Rot::from_angle(Real::from_bits(c >> 30));
+            let pos = Vect::new(Real::from_bits(px >> 20), Real::from_bits(py >> 20));
+            poly.write_world_over(pos, rot, &mut out);
+            proptest::prop_assert_eq!(out, poly.to_world(pos, rot));
+        }
+    }
 
     /// Writing a world geometry over a cache entry gives exactly the
     /// geometry `to_world` builds, whatever the entry held before: another
