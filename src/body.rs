@@ -469,7 +469,7 @@ fn small_angle_rot(theta: Real) -> Rot {
     }
     // Every product below has one factor of at most 1/4 (θ, θ² ≤ 1/16) and
     // the other at most 1 (θ, the coefficients, the Horner sums, which stay
-    // in (0, 1]): raw products below 2^62, so `mul_small` gives the bits of
+    // in (0, 1]): raw products of at most 2^62, so `mul_small` gives the bits of
     // `*` in one 64-bit multiply.
     let t2 = theta.mul_small(theta);
     // Horner form; the coefficient constants are 1/k! rounded to nearest.

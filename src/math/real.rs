@@ -270,7 +270,7 @@ impl Real {
     }
 
     /// `self · rhs` rounded like `*` (nearest, ties away from zero) in one
-    /// 64-bit multiply, for factors whose raw product lies below `2^62` in
+    /// 64-bit multiply, for factors whose raw product is at most `2^62` in
     /// magnitude (one factor at most 1 and the other at most 1/4, say):
     /// then neither the product nor its rounding bias can wrap and nothing
     /// saturates, so the bits are those of `*` without its 128-bit product

@@ -842,10 +842,10 @@ mod tests {
     use super::*;
 
     proptest::proptest! {
-        /// A polygon symmetric about its origin (a box, a mirrored hexagon)
-        /// placed by mirroring half its rotated points gives `to_world`'s
-        /// bits at any size, angle and position, the saturating edges of
-        /// `Real` included.
+        /// A box symmetric about its origin, placed by mirroring two of its
+        /// rotated points (and normals), gives `to_world`'s bits at any size,
+        /// angle and position, the saturating edges of `Real` included; so
+        /// does a symmetric hexagon, which takes the general path.
         #[test]
         fn mirrored_placement_is_to_world(
             (hx, hy, k) in (1i64..(1 << 62), 1i64..(1 << 62), 0i64..(1 << 40)),
