@@ -35,6 +35,7 @@ use super::kernel::{load_pair, store_pair};
 use super::sweep;
 use super::SolverBody;
 
+mod grid;
 mod row;
 mod wide;
 
@@ -145,6 +146,8 @@ impl SoftContacts {
         graph: &graph::ConstraintGraph,
         bodies: &[SolverBody],
     ) {
+        // The narrow-grid study rounds in the scalar kernels only.
+        let compiled = compiled.filter(|_| !grid::ON);
         match compiled {
             Some(c) => self
                 .wide

@@ -13,6 +13,8 @@ use crate::solver::kernel::{effective_mass, load_pair, point_velocity, store_pai
 use crate::solver::softness::Softness;
 use crate::solver::sweep::ManifoldRow;
 use crate::solver::SolverBody;
+
+use super::grid;
 /// A body's motion since the collide (by body slot): its pose then, and
 /// how far it has moved and turned since.
 #[derive(Clone, Copy, Debug, Default)]
@@ -309,6 +311,9 @@ pub(super) fn prepare_manifold(
                 u64::MAX
             },
         };
+        if grid::ON {
+            row.narrow_to_grid();
+        }
     }
 }
 
@@ -430,6 +435,10 @@ pub(super) fn scale_impulses(rows: &mut [SoftContact], dt_coef: Real) {
         for row in rows {
             row.jn *= dt_coef;
             row.jt *= dt_coef;
+            if grid::ON && row.fits_grid() {
+                row.jn = grid::impulse(row.jn);
+                row.jt = grid::impulse(row.jt);
+            }
         }
     }
 }
@@ -620,6 +629,93 @@ impl SoftContact {
         b.w = ar.add(b.w, dwb);
     }
 
+    /// Whether every constant this row's passes multiply by fits its
+    /// narrow grid (the narrow-grid study, module `grid`).
+    pub(super) fn fits_grid(&self) -> bool {
+        use grid::{fits, ARM_BITS, IMPULSE_BITS, MASS_BITS, NARROW_IMPULSES, UNIT_BITS};
+        let unit = [
+            self.n.x,
+            self.n.y,
+            self.friction,
+            self.restitution,
+            self.soft.mass_scale,
+            self.soft.impulse_scale,
+        ];
+        let arm = [
+            self.rn_a,
+            self.rn_b,
+            self.rt_a,
+            self.rt_b,
+            self.kn_a,
+            self.kn_b,
+            self.kt_a,
+            self.kt_b,
+            self.m_inv_a,
+            self.m_inv_b,
+        ];
+        unit.iter().all(|&x| fits(x, UNIT_BITS))
+            && arm.iter().all(|&x| fits(x, ARM_BITS))
+            && fits(self.n_mass, MASS_BITS)
+            && fits(self.t_mass, MASS_BITS)
+            && (!NARROW_IMPULSES
+                || [self.surface_t, self.jn, self.jt]
+                    .iter()
+                    .all(|&x| fits(x, IMPULSE_BITS)))
+    }
+
+    /// A freshly prepared row's constants (and, where the design narrows
+    /// them, its warm-start impulses) on their grids, if they all fit;
+    /// else the row keeps full precision.
+    pub(super) fn narrow_to_grid(&mut self) {
+        use grid::{narrow, ARM_BITS, IMPULSE_BITS, MASS_BITS, NARROW_IMPULSES, UNIT_BITS};
+        if !self.fits_grid() {
+            return;
+        }
+        for x in [
+            &mut self.n.x,
+            &mut self.n.y,
+            &mut self.friction,
+            &mut self.restitution,
+            &mut self.soft.mass_scale,
+            &mut self.soft.impulse_scale,
+        ] {
+            narrow(x, UNIT_BITS);
+        }
+        for x in [
+            &mut self.rn_a,
+            &mut self.rn_b,
+            &mut self.rt_a,
+            &mut self.rt_b,
+            &mut self.kn_a,
+            &mut self.kn_b,
+            &mut self.kt_a,
+            &mut self.kt_b,
+            &mut self.m_inv_a,
+            &mut self.m_inv_b,
+        ] {
+            narrow(x, ARM_BITS);
+        }
+        narrow(&mut self.n_mass, MASS_BITS);
+        narrow(&mut self.t_mass, MASS_BITS);
+        if NARROW_IMPULSES {
+            for x in [&mut self.surface_t, &mut self.jn, &mut self.jt] {
+                narrow(x, IMPULSE_BITS);
+            }
+        }
+    }
+
+    /// The bodies as a narrow kernel reads them, when the narrow-grid study
+    /// is on and the row and the velocities fit its grid (module `grid`);
+    /// `None` (full precision) otherwise, and always without the study.
+    #[inline(always)]
+    fn grid_view(&self, a: &SolverBody, b: &SolverBody) -> Option<(SolverBody, SolverBody)> {
+        if grid::ON && self.fits_grid() {
+            grid::narrow_bodies(a, b)
+        } else {
+            None
+        }
+    }
+
     /// The normal relative velocity `(v_b + ω_b × r2 − v_a − ω_a × r1)·n`.
     #[inline(always)]
     fn normal_velocity<A: FixedArith>(&self, a: &SolverBody, b: &SolverBody, ar: &mut A) -> Real {
@@ -650,13 +746,20 @@ impl SoftContact {
         } else {
             (Real::ZERO, Softness::RIGID)
         };
-        let vn = self.normal_velocity(a, b, ar);
+        let narrow = self.grid_view(a, b);
+        let (vn, bias) = match &narrow {
+            Some((na, nb)) => (self.normal_velocity(na, nb, ar), grid::impulse(bias)),
+            None => (self.normal_velocity(a, b, ar), bias),
+        };
         let err = ar.add(vn, bias);
         let mut jn = ar.mul(err, self.n_mass);
         if !soft.is_rigid() {
             let scaled = ar.mul(jn, soft.mass_scale);
             let back = ar.mul(soft.impulse_scale, self.jn);
             jn = ar.add(scaled, back);
+        }
+        if narrow.is_some() {
+            jn = grid::impulse(jn);
         }
         let old = self.jn;
         self.jn = ar.sub(old, jn).max(Real::ZERO);
@@ -675,12 +778,21 @@ impl SoftContact {
     ) {
         {
             let n = self.n;
-            let dv = Vect::new(ar.sub(b.v.x, a.v.x), ar.sub(b.v.y, a.v.y));
+            let narrow = self.grid_view(a, b);
+            let (va, vb) = match &narrow {
+                Some((na, nb)) => (na, nb),
+                None => (&*a, &*b),
+            };
+            let dv = Vect::new(ar.sub(vb.v.x, va.v.x), ar.sub(vb.v.y, va.v.y));
             let (neg_ny, neg_rt_a) = (ar.neg_const(n.y), ar.neg_const(self.rt_a));
-            let vt = ar.dot4_bounded([dv.x, dv.y, b.w, a.w], [neg_ny, n.x, self.rt_b, neg_rt_a]);
+            let vt = ar.dot4_bounded([dv.x, dv.y, vb.w, va.w], [neg_ny, n.x, self.rt_b, neg_rt_a]);
             let vt = ar.add(vt, self.surface_t);
-            let jt_max = ar.mul(self.friction, self.jn);
-            let djt = ar.mul(vt, self.t_mass);
+            let mut jt_max = ar.mul(self.friction, self.jn);
+            let mut djt = ar.mul(vt, self.t_mass);
+            if narrow.is_some() {
+                jt_max = grid::impulse(jt_max);
+                djt = grid::impulse(djt);
+            }
             let old = self.jt;
             self.jt = ar.sub(old, djt).clamp(-jt_max, jt_max);
             let jt = ar.sub(self.jt, old);
@@ -711,6 +823,44 @@ impl SoftContact {
 pub(super) mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    #[test]
+    fn a_narrowed_row_is_on_its_grids() {
+        use grid::{round, ARM_BITS, IMPULSE_BITS, MASS_BITS, NARROW_IMPULSES, UNIT_BITS};
+        let n = Vect::new(Real::lit("0.6"), Real::lit("-0.8"));
+        let (arm, mass, jn) = (
+            Real::lit("0.3333333"),
+            Real::lit("0.7777777"),
+            Real::lit("0.0123456789"),
+        );
+        let mut r = SoftContact {
+            n,
+            rn_a: arm,
+            n_mass: mass,
+            jn,
+            ..SoftContact::default()
+        };
+        r.narrow_to_grid();
+        assert_eq!(r.n, Vect::new(round(n.x, UNIT_BITS), round(n.y, UNIT_BITS)));
+        assert_eq!(r.rn_a, round(arm, ARM_BITS));
+        assert_eq!(r.n_mass, round(mass, MASS_BITS));
+        // Impulses go to their grid only in the designs that narrow them.
+        let want = if NARROW_IMPULSES {
+            round(jn, IMPULSE_BITS)
+        } else {
+            jn
+        };
+        assert_eq!(r.jn, want);
+        // A row out of the window keeps every bit.
+        let mut far = SoftContact {
+            rn_a: Real::from_int(200),
+            n,
+            ..SoftContact::default()
+        };
+        let before = far;
+        far.narrow_to_grid();
+        assert_eq!(far, before);
+    }
 
     /// Raw values over the whole range: small, scene-like, near the
     /// range check's edge (2^58) and the extremes.
