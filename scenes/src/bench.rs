@@ -9,6 +9,9 @@
 //!   [`ScriptedWorld::step`](crate::ScriptedWorld::step) does.
 //! * [`measure`] reads what both engines deliver in one common form: body
 //!   states in creation order and penetration of touching pairs.
+//! * [`measures`] are the scenes' error measures against closed forms and
+//!   conservation laws (the report's accuracy tables and trade curves, and
+//!   the narrow-grid study).
 //!
 //! Floats are fine here: this is measurement code, never simulation state.
 #![allow(
@@ -23,6 +26,7 @@
 
 pub mod joints;
 pub mod measure;
+pub mod measures;
 pub mod rapier_world;
 
 use crate::{self as scenes, SceneDesc, Section};

@@ -18,12 +18,8 @@
 #![allow(clippy::float_arithmetic)] // measurement and reports only
 
 use tamias2d::math::Real;
-use tamias2d_scenes::bench as common;
+use tamias2d_scenes::bench::{self as common, measures};
 use tamias2d_scenes::SolverDesc;
-
-#[path = "perf_report/measures.rs"]
-#[allow(dead_code)] // the report's helpers this program does not call
-mod measures;
 
 use common::{Config, Engine, Penetration, TamiasRun};
 

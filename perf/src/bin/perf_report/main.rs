@@ -29,7 +29,7 @@
 #![allow(clippy::float_arithmetic)] // measurement and reports only
 
 use tamias2d_scenes::bench as common;
-mod measures;
+use tamias2d_scenes::bench::measures;
 mod plot;
 mod report;
 mod side;

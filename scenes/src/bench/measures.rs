@@ -4,7 +4,7 @@
 //! integrator's own discretisation error is part of what is measured: it is
 //! what a game gets, and what a smaller step buys back. Every function reads
 //! the engine through [`Engine`], so both engines are measured the same way.
-use crate::common::{BodyState, Engine, Penetration};
+use super::{BodyState, Engine, Penetration};
 
 /// Standard gravity of the SI accuracy scenes.
 const G: f64 = 9.81;
