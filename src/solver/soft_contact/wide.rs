@@ -213,7 +213,7 @@ impl WideContacts {
                     *n = n.saturating_add(1);
                 }
                 if *n == LANES {
-                    self.batches.push(gather_batch(group.map(rows_of), rows));
+                    push_batch(&mut self.batches, group.map(rows_of), rows);
                     *n = 0;
                 }
             }
@@ -223,7 +223,7 @@ impl WideContacts {
                     for (slot, &m) in manifolds.iter_mut().zip(group.iter().take(n)) {
                         *slot = rows_of(m);
                     }
-                    self.batches.push(gather_batch(manifolds, rows));
+                    push_batch(&mut self.batches, manifolds, rows);
                 } else {
                     self.scalar
                         .extend(group.iter().take(n).map(|&m| rows_of(m)));
@@ -531,14 +531,31 @@ fn shares_manifold_constants(rows: &[SoftContact]) -> bool {
 /// same however many lanes it uses.
 const PADDED_BATCH: usize = LANES / 2 + 1;
 
-/// The lanes of four manifolds' rows (`(start, end)` each; an empty lane,
-/// `start` past the rows, has no bodies and applies nothing).
+/// [`gather_into`] a new batch (the tests' form).
+#[cfg(test)]
 fn gather_batch(manifolds: [(u32, u32); LANES], rows: &[SoftContact]) -> Batch {
-    let mut batch = Batch {
-        a: [u32::MAX; LANES],
-        b: [u32::MAX; LANES],
-        ..Batch::default()
-    };
+    let mut batch = Batch::default();
+    gather_into(&mut batch, manifolds, rows);
+    batch
+}
+
+/// A batch of four manifolds' rows onto the end of `batches`
+/// ([`gather_into`]), in place: a batch is about 1.5 KB, and building it
+/// apart and moving it in cost two copies.
+fn push_batch(batches: &mut Vec<Batch>, manifolds: [(u32, u32); LANES], rows: &[SoftContact]) {
+    batches.push(Batch::default());
+    if let Some(batch) = batches.last_mut() {
+        gather_into(batch, manifolds, rows);
+    }
+}
+
+/// The lanes of four manifolds' rows (`(start, end)` each; an empty lane,
+/// `start` past the rows, has no bodies and applies nothing) into
+/// `batch`, which holds `Batch::default()`.
+#[inline(always)]
+fn gather_into(batch: &mut Batch, manifolds: [(u32, u32); LANES], rows: &[SoftContact]) {
+    batch.a = [u32::MAX; LANES];
+    batch.b = [u32::MAX; LANES];
     for (lane, &(start, end)) in manifolds.iter().enumerate() {
         let Some(first) = rows.get(start as usize) else {
             continue;
@@ -593,7 +610,6 @@ fn gather_batch(manifolds: [(u32, u32); LANES], rows: &[SoftContact]) -> Batch {
     for point in &mut batch.points {
         point.short = point.find_short();
     }
-    batch
 }
 
 /// `values[lane] = v` (nothing past the end).
