@@ -145,6 +145,9 @@ pub(crate) struct WideContacts {
     scalar: Vec<(u32, u32)>,
     /// Each color's first manifold in `scalar`, and the end.
     color_scalar: Vec<u32>,
+    /// Each batch's manifolds (row ranges), found before the batches are
+    /// gathered (kept for its allocation).
+    plan: Vec<[(u32, u32); LANES]>,
     /// How the passes run this step (`None`: the wide kernels are off).
     compiled: Option<Compiled>,
 }
@@ -183,8 +186,9 @@ impl WideContacts {
                 .unwrap_or(start);
             (start, end.max(start))
         };
+        self.plan.clear();
         for c in 0..=graph::COLORS {
-            self.color_batches.push(self.batches.len() as u32);
+            self.color_batches.push(self.plan.len() as u32);
             self.color_scalar.push(self.scalar.len() as u32);
             // Manifolds of one and of two points batch apart (a batch
             // solves as many points as its largest manifold has).
@@ -213,7 +217,7 @@ impl WideContacts {
                     *n = n.saturating_add(1);
                 }
                 if *n == LANES {
-                    push_batch(&mut self.batches, group.map(rows_of), rows);
+                    self.plan.push(group.map(rows_of));
                     *n = 0;
                 }
             }
@@ -223,15 +227,19 @@ impl WideContacts {
                     for (slot, &m) in manifolds.iter_mut().zip(group.iter().take(n)) {
                         *slot = rows_of(m);
                     }
-                    push_batch(&mut self.batches, manifolds, rows);
+                    self.plan.push(manifolds);
                 } else {
                     self.scalar
                         .extend(group.iter().take(n).map(|&m| rows_of(m)));
                 }
             }
         }
-        self.color_batches.push(self.batches.len() as u32);
+        self.color_batches.push(self.plan.len() as u32);
         self.color_scalar.push(self.scalar.len() as u32);
+        // The gathers, about 3 % of a step, split between threads (each
+        // batch is gathered alone: the same bits).
+        self.batches.resize(self.plan.len(), Batch::default());
+        gather_split(&mut self.batches, &self.plan, rows);
         self.compiled = Some(compiled);
     }
 
@@ -539,14 +547,18 @@ fn gather_batch(manifolds: [(u32, u32); LANES], rows: &[SoftContact]) -> Batch {
     batch
 }
 
-/// A batch of four manifolds' rows onto the end of `batches`
-/// ([`gather_into`]), in place: a batch is about 1.5 KB, and building it
-/// apart and moving it in cost two copies.
-fn push_batch(batches: &mut Vec<Batch>, manifolds: [(u32, u32); LANES], rows: &[SoftContact]) {
-    batches.push(Batch::default());
-    if let Some(batch) = batches.last_mut() {
-        gather_into(batch, manifolds, rows);
-    }
+/// Batches per piece of the split gathers (a few µs of work).
+const GATHER_PIECE: usize = 64;
+
+/// Each batch of `batches` gathered from its manifolds in `plan`
+/// ([`gather_into`]), in place (a batch is about 1.5 KB: building it apart
+/// and moving it in cost two copies), halves in parallel down to
+/// [`GATHER_PIECE`]s.
+fn gather_split(batches: &mut [Batch], plan: &[[(u32, u32); LANES]], rows: &[SoftContact]) {
+    crate::threads::zip_split(plan, batches, GATHER_PIECE, &|manifolds, batch| {
+        *batch = Batch::default();
+        gather_into(batch, *manifolds, rows);
+    });
 }
 
 /// The lanes of four manifolds' rows (`(start, end)` each; an empty lane,

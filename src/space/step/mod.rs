@@ -271,6 +271,43 @@ impl Space {
     /// The solver bodies get the new velocities.
     fn integrate_velocities(&mut self, ctx: &StepContext) {
         let g = self.state.settings.gravity;
+        if self.integrators.velocity.is_empty() {
+            // Without custom integrators, as `integrate_positions`: body by
+            // body in pieces, halves in parallel where there are threads,
+            // then the velocities into the solver bodies (the same bits, as
+            // each body changes alone). The closures of custom integrators
+            // run on the stepping thread, in slot order (below).
+            let level_touched = core::sync::atomic::AtomicBool::new(false);
+            let (damping, dt) = (ctx.damping, ctx.dt);
+            self.state.bodies.for_each_value_split(
+                positions::BODY_PIECE,
+                &|body: &mut crate::body::Body| {
+                    if body.is_sleeping() {
+                        return;
+                    }
+                    if body.body_type() == BodyType::Static
+                        && (body.f != Vect::ZERO || !body.t.is_zero())
+                    {
+                        level_touched.store(true, core::sync::atomic::Ordering::Relaxed);
+                    }
+                    body.update_velocity(g, damping, dt);
+                },
+            );
+            self.state.bodies.zip_values_split(
+                &mut self.caches.solver.bodies,
+                positions::BODY_PIECE,
+                &|body: &crate::body::Body, slot: &mut crate::solver::SolverBody| {
+                    if !body.is_sleeping() {
+                        slot.v = body.velocity();
+                        slot.w = body.angular_velocity();
+                    }
+                },
+            );
+            if level_touched.into_inner() {
+                self.forget_level();
+            }
+            return;
+        }
         let custom = &mut self.integrators.velocity;
         let mut level_touched = false;
         for (h, body) in self.state.bodies.iter_mut() {

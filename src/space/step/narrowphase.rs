@@ -2,8 +2,8 @@
 //! matched with its arbiter (which keeps the accumulated impulses of the
 //! points it matches by feature id), the begin and pre-solve handlers run;
 //! arbiters whose pair stopped touching retire (separate handler, expiry).
-//! With threads, every pair's collision first, in pieces; then the same
-//! merge in pair order.
+//! With threads, every pair's collision and its arbiter's update first,
+//! in pieces; then the same merge in pair order.
 use core::mem;
 
 use crate::arbiter::Arbiter;
@@ -11,6 +11,7 @@ use crate::arena::Arena;
 use crate::body::Body;
 use crate::collision::{collide, CollisionInfo};
 use crate::constraint::solve::ConstraintScratch;
+use crate::math::Vect;
 use crate::shape::Shape;
 
 use super::super::Space;
@@ -40,7 +41,7 @@ impl Space {
         let mut infos = mem::take(&mut self.caches.arbiters.infos);
         let ahead = self.caches.threads.parallel();
         if ahead {
-            self.collide_ahead(&pairs, &old, &mut infos);
+            self.collide_ahead(&pairs, &mut old, &mut infos);
         }
         let mut old_iter = old.drain(..);
         for (k, &(ia, ib)) in pairs.iter().enumerate() {
@@ -59,7 +60,7 @@ impl Space {
             };
             // Touched in place at the end of `arbiters`: an arbiter is
             // some 250 bytes, and each move of it was a memcpy.
-            if self.collide_pair(ia, ib, info, existing, &mut arbiters) {
+            if self.collide_pair(ia, ib, info, existing, ahead, &mut arbiters) {
                 let index = arbiters.len().saturating_sub(1) as u32;
                 if let Some(arb) = arbiters.last_mut() {
                     if self.run_contact_handlers(arb) {
@@ -80,25 +81,40 @@ impl Space {
 
     /// [`Stage::Narrowphase`](super::Stage::Narrowphase) for every candidate pair at once, split between threads:
     /// `infos[k]` becomes pair `k`'s narrowphase answer, warm-started from
-    /// its arbiter in `old` (last step's, in canonical order like `pairs`).
+    /// its arbiter in `old` (last step's, in canonical order like `pairs`),
+    /// and each arbiter of `old` whose pair touches takes its answer
+    /// ([`Arbiter::touch`]), also split. The merge then only moves them:
+    /// a touch reads the answer, the shapes and the bodies' centres, which
+    /// nothing in the merge changes (the handlers change only their own
+    /// arbiter, after its touch), so the bits are the serial pass's.
     fn collide_ahead(
         &self,
         pairs: &[(u32, u32)],
-        old: &[Arbiter],
+        old: &mut [Arbiter],
         infos: &mut Vec<Option<CollisionInfo>>,
     ) {
         infos.clear();
         infos.resize(pairs.len(), None);
-        // The warm-start ids, by the merge the serial pass makes.
-        let mut old_keys = old.iter().peekable();
+        // The warm-start ids, and each old arbiter's pair, by the merge the
+        // serial pass makes.
+        let mut matched = vec![u32::MAX; old.len()];
+        let mut next_old = 0usize;
         let ids: Vec<u32> = pairs
             .iter()
-            .map(|&key| {
-                while old_keys.next_if(|a| a.key() < key).is_some() {}
-                old_keys
-                    .peek()
-                    .filter(|a| a.key() == key)
-                    .map_or(0, |a| a.warm_start_id)
+            .enumerate()
+            .map(|(k, &key)| {
+                while old.get(next_old).is_some_and(|a| a.key() < key) {
+                    next_old = next_old.saturating_add(1);
+                }
+                match old.get(next_old).filter(|a| a.key() == key) {
+                    Some(a) => {
+                        if let Some(m) = matched.get_mut(next_old) {
+                            *m = k as u32;
+                        }
+                        a.warm_start_id
+                    }
+                    None => 0,
+                }
             })
             .collect();
         let view = NarrowView {
@@ -108,18 +124,33 @@ impl Space {
             constraints: &self.caches.constraints,
         };
         collide_split(&view, pairs, &ids, infos);
+        let stamp = self.state.stamp;
+        let infos: &[Option<CollisionInfo>] = infos;
+        crate::threads::zip_split(&matched, old, PAIR_PIECE, &|&k, arb: &mut Arbiter| {
+            let (Some(Some(info)), Some(&(ia, ib))) =
+                (infos.get(k as usize), pairs.get(k as usize))
+            else {
+                return;
+            };
+            if let Some((sa, sb, centers)) = view.touch_inputs(ia, ib) {
+                arb.touch(info, sa, sb, centers, stamp);
+            }
+        });
     }
 
     /// [`Stage::Narrowphase`](super::Stage::Narrowphase) for one candidate pair, given the narrowphase's
     /// `info`: pushes the touched arbiter (the pair's `existing` one or a
     /// new one) onto `arbiters` and gives true. A pair that does not touch
     /// retires its existing arbiter into `arbiters` and gives false.
+    /// `touched_ahead`: an existing arbiter has already taken `info`
+    /// ([`collide_ahead`](Self::collide_ahead)).
     fn collide_pair(
         &mut self,
         ia: u32,
         ib: u32,
         info: Option<&CollisionInfo>,
         existing: Option<Arbiter>,
+        touched_ahead: bool,
         arbiters: &mut Vec<Arbiter>,
     ) -> bool {
         let Some(info) = info else {
@@ -145,12 +176,15 @@ impl Space {
         ) else {
             return false;
         };
+        let touched = touched_ahead && existing.is_some();
         arbiters.push(existing.unwrap_or_else(|| Arbiter::new(ha, sa, hb, sb)));
         let Some(arb) = arbiters.last_mut() else {
             return false;
         };
-        let centers = (body_a.center(), body_b.center());
-        arb.touch(info, sa, sb, centers, self.state.stamp);
+        if !touched {
+            let centers = (body_a.center(), body_b.center());
+            arb.touch(info, sa, sb, centers, self.state.stamp);
+        }
         true
     }
 
@@ -232,6 +266,16 @@ impl NarrowView<'_> {
         let cb = self.caches.get(ib as usize)?.as_ref()?;
         let info = collide(&ca.geometry, &cb.geometry, ws);
         (info.count > 0).then_some(info)
+    }
+
+    /// What [`Arbiter::touch`] reads for the pair of shape slots `ia`,
+    /// `ib` besides the answer: the shapes and the bodies' centres.
+    fn touch_inputs(&self, ia: u32, ib: u32) -> Option<(&Shape, &Shape, (Vect, Vect))> {
+        let (_, sa) = self.shapes.get_by_index(ia)?;
+        let (_, sb) = self.shapes.get_by_index(ib)?;
+        let ba = self.bodies.get(sa.body)?;
+        let bb = self.bodies.get(sb.body)?;
+        Some((sa, sb, (ba.center(), bb.center())))
     }
 }
 

@@ -76,5 +76,5 @@ impl Space {
     }
 }
 
-/// Body slots per piece of the split position integration (a few µs).
-const BODY_PIECE: usize = 256;
+/// Body slots per piece of the split body integrations (a few µs).
+pub(super) const BODY_PIECE: usize = 256;

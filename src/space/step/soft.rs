@@ -121,13 +121,13 @@ impl Space {
                     .map(|(h, b)| (h, b.f, b.t)),
             );
         }
-        self.caches.soft_contacts.use_wide(
-            self.caches.kernels.wide(),
-            &self.caches.solver.graph,
-            &self.caches.solver.bodies,
-        );
         let first_coef = self.warm_start_coef();
         threads.awake(|| {
+            self.caches.soft_contacts.use_wide(
+                self.caches.kernels.wide(),
+                &self.caches.solver.graph,
+                &self.caches.solver.bodies,
+            );
             for (i, h_i) in sub_step_dts(dt, substeps).enumerate() {
                 let warm = warm_starting.then_some(first_coef);
                 self.soft_sub_step(h_i, i, &coef, &forces, warm);
