@@ -11,7 +11,8 @@
 //! dev-dependencies). A debug build checks the first 60 steps of each
 //! scene on 1 and 3 threads (every step validated costs time there);
 //! release, the whole golden run on every count. Also here, with threads: GGRS SyncTest, snapshot
-//! continuation across thread counts, and a panicking handler.
+//! continuation across thread counts, a panicking handler, and handlers and
+//! a custom integrator with threads.
 use tamias2d::space::Kernels;
 use tamias2d_scenes::REGISTRY;
 
@@ -309,4 +310,59 @@ fn stepping_inside_another_rayon_pool_gives_the_bits_of_one_thread() {
         colored, one[1],
         "colored order, 3 threads in a foreign pool"
     );
+}
+
+/// The stages split between threads that also have a one-thread form for
+/// games' closures (a custom velocity integrator on one body: the others
+/// still integrate in pieces) and the arbiters' update ahead of the merge
+/// (handlers that reject pairs and change the arbiter they see) give the
+/// bits of one thread on the soft step, step by step.
+#[test]
+fn handlers_and_custom_integrators_give_the_bits_of_one_thread() {
+    use tamias2d::math::{Real, Vect};
+    let run = |threads: usize| -> Vec<u64> {
+        let mut desc = tamias2d_scenes::builtin("pyramid_20").expect("a registered scene");
+        desc.settings.use_soft_step();
+        let mut world = desc.build().expect("a valid scene");
+        world.space.set_threads(threads).expect("threads start");
+        let handler = world.space.add_wildcard_handler(Default::default());
+        // A pair whose second shape has an odd slot never collides; the
+        // others solve with a friction that depends on the contacts.
+        handler.begin = Some(Box::new(|ctx| ctx.arbiter.shapes().1.index() % 7 != 3));
+        handler.pre_solve = Some(Box::new(|ctx| {
+            ctx.arbiter.friction = Real::from_bits(ctx.arbiter.count() as i64 * (1 << 30));
+            true
+        }));
+        let dynamic: Vec<_> = world
+            .space
+            .bodies()
+            .filter(|(_, b)| b.is_dynamic())
+            .map(|(h, _)| h)
+            .collect();
+        let h = dynamic[dynamic.len() / 2];
+        world
+            .space
+            .set_velocity_update_func(
+                h,
+                Some(Box::new(|body, g, damping, dt| {
+                    body.update_velocity(Vect::new(g.y, g.x), damping, dt);
+                })),
+            )
+            .expect("a live body");
+        (0..90)
+            .map(|n| {
+                world
+                    .step()
+                    .unwrap_or_else(|e| panic!("{threads} threads, step {n}: {e}"));
+                world.space.checksum()
+            })
+            .collect()
+    };
+    let one = run(1);
+    for &threads in thread_counts().iter().filter(|&&t| t > 1) {
+        let got = run(threads);
+        if let Some(n) = one.iter().zip(&got).position(|(a, b)| a != b) {
+            panic!("{threads} threads differ from one at step {}", n + 1);
+        }
+    }
 }
