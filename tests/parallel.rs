@@ -326,8 +326,8 @@ fn handlers_and_custom_integrators_give_the_bits_of_one_thread() {
         let mut world = desc.build().expect("a valid scene");
         world.space.set_threads(threads).expect("threads start");
         let handler = world.space.add_wildcard_handler(Default::default());
-        // A pair whose second shape has an odd slot never collides; the
-        // others solve with a friction that depends on the contacts.
+        // A pair whose second shape's slot is 3 modulo 7 never collides;
+        // the others solve with a friction set by their contact count.
         handler.begin = Some(Box::new(|ctx| ctx.arbiter.shapes().1.index() % 7 != 3));
         handler.pre_solve = Some(Box::new(|ctx| {
             ctx.arbiter.friction = Real::from_bits(ctx.arbiter.count() as i64 * (1 << 30));
