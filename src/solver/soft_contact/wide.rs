@@ -551,9 +551,9 @@ fn gather_batch(manifolds: [(u32, u32); LANES], rows: &[SoftContact]) -> Batch {
 const GATHER_PIECE: usize = 64;
 
 /// Each batch of `batches` (each `Batch::default()`) gathered from its
-/// manifolds in `plan` ([`gather_into`]), in place (a batch is about 1.5 KB: building it apart
-/// and moving it in cost two copies), halves in parallel down to
-/// [`GATHER_PIECE`]s.
+/// manifolds in `plan` ([`gather_into`]), in place (a batch is about
+/// 1.5 KB: building it apart and moving it in cost two copies), halves in
+/// parallel down to [`GATHER_PIECE`]s.
 fn gather_split(batches: &mut [Batch], plan: &[[(u32, u32); LANES]], rows: &[SoftContact]) {
     crate::threads::zip_split(plan, batches, GATHER_PIECE, &|manifolds, batch| {
         gather_into(batch, *manifolds, rows);
