@@ -141,6 +141,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), String> {
         kernels.describe(),
         match (args.colored_solver, args.solver) {
             (_, Some(source::SolverChoice::Soft)) => ", soft step",
+            (_, Some(source::SolverChoice::SoftNarrow)) => ", soft step, narrow contacts",
             (true, _) => ", colored solver",
             _ => "",
         },

@@ -96,6 +96,7 @@ pub fn rollback(
         descs.len(),
         match solver {
             Some(source::SolverChoice::Soft) => ", soft step",
+            Some(source::SolverChoice::SoftNarrow) => ", soft step, narrow contacts",
             Some(source::SolverChoice::Sequential) => ", sequential impulses",
             None => "",
         },

@@ -87,6 +87,9 @@ pub enum SolverChoice {
     Sequential,
     /// The soft step.
     Soft,
+    /// The soft step with the narrow contact kernels
+    /// (`ContactPrecision::Narrow`).
+    SoftNarrow,
 }
 
 impl SolverChoice {
@@ -97,6 +100,13 @@ impl SolverChoice {
         match self {
             SolverChoice::Sequential => settings.solver = scenes::SolverDesc::Sequential,
             SolverChoice::Soft => settings.use_soft_step(),
+            SolverChoice::SoftNarrow => {
+                settings.use_soft_step();
+                if let scenes::SolverDesc::Soft(scenes::SoftStepDesc(soft)) = &mut settings.solver
+                {
+                    soft.contact_precision = tamias2d::space::ContactPrecision::Narrow;
+                }
+            }
         }
     }
 }

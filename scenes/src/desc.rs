@@ -18,6 +18,7 @@ pub use super::joints::{ConstraintDesc, JointType};
 use tamias2d::math::{Real, Vect};
 use tamias2d::shape::{CollisionType, ShapeFilter};
 use tamias2d::space::{
+    ContactPrecision,
     Settings, SoftStep, Solver, DEFAULT_IDLE_SPEED_THRESHOLD, DEFAULT_SLEEP_TIME_THRESHOLD,
 };
 
@@ -168,6 +169,10 @@ struct SoftStepFields {
     restitution_threshold: Real,
     #[serde(with = "dec::real")]
     slop: Real,
+    /// The narrow contact kernels (`ContactPrecision::Narrow`); left out
+    /// when off.
+    #[serde(skip_serializing_if = "core::ops::Not::not")]
+    narrow_contacts: bool,
 }
 
 impl Default for SoftStepFields {
@@ -187,6 +192,11 @@ impl From<SoftStepFields> for SoftStepDesc {
             push_out_speed: f.push_out_speed,
             restitution_threshold: f.restitution_threshold,
             slop: f.slop,
+            contact_precision: if f.narrow_contacts {
+                ContactPrecision::Narrow
+            } else {
+                ContactPrecision::Full
+            },
         })
     }
 }
@@ -202,6 +212,7 @@ impl From<SoftStepDesc> for SoftStepFields {
             push_out_speed: s.push_out_speed,
             restitution_threshold: s.restitution_threshold,
             slop: s.slop,
+            narrow_contacts: s.contact_precision == ContactPrecision::Narrow,
         }
     }
 }

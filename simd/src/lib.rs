@@ -160,6 +160,11 @@ impl Avx2 {
         /// products (`vpmuludq`).
         mul_lo32
     );
+    binary!(
+        /// The low 32 bits of `a` times the low 32 bits of `b`, both read
+        /// as signed 32-bit integers: signed 64-bit products (`vpmuldq`).
+        mul_i32
+    );
 
     /// `mask ? a : b` lane by lane, `mask` all ones or 0 (`vpblendvb`).
     #[inline(always)]
@@ -183,6 +188,36 @@ impl Avx2 {
         {
             // SAFETY: `self` proves the processor has AVX2.
             unsafe { x86::shr32(a) }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            let _ = self;
+            a
+        }
+    }
+
+    /// `a >> N` lane by lane, logical (`vpsrlq`; `N` in `0..64`).
+    #[inline(always)]
+    pub fn shr<const N: i32>(self, a: U64x4) -> U64x4 {
+        #[cfg(target_arch = "x86_64")]
+        {
+            // SAFETY: `self` proves the processor has AVX2.
+            unsafe { x86::shr::<N>(a) }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            let _ = self;
+            a
+        }
+    }
+
+    /// `a << N` lane by lane (`vpsllq`; `N` in `0..64`).
+    #[inline(always)]
+    pub fn shl<const N: i32>(self, a: U64x4) -> U64x4 {
+        #[cfg(target_arch = "x86_64")]
+        {
+            // SAFETY: `self` proves the processor has AVX2.
+            unsafe { x86::shl::<N>(a) }
         }
         #[cfg(not(target_arch = "x86_64"))]
         {
@@ -244,6 +279,19 @@ mod x86 {
     avx2_binary!(or, _mm256_or_si256);
     avx2_binary!(gt, _mm256_cmpgt_epi64);
     avx2_binary!(mul_lo32, _mm256_mul_epu32);
+    avx2_binary!(mul_i32, _mm256_mul_epi32);
+
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(super) unsafe fn shr<const N: i32>(a: U64x4) -> U64x4 {
+        from(_mm256_srli_epi64::<N>(to(a)))
+    }
+
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(super) unsafe fn shl<const N: i32>(a: U64x4) -> U64x4 {
+        from(_mm256_slli_epi64::<N>(to(a)))
+    }
 
     #[target_feature(enable = "avx2")]
     #[inline]
@@ -309,8 +357,14 @@ mod tests {
             v.mul_lo32(a, b),
             each(|x, y| (x & 0xffff_ffff) * (y & 0xffff_ffff))
         );
+        assert_eq!(
+            v.mul_i32(a, b),
+            each(|x, y| (i64::from(x as u32 as i32) * i64::from(y as u32 as i32)) as u64)
+        );
         assert_eq!(v.shr32(a), a.map(|x| x >> 32));
         assert_eq!(v.shl32(a), a.map(|x| x << 32));
+        assert_eq!(v.shr::<24>(a), a.map(|x| x >> 24));
+        assert_eq!(v.shl::<16>(a), a.map(|x| x << 16));
         let mask = [u64::MAX, 0, u64::MAX, 0];
         assert_eq!(v.select(mask, a, b), [a[0], b[1], a[2], b[3]]);
     }

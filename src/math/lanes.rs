@@ -87,6 +87,13 @@ pub(crate) trait Ops: Copy {
     /// The low 32 bits of `a` times those of `b` (unsigned, 64-bit
     /// products).
     fn mul_lo32(self, a: Lane, b: Lane) -> Lane;
+    /// The low 32 bits of `a` times those of `b`, both read as signed
+    /// 32-bit integers (signed 64-bit products, never wrapping).
+    fn mul_i32(self, a: Lane, b: Lane) -> Lane;
+    /// `a >> N`, logical (`N` in `0..64`).
+    fn shr<const N: i32>(self, a: Lane) -> Lane;
+    /// `a << N` (`N` in `0..64`).
+    fn shl<const N: i32>(self, a: Lane) -> Lane;
     /// `a >> 32`, logical.
     fn shr32(self, a: Lane) -> Lane;
     /// `a << 32`.
@@ -167,6 +174,18 @@ impl Ops for Portable {
         zip(a, b, |x, y| (x & LOW).wrapping_mul(y & LOW))
     }
     #[inline(always)]
+    fn mul_i32(self, a: Lane, b: Lane) -> Lane {
+        zip(a, b, |x, y| i64::from(x as i32).wrapping_mul(i64::from(y as i32)))
+    }
+    #[inline(always)]
+    fn shr<const N: i32>(self, a: Lane) -> Lane {
+        a.map(|x| ((x as u64).wrapping_shr(N as u32)) as i64)
+    }
+    #[inline(always)]
+    fn shl<const N: i32>(self, a: Lane) -> Lane {
+        a.map(|x| x.wrapping_shl(N as u32))
+    }
+    #[inline(always)]
     fn shr32(self, a: Lane) -> Lane {
         a.map(|x| ((x as u64) >> 32) as i64)
     }
@@ -233,6 +252,18 @@ impl Ops for tamias2d_simd::Avx2 {
     #[inline(always)]
     fn mul_lo32(self, a: Lane, b: Lane) -> Lane {
         i(tamias2d_simd::Avx2::mul_lo32(self, u(a), u(b)))
+    }
+    #[inline(always)]
+    fn mul_i32(self, a: Lane, b: Lane) -> Lane {
+        i(tamias2d_simd::Avx2::mul_i32(self, u(a), u(b)))
+    }
+    #[inline(always)]
+    fn shr<const N: i32>(self, a: Lane) -> Lane {
+        i(tamias2d_simd::Avx2::shr::<N>(self, u(a)))
+    }
+    #[inline(always)]
+    fn shl<const N: i32>(self, a: Lane) -> Lane {
+        i(tamias2d_simd::Avx2::shl::<N>(self, u(a)))
     }
     #[inline(always)]
     fn shr32(self, a: Lane) -> Lane {

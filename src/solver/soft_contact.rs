@@ -36,6 +36,7 @@ use super::sweep;
 use super::SolverBody;
 
 mod grid;
+mod narrow;
 mod row;
 mod wide;
 
@@ -140,18 +141,28 @@ impl SoftContacts {
     /// [`solve`](Self::solve)) on the wide kernels compiled as `compiled`
     /// (module `wide`; `None`: the scalar ones). After the prepare; the
     /// same bits either way.
+    ///
+    /// With `narrow` (the narrow contact kernels, module `narrow`) the
+    /// passes always run in lanes, whatever `compiled` says: the portable
+    /// lanes are then the reference kernel, and the AVX2 ones give their
+    /// bits.
     pub(crate) fn use_wide(
         &mut self,
         compiled: Option<Compiled>,
+        narrow: bool,
         graph: &graph::ConstraintGraph,
         bodies: &[SolverBody],
     ) {
         // The narrow-grid study rounds in the scalar kernels only.
-        let compiled = compiled.filter(|_| !grid::ON);
+        let compiled = if narrow {
+            Some(compiled.unwrap_or(Compiled::Portable))
+        } else {
+            compiled.filter(|_| !grid::ON)
+        };
         match compiled {
             Some(c) => self
                 .wide
-                .build(c, &self.rows, &self.manifold_rows, graph, bodies),
+                .build(c, narrow, &self.rows, &self.manifold_rows, graph, bodies),
             None => self.wide.clear(),
         }
     }

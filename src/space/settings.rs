@@ -215,7 +215,7 @@ impl Solver {
 /// damping ratio, as a spring's: the solver corrects overlap and joint
 /// drift like a damped spring of that frequency would, never faster than
 /// [`push_out_speed`](Self::push_out_speed) for contacts.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct SoftStep {
     /// Sub-steps per step (default 4, valid `1..=`[`MAX_SUBSTEPS`]):
     /// velocities, the solve, positions and the relax pass run this many
@@ -245,6 +245,61 @@ pub struct SoftStep {
     /// built-in scenes would let stacks sink 10 cm. Measured: `pyramid_20`
     /// sinks 3.0 cm at 0, 5.0 cm at 0.001 m, 11.8 cm at 0.005 m.
     pub slop: Real,
+    /// The arithmetic of the contact passes (default
+    /// [`ContactPrecision::Full`]): exact I32F32, or the narrow kernels,
+    /// faster, on coarser grids ([`ContactPrecision::Narrow`]).
+    pub contact_precision: ContactPrecision,
+}
+
+/// The arithmetic of the soft step's contact passes. Both are
+/// deterministic: the same bits on every platform, build and thread
+/// count, whichever kernels run ([`Kernels`](crate::solver::Kernels));
+/// they give different bits from each other.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum ContactPrecision {
+    /// Every product of the passes in exact I32F32 (64×64-bit products
+    /// rounded once). The default.
+    #[default]
+    Full,
+    /// Every value a pass multiplies held in 32 bits (velocities read on
+    /// Q16.16, impulses on Q8.24, the normal and lever arms on Q8.24), so
+    /// that each product is one 32×32→64-bit multiply: faster wide
+    /// kernels, at a cost in accuracy `docs/numerics.md` measures ("The
+    /// narrow contact kernels"). A contact whose values leave the grids'
+    /// windows (heavy bodies, fast ones, pixel units) is solved exactly,
+    /// so nothing saturates that the full kernels would not.
+    Narrow,
+}
+
+/// The derive's hash of every field, except that the default
+/// [`ContactPrecision::Full`] adds nothing: a world on the full kernels
+/// keeps the checksum it had before the precision was a setting.
+impl core::hash::Hash for SoftStep {
+    fn hash<H: core::hash::Hasher>(&self, h: &mut H) {
+        // Every field named: a new one is a compile error until hashed.
+        let SoftStep {
+            substeps,
+            contact_hertz,
+            contact_damping_ratio,
+            joint_hertz,
+            joint_damping_ratio,
+            push_out_speed,
+            restitution_threshold,
+            slop,
+            contact_precision,
+        } = self;
+        substeps.hash(h);
+        contact_hertz.hash(h);
+        contact_damping_ratio.hash(h);
+        joint_hertz.hash(h);
+        joint_damping_ratio.hash(h);
+        push_out_speed.hash(h);
+        restitution_threshold.hash(h);
+        slop.hash(h);
+        if *contact_precision != ContactPrecision::Full {
+            contact_precision.hash(h);
+        }
+    }
 }
 
 impl SoftStep {
@@ -260,6 +315,7 @@ impl SoftStep {
         push_out_speed: Real::lit("3"),
         restitution_threshold: Real::lit("1"),
         slop: Real::ZERO,
+        contact_precision: ContactPrecision::Full,
     };
 
     /// The defaults for a world measured in a unit with `units_per_metre`

@@ -51,6 +51,8 @@ pub(crate) struct SoftContactParams {
     pub(crate) friction: bool,
     /// The restitution pass (the `restitution` setting).
     pub(crate) restitution: bool,
+    /// The narrow contact kernels (`ContactPrecision::Narrow`).
+    pub(crate) narrow: bool,
 }
 
 /// One manifold point's row.

@@ -39,6 +39,7 @@ use crate::math::{Real, Vect};
 use crate::solver::softness::Softness;
 use crate::solver::{graph, sweep, SolverBody};
 
+use super::narrow::{dispatch_narrow, gather_narrow, put_narrow, zero_narrow, NarrowBatch};
 use super::row::{
     scale_impulses, solve_manifold, warm_start_manifold, Motion, SoftContact, SoftContactParams,
 };
@@ -148,6 +149,9 @@ pub(crate) struct WideContacts {
     /// Each batch's manifolds (row ranges), found before the batches are
     /// gathered (kept for its allocation).
     plan: Vec<[(u32, u32); LANES]>,
+    /// The batches on the narrow grids, when this step's contacts are
+    /// narrow (module `narrow`; `batches` is then empty).
+    narrow: Vec<NarrowBatch>,
     /// How the passes run this step (`None`: the wide kernels are off).
     compiled: Option<Compiled>,
 }
@@ -161,6 +165,7 @@ impl WideContacts {
     /// Turns the wide kernels off (the rows hold the state).
     pub(crate) fn clear(&mut self) {
         self.batches.clear();
+        self.narrow.clear();
         self.color_batches.clear();
         self.scalar.clear();
         self.color_scalar.clear();
@@ -168,10 +173,16 @@ impl WideContacts {
     }
 
     /// The batches of a step: each color's manifolds in batches of four,
-    /// the rest (and the overflow) for the scalar kernel.
+    /// the rest (and the overflow) for the scalar kernel. With `narrow`
+    /// (module `narrow`), on the narrow grids, and every manifold that can
+    /// join a batch does: a color's last ones in a batch with empty
+    /// lanes, each of the overflow color's in a batch of its own (they
+    /// may share bodies, so they run one after the other).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn build(
         &mut self,
         compiled: Compiled,
+        narrow: bool,
         rows: &[SoftContact],
         manifold_rows: &[u32],
         graph: &graph::ConstraintGraph,
@@ -196,7 +207,7 @@ impl WideContacts {
             let mut counts = [0usize; 2];
             for m in graph.range(c) {
                 let (start, end) = rows_of(m);
-                let joins = c < graph::COLORS
+                let joins = (c < graph::COLORS || narrow)
                     && rows.get(start as usize).is_some_and(|r| {
                         r.a != r.b && (r.a as usize) < bodies.len() && (r.b as usize) < bodies.len()
                     })
@@ -206,6 +217,12 @@ impl WideContacts {
                         .is_some_and(shares_manifold_constants);
                 if !joins {
                     self.scalar.push((start, end));
+                    continue;
+                }
+                if c == graph::COLORS {
+                    let mut alone = [(u32::MAX, u32::MAX); LANES];
+                    set(&mut alone, 0, (start, end));
+                    self.plan.push(alone);
                     continue;
                 }
                 let kind = usize::from(end.wrapping_sub(start) == 2);
@@ -221,8 +238,9 @@ impl WideContacts {
                     *n = 0;
                 }
             }
+            let padded = if narrow { 1 } else { PADDED_BATCH };
             for (group, &n) in pending.iter().zip(&counts) {
-                if n >= PADDED_BATCH {
+                if n >= padded {
                     let mut manifolds = [(u32::MAX, u32::MAX); LANES];
                     for (slot, &m) in manifolds.iter_mut().zip(group.iter().take(n)) {
                         *slot = rows_of(m);
@@ -238,8 +256,15 @@ impl WideContacts {
         self.color_scalar.push(self.scalar.len() as u32);
         // The gathers, about 3 % of a step, split between threads (each
         // batch is gathered alone: the same bits).
-        self.batches.resize(self.plan.len(), Batch::default());
-        gather_split(&mut self.batches, &self.plan, rows);
+        if narrow {
+            self.narrow.resize(self.plan.len(), NarrowBatch::default());
+            crate::threads::zip_split(&self.plan, &mut self.narrow, GATHER_PIECE, &|m, batch| {
+                gather_narrow(batch, *m, rows);
+            });
+        } else {
+            self.batches.resize(self.plan.len(), Batch::default());
+            gather_split(&mut self.batches, &self.plan, rows);
+        }
         self.compiled = Some(compiled);
     }
 
@@ -249,6 +274,9 @@ impl WideContacts {
             for lane in 0..LANES {
                 put_lane(batch, lane, rows);
             }
+        }
+        for batch in &self.narrow {
+            put_narrow(batch, rows);
         }
     }
 
@@ -262,6 +290,7 @@ impl WideContacts {
             point.state.jn = [0; LANES];
             point.state.jt = [0; LANES];
         }
+        self.narrow.iter_mut().for_each(zero_narrow);
     }
 
     /// `pass` in place, color after color: a color's batches, then its
@@ -277,6 +306,8 @@ impl WideContacts {
         for c in 0..=graph::COLORS {
             let batches = part_mut(&mut self.batches, &self.color_batches, c);
             dispatch(compiled, pass, batches, InPlace(bodies), motion);
+            let narrow = part_mut(&mut self.narrow, &self.color_batches, c);
+            dispatch_narrow(compiled, pass, narrow, InPlace(bodies), rows, motion);
             for &(start, end) in part(&self.scalar, &self.color_scalar, c) {
                 if let Some(m) = rows.get_mut(start as usize..end as usize) {
                     scalar_pass(pass, m, &mut InPlace(bodies), motion);
@@ -301,6 +332,13 @@ impl WideContacts {
         for c in 0..=graph::COLORS {
             let batches = part_mut(&mut self.batches, &self.color_batches, c);
             split_batches(compiled, pass, batches, Shared(shared), motion);
+            let narrow = part_mut(&mut self.narrow, &self.color_batches, c);
+            if c < graph::COLORS {
+                split_narrow(compiled, pass, narrow, Shared(shared), rows, motion);
+            } else {
+                // The overflow's manifolds may share bodies: in order.
+                dispatch_narrow(compiled, pass, narrow, Shared(shared), rows, motion);
+            }
             for &(start, end) in part(&self.scalar, &self.color_scalar, c) {
                 if let Some(m) = rows.get_mut(start as usize..end as usize) {
                     scalar_pass(pass, m, &mut Shared(shared), motion);
@@ -330,6 +368,27 @@ fn split_batches(
     crate::threads::join(
         || split_batches(compiled, pass, left, store, motion),
         || split_batches(compiled, pass, right, store, motion),
+    );
+}
+
+/// [`dispatch_narrow`] on `batches` in halves on threads, down to
+/// [`BATCH_PIECE`]s.
+fn split_narrow(
+    compiled: Option<Compiled>,
+    pass: Pass,
+    batches: &mut [NarrowBatch],
+    store: Shared<'_>,
+    rows: &[SoftContact],
+    motion: &[Motion],
+) {
+    if batches.len() <= BATCH_PIECE {
+        dispatch_narrow(compiled, pass, batches, store, rows, motion);
+        return;
+    }
+    let (left, right) = batches.split_at_mut(batches.len() / 2);
+    crate::threads::join(
+        || split_narrow(compiled, pass, left, store, rows, motion),
+        || split_narrow(compiled, pass, right, store, rows, motion),
     );
 }
 
@@ -364,7 +423,7 @@ fn scalar_pass<S: BodyStore>(pass: Pass, m: &mut [SoftContact], store: &mut S, m
 
 /// Where a pass reads and writes the bodies: in place, or shared between
 /// threads.
-trait BodyStore {
+pub(super) trait BodyStore {
     /// The body in `slot` (`None` past the end).
     fn load(&self, slot: u32) -> Option<SolverBody>;
     /// Its new velocities.
@@ -408,7 +467,7 @@ impl BodyStore for Shared<'_> {
 /// the others come out of a pass unchanged and are not stored, so that
 /// threads sharing one never write its cache line.
 #[inline(always)]
-fn movable(b: &SolverBody) -> bool {
+pub(super) fn movable(b: &SolverBody) -> bool {
     !b.m_inv.is_zero() || !b.i_inv.is_zero()
 }
 
@@ -416,7 +475,7 @@ fn movable(b: &SolverBody) -> bool {
 /// `store`, and stores the movable ones back (nothing for a body paired
 /// with itself, or a slot out of range): the in-place kernel's bits.
 #[inline(always)]
-fn on_store<S: BodyStore>(
+pub(super) fn on_store<S: BodyStore>(
     rows: &mut [SoftContact],
     store: &mut S,
     f: impl FnOnce(&mut [SoftContact], &mut [SolverBody; 2]),
@@ -625,7 +684,7 @@ fn gather_into(batch: &mut Batch, manifolds: [(u32, u32); LANES], rows: &[SoftCo
 
 /// `values[lane] = v` (nothing past the end).
 #[inline(always)]
-fn set<T>(values: &mut [T; LANES], lane: usize, v: T) {
+pub(super) fn set<T>(values: &mut [T; LANES], lane: usize, v: T) {
     if let Some(slot) = values.get_mut(lane) {
         *slot = v;
     }
@@ -1366,6 +1425,7 @@ mod tests {
             restitution_threshold: Real::ZERO,
             friction,
             restitution: false,
+            narrow: false,
         };
         (rows, manifolds, bodies, motion, p)
     }

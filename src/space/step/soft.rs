@@ -24,7 +24,7 @@ use crate::math::{Real, Vect};
 use crate::solver::soft_contact::{SoftContactParams, SoftPass};
 use crate::solver::softness::Softness;
 
-use super::super::{SoftStep, Space, SpaceError};
+use super::super::{ContactPrecision, SoftStep, Space, SpaceError};
 use super::sub_step_dts;
 
 /// The fewest manifolds the soft passes split between threads.
@@ -57,6 +57,7 @@ impl SoftCoefficients {
                 restitution_threshold: soft.restitution_threshold,
                 friction,
                 restitution,
+                narrow: soft.contact_precision == ContactPrecision::Narrow,
             },
             joints: Softness::new(joint_hz, soft.joint_damping_ratio, h),
         }
@@ -125,6 +126,7 @@ impl Space {
         threads.awake(|| {
             self.caches.soft_contacts.use_wide(
                 self.caches.kernels.wide(),
+                coef.contacts.narrow,
                 &self.caches.solver.graph,
                 &self.caches.solver.bodies,
             );

@@ -1,0 +1,850 @@
+//! The narrow contact kernels: the soft contact passes with every lane
+//! value in 32 bits, so that each product is one signed 32×32→64-bit
+//! multiply (`vpmuldq`, four lanes an instruction) instead of the exact
+//! kernels' four partial products: the
+//! [`ContactPrecision::Narrow`](crate::space::ContactPrecision::Narrow)
+//! setting, whose grids `docs/numerics.md` states ("The narrow contact
+//! kernels").
+//!
+//! The grids (fraction bits): velocities read by a row on Q16.16 (from
+//! the bodies' velocities, which a pass keeps on 48 fraction bits so that
+//! an impulse times a gain adds to them exactly); the normal, lever arms,
+//! `I⁻¹ (r × d)`, the gains `m⁻¹·n`, the separation a bias reads and the
+//! impulses on Q8.24; effective masses, the bias rate and `1/h` on
+//! Q16.16; friction and the impulse scale on Q2.30. Sums of products are
+//! exact in 64 bits and round once, to nearest with ties away from zero,
+//! as every rounding of the engine (a scene and its mirror image stay
+//! mirrors). Between passes the accumulated impulses stay on Q8.24.
+//!
+//! Every value the proofs bound is checked: a manifold whose constants
+//! leave their windows runs the exact kernel for the whole step, and one
+//! whose velocities, impulses or separations leave theirs in a pass is
+//! run again by the exact kernel from its state before that pass (as the
+//! exact wide kernels do). The windows: body velocities below 1,024 m/s
+//! (and rad/s) at a pass's start, separations a bias reads below 64 m,
+//! and each manifold's impulses below `min(32, 2^35/G)` N·s, where `G` is
+//! its largest gain (`m⁻¹` or `I⁻¹ (r × d)`, in 1/kg): then a pass
+//! changes a velocity by under `2^13` m/s in all, the 48-bit velocities
+//! stay below `2^62` and every Q16.16 read fits 32 bits.
+//!
+//! The kernel is written once over [`Ops`]: the portable lanes are the
+//! reference, the AVX2 lanes give their bits (the operations are integer
+//! ones), and every manifold of a step runs in lanes (a color's last
+//! batch and the overflow color's manifolds with empty lanes), so the
+//! bits do not depend on which instructions run.
+use crate::math::lanes::{splat, Lane, Ops, Portable, LANES};
+use crate::math::Real;
+use crate::solver::SolverBody;
+
+use super::row::{solve_manifold, warm_start_manifold, Motion, SoftContact, SoftContactParams};
+use super::wide::{movable, on_store, set, BodyStore, Compiled, Pass};
+
+/// One point of four manifolds on the narrow grids.
+#[derive(Clone, Copy, Debug, Default)]
+struct NarrowPoint {
+    /// The normal, the lever arms across it and the tangent (`r × n`,
+    /// `r × t`), `n·r` and `I⁻¹ (r × d)`: Q8.24.
+    n_x: Lane,
+    n_y: Lane,
+    rn_a: Lane,
+    rn_b: Lane,
+    rt_a: Lane,
+    rt_b: Lane,
+    nr_a: Lane,
+    nr_b: Lane,
+    kn_a: Lane,
+    kn_b: Lane,
+    kt_a: Lane,
+    kt_b: Lane,
+    /// The effective masses, and the normal's times the soft mass scale:
+    /// Q16.16.
+    n_mass: Lane,
+    n_mass_soft: Lane,
+    t_mass: Lane,
+    /// Q2.30.
+    friction: Lane,
+    /// The tangential surface speed, on 40 fraction bits (a sum's).
+    surface_t: Lane,
+    /// The separation at the collide (`Real` bits).
+    dist: Lane,
+    state: NarrowState,
+}
+
+/// What a pass changes in a point's lanes: the separation (`Real` bits),
+/// the accumulated impulses and the largest normal impulse of the step
+/// (Q8.24).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct NarrowState {
+    sep: Lane,
+    jn: Lane,
+    jt: Lane,
+    max_jn: Lane,
+}
+
+/// Four manifolds of one color on the narrow grids.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct NarrowBatch {
+    a: [u32; LANES],
+    b: [u32; LANES],
+    first: [u32; LANES],
+    count: [u32; LANES],
+    points_used: usize,
+    /// The gains `m⁻¹·n` of both bodies (Q8.24); the tangent's are the
+    /// same values, swapped and one negated.
+    ga_x: Lane,
+    ga_y: Lane,
+    gb_x: Lane,
+    gb_y: Lane,
+    /// Every lane's two gains are equal (a pile of like bodies).
+    same_gains: bool,
+    /// Q2.30 and Q16.16.
+    impulse_scale: Lane,
+    bias_rate: Lane,
+    /// The impulse window (Q8.24): a normal impulse below it, a friction
+    /// bound at most half of it.
+    limit: Lane,
+    /// Lanes whose constants left their windows: the exact kernel runs
+    /// them in every pass.
+    exact: [bool; LANES],
+    points: [NarrowPoint; 2],
+}
+
+/// `x / 2^s` rounded to nearest, ties away from zero (`s` in `1..=63`).
+fn round_bits(x: i128, s: u32) -> i128 {
+    let half = 1u128.checked_shl(s.saturating_sub(1)).unwrap_or(0);
+    let m = x.unsigned_abs().saturating_add(half).checked_shr(s).unwrap_or(0);
+    let m = i128::try_from(m).unwrap_or(i128::MAX);
+    if x < 0 {
+        m.saturating_neg()
+    } else {
+        m
+    }
+}
+
+/// Builds lane values and remembers whether one left its window.
+struct Fit {
+    ok: bool,
+}
+
+impl Fit {
+    /// `x` (raw bits) rounded by `s` bits, if the result is a 32-bit lane
+    /// value.
+    fn narrow(&mut self, x: i64, s: u32) -> i64 {
+        self.fits(round_bits(i128::from(x), s))
+    }
+
+    /// The product of two `Real`s' raw bits (64 fraction bits) rounded
+    /// by `s` bits, if a 32-bit lane value.
+    fn product(&mut self, a: Real, b: Real, s: u32) -> i64 {
+        let p = i128::from(a.to_bits()).saturating_mul(i128::from(b.to_bits()));
+        self.fits(round_bits(p, s))
+    }
+
+    /// `v` if its magnitude is below `2^31`.
+    fn fits(&mut self, v: i128) -> i64 {
+        self.within(v, 31)
+    }
+
+    /// `v` if its magnitude is below `2^bits`.
+    fn within(&mut self, v: i128, bits: u32) -> i64 {
+        let limit = 1u128.checked_shl(bits).unwrap_or(0);
+        if v.unsigned_abs() >= limit {
+            self.ok = false;
+            return 0;
+        }
+        i64::try_from(v).unwrap_or(0)
+    }
+}
+
+/// The largest impulse window (Q8.24, 32 N·s).
+const LIMIT_MAX: i64 = 1 << 29;
+/// The velocity change a manifold's impulse window allows per product
+/// (48 fraction bits): four such changes and the velocities' window keep
+/// every 48-bit velocity below `2^62`.
+const CHANGE_MAX: i64 = 1 << 59;
+
+/// A manifold's impulse window from its largest gain (Q8.24 both).
+fn impulse_limit(gain: i64) -> i64 {
+    CHANGE_MAX
+        .checked_div(gain.max(1))
+        .unwrap_or(LIMIT_MAX)
+        .min(LIMIT_MAX)
+}
+
+/// An impulse (`Real` bits) on Q8.24.
+fn impulse_bits(j: Real) -> i64 {
+    i64::try_from(round_bits(i128::from(j.to_bits()), 8)).unwrap_or(0)
+}
+
+/// A Q8.24 impulse as a `Real`.
+fn impulse_real(j: i64) -> Real {
+    Real::from_bits(j.saturating_mul(256))
+}
+
+/// The lanes of four manifolds' rows (`(start, end)` each; an empty lane,
+/// `start` past the rows, has no bodies and applies nothing) into
+/// `batch`, which holds `NarrowBatch::default()`.
+pub(super) fn gather_narrow(
+    batch: &mut NarrowBatch,
+    manifolds: [(u32, u32); LANES],
+    rows: &[SoftContact],
+) {
+    batch.a = [u32::MAX; LANES];
+    batch.b = [u32::MAX; LANES];
+    batch.limit = splat(LIMIT_MAX);
+    for (lane, &(start, end)) in manifolds.iter().enumerate() {
+        let Some(first) = rows.get(start as usize) else {
+            continue;
+        };
+        let count = end.wrapping_sub(start);
+        set(&mut batch.a, lane, first.a);
+        set(&mut batch.b, lane, first.b);
+        set(&mut batch.first, lane, start);
+        set(&mut batch.count, lane, count);
+        batch.points_used = batch.points_used.max(count as usize).min(2);
+        let mut fit = Fit { ok: true };
+        let n = first.n;
+        let gains = [
+            fit.product(n.x, first.m_inv_a, 40),
+            fit.product(n.y, first.m_inv_a, 40),
+            fit.product(n.x, first.m_inv_b, 40),
+            fit.product(n.y, first.m_inv_b, 40),
+        ];
+        let [ga_x, ga_y, gb_x, gb_y] = gains;
+        set(&mut batch.ga_x, lane, ga_x);
+        set(&mut batch.ga_y, lane, ga_y);
+        set(&mut batch.gb_x, lane, gb_x);
+        set(&mut batch.gb_y, lane, gb_y);
+        let soft = first.soft;
+        let impulse_scale = fit.narrow(soft.impulse_scale.to_bits(), 2);
+        set(&mut batch.impulse_scale, lane, impulse_scale);
+        // Below 2^12 /s: a bias of at most 2^58 (40 fraction bits).
+        let bias_rate = fit.narrow(soft.bias_rate.to_bits(), 16);
+        fit.within(i128::from(bias_rate), 28);
+        set(&mut batch.bias_rate, lane, bias_rate);
+        let mut gain = gains.iter().map(|g| g.saturating_abs()).max().unwrap_or(0);
+        for (point, row) in batch
+            .points
+            .iter_mut()
+            .zip(rows.get(start as usize..end as usize).unwrap_or(&[]))
+        {
+            let arm = |v: Real, fit: &mut Fit| fit.narrow(v.to_bits(), 8);
+            set(&mut point.n_x, lane, arm(row.n.x, &mut fit));
+            set(&mut point.n_y, lane, arm(row.n.y, &mut fit));
+            set(&mut point.rn_a, lane, arm(row.rn_a, &mut fit));
+            set(&mut point.rn_b, lane, arm(row.rn_b, &mut fit));
+            set(&mut point.rt_a, lane, arm(row.rt_a, &mut fit));
+            set(&mut point.rt_b, lane, arm(row.rt_b, &mut fit));
+            set(&mut point.nr_a, lane, arm(row.nr_a, &mut fit));
+            set(&mut point.nr_b, lane, arm(row.nr_b, &mut fit));
+            let ks = [row.kn_a, row.kn_b, row.kt_a, row.kt_b].map(|k| arm(k, &mut fit));
+            for k in ks {
+                gain = gain.max(k.saturating_abs());
+            }
+            let [kn_a, kn_b, kt_a, kt_b] = ks;
+            set(&mut point.kn_a, lane, kn_a);
+            set(&mut point.kn_b, lane, kn_b);
+            set(&mut point.kt_a, lane, kt_a);
+            set(&mut point.kt_b, lane, kt_b);
+            set(&mut point.n_mass, lane, fit.narrow(row.n_mass.to_bits(), 16));
+            let soft_mass = fit.product(row.n_mass, soft.mass_scale, 48);
+            set(&mut point.n_mass_soft, lane, soft_mass);
+            set(&mut point.t_mass, lane, fit.narrow(row.t_mass.to_bits(), 16));
+            set(&mut point.friction, lane, fit.narrow(row.friction.to_bits(), 2));
+            // Below 2^52 raw: 2^60 on 40 fraction bits.
+            let surface = fit.within(i128::from(row.surface_t.to_bits()), 52);
+            set(&mut point.surface_t, lane, surface.wrapping_shl(8));
+            set(&mut point.dist, lane, fit.within(i128::from(row.dist.to_bits()), 61));
+            let s = &mut point.state;
+            set(&mut s.sep, lane, row.sep.to_bits());
+            set(&mut s.jn, lane, impulse_bits(row.jn));
+            set(&mut s.jt, lane, impulse_bits(row.jt));
+            set(&mut s.max_jn, lane, impulse_bits(row.max_jn));
+        }
+        set(&mut batch.limit, lane, impulse_limit(gain));
+        set(&mut batch.exact, lane, !fit.ok);
+    }
+    batch.same_gains = batch.ga_x == batch.gb_x && batch.ga_y == batch.gb_y;
+}
+
+/// The batch's state back into its rows.
+pub(super) fn put_narrow(batch: &NarrowBatch, rows: &mut [SoftContact]) {
+    for lane in 0..LANES {
+        let start = batch.first.get(lane).copied().unwrap_or(0) as usize;
+        let count = batch.count.get(lane).copied().unwrap_or(0) as usize;
+        let Some(out) = rows.get_mut(start..start.saturating_add(count)) else {
+            continue;
+        };
+        for (row, point) in out.iter_mut().zip(&batch.points) {
+            let s = &point.state;
+            let at = |v: &Lane| v.get(lane).copied().unwrap_or(0);
+            row.sep = Real::from_bits(at(&s.sep));
+            row.jn = impulse_real(at(&s.jn));
+            row.jt = impulse_real(at(&s.jt));
+            row.max_jn = impulse_real(at(&s.max_jn));
+        }
+    }
+}
+
+/// Warm starting off: every accumulated impulse starts from 0.
+pub(super) fn zero_narrow(batch: &mut NarrowBatch) {
+    for point in &mut batch.points {
+        point.state.jn = splat(0);
+        point.state.jt = splat(0);
+    }
+}
+
+/// `x / 2^S` to nearest, ties away from zero, in every lane: the floor
+/// of `(x + 2^(S−1) − [x < 0]) / 2^S`, the arithmetic shift made of a
+/// logical one on `x + 2^63`. Exact where `|x| < 2^63 − 2^S`.
+#[inline(always)]
+fn round_full<O: Ops, const S: i32>(o: O, x: Lane) -> Lane {
+    let half = 1i64.wrapping_shl((S as u32).wrapping_sub(1));
+    let t = o.add(o.add(x, splat(half.wrapping_add(i64::MIN))), o.sign(x));
+    let offset = 1i64.wrapping_shl(63u32.wrapping_sub(S as u32));
+    o.sub(o.shr::<S>(t), splat(offset))
+}
+
+/// [`round_full`]'s low 32 bits (all a product reads), for `S ≤ 32` and
+/// a result that fits 32 bits: one operation fewer.
+#[inline(always)]
+fn round_low<O: Ops, const S: i32>(o: O, x: Lane) -> Lane {
+    let half = 1i64.wrapping_shl((S as u32).wrapping_sub(1));
+    o.shr::<S>(o.add(o.add(x, splat(half)), o.sign(x)))
+}
+
+/// Four bodies' velocities on 48 fraction bits.
+#[derive(Clone, Copy, Debug)]
+struct Velocities {
+    vx: Lane,
+    vy: Lane,
+    w: Lane,
+    movable: [bool; LANES],
+}
+
+/// Velocities at a pass's start below `2^42` raw (1,024 m/s).
+const VELOCITY_BITS: u32 = 42;
+
+impl Velocities {
+    /// The bodies of `slots` from `store`; `bad` gets every lane whose
+    /// velocities leave the window.
+    #[inline(always)]
+    fn gather<O: Ops, S: BodyStore>(
+        o: O,
+        store: &S,
+        slots: &[u32; LANES],
+        bad: &mut [bool; LANES],
+    ) -> Velocities {
+        let (mut vx, mut vy, mut w) = (splat(0), splat(0), splat(0));
+        let mut moves = [false; LANES];
+        for (lane, &slot) in slots.iter().enumerate() {
+            if let Some(body) = store.load(slot) {
+                let v = [body.v.x, body.v.y, body.w].map(Real::to_bits);
+                if v.iter().any(|x| x.unsigned_abs() >> VELOCITY_BITS != 0) {
+                    set(bad, lane, true);
+                }
+                let [x, y, r] = v;
+                set(&mut vx, lane, x);
+                set(&mut vy, lane, y);
+                set(&mut w, lane, r);
+                set(&mut moves, lane, movable(&body));
+            }
+        }
+        Velocities {
+            vx: o.shl::<16>(vx),
+            vy: o.shl::<16>(vy),
+            w: o.shl::<16>(w),
+            movable: moves,
+        }
+    }
+
+    /// The movable bodies of the lanes not `left` back into `store`.
+    #[inline(always)]
+    fn scatter<O: Ops, S: BodyStore>(
+        &self,
+        o: O,
+        store: &mut S,
+        slots: &[u32; LANES],
+        left: &[bool; LANES],
+    ) {
+        let vx = round_full::<O, 16>(o, self.vx);
+        let vy = round_full::<O, 16>(o, self.vy);
+        let w = round_full::<O, 16>(o, self.w);
+        for (lane, ((&slot, &l), &m)) in slots.iter().zip(left).zip(&self.movable).enumerate() {
+            if l || !m {
+                continue;
+            }
+            let at = |v: &Lane| Real::from_bits(v.get(lane).copied().unwrap_or(0));
+            let body = SolverBody {
+                v: crate::math::Vect::new(at(&vx), at(&vy)),
+                w: at(&w),
+                ..SolverBody::default()
+            };
+            store.store(slot, &body);
+        }
+    }
+
+    /// The Q16.16 reads of a row: `(Δv_x, Δv_y, ω_b, ω_a)` of b against a.
+    #[inline(always)]
+    fn reads<O: Ops>(o: O, a: &Velocities, b: &Velocities) -> [Lane; 4] {
+        [
+            round_low::<O, 32>(o, o.sub(b.vx, a.vx)),
+            round_low::<O, 32>(o, o.sub(b.vy, a.vy)),
+            round_low::<O, 32>(o, b.w),
+            round_low::<O, 32>(o, a.w),
+        ]
+    }
+}
+
+/// An impulse `j` (Q8.24) on both bodies along the gains `(g_x, g_y)`
+/// and angular terms `k` of each: b gains, a loses.
+#[inline(always)]
+fn apply<O: Ops>(
+    o: O,
+    [a, b]: &mut [Velocities; 2],
+    j: Lane,
+    ga: [Lane; 2],
+    gb: [Lane; 2],
+    k: [Lane; 2],
+    same: bool,
+) {
+    let [ga_x, ga_y] = ga;
+    let [gb_x, gb_y] = gb;
+    let [ka, kb] = k;
+    let dax = o.mul_i32(j, ga_x);
+    let day = o.mul_i32(j, ga_y);
+    let (dbx, dby) = if same {
+        (dax, day)
+    } else {
+        (o.mul_i32(j, gb_x), o.mul_i32(j, gb_y))
+    };
+    a.vx = o.sub(a.vx, dax);
+    a.vy = o.sub(a.vy, day);
+    a.w = o.sub(a.w, o.mul_i32(j, ka));
+    b.vx = o.add(b.vx, dbx);
+    b.vy = o.add(b.vy, dby);
+    b.w = o.add(b.w, o.mul_i32(j, kb));
+}
+
+/// A lane of `rec` nonzero where `|x| ≥ 2^N` (one's complement: the
+/// magnitude check of every window in the engine).
+#[inline(always)]
+fn record<O: Ops, const N: i32>(o: O, rec: Lane, x: Lane, sign: Lane) -> Lane {
+    o.or(rec, o.shr::<N>(o.xor(x, sign)))
+}
+
+/// A velocity sum (40 fraction bits) as a Q16.16 read, recorded in `rec`
+/// unless below `2^54` (the read then below `2^30`).
+#[inline(always)]
+fn velocity_read<O: Ops>(o: O, x: Lane, rec: &mut Lane) -> Lane {
+    let sign = o.sign(x);
+    *rec = record::<O, 54>(o, *rec, x, sign);
+    o.shr::<24>(o.add(o.add(x, splat(1 << 23)), sign))
+}
+
+/// The per-pass values every lane shares, on their grids, if they fit:
+/// `1/h` (Q16.16, below `2^12`), the slop (Q8.24, below 64 m) and the
+/// push-out speed's negation (40 fraction bits, below `2^55` raw).
+fn uniform(p: &SoftContactParams) -> Option<(Lane, Lane, Lane)> {
+    let mut fit = Fit { ok: true };
+    let h_inv = fit.narrow(p.h_inv.to_bits(), 16);
+    fit.within(i128::from(h_inv), 28);
+    let slop = fit.narrow(p.slop.to_bits(), 8);
+    fit.within(i128::from(slop), 30);
+    let push = fit.within(i128::from(p.push_out.to_bits()), 55);
+    fit.ok
+        .then(|| (splat(h_inv), splat(slop), splat(push.wrapping_shl(8).wrapping_neg())))
+}
+
+/// Lanes whose accumulated impulses leave the window (`|jn|` at or above
+/// the limit, `|jt|` above half of it) in `rec`.
+#[inline(always)]
+fn check_state<O: Ops>(o: O, batch: &NarrowBatch, state: &[NarrowState; 2], rec: &mut Lane) {
+    let below = o.sub(batch.limit, splat(1));
+    let half = o.shr::<1>(batch.limit);
+    for s in state.iter().take(batch.points_used) {
+        let jn = o.xor(s.jn, o.sign(s.jn));
+        let jt = o.xor(s.jt, o.sign(s.jt));
+        *rec = o.or(*rec, o.or(o.gt(jn, below), o.gt(jt, half)));
+    }
+}
+
+/// The warm start of a batch; returns how many lanes ran the exact kernel.
+#[inline(always)]
+fn warm_start_narrow<O: Ops, S: BodyStore>(
+    o: O,
+    batch: &mut NarrowBatch,
+    store: &mut S,
+    rows: &[SoftContact],
+    dt_coef: Real,
+) -> usize {
+    if dt_coef != Real::ONE {
+        // The first sub-step after a change of time step (rare): the
+        // products of `Real`, back on the grid.
+        for pt in &mut batch.points {
+            for v in pt.state.jn.iter_mut().chain(&mut pt.state.jt) {
+                *v = impulse_bits(impulse_real(*v) * dt_coef);
+            }
+        }
+    }
+    let mut bad = batch.exact;
+    let a = Velocities::gather(o, store, &batch.a, &mut bad);
+    let b = Velocities::gather(o, store, &batch.b, &mut bad);
+    let mut rec = splat(0);
+    let state = batch.points.map(|p| p.state);
+    check_state(o, batch, &state, &mut rec);
+    let mut v = [a, b];
+    let same = batch.same_gains;
+    for pt in batch.points.iter().take(batch.points_used) {
+        let (jn, jt) = (pt.state.jn, pt.state.jt);
+        apply(
+            o,
+            &mut v,
+            jn,
+            [batch.ga_x, batch.ga_y],
+            [batch.gb_x, batch.gb_y],
+            [pt.kn_a, pt.kn_b],
+            same,
+        );
+        // Along the tangent `(−n_y, n_x)`: the gains swapped, one negated.
+        apply(
+            o,
+            &mut v,
+            jt,
+            [o.neg(batch.ga_y), batch.ga_x],
+            [o.neg(batch.gb_y), batch.gb_x],
+            [pt.kt_a, pt.kt_b],
+            same,
+        );
+    }
+    finish(o, batch, store, v, rec, bad, |m, copy| {
+        warm_start_manifold(m, copy);
+    }, rows)
+}
+
+/// The end of a batch's pass: the lanes that stayed in their windows
+/// stored, the others (and the exact ones) run again by the exact kernel
+/// `f` from their state before the pass; returns how many.
+#[inline(always)]
+fn finish<O: Ops, S: BodyStore>(
+    o: O,
+    batch: &mut NarrowBatch,
+    store: &mut S,
+    [a, b]: [Velocities; 2],
+    rec: Lane,
+    mut left: [bool; LANES],
+    f: impl FnMut(&mut [SoftContact], &mut [SolverBody; 2]),
+    rows: &[SoftContact],
+) -> usize {
+    for (l, &r) in left.iter_mut().zip(&rec) {
+        *l |= r != 0;
+    }
+    a.scatter(o, store, &batch.a, &left);
+    b.scatter(o, store, &batch.b, &left);
+    if left.contains(&true) {
+        rerun_exact(batch, store, &left, f, rows)
+    } else {
+        0
+    }
+}
+
+/// The lanes `left`, run by the exact kernel `f` on their rows with the
+/// batch's state (from before the pass), which takes theirs back.
+#[cold]
+#[inline(never)]
+fn rerun_exact<S: BodyStore>(
+    batch: &mut NarrowBatch,
+    store: &mut S,
+    left: &[bool; LANES],
+    mut f: impl FnMut(&mut [SoftContact], &mut [SolverBody; 2]),
+    rows: &[SoftContact],
+) -> usize {
+    let mut count = 0usize;
+    for (lane, _) in left.iter().enumerate().filter(|(_, &l)| l) {
+        let start = batch.first.get(lane).copied().unwrap_or(0) as usize;
+        let n = batch.count.get(lane).copied().unwrap_or(0) as usize;
+        let Some(src) = rows.get(start..start.saturating_add(n)) else {
+            continue;
+        };
+        count = count.saturating_add(1);
+        let mut m = [SoftContact::default(); 2];
+        for ((row, src), pt) in m.iter_mut().zip(src).zip(&batch.points) {
+            let at = |v: &Lane| v.get(lane).copied().unwrap_or(0);
+            let s = &pt.state;
+            *row = SoftContact {
+                sep: Real::from_bits(at(&s.sep)),
+                jn: impulse_real(at(&s.jn)),
+                jt: impulse_real(at(&s.jt)),
+                max_jn: impulse_real(at(&s.max_jn)),
+                ..*src
+            };
+        }
+        let m = m.get_mut(..n.min(2)).unwrap_or(&mut []);
+        on_store(m, store, &mut f);
+        for (row, pt) in m.iter().zip(&mut batch.points) {
+            let s = &mut pt.state;
+            set(&mut s.sep, lane, row.sep.to_bits());
+            set(&mut s.jn, lane, impulse_bits(row.jn));
+            set(&mut s.jt, lane, impulse_bits(row.jt));
+            set(&mut s.max_jn, lane, impulse_bits(row.max_jn));
+        }
+    }
+    count
+}
+
+/// The solve (`BIAS`) or relax pass of a batch; returns how many lanes
+/// ran the exact kernel.
+#[inline(always)]
+fn solve_narrow<O: Ops, S: BodyStore, const BIAS: bool>(
+    o: O,
+    batch: &mut NarrowBatch,
+    store: &mut S,
+    rows: &[SoftContact],
+    motion: &[Motion],
+    p: &SoftContactParams,
+) -> usize {
+    let mut bad = batch.exact;
+    let Some((h_inv, slop, neg_push)) = uniform(p) else {
+        bad = [true; LANES];
+        let v = [batch.a, batch.b].map(|_| Velocities {
+            vx: splat(0),
+            vy: splat(0),
+            w: splat(0),
+            movable: [false; LANES],
+        });
+        return finish(o, batch, store, v, splat(0), bad, |m, copy| {
+            solve_manifold(m, copy, motion, p, BIAS);
+        }, rows);
+    };
+    let a = Velocities::gather(o, store, &batch.a, &mut bad);
+    let b = Velocities::gather(o, store, &batch.b, &mut bad);
+    let mut rec = splat(0);
+    let mut state = batch.points.map(|pt| pt.state);
+    check_state(o, batch, &state, &mut rec);
+    // The motion since the collide (relax pass only): b's translation
+    // against a's and both turns, Q8.24.
+    let mut moved = [splat(0); 6];
+    if !BIAS {
+        let none = Motion::default();
+        for lane in 0..LANES {
+            let of = |slots: &[u32; LANES]| {
+                slots
+                    .get(lane)
+                    .and_then(|&i| motion.get(i as usize))
+                    .unwrap_or(&none)
+            };
+            let (ma, mb) = (of(&batch.a), of(&batch.b));
+            let mut fit = Fit { ok: true };
+            let d = |x: Real, y: Real| i128::from(x.to_bits()).saturating_sub(i128::from(y.to_bits()));
+            let values = [
+                fit.fits(round_bits(d(mb.dp.x, ma.dp.x), 8)),
+                fit.fits(round_bits(d(mb.dp.y, ma.dp.y), 8)),
+                fit.narrow(ma.dq_c1.to_bits(), 8),
+                fit.narrow(ma.dq_s.to_bits(), 8),
+                fit.narrow(mb.dq_c1.to_bits(), 8),
+                fit.narrow(mb.dq_s.to_bits(), 8),
+            ];
+            for (m, &x) in moved.iter_mut().zip(&values) {
+                set(m, lane, x);
+            }
+            if !fit.ok {
+                set(&mut bad, lane, true);
+            }
+        }
+    }
+    let mut v = [a, b];
+    let same = batch.same_gains;
+    let used = batch.points_used;
+    for (pt, st) in batch.points.iter().zip(&mut state).take(used) {
+        let s = if BIAS {
+            st.sep
+        } else {
+            let [dx, dy, c1a, sa, c1b, sb] = moved;
+            let along = o.add(o.mul_i32(dx, pt.n_x), o.mul_i32(dy, pt.n_y));
+            let turned_b = o.add(o.mul_i32(c1b, pt.nr_b), o.mul_i32(sb, pt.rn_b));
+            let turned_a = o.add(o.mul_i32(c1a, pt.nr_a), o.mul_i32(sa, pt.rn_a));
+            let sum = o.sub(o.add(along, turned_b), turned_a);
+            let s = o.add(pt.dist, round_full::<O, 16>(o, sum));
+            st.sep = s;
+            s
+        };
+        // The bias reads the separation on Q8.24 (below 64 m).
+        let sign = o.sign(s);
+        rec = record::<O, 38>(o, rec, s, sign);
+        let s24 = round_full::<O, 8>(o, s);
+        let apart = o.positive(s);
+        let close = o.mul_i32(s24, h_inv);
+        let zero = splat(0);
+        let (bias, n_mass, back) = if BIAS {
+            let overlap = o.min(o.add(s24, slop), zero);
+            let push = o.max(o.mul_i32(overlap, batch.bias_rate), neg_push);
+            let scale = o.select(apart, zero, batch.impulse_scale);
+            (
+                o.select(apart, close, push),
+                o.select(apart, pt.n_mass, pt.n_mass_soft),
+                round_full::<O, 30>(o, o.mul_i32(scale, st.jn)),
+            )
+        } else {
+            (o.and(apart, close), pt.n_mass, zero)
+        };
+        let [dvx, dvy, wb, wa] = Velocities::reads(o, &v[0], &v[1]);
+        let vn = o.add(
+            o.add(o.mul_i32(dvx, pt.n_x), o.mul_i32(dvy, pt.n_y)),
+            o.sub(o.mul_i32(wb, pt.rn_b), o.mul_i32(wa, pt.rn_a)),
+        );
+        let err = velocity_read(o, o.add(vn, bias), &mut rec);
+        let jn = o.add(round_full::<O, 8>(o, o.mul_i32(err, n_mass)), back);
+        let old = st.jn;
+        st.jn = o.max(o.sub(old, jn), zero);
+        rec = o.or(rec, o.gt(st.jn, o.sub(batch.limit, splat(1))));
+        let djn = o.sub(st.jn, old);
+        st.max_jn = o.max(st.max_jn, djn);
+        apply(
+            o,
+            &mut v,
+            djn,
+            [batch.ga_x, batch.ga_y],
+            [batch.gb_x, batch.gb_y],
+            [pt.kn_a, pt.kn_b],
+            same,
+        );
+    }
+    if p.friction {
+        let half = o.shr::<1>(batch.limit);
+        for (pt, st) in batch.points.iter().zip(&mut state).take(used) {
+            let [dvx, dvy, wb, wa] = Velocities::reads(o, &v[0], &v[1]);
+            let vt = o.add(
+                o.sub(o.mul_i32(dvy, pt.n_x), o.mul_i32(dvx, pt.n_y)),
+                o.sub(o.mul_i32(wb, pt.rt_b), o.mul_i32(wa, pt.rt_a)),
+            );
+            let vt = velocity_read(o, o.add(vt, pt.surface_t), &mut rec);
+            let djt = round_full::<O, 8>(o, o.mul_i32(vt, pt.t_mass));
+            let jt_max = round_full::<O, 30>(o, o.mul_i32(pt.friction, st.jn));
+            rec = o.or(rec, o.gt(jt_max, half));
+            let old = st.jt;
+            st.jt = o.min(o.max(o.sub(old, djt), o.neg(jt_max)), jt_max);
+            let djt = o.sub(st.jt, old);
+            apply(
+                o,
+                &mut v,
+                djt,
+                [o.neg(batch.ga_y), batch.ga_x],
+                [o.neg(batch.gb_y), batch.gb_x],
+                [pt.kt_a, pt.kt_b],
+                same,
+            );
+        }
+    }
+    let mut left = bad;
+    for (l, &r) in left.iter_mut().zip(&rec) {
+        *l |= r != 0;
+    }
+    for (pt, st) in batch.points.iter_mut().zip(&state) {
+        pt.state = keep_left(pt.state, *st, &left);
+    }
+    finish(o, batch, store, v, splat(0), left, |m, copy| {
+        solve_manifold(m, copy, motion, p, BIAS);
+    }, rows)
+}
+
+/// `new` where the lane did not leave, `old` where it did.
+fn keep_left(old: NarrowState, new: NarrowState, left: &[bool; LANES]) -> NarrowState {
+    let pick = |o: Lane, n: Lane| {
+        let mut out = n;
+        for ((x, &o), &l) in out.iter_mut().zip(&o).zip(left) {
+            if l {
+                *x = o;
+            }
+        }
+        out
+    };
+    NarrowState {
+        sep: pick(old.sep, new.sep),
+        jn: pick(old.jn, new.jn),
+        jt: pick(old.jt, new.jt),
+        max_jn: pick(old.max_jn, new.max_jn),
+    }
+}
+
+/// One pass over narrow batches on the lane operations `O`: the kernel
+/// `tamias2d_simd` compiles for AVX2.
+struct NarrowPass<'a, O: Ops, S: BodyStore> {
+    ops: O,
+    pass: Pass,
+    batches: &'a mut [NarrowBatch],
+    store: S,
+    rows: &'a [SoftContact],
+    motion: &'a [Motion],
+}
+
+impl<O: Ops, S: BodyStore> tamias2d_simd::Kernel for NarrowPass<'_, O, S> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let NarrowPass {
+            ops,
+            pass,
+            batches,
+            mut store,
+            rows,
+            motion,
+        } = self;
+        for batch in batches {
+            match pass {
+                Pass::WarmStart(dt_coef) => {
+                    warm_start_narrow(ops, batch, &mut store, rows, dt_coef);
+                }
+                Pass::Solve(p, true) => {
+                    solve_narrow::<O, S, true>(ops, batch, &mut store, rows, motion, &p);
+                }
+                Pass::Solve(p, false) => {
+                    solve_narrow::<O, S, false>(ops, batch, &mut store, rows, motion, &p);
+                }
+            }
+        }
+    }
+}
+
+/// `pass` on narrow `batches`, in AVX2 instructions when the step chose
+/// them.
+#[inline(always)]
+pub(super) fn dispatch_narrow<S: BodyStore>(
+    compiled: Option<Compiled>,
+    pass: Pass,
+    batches: &mut [NarrowBatch],
+    store: S,
+    rows: &[SoftContact],
+    motion: &[Motion],
+) {
+    use tamias2d_simd::Kernel;
+    if batches.is_empty() {
+        return;
+    }
+    let avx2 = match compiled {
+        Some(Compiled::Avx2) => tamias2d_simd::Avx2::new(),
+        Some(Compiled::Portable) | None => None,
+    };
+    match avx2 {
+        Some(ops) => {
+            let job = NarrowPass {
+                ops,
+                pass,
+                batches,
+                store,
+                rows,
+                motion,
+            };
+            tamias2d_simd::run_avx2(job).unwrap_or_else(Kernel::run);
+        }
+        None => NarrowPass {
+            ops: Portable,
+            pass,
+            batches,
+            store,
+            rows,
+            motion,
+        }
+        .run(),
+    }
+}
