@@ -102,8 +102,7 @@ impl SolverChoice {
             SolverChoice::Soft => settings.use_soft_step(),
             SolverChoice::SoftNarrow => {
                 settings.use_soft_step();
-                if let scenes::SolverDesc::Soft(scenes::SoftStepDesc(soft)) = &mut settings.solver
-                {
+                if let scenes::SolverDesc::Soft(scenes::SoftStepDesc(soft)) = &mut settings.solver {
                     soft.contact_precision = tamias2d::space::ContactPrecision::Narrow;
                 }
             }

@@ -18,8 +18,8 @@ pub use super::joints::{ConstraintDesc, JointType};
 use tamias2d::math::{Real, Vect};
 use tamias2d::shape::{CollisionType, ShapeFilter};
 use tamias2d::space::{
-    ContactPrecision,
-    Settings, SoftStep, Solver, DEFAULT_IDLE_SPEED_THRESHOLD, DEFAULT_SLEEP_TIME_THRESHOLD,
+    ContactPrecision, Settings, SoftStep, Solver, DEFAULT_IDLE_SPEED_THRESHOLD,
+    DEFAULT_SLEEP_TIME_THRESHOLD,
 };
 
 /// A whole scene: settings, time step, bodies and scripted events.

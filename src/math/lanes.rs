@@ -175,7 +175,9 @@ impl Ops for Portable {
     }
     #[inline(always)]
     fn mul_i32(self, a: Lane, b: Lane) -> Lane {
-        zip(a, b, |x, y| i64::from(x as i32).wrapping_mul(i64::from(y as i32)))
+        zip(a, b, |x, y| {
+            i64::from(x as i32).wrapping_mul(i64::from(y as i32))
+        })
     }
     #[inline(always)]
     fn shr<const N: i32>(self, a: Lane) -> Lane {

@@ -112,7 +112,11 @@ pub(super) struct NarrowBatch {
 /// `x / 2^s` rounded to nearest, ties away from zero (`s` in `1..=63`).
 fn round_bits(x: i128, s: u32) -> i128 {
     let half = 1u128.checked_shl(s.saturating_sub(1)).unwrap_or(0);
-    let m = x.unsigned_abs().saturating_add(half).checked_shr(s).unwrap_or(0);
+    let m = x
+        .unsigned_abs()
+        .saturating_add(half)
+        .checked_shr(s)
+        .unwrap_or(0);
     let m = i128::try_from(m).unwrap_or(i128::MAX);
     if x < 0 {
         m.saturating_neg()
@@ -127,10 +131,23 @@ struct Fit {
 }
 
 impl Fit {
-    /// `x` (raw bits) rounded by `s` bits, if the result is a 32-bit lane
-    /// value.
+    /// `x` (raw bits) rounded by `s` bits (in `1..=32`), if the result is
+    /// a 32-bit lane value: [`round_bits`] in 64 bits.
+    #[inline(always)]
     fn narrow(&mut self, x: i64, s: u32) -> i64 {
-        self.fits(round_bits(i128::from(x), s))
+        let half = 1u64.wrapping_shl(s.wrapping_sub(1));
+        let m = x.unsigned_abs().saturating_add(half).wrapping_shr(s);
+        if m >> 31 != 0 {
+            self.ok = false;
+            return 0;
+        }
+        // m < 2^31: the cast and the negation are exact.
+        let m = m as i64;
+        if x < 0 {
+            m.wrapping_neg()
+        } else {
+            m
+        }
     }
 
     /// The product of two `Real`s' raw bits (64 fraction bits) rounded
@@ -141,11 +158,13 @@ impl Fit {
     }
 
     /// `v` if its magnitude is below `2^31`.
+    #[inline(always)]
     fn fits(&mut self, v: i128) -> i64 {
         self.within(v, 31)
     }
 
     /// `v` if its magnitude is below `2^bits`.
+    #[inline(always)]
     fn within(&mut self, v: i128, bits: u32) -> i64 {
         let limit = 1u128.checked_shl(bits).unwrap_or(0);
         if v.unsigned_abs() >= limit {
@@ -246,15 +265,31 @@ pub(super) fn gather_narrow(
             set(&mut point.kn_b, lane, kn_b);
             set(&mut point.kt_a, lane, kt_a);
             set(&mut point.kt_b, lane, kt_b);
-            set(&mut point.n_mass, lane, fit.narrow(row.n_mass.to_bits(), 16));
+            set(
+                &mut point.n_mass,
+                lane,
+                fit.narrow(row.n_mass.to_bits(), 16),
+            );
             let soft_mass = fit.product(row.n_mass, soft.mass_scale, 48);
             set(&mut point.n_mass_soft, lane, soft_mass);
-            set(&mut point.t_mass, lane, fit.narrow(row.t_mass.to_bits(), 16));
-            set(&mut point.friction, lane, fit.narrow(row.friction.to_bits(), 2));
+            set(
+                &mut point.t_mass,
+                lane,
+                fit.narrow(row.t_mass.to_bits(), 16),
+            );
+            set(
+                &mut point.friction,
+                lane,
+                fit.narrow(row.friction.to_bits(), 2),
+            );
             // Below 2^52 raw: 2^60 on 40 fraction bits.
             let surface = fit.within(i128::from(row.surface_t.to_bits()), 52);
             set(&mut point.surface_t, lane, surface.wrapping_shl(8));
-            set(&mut point.dist, lane, fit.within(i128::from(row.dist.to_bits()), 61));
+            set(
+                &mut point.dist,
+                lane,
+                fit.within(i128::from(row.dist.to_bits()), 61),
+            );
             let s = &mut point.state;
             set(&mut s.sep, lane, row.sep.to_bits());
             set(&mut s.jn, lane, impulse_bits(row.jn));
@@ -323,32 +358,30 @@ struct Velocities {
 }
 
 /// Velocities at a pass's start below `2^42` raw (1,024 m/s).
-const VELOCITY_BITS: u32 = 42;
+const VELOCITY_BITS: i32 = 42;
 
 impl Velocities {
-    /// The bodies of `slots` from `store`; `bad` gets every lane whose
+    /// The bodies of `slots` from `store`; `rec` records every lane whose
     /// velocities leave the window.
     #[inline(always)]
     fn gather<O: Ops, S: BodyStore>(
         o: O,
         store: &S,
         slots: &[u32; LANES],
-        bad: &mut [bool; LANES],
+        rec: &mut Lane,
     ) -> Velocities {
         let (mut vx, mut vy, mut w) = (splat(0), splat(0), splat(0));
         let mut moves = [false; LANES];
         for (lane, &slot) in slots.iter().enumerate() {
             if let Some(body) = store.load(slot) {
-                let v = [body.v.x, body.v.y, body.w].map(Real::to_bits);
-                if v.iter().any(|x| x.unsigned_abs() >> VELOCITY_BITS != 0) {
-                    set(bad, lane, true);
-                }
-                let [x, y, r] = v;
-                set(&mut vx, lane, x);
-                set(&mut vy, lane, y);
-                set(&mut w, lane, r);
+                set(&mut vx, lane, body.v.x.to_bits());
+                set(&mut vy, lane, body.v.y.to_bits());
+                set(&mut w, lane, body.w.to_bits());
                 set(&mut moves, lane, movable(&body));
             }
+        }
+        for v in [vx, vy, w] {
+            *rec = record::<O, VELOCITY_BITS>(o, *rec, v, o.sign(v));
         }
         Velocities {
             vx: o.shl::<16>(vx),
@@ -452,8 +485,13 @@ fn uniform(p: &SoftContactParams) -> Option<(Lane, Lane, Lane)> {
     let slop = fit.narrow(p.slop.to_bits(), 8);
     fit.within(i128::from(slop), 30);
     let push = fit.within(i128::from(p.push_out.to_bits()), 55);
-    fit.ok
-        .then(|| (splat(h_inv), splat(slop), splat(push.wrapping_shl(8).wrapping_neg())))
+    fit.ok.then(|| {
+        (
+            splat(h_inv),
+            splat(slop),
+            splat(push.wrapping_shl(8).wrapping_neg()),
+        )
+    })
 }
 
 /// Lanes whose accumulated impulses leave the window (`|jn|` at or above
@@ -487,10 +525,10 @@ fn warm_start_narrow<O: Ops, S: BodyStore>(
             }
         }
     }
-    let mut bad = batch.exact;
-    let a = Velocities::gather(o, store, &batch.a, &mut bad);
-    let b = Velocities::gather(o, store, &batch.b, &mut bad);
+    let bad = batch.exact;
     let mut rec = splat(0);
+    let a = Velocities::gather(o, store, &batch.a, &mut rec);
+    let b = Velocities::gather(o, store, &batch.b, &mut rec);
     let state = batch.points.map(|p| p.state);
     check_state(o, batch, &state, &mut rec);
     let mut v = [a, b];
@@ -517,9 +555,18 @@ fn warm_start_narrow<O: Ops, S: BodyStore>(
             same,
         );
     }
-    finish(o, batch, store, v, rec, bad, |m, copy| {
-        warm_start_manifold(m, copy);
-    }, rows)
+    finish(
+        o,
+        batch,
+        store,
+        v,
+        rec,
+        bad,
+        |m, copy| {
+            warm_start_manifold(m, copy);
+        },
+        rows,
+    )
 }
 
 /// The end of a batch's pass: the lanes that stayed in their windows
@@ -612,46 +659,31 @@ fn solve_narrow<O: Ops, S: BodyStore, const BIAS: bool>(
             w: splat(0),
             movable: [false; LANES],
         });
-        return finish(o, batch, store, v, splat(0), bad, |m, copy| {
-            solve_manifold(m, copy, motion, p, BIAS);
-        }, rows);
+        return finish(
+            o,
+            batch,
+            store,
+            v,
+            splat(0),
+            bad,
+            |m, copy| {
+                solve_manifold(m, copy, motion, p, BIAS);
+            },
+            rows,
+        );
     };
-    let a = Velocities::gather(o, store, &batch.a, &mut bad);
-    let b = Velocities::gather(o, store, &batch.b, &mut bad);
     let mut rec = splat(0);
+    let a = Velocities::gather(o, store, &batch.a, &mut rec);
+    let b = Velocities::gather(o, store, &batch.b, &mut rec);
     let mut state = batch.points.map(|pt| pt.state);
     check_state(o, batch, &state, &mut rec);
     // The motion since the collide (relax pass only): b's translation
     // against a's and both turns, Q8.24.
-    let mut moved = [splat(0); 6];
-    if !BIAS {
-        let none = Motion::default();
-        for lane in 0..LANES {
-            let of = |slots: &[u32; LANES]| {
-                slots
-                    .get(lane)
-                    .and_then(|&i| motion.get(i as usize))
-                    .unwrap_or(&none)
-            };
-            let (ma, mb) = (of(&batch.a), of(&batch.b));
-            let mut fit = Fit { ok: true };
-            let d = |x: Real, y: Real| i128::from(x.to_bits()).saturating_sub(i128::from(y.to_bits()));
-            let values = [
-                fit.fits(round_bits(d(mb.dp.x, ma.dp.x), 8)),
-                fit.fits(round_bits(d(mb.dp.y, ma.dp.y), 8)),
-                fit.narrow(ma.dq_c1.to_bits(), 8),
-                fit.narrow(ma.dq_s.to_bits(), 8),
-                fit.narrow(mb.dq_c1.to_bits(), 8),
-                fit.narrow(mb.dq_s.to_bits(), 8),
-            ];
-            for (m, &x) in moved.iter_mut().zip(&values) {
-                set(m, lane, x);
-            }
-            if !fit.ok {
-                set(&mut bad, lane, true);
-            }
-        }
-    }
+    let moved = if BIAS {
+        [splat(0); 6]
+    } else {
+        narrow_motion(o, batch, motion, &mut rec)
+    };
     let mut v = [a, b];
     let same = batch.same_gains;
     let used = batch.points_used;
@@ -739,12 +771,65 @@ fn solve_narrow<O: Ops, S: BodyStore, const BIAS: bool>(
     for (l, &r) in left.iter_mut().zip(&rec) {
         *l |= r != 0;
     }
-    for (pt, st) in batch.points.iter_mut().zip(&state) {
-        pt.state = keep_left(pt.state, *st, &left);
+    if left.contains(&true) {
+        for (pt, st) in batch.points.iter_mut().zip(&state) {
+            pt.state = keep_left(pt.state, *st, &left);
+        }
+    } else {
+        for (pt, st) in batch.points.iter_mut().zip(&state) {
+            pt.state = *st;
+        }
     }
-    finish(o, batch, store, v, splat(0), left, |m, copy| {
-        solve_manifold(m, copy, motion, p, BIAS);
-    }, rows)
+    finish(
+        o,
+        batch,
+        store,
+        v,
+        splat(0),
+        left,
+        |m, copy| {
+            solve_manifold(m, copy, motion, p, BIAS);
+        },
+        rows,
+    )
+}
+
+/// The motion of a batch's bodies since the collide on Q8.24: `[Δp_b −
+/// Δp_a (x, y), cos − 1 and sin of a's turn, of b's]`, recorded in `rec`
+/// unless every value is below 64 (a translation of 64 m, any turn).
+#[inline(always)]
+fn narrow_motion<O: Ops>(
+    o: O,
+    batch: &NarrowBatch,
+    motion: &[Motion],
+    rec: &mut Lane,
+) -> [Lane; 6] {
+    let none = Motion::default();
+    let mut raw = [[splat(0); 4]; 2];
+    for (out, slots) in raw.iter_mut().zip([&batch.a, &batch.b]) {
+        for (lane, &slot) in slots.iter().enumerate() {
+            let m = motion.get(slot as usize).unwrap_or(&none);
+            let [dx, dy, c1, s1] = out;
+            set(dx, lane, m.dp.x.to_bits());
+            set(dy, lane, m.dp.y.to_bits());
+            set(c1, lane, m.dq_c1.to_bits());
+            set(s1, lane, m.dq_s.to_bits());
+        }
+    }
+    let [[ax, ay, ac, as1], [bx, by, bc, bs]] = raw;
+    // Each translation below 2^37 raw first, so that the differences
+    // neither wrap nor leave 2^38.
+    for v in [ax, ay, bx, by] {
+        *rec = record::<O, 37>(o, *rec, v, o.sign(v));
+    }
+    // No closure: each lane operation must inline into the kernel.
+    let mut out = [o.sub(bx, ax), o.sub(by, ay), ac, as1, bc, bs];
+    for v in &mut out {
+        let sign = o.sign(*v);
+        *rec = record::<O, 38>(o, *rec, *v, sign);
+        *v = o.shr::<8>(o.add(o.add(*v, splat(1 << 7)), sign));
+    }
+    out
 }
 
 /// `new` where the lane did not leave, `old` where it did.
