@@ -100,12 +100,7 @@ impl SolverChoice {
         match self {
             SolverChoice::Sequential => settings.solver = scenes::SolverDesc::Sequential,
             SolverChoice::Soft => settings.use_soft_step(),
-            SolverChoice::SoftNarrow => {
-                settings.use_soft_step();
-                if let scenes::SolverDesc::Soft(scenes::SoftStepDesc(soft)) = &mut settings.solver {
-                    soft.contact_precision = tamias2d::space::ContactPrecision::Narrow;
-                }
-            }
+            SolverChoice::SoftNarrow => settings.use_narrow_soft_step(),
         }
     }
 }

@@ -380,6 +380,15 @@ impl SettingsDesc {
         self.substeps = 1;
     }
 
+    /// [`use_soft_step`](Self::use_soft_step) with the narrow contact
+    /// kernels (`ContactPrecision::Narrow`).
+    pub fn use_narrow_soft_step(&mut self) {
+        self.use_soft_step();
+        if let SolverDesc::Soft(SoftStepDesc(soft)) = &mut self.solver {
+            soft.contact_precision = ContactPrecision::Narrow;
+        }
+    }
+
     /// Chipmunk's defaults with the given gravity and iteration count.
     pub fn with_gravity(gravity: Vect, iterations: u32) -> SettingsDesc {
         SettingsDesc {

@@ -87,6 +87,44 @@ pub const SOFT: &[(&str, u64)] = &[
     ("level_300", 0x23a89d3218bea210),
 ];
 
+/// The registry's golden scenes and steps on the soft step as in [`SOFT`],
+/// with the narrow contact kernels (`ContactPrecision::Narrow`), on every
+/// compiled form of its contact passes (the narrow passes always run in
+/// lanes: portable ones where the kernels are scalar).
+pub const NARROW: &[(&str, u64)] = &[
+    ("bowl_circles_100", 0xb458b901e8e31232),
+    ("bowl_boxes_100", 0x7c51fb51db40bc0c),
+    ("bowl_hexagons_100", 0xd491241014bf1fe9),
+    ("bouncy_circles_500", 0x3b28fc800caba56a),
+    ("no_collide", 0xc01b8c1b53fb98f9),
+    ("pyramid_20", 0xe92497ae02e54bab),
+    ("many_pyramids_4x4", 0xbfcfdc3633900d6c),
+    ("rain_1000", 0xd35cc423e4ebee68),
+    ("tumbler_500", 0xecfedf94bad91830),
+    ("free_fall", 0x557f9c122e1e911b),
+    ("constant_force", 0x98cc171c28f7b82e),
+    ("projectile_45", 0x9b3c918f0f5ecdbd),
+    ("projectile_60", 0x79d52a5d770c1efc),
+    ("spin", 0xd53de22bb07e3447),
+    ("elastic_pair", 0x6f3d944f00e23ac1),
+    ("newtons_cradle", 0xccf366c5a9cca3bd),
+    ("incline_slide", 0x15bbcae5adbf9af5),
+    ("incline_stick", 0xb2cf27d62e78f530),
+    ("stack_10", 0x0d3b91a9933afbe4),
+    ("sleep_wake", 0x5091c63f950665e1),
+    ("bullets", 0xa224692594e76156),
+    ("pendulum", 0x0f3da75fd38bc12a),
+    ("chain_100", 0x7fc68affed814a63),
+    ("windmill", 0xdb47ec2658f98a53),
+    ("gear_train", 0x798a3ff1cb6b3e99),
+    ("spring_mass", 0xbc587b38aeb55dfa),
+    ("ratchet", 0x1639f2b31ea360ce),
+    ("rope_bridge", 0x2d118cf8b660ed16),
+    ("ragdolls_20", 0xd807018ba32a360d),
+    ("car", 0x7dbe1a2e63c5567a),
+    ("level_300", 0x830850d3066c8ff8),
+];
+
 /// The compiled forms of the soft step's contact passes that every build
 /// has: the scalar kernels and the wide ones compiled for the build's
 /// instruction set. (The golden test adds the wide kernels as this
@@ -102,6 +140,8 @@ pub enum Solver {
     Colored,
     /// The soft step, its contact passes on these kernels.
     Soft(Kernels),
+    /// The soft step with the narrow contact kernels, on these kernels.
+    Narrow(Kernels),
 }
 
 /// One golden check: a registered scene, built with [`solver`](Self::solver)
@@ -127,6 +167,9 @@ impl Check {
             Solver::Canonical => self.scene.to_string(),
             Solver::Colored => format!("{} colored", self.scene),
             Solver::Soft(kernels) => format!("{} soft {}", self.scene, kernels.describe()),
+            Solver::Narrow(kernels) => {
+                format!("{} soft narrow {}", self.scene, kernels.describe())
+            }
         }
     }
 
@@ -139,9 +182,10 @@ impl Check {
             Solver::Canonical => {}
             Solver::Colored => desc.settings.colored_solver = true,
             Solver::Soft(_) => desc.settings.use_soft_step(),
+            Solver::Narrow(_) => desc.settings.use_narrow_soft_step(),
         }
         let mut world = desc.build().map_err(|e| format!("{}: {e}", self.scene))?;
-        if let Solver::Soft(kernels) = self.solver {
+        if let Solver::Soft(kernels) | Solver::Narrow(kernels) = self.solver {
             world.space.set_kernels(kernels);
         }
         Ok(world)
@@ -159,7 +203,8 @@ impl Check {
 }
 
 /// Every golden check, scene by scene in registry order: the registry's
-/// golden, then the colored solver's and the soft step's on each of
+/// golden, then the colored solver's, the soft step's and the narrow soft
+/// step's on each of
 /// [`KERNEL_FORMS`] (a scene missing from a table has no check there; the
 /// golden test fails on it).
 pub fn checks() -> Vec<Check> {
@@ -180,6 +225,11 @@ pub fn checks() -> Vec<Check> {
         if let Some(sum) = table(SOFT, info.name) {
             for kernels in KERNEL_FORMS {
                 all.push(check(Solver::Soft(kernels), sum));
+            }
+        }
+        if let Some(sum) = table(NARROW, info.name) {
+            for kernels in KERNEL_FORMS {
+                all.push(check(Solver::Narrow(kernels), sum));
             }
         }
     }

@@ -10,10 +10,11 @@
 //! the engine steps bit-identically everywhere.
 //!
 //! Besides the registry's goldens (the default, canonical solver) it
-//! checks [`goldens::COLORED`] and [`goldens::SOFT`] (in
-//! `scenes/src/goldens.rs`), the same scenes with the colored solver
-//! (`Settings::colored_solver`) and on the soft step, natively; the demo
-//! page computes all three tables in the browser. With `TAMIAS_GOLDEN_THREADS=N`
+//! checks [`goldens::COLORED`], [`goldens::SOFT`] and [`goldens::NARROW`]
+//! (in `scenes/src/goldens.rs`), the same scenes with the colored solver
+//! (`Settings::colored_solver`), on the soft step and on the soft step
+//! with the narrow contact kernels, natively; the demo page computes
+//! every table in the browser. With `TAMIAS_GOLDEN_THREADS=N`
 //! every world steps on N threads: the script's `i686-parallel` and
 //! `aarch64-parallel` platforms build the engine with its `parallel`
 //! feature and run this test on 3 threads (the same values: no bit depends
@@ -244,6 +245,51 @@ fn soft_step_goldens_match_the_committed_values() {
     assert!(
         wrong.is_empty(),
         "{} of {} soft-step goldens differ on this platform/build:\n  {}\n\
+         Regenerate with TAMIAS_PRINT_GOLDENS=1 (see the module docs) only for a deliberate change.",
+        wrong.len(),
+        native.len(),
+        wrong.join("\n  ")
+    );
+}
+
+/// The golden steps in debug builds of the narrow table: a few contact
+/// scenes (the narrow passes always run in lanes, which unoptimised run
+/// about 60 times slower than optimised; the release tests run the whole
+/// table on every kernel form).
+const NARROW_IN_DEBUG: [&str; 3] = ["pyramid_20", "bowl_circles_100", "incline_slide"];
+
+#[test]
+fn narrow_contact_goldens_match_the_committed_values() {
+    if cfg!(miri) {
+        return;
+    }
+    let mut native: Vec<(&str, Golden)> = goldens();
+    let mut forms = kernel_forms();
+    if cfg!(debug_assertions) {
+        native.retain(|(name, _)| NARROW_IN_DEBUG.contains(name));
+        forms.retain(|&k| k == Kernels::Scalar);
+    }
+    let mut wrong = Vec::new();
+    for kernels in forms {
+        for &(name, g) in &native {
+            let got = checksum_of(name, g.steps, kernels, SettingsDesc::use_narrow_soft_step);
+            if kernels == Kernels::Scalar && std::env::var_os("TAMIAS_PRINT_GOLDENS").is_some() {
+                println!("    (\"{name}\", {got:#018x}),");
+            }
+            let how = kernels.describe();
+            match goldens::NARROW.iter().find(|(n, _)| *n == name) {
+                Some(&(_, want)) if want == got => {}
+                Some(&(_, want)) => wrong.push(format!(
+                    "{name} after {} steps ({how} kernels): got {got:#018x}, golden {want:#018x}",
+                    g.steps
+                )),
+                None => wrong.push(format!("{name}: no narrow golden (got {got:#018x})")),
+            }
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "{} of {} narrow-contact goldens differ on this platform/build:\n  {}\n\
          Regenerate with TAMIAS_PRINT_GOLDENS=1 (see the module docs) only for a deliberate change.",
         wrong.len(),
         native.len(),

@@ -45,8 +45,9 @@ pub const FRAME_MAGIC: [u8; 8] = *b"TAMIASFR";
 /// hand-written coding of `snapshot::frame_codec`, versioned on its own
 /// from then on. Version 8: the settings gained `colored_solver`.
 /// Version 9: the settings end with `solver` (see the full snapshots'
-/// version 8).
-pub const FRAME_FORMAT_VERSION: u32 = 9;
+/// version 8). Version 10: the soft step's settings end with
+/// `contact_precision` (see the full snapshots' version 9).
+pub const FRAME_FORMAT_VERSION: u32 = 10;
 
 /// The frame of `space` as bytes into `out` (cleared first, its allocation
 /// reused); returns the length. Cost: the frame's objects, not the level's.

@@ -255,8 +255,9 @@ pub const MAGIC: [u8; 8] = *b"TAMIAS2D";
 /// Version 7: `colored_solver` (one byte) after `block_solver`. Version 8:
 /// the settings end with `solver` (a u32 variant index, then for the soft
 /// step its `substeps` and seven reals), a constraint with its `softness`
-/// (an option: one byte, then two reals).
-pub const FORMAT_VERSION: u32 = 8;
+/// (an option: one byte, then two reals). Version 9: the soft step's
+/// settings end with `contact_precision` (a u32 variant index).
+pub const FORMAT_VERSION: u32 = 9;
 
 /// Bytes before the bincode payload: magic, version, checksum (the frame
 /// every Tamias file shares, see [`crate::envelope`]).

@@ -11,7 +11,7 @@ fn format_layout_is_pinned() {
     assert_eq!(&empty[8..12], &FORMAT_VERSION.to_le_bytes());
     let sum = snapshot::payload_checksum(&empty[HEADER_LEN..]);
     assert_eq!(&empty[12..20], &sum.to_le_bytes());
-    assert_eq!(FORMAT_VERSION, 8);
+    assert_eq!(FORMAT_VERSION, 9);
     // The empty world, field by field (little-endian, fixed-width ints,
     // every Real as its raw i64, lengths as u64, enum tags as u32).
     let expected = [
@@ -363,7 +363,7 @@ fn frame_layout_is_pinned() {
     let frame = snapshot::save_frame(&Space::new());
     assert_eq!(&frame[..8], b"TAMIASFR");
     assert_eq!(&frame[8..12], &FRAME_FORMAT_VERSION.to_le_bytes());
-    assert_eq!(FRAME_FORMAT_VERSION, 9);
+    assert_eq!(FRAME_FORMAT_VERSION, 10);
     assert_eq!(
         &frame[HEADER_LEN..HEADER_LEN + 8],
         &Space::new().level_digest().to_le_bytes()

@@ -987,6 +987,7 @@ pub(super) mod tests {
                 restitution_threshold: Real::ZERO,
                 friction,
                 restitution: false,
+                narrow: false,
             };
             let (mut fast_rows, mut ref_rows) = (rows.clone(), rows.clone());
             {

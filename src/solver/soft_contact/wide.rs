@@ -431,7 +431,7 @@ pub(super) trait BodyStore {
 }
 
 /// The bodies in place (one thread).
-struct InPlace<'a>(&'a mut [SolverBody]);
+pub(super) struct InPlace<'a>(pub(super) &'a mut [SolverBody]);
 
 impl BodyStore for InPlace<'_> {
     #[inline(always)]
@@ -1350,7 +1350,7 @@ fn rerun_left<S: BodyStore>(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::solver::soft_contact::row::on_bodies;
     use crate::solver::soft_contact::row::tests::{bits, mid, rows_from};
@@ -1365,7 +1365,7 @@ mod tests {
     /// `like`: of equal inverse masses, as in a pile of like bodies),
     /// eight bodies, their motion and the parameters, from `v`.
     #[allow(clippy::type_complexity)]
-    fn case(
+    pub(in crate::solver::soft_contact) fn case(
         v: Vec<i64>,
         points: [bool; LANES],
         friction: bool,
@@ -1475,7 +1475,9 @@ mod tests {
     /// [`Portable`], counting the lane operations (each one AVX2
     /// instruction in `tamias2d_simd::Avx2`).
     #[derive(Clone, Copy)]
-    struct Counting<'a>(&'a core::cell::Cell<u64>);
+    pub(in crate::solver::soft_contact) struct Counting<'a>(
+        pub(in crate::solver::soft_contact) &'a core::cell::Cell<u64>,
+    );
 
     macro_rules! counted {
         ($($name:ident($($arg:ident),*)),* $(,)?) => {$(
@@ -1495,10 +1497,21 @@ mod tests {
             or(a, b),
             gt(a, b),
             mul_lo32(a, b),
+            mul_i32(a, b),
             shr32(a),
             shl32(a),
             select(mask, a, b),
         );
+
+        fn shr<const N: i32>(self, a: Lane) -> Lane {
+            self.0.set(self.0.get() + 1);
+            Portable.shr::<N>(a)
+        }
+
+        fn shl<const N: i32>(self, a: Lane) -> Lane {
+            self.0.set(self.0.get() + 1);
+            Portable.shl::<N>(a)
+        }
 
         fn run_part<K: tamias2d_simd::Kernel>(self, kernel: K) -> K::Output {
             kernel.run()
@@ -1558,7 +1571,7 @@ mod tests {
         assert!(s_warm <= 78.0 && s_solve <= 169.0 && s_relax <= 199.0);
     }
 
-    fn values() -> impl Strategy<Value = Vec<i64>> {
+    pub(in crate::solver::soft_contact) fn values() -> impl Strategy<Value = Vec<i64>> {
         // Short values (below 2^32, as most scenes' constants), alone or
         // with a few long ones: short and long factors in one batch.
         let short = || -(1i64 << 32) + 1..(1i64 << 32);
