@@ -198,7 +198,7 @@ impl Avx2 {
 
     /// `a >> N` lane by lane, logical (`vpsrlq`; `N` in `0..64`).
     #[inline(always)]
-    pub fn shr<const N: i32>(self, a: U64x4) -> U64x4 {
+    pub fn shr_n<const N: i32>(self, a: U64x4) -> U64x4 {
         #[cfg(target_arch = "x86_64")]
         {
             // SAFETY: `self` proves the processor has AVX2.
@@ -213,7 +213,7 @@ impl Avx2 {
 
     /// `a << N` lane by lane (`vpsllq`; `N` in `0..64`).
     #[inline(always)]
-    pub fn shl<const N: i32>(self, a: U64x4) -> U64x4 {
+    pub fn shl_n<const N: i32>(self, a: U64x4) -> U64x4 {
         #[cfg(target_arch = "x86_64")]
         {
             // SAFETY: `self` proves the processor has AVX2.
@@ -363,8 +363,8 @@ mod tests {
         );
         assert_eq!(v.shr32(a), a.map(|x| x >> 32));
         assert_eq!(v.shl32(a), a.map(|x| x << 32));
-        assert_eq!(v.shr::<24>(a), a.map(|x| x >> 24));
-        assert_eq!(v.shl::<16>(a), a.map(|x| x << 16));
+        assert_eq!(v.shr_n::<24>(a), a.map(|x| x >> 24));
+        assert_eq!(v.shl_n::<16>(a), a.map(|x| x << 16));
         let mask = [u64::MAX, 0, u64::MAX, 0];
         assert_eq!(v.select(mask, a, b), [a[0], b[1], a[2], b[3]]);
     }

@@ -91,9 +91,9 @@ pub(crate) trait Ops: Copy {
     /// 32-bit integers (signed 64-bit products, never wrapping).
     fn mul_i32(self, a: Lane, b: Lane) -> Lane;
     /// `a >> N`, logical (`N` in `0..64`).
-    fn shr<const N: i32>(self, a: Lane) -> Lane;
+    fn shr_n<const N: i32>(self, a: Lane) -> Lane;
     /// `a << N` (`N` in `0..64`).
-    fn shl<const N: i32>(self, a: Lane) -> Lane;
+    fn shl_n<const N: i32>(self, a: Lane) -> Lane;
     /// `a >> 32`, logical.
     fn shr32(self, a: Lane) -> Lane;
     /// `a << 32`.
@@ -180,11 +180,11 @@ impl Ops for Portable {
         })
     }
     #[inline(always)]
-    fn shr<const N: i32>(self, a: Lane) -> Lane {
+    fn shr_n<const N: i32>(self, a: Lane) -> Lane {
         a.map(|x| ((x as u64).wrapping_shr(N as u32)) as i64)
     }
     #[inline(always)]
-    fn shl<const N: i32>(self, a: Lane) -> Lane {
+    fn shl_n<const N: i32>(self, a: Lane) -> Lane {
         a.map(|x| x.wrapping_shl(N as u32))
     }
     #[inline(always)]
@@ -260,12 +260,12 @@ impl Ops for tamias2d_simd::Avx2 {
         i(tamias2d_simd::Avx2::mul_i32(self, u(a), u(b)))
     }
     #[inline(always)]
-    fn shr<const N: i32>(self, a: Lane) -> Lane {
-        i(tamias2d_simd::Avx2::shr::<N>(self, u(a)))
+    fn shr_n<const N: i32>(self, a: Lane) -> Lane {
+        i(tamias2d_simd::Avx2::shr_n::<N>(self, u(a)))
     }
     #[inline(always)]
-    fn shl<const N: i32>(self, a: Lane) -> Lane {
-        i(tamias2d_simd::Avx2::shl::<N>(self, u(a)))
+    fn shl_n<const N: i32>(self, a: Lane) -> Lane {
+        i(tamias2d_simd::Avx2::shl_n::<N>(self, u(a)))
     }
     #[inline(always)]
     fn shr32(self, a: Lane) -> Lane {

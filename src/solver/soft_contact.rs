@@ -37,15 +37,16 @@ use super::SolverBody;
 
 mod grid;
 mod narrow;
+mod pass;
 mod row;
 mod wide;
 
+pub(crate) use pass::Compiled;
+use pass::Pass;
 use row::{
     on_bodies, prepare_split, scale_impulses, solve_manifold, warm_start_manifold, PrepareJob,
 };
 pub(crate) use row::{Motion, SoftContact, SoftContactParams};
-pub(crate) use wide::Compiled;
-use wide::Pass;
 /// The soft rows of a step and the bodies' motion.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct SoftContacts {

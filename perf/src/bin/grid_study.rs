@@ -7,7 +7,10 @@
 //! ```text
 //! scripts/grid-study.sh                      # the five builds side by side (about 12 min)
 //! cargo run --release -p tamias2d-perf --bin grid_study [--features grid-study|grid-study-fine|grid-study-reads|grid-study-constants] [-- SCENE…]
+//! cargo run --release -p tamias2d-perf --bin grid_study -- --narrow [SCENE…]
 //! ```
+//! `--narrow` measures the narrow contact kernels themselves
+//! (`ContactPrecision::Narrow`, in the default build).
 //! Each scene runs from its start at 1/60 s on the soft step at its
 //! defaults (4 sub-steps), sleeping off, for the sweep's simulated time
 //! (`perf_report`'s measures), [`RUNS`] times with the step nudged; output
@@ -46,14 +49,16 @@ const SCENES: &[&str] = &[
 const RUNS: u32 = 5;
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let narrow = args.iter().any(|a| a == "--narrow");
+    args.retain(|a| a != "--narrow");
     let scenes: Vec<&str> = if args.is_empty() {
         SCENES.to_vec()
     } else {
         args.iter().map(String::as_str).collect()
     };
     for name in scenes {
-        let runs: Vec<Run> = (0..RUNS).map(|k| run(name, k)).collect();
+        let runs: Vec<Run> = (0..RUNS).map(|k| run(name, k, narrow)).collect();
         let Some(first) = runs.first() else {
             continue;
         };
@@ -82,9 +87,10 @@ struct Run {
     checksum: u64,
 }
 
-/// Scene `name` with its step nudged by `nudge` ulps: its measures, its
-/// deepest overlap and the final checksum.
-fn run(name: &str, nudge: u32) -> Run {
+/// Scene `name` with its step nudged by `nudge` ulps (and with the narrow
+/// contact kernels if `narrow`): its measures, its deepest overlap and the
+/// final checksum.
+fn run(name: &str, nudge: u32, narrow: bool) -> Run {
     let config = Config {
         iterations: 10,
         substeps: 1,
@@ -92,6 +98,11 @@ fn run(name: &str, nudge: u32) -> Run {
     };
     let mut desc = common::scene_with(name, config);
     desc.settings.solver = SolverDesc::SOFT;
+    if narrow {
+        if let SolverDesc::Soft(tamias2d_scenes::SoftStepDesc(soft)) = &mut desc.settings.solver {
+            soft.contact_precision = tamias2d::space::ContactPrecision::Narrow;
+        }
+    }
     desc.dt = Real::from_bits(desc.dt.to_bits() + i64::from(nudge));
     let mut engine = TamiasRun::new(&desc, config);
     let seconds = measures::sweep_seconds(name);

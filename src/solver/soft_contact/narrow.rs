@@ -36,8 +36,8 @@ use crate::math::lanes::{splat, Lane, Ops, Portable, LANES};
 use crate::math::Real;
 use crate::solver::SolverBody;
 
+use super::pass::{movable, on_store, set, BodyStore, Compiled, Pass};
 use super::row::{solve_manifold, warm_start_manifold, Motion, SoftContact, SoftContactParams};
-use super::wide::{movable, on_store, set, BodyStore, Compiled, Pass};
 
 /// One point of four manifolds on the narrow grids.
 #[derive(Clone, Copy, Debug, Default)]
@@ -337,7 +337,7 @@ fn round_full<O: Ops, const S: i32>(o: O, x: Lane) -> Lane {
     let half = 1i64.wrapping_shl((S as u32).wrapping_sub(1));
     let t = o.add(o.add(x, splat(half.wrapping_add(i64::MIN))), o.sign(x));
     let offset = 1i64.wrapping_shl(63u32.wrapping_sub(S as u32));
-    o.sub(o.shr::<S>(t), splat(offset))
+    o.sub(o.shr_n::<S>(t), splat(offset))
 }
 
 /// [`round_full`]'s low 32 bits (all a product reads), for `S ≤ 32` and
@@ -345,7 +345,7 @@ fn round_full<O: Ops, const S: i32>(o: O, x: Lane) -> Lane {
 #[inline(always)]
 fn round_low<O: Ops, const S: i32>(o: O, x: Lane) -> Lane {
     let half = 1i64.wrapping_shl((S as u32).wrapping_sub(1));
-    o.shr::<S>(o.add(o.add(x, splat(half)), o.sign(x)))
+    o.shr_n::<S>(o.add(o.add(x, splat(half)), o.sign(x)))
 }
 
 /// Four bodies' velocities on 48 fraction bits.
@@ -384,9 +384,9 @@ impl Velocities {
             *rec = record::<O, VELOCITY_BITS>(o, *rec, v, o.sign(v));
         }
         Velocities {
-            vx: o.shl::<16>(vx),
-            vy: o.shl::<16>(vy),
-            w: o.shl::<16>(w),
+            vx: o.shl_n::<16>(vx),
+            vy: o.shl_n::<16>(vy),
+            w: o.shl_n::<16>(w),
             movable: moves,
         }
     }
@@ -463,7 +463,7 @@ fn apply<O: Ops>(
 /// magnitude check of every window in the engine).
 #[inline(always)]
 fn record<O: Ops, const N: i32>(o: O, rec: Lane, x: Lane, sign: Lane) -> Lane {
-    o.or(rec, o.shr::<N>(o.xor(x, sign)))
+    o.or(rec, o.shr_n::<N>(o.xor(x, sign)))
 }
 
 /// A velocity sum (40 fraction bits) as a Q16.16 read, recorded in `rec`
@@ -472,7 +472,7 @@ fn record<O: Ops, const N: i32>(o: O, rec: Lane, x: Lane, sign: Lane) -> Lane {
 fn velocity_read<O: Ops>(o: O, x: Lane, rec: &mut Lane) -> Lane {
     let sign = o.sign(x);
     *rec = record::<O, 54>(o, *rec, x, sign);
-    o.shr::<24>(o.add(o.add(x, splat(1 << 23)), sign))
+    o.shr_n::<24>(o.add(o.add(x, splat(1 << 23)), sign))
 }
 
 /// The per-pass values every lane shares, on their grids, if they fit:
@@ -499,7 +499,7 @@ fn uniform(p: &SoftContactParams) -> Option<(Lane, Lane, Lane)> {
 #[inline(always)]
 fn check_state<O: Ops>(o: O, batch: &NarrowBatch, state: &[NarrowState; 2], rec: &mut Lane) {
     let below = o.sub(batch.limit, splat(1));
-    let half = o.shr::<1>(batch.limit);
+    let half = o.shr_n::<1>(batch.limit);
     for s in state.iter().take(batch.points_used) {
         let jn = o.xor(s.jn, o.sign(s.jn));
         let jt = o.xor(s.jt, o.sign(s.jt));
@@ -560,8 +560,7 @@ fn warm_start_narrow<O: Ops, S: BodyStore>(
         batch,
         store,
         v,
-        rec,
-        bad,
+        left_of(bad, &rec),
         |m, copy| {
             warm_start_manifold(m, copy);
         },
@@ -569,23 +568,28 @@ fn warm_start_narrow<O: Ops, S: BodyStore>(
     )
 }
 
-/// The end of a batch's pass: the lanes that stayed in their windows
-/// stored, the others (and the exact ones) run again by the exact kernel
-/// `f` from their state before the pass; returns how many.
+/// The lanes `bad` or whose record `rec` is set.
+#[inline(always)]
+fn left_of(mut bad: [bool; LANES], rec: &Lane) -> [bool; LANES] {
+    for (l, &r) in bad.iter_mut().zip(rec) {
+        *l |= r != 0;
+    }
+    bad
+}
+
+/// The end of a batch's pass: the lanes not `left` stored, the others run
+/// again by the exact kernel `f` from their state before the pass;
+/// returns how many.
 #[inline(always)]
 fn finish<O: Ops, S: BodyStore>(
     o: O,
     batch: &mut NarrowBatch,
     store: &mut S,
     [a, b]: [Velocities; 2],
-    rec: Lane,
-    mut left: [bool; LANES],
+    left: [bool; LANES],
     f: impl FnMut(&mut [SoftContact], &mut [SolverBody; 2]),
     rows: &[SoftContact],
 ) -> usize {
-    for (l, &r) in left.iter_mut().zip(&rec) {
-        *l |= r != 0;
-    }
     a.scatter(o, store, &batch.a, &left);
     b.scatter(o, store, &batch.b, &left);
     if left.contains(&true) {
@@ -664,7 +668,6 @@ fn solve_narrow<O: Ops, S: BodyStore, const BIAS: bool>(
             batch,
             store,
             v,
-            splat(0),
             bad,
             |m, copy| {
                 solve_manifold(m, copy, motion, p, BIAS);
@@ -742,7 +745,7 @@ fn solve_narrow<O: Ops, S: BodyStore, const BIAS: bool>(
         );
     }
     if p.friction {
-        let half = o.shr::<1>(batch.limit);
+        let half = o.shr_n::<1>(batch.limit);
         for (pt, st) in batch.points.iter().zip(&mut state).take(used) {
             let [dvx, dvy, wb, wa] = Velocities::reads(o, &v[0], &v[1]);
             let vt = o.add(
@@ -767,10 +770,7 @@ fn solve_narrow<O: Ops, S: BodyStore, const BIAS: bool>(
             );
         }
     }
-    let mut left = bad;
-    for (l, &r) in left.iter_mut().zip(&rec) {
-        *l |= r != 0;
-    }
+    let left = left_of(bad, &rec);
     if left.contains(&true) {
         for (pt, st) in batch.points.iter_mut().zip(&state) {
             pt.state = keep_left(pt.state, *st, &left);
@@ -785,7 +785,6 @@ fn solve_narrow<O: Ops, S: BodyStore, const BIAS: bool>(
         batch,
         store,
         v,
-        splat(0),
         left,
         |m, copy| {
             solve_manifold(m, copy, motion, p, BIAS);
@@ -827,7 +826,7 @@ fn narrow_motion<O: Ops>(
     for v in &mut out {
         let sign = o.sign(*v);
         *rec = record::<O, 38>(o, *rec, *v, sign);
-        *v = o.shr::<8>(o.add(o.add(*v, splat(1 << 7)), sign));
+        *v = o.shr_n::<8>(o.add(o.add(*v, splat(1 << 7)), sign));
     }
     out
 }
@@ -937,8 +936,8 @@ pub(super) fn dispatch_narrow<S: BodyStore>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::soft_contact::wide::tests::{case, values, Counting};
-    use crate::solver::soft_contact::wide::InPlace;
+    use crate::solver::soft_contact::pass::InPlace;
+    use crate::solver::soft_contact::row::tests::{case, values, Counting};
     use proptest::prelude::*;
 
     /// `pass` on a batch of `manifolds` gathered from `rows`, on `ops`:

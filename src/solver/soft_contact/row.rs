@@ -824,7 +824,137 @@ impl SoftContact {
 #[cfg(test)]
 pub(super) mod tests {
     use super::*;
+    use crate::math::lanes::{Lane, Ops, Portable, LANES};
     use proptest::prelude::*;
+
+    /// Four manifolds (bodies `2k`, `2k + 1`, of one or two points each;
+    /// `like`: of equal inverse masses, as in a pile of like bodies),
+    /// eight bodies, their motion and the parameters, from `v`.
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn case(
+        v: Vec<i64>,
+        points: [bool; LANES],
+        friction: bool,
+        like: bool,
+    ) -> (
+        Vec<SoftContact>,
+        [(u32, u32); LANES],
+        Vec<SolverBody>,
+        Vec<Motion>,
+        SoftContactParams,
+    ) {
+        let mut v = v.into_iter().cycle();
+        let mut rows = Vec::new();
+        let mut manifolds = [(0u32, 0u32); LANES];
+        for (k, (m, &two)) in manifolds.iter_mut().zip(&points).enumerate() {
+            let start = rows.len() as u32;
+            let mine = rows_from(&mut v, if two { 2 } else { 1 });
+            for mut row in mine.iter().copied() {
+                (row.a, row.b, row.arbiter) = (2 * k as u32, 2 * k as u32 + 1, k as u32);
+                // One manifold's rows share its bodies' masses and its
+                // softness (as the prepare makes them).
+                if let Some(first) = mine.first() {
+                    (row.m_inv_a, row.m_inv_b, row.soft) =
+                        (first.m_inv_a, first.m_inv_b, first.soft);
+                }
+                if like {
+                    row.m_inv_b = row.m_inv_a;
+                }
+                rows.push(row);
+            }
+            *m = (start, rows.len() as u32);
+        }
+        let mut r = || Real::from_bits(v.next().unwrap_or(0));
+        let bodies = (0..2 * LANES)
+            .map(|_| SolverBody {
+                v: Vect::new(r(), r()),
+                w: r(),
+                m_inv: r(),
+                i_inv: r(),
+                ..SolverBody::default()
+            })
+            .collect();
+        let motion = (0..2 * LANES)
+            .map(|_| Motion {
+                dp: Vect::new(r(), r()),
+                dq_c1: r(),
+                dq_s: r(),
+                ..Motion::default()
+            })
+            .collect();
+        let p = SoftContactParams {
+            contact: Softness::RIGID,
+            fixed: Softness::RIGID,
+            h_inv: r(),
+            slop: r(),
+            push_out: r(),
+            restitution_threshold: Real::ZERO,
+            friction,
+            restitution: false,
+            narrow: false,
+        };
+        (rows, manifolds, bodies, motion, p)
+    }
+
+    /// Raw values for whole batches of rows (the wide kernels' tests).
+    pub(crate) fn values() -> impl Strategy<Value = Vec<i64>> {
+        // Short values (below 2^32, as most scenes' constants), alone or
+        // with a few long ones: short and long factors in one batch.
+        let short = || -(1i64 << 32) + 1..(1i64 << 32);
+        prop_oneof![
+            prop::collection::vec(bits(), 200),
+            prop::collection::vec(mid(), 200),
+            prop::collection::vec(-(1i64 << 36)..(1i64 << 36), 200),
+            prop::collection::vec(short(), 200),
+            prop::collection::vec(prop_oneof![20 => short(), 1 => bits()], 200),
+        ]
+    }
+
+    /// [`Portable`], counting the lane operations (each one AVX2
+    /// instruction in `tamias2d_simd::Avx2`).
+    #[derive(Clone, Copy)]
+    pub(in crate::solver::soft_contact) struct Counting<'a>(
+        pub(in crate::solver::soft_contact) &'a core::cell::Cell<u64>,
+    );
+
+    macro_rules! counted {
+        ($($name:ident($($arg:ident),*)),* $(,)?) => {$(
+            fn $name(self, $($arg: Lane),*) -> Lane {
+                self.0.set(self.0.get() + 1);
+                Portable.$name($($arg),*)
+            }
+        )*};
+    }
+
+    impl Ops for Counting<'_> {
+        counted!(
+            add(a, b),
+            sub(a, b),
+            xor(a, b),
+            and(a, b),
+            or(a, b),
+            gt(a, b),
+            mul_lo32(a, b),
+            mul_i32(a, b),
+            shr32(a),
+            shl32(a),
+            select(mask, a, b),
+        );
+
+        fn shr_n<const N: i32>(self, a: Lane) -> Lane {
+            self.0.set(self.0.get() + 1);
+            Portable.shr_n::<N>(a)
+        }
+
+        fn shl_n<const N: i32>(self, a: Lane) -> Lane {
+            self.0.set(self.0.get() + 1);
+            Portable.shl_n::<N>(a)
+        }
+
+        fn run_part<K: tamias2d_simd::Kernel>(self, kernel: K) -> K::Output {
+            kernel.run()
+        }
+    }
 
     #[test]
     fn a_narrowed_row_is_on_its_grids() {

@@ -40,6 +40,7 @@ use crate::solver::softness::Softness;
 use crate::solver::{graph, sweep, SolverBody};
 
 use super::narrow::{dispatch_narrow, gather_narrow, put_narrow, zero_narrow, NarrowBatch};
+use super::pass::{movable, on_store, set, BodyStore, Compiled, InPlace, Pass, Shared};
 use super::row::{
     scale_impulses, solve_manifold, warm_start_manifold, Motion, SoftContact, SoftContactParams,
 };
@@ -124,15 +125,6 @@ struct Batch {
     mass_scale: Lane,
     impulse_scale: Lane,
     points: [PointLanes; 2],
-}
-
-/// How the wide kernels are compiled.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Compiled {
-    /// For the build's instruction set.
-    Portable,
-    /// For AVX2 (the processor has it).
-    Avx2,
 }
 
 /// The batches of one step, and what runs in each color.
@@ -421,91 +413,6 @@ fn scalar_pass<S: BodyStore>(pass: Pass, m: &mut [SoftContact], store: &mut S, m
     }
 }
 
-/// Where a pass reads and writes the bodies: in place, or shared between
-/// threads.
-pub(super) trait BodyStore {
-    /// The body in `slot` (`None` past the end).
-    fn load(&self, slot: u32) -> Option<SolverBody>;
-    /// Its new velocities.
-    fn store(&mut self, slot: u32, body: &SolverBody);
-}
-
-/// The bodies in place (one thread).
-pub(super) struct InPlace<'a>(pub(super) &'a mut [SolverBody]);
-
-impl BodyStore for InPlace<'_> {
-    #[inline(always)]
-    fn load(&self, slot: u32) -> Option<SolverBody> {
-        self.0.get(slot as usize).copied()
-    }
-    #[inline(always)]
-    fn store(&mut self, slot: u32, body: &SolverBody) {
-        if let Some(b) = self.0.get_mut(slot as usize) {
-            (b.v, b.w) = (body.v, body.w);
-        }
-    }
-}
-
-/// The bodies threads share ([`sweep::SharedBody`]).
-#[derive(Clone, Copy)]
-struct Shared<'a>(&'a [sweep::SharedBody]);
-
-impl BodyStore for Shared<'_> {
-    #[inline(always)]
-    fn load(&self, slot: u32) -> Option<SolverBody> {
-        self.0.get(slot as usize).map(sweep::SharedBody::load)
-    }
-    #[inline(always)]
-    fn store(&mut self, slot: u32, body: &SolverBody) {
-        if let Some(b) = self.0.get(slot as usize) {
-            b.store_velocities(body);
-        }
-    }
-}
-
-/// True for a body the solver moves (a nonzero inverse mass or moment);
-/// the others come out of a pass unchanged and are not stored, so that
-/// threads sharing one never write its cache line.
-#[inline(always)]
-pub(super) fn movable(b: &SolverBody) -> bool {
-    !b.m_inv.is_zero() || !b.i_inv.is_zero()
-}
-
-/// Runs `f` on one manifold's rows with a copy of its two bodies from
-/// `store`, and stores the movable ones back (nothing for a body paired
-/// with itself, or a slot out of range): the in-place kernel's bits.
-#[inline(always)]
-pub(super) fn on_store<S: BodyStore>(
-    rows: &mut [SoftContact],
-    store: &mut S,
-    f: impl FnOnce(&mut [SoftContact], &mut [SolverBody; 2]),
-) {
-    let Some(first) = rows.first() else {
-        return;
-    };
-    let (ia, ib) = (first.a, first.b);
-    if ia == ib {
-        return;
-    }
-    let (Some(a), Some(b)) = (store.load(ia), store.load(ib)) else {
-        return;
-    };
-    let mut copy = [a, b];
-    f(rows, &mut copy);
-    for (slot, body) in [ia, ib].into_iter().zip(&copy) {
-        if movable(body) {
-            store.store(slot, body);
-        }
-    }
-}
-
-/// Which pass.
-#[derive(Clone, Copy, Debug)]
-pub(crate) enum Pass {
-    WarmStart(Real),
-    Solve(SoftContactParams, bool),
-}
-
 /// `pass` on `batches`, in AVX2 instructions when the step chose them.
 #[inline(always)]
 fn dispatch<S: BodyStore>(
@@ -679,14 +586,6 @@ fn gather_into(batch: &mut Batch, manifolds: [(u32, u32); LANES], rows: &[SoftCo
     }
     for point in &mut batch.points {
         point.short = point.find_short();
-    }
-}
-
-/// `values[lane] = v` (nothing past the end).
-#[inline(always)]
-pub(super) fn set<T>(values: &mut [T; LANES], lane: usize, v: T) {
-    if let Some(slot) = values.get_mut(lane) {
-        *slot = v;
     }
 }
 
@@ -1350,85 +1249,16 @@ fn rerun_left<S: BodyStore>(
 }
 
 #[cfg(test)]
-pub(super) mod tests {
+mod tests {
     use super::*;
     use crate::solver::soft_contact::row::on_bodies;
-    use crate::solver::soft_contact::row::tests::{bits, mid, rows_from};
+    use crate::solver::soft_contact::row::tests::{case, values, Counting};
     use proptest::prelude::*;
 
     /// Lanes that left their window in the cases so far, and cases
     /// (coverage of the rerun path, printed).
     static LEFT: core::sync::atomic::AtomicU64 = core::sync::atomic::AtomicU64::new(0);
     static CASES: core::sync::atomic::AtomicU64 = core::sync::atomic::AtomicU64::new(0);
-
-    /// Four manifolds (bodies `2k`, `2k + 1`, of one or two points each;
-    /// `like`: of equal inverse masses, as in a pile of like bodies),
-    /// eight bodies, their motion and the parameters, from `v`.
-    #[allow(clippy::type_complexity)]
-    pub(in crate::solver::soft_contact) fn case(
-        v: Vec<i64>,
-        points: [bool; LANES],
-        friction: bool,
-        like: bool,
-    ) -> (
-        Vec<SoftContact>,
-        [(u32, u32); LANES],
-        Vec<SolverBody>,
-        Vec<Motion>,
-        SoftContactParams,
-    ) {
-        let mut v = v.into_iter().cycle();
-        let mut rows = Vec::new();
-        let mut manifolds = [(0u32, 0u32); LANES];
-        for (k, (m, &two)) in manifolds.iter_mut().zip(&points).enumerate() {
-            let start = rows.len() as u32;
-            let mine = rows_from(&mut v, if two { 2 } else { 1 });
-            for mut row in mine.iter().copied() {
-                (row.a, row.b, row.arbiter) = (2 * k as u32, 2 * k as u32 + 1, k as u32);
-                // One manifold's rows share its bodies' masses and its
-                // softness (as the prepare makes them).
-                if let Some(first) = mine.first() {
-                    (row.m_inv_a, row.m_inv_b, row.soft) =
-                        (first.m_inv_a, first.m_inv_b, first.soft);
-                }
-                if like {
-                    row.m_inv_b = row.m_inv_a;
-                }
-                rows.push(row);
-            }
-            *m = (start, rows.len() as u32);
-        }
-        let mut r = || Real::from_bits(v.next().unwrap_or(0));
-        let bodies = (0..2 * LANES)
-            .map(|_| SolverBody {
-                v: Vect::new(r(), r()),
-                w: r(),
-                m_inv: r(),
-                i_inv: r(),
-                ..SolverBody::default()
-            })
-            .collect();
-        let motion = (0..2 * LANES)
-            .map(|_| Motion {
-                dp: Vect::new(r(), r()),
-                dq_c1: r(),
-                dq_s: r(),
-                ..Motion::default()
-            })
-            .collect();
-        let p = SoftContactParams {
-            contact: Softness::RIGID,
-            fixed: Softness::RIGID,
-            h_inv: r(),
-            slop: r(),
-            push_out: r(),
-            restitution_threshold: Real::ZERO,
-            friction,
-            restitution: false,
-            narrow: false,
-        };
-        (rows, manifolds, bodies, motion, p)
-    }
 
     /// A pass of the wide kernel on `ops` against the scalar kernel on
     /// each manifold: the same rows, bodies and bits.
@@ -1470,52 +1300,6 @@ pub(super) mod tests {
         prop_assert_eq!(w_rows, s_rows);
         prop_assert_eq!(w_bodies, s_bodies);
         Ok(())
-    }
-
-    /// [`Portable`], counting the lane operations (each one AVX2
-    /// instruction in `tamias2d_simd::Avx2`).
-    #[derive(Clone, Copy)]
-    pub(in crate::solver::soft_contact) struct Counting<'a>(
-        pub(in crate::solver::soft_contact) &'a core::cell::Cell<u64>,
-    );
-
-    macro_rules! counted {
-        ($($name:ident($($arg:ident),*)),* $(,)?) => {$(
-            fn $name(self, $($arg: Lane),*) -> Lane {
-                self.0.set(self.0.get() + 1);
-                Portable.$name($($arg),*)
-            }
-        )*};
-    }
-
-    impl Ops for Counting<'_> {
-        counted!(
-            add(a, b),
-            sub(a, b),
-            xor(a, b),
-            and(a, b),
-            or(a, b),
-            gt(a, b),
-            mul_lo32(a, b),
-            mul_i32(a, b),
-            shr32(a),
-            shl32(a),
-            select(mask, a, b),
-        );
-
-        fn shr<const N: i32>(self, a: Lane) -> Lane {
-            self.0.set(self.0.get() + 1);
-            Portable.shr::<N>(a)
-        }
-
-        fn shl<const N: i32>(self, a: Lane) -> Lane {
-            self.0.set(self.0.get() + 1);
-            Portable.shl::<N>(a)
-        }
-
-        fn run_part<K: tamias2d_simd::Kernel>(self, kernel: K) -> K::Output {
-            kernel.run()
-        }
     }
 
     /// The lane operations of each pass over a batch of four two-point
@@ -1569,19 +1353,6 @@ pub(super) mod tests {
         // 5 % above today's counts.
         assert!(warm <= 85.0 && solve <= 195.0 && relax <= 236.0);
         assert!(s_warm <= 78.0 && s_solve <= 169.0 && s_relax <= 199.0);
-    }
-
-    pub(in crate::solver::soft_contact) fn values() -> impl Strategy<Value = Vec<i64>> {
-        // Short values (below 2^32, as most scenes' constants), alone or
-        // with a few long ones: short and long factors in one batch.
-        let short = || -(1i64 << 32) + 1..(1i64 << 32);
-        prop_oneof![
-            prop::collection::vec(bits(), 200),
-            prop::collection::vec(mid(), 200),
-            prop::collection::vec(-(1i64 << 36)..(1i64 << 36), 200),
-            prop::collection::vec(short(), 200),
-            prop::collection::vec(prop_oneof![20 => short(), 1 => bits()], 200),
-        ]
     }
 
     proptest! {

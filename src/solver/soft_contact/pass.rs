@@ -1,0 +1,110 @@
+//! What every contact pass kernel shares: which pass runs, how the lane
+//! kernels are compiled, and where a pass reads and writes the bodies (in
+//! place, or shared between threads).
+use crate::math::lanes::LANES;
+use crate::math::Real;
+use crate::solver::{sweep, SolverBody};
+
+use super::row::{SoftContact, SoftContactParams};
+
+/// How the wide kernels are compiled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Compiled {
+    /// For the build's instruction set.
+    Portable,
+    /// For AVX2 (the processor has it).
+    Avx2,
+}
+
+/// Where a pass reads and writes the bodies: in place, or shared between
+/// threads.
+pub(super) trait BodyStore {
+    /// The body in `slot` (`None` past the end).
+    fn load(&self, slot: u32) -> Option<SolverBody>;
+    /// Its new velocities.
+    fn store(&mut self, slot: u32, body: &SolverBody);
+}
+
+/// The bodies in place (one thread).
+pub(super) struct InPlace<'a>(pub(super) &'a mut [SolverBody]);
+
+impl BodyStore for InPlace<'_> {
+    #[inline(always)]
+    fn load(&self, slot: u32) -> Option<SolverBody> {
+        self.0.get(slot as usize).copied()
+    }
+    #[inline(always)]
+    fn store(&mut self, slot: u32, body: &SolverBody) {
+        if let Some(b) = self.0.get_mut(slot as usize) {
+            (b.v, b.w) = (body.v, body.w);
+        }
+    }
+}
+
+/// The bodies threads share ([`sweep::SharedBody`]).
+#[derive(Clone, Copy)]
+pub(super) struct Shared<'a>(pub(super) &'a [sweep::SharedBody]);
+
+impl BodyStore for Shared<'_> {
+    #[inline(always)]
+    fn load(&self, slot: u32) -> Option<SolverBody> {
+        self.0.get(slot as usize).map(sweep::SharedBody::load)
+    }
+    #[inline(always)]
+    fn store(&mut self, slot: u32, body: &SolverBody) {
+        if let Some(b) = self.0.get(slot as usize) {
+            b.store_velocities(body);
+        }
+    }
+}
+
+/// True for a body the solver moves (a nonzero inverse mass or moment);
+/// the others come out of a pass unchanged and are not stored, so that
+/// threads sharing one never write its cache line.
+#[inline(always)]
+pub(super) fn movable(b: &SolverBody) -> bool {
+    !b.m_inv.is_zero() || !b.i_inv.is_zero()
+}
+
+/// Runs `f` on one manifold's rows with a copy of its two bodies from
+/// `store`, and stores the movable ones back (nothing for a body paired
+/// with itself, or a slot out of range): the in-place kernel's bits.
+#[inline(always)]
+pub(super) fn on_store<S: BodyStore>(
+    rows: &mut [SoftContact],
+    store: &mut S,
+    f: impl FnOnce(&mut [SoftContact], &mut [SolverBody; 2]),
+) {
+    let Some(first) = rows.first() else {
+        return;
+    };
+    let (ia, ib) = (first.a, first.b);
+    if ia == ib {
+        return;
+    }
+    let (Some(a), Some(b)) = (store.load(ia), store.load(ib)) else {
+        return;
+    };
+    let mut copy = [a, b];
+    f(rows, &mut copy);
+    for (slot, body) in [ia, ib].into_iter().zip(&copy) {
+        if movable(body) {
+            store.store(slot, body);
+        }
+    }
+}
+
+/// Which pass.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Pass {
+    WarmStart(Real),
+    Solve(SoftContactParams, bool),
+}
+
+/// `values[lane] = v` (nothing past the end).
+#[inline(always)]
+pub(super) fn set<T>(values: &mut [T; LANES], lane: usize, v: T) {
+    if let Some(slot) = values.get_mut(lane) {
+        *slot = v;
+    }
+}
