@@ -11,7 +11,8 @@
 //! - **Check.** Starts headless Chromium on `/?check`, waits for the report,
 //!   and fails unless every golden check's checksum computed in the browser
 //!   (each golden scene on the canonical solver, the colored one and the
-//!   soft step on both kernel forms: `tamias2d_scenes::goldens::checks`)
+//!   soft step on both kernel forms, the narrow soft step on the portable
+//!   lanes: `tamias2d_scenes::goldens::checks`)
 //!   equals the native golden (compared here, not trusted from the page)
 //!   and the lockstep peers agreed on every confirmed frame.
 //!   It prints the browser's frame time of `pyramid_20` and

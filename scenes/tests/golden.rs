@@ -264,16 +264,19 @@ fn narrow_contact_goldens_match_the_committed_values() {
         return;
     }
     let mut native: Vec<(&str, Golden)> = goldens();
+    // The narrow passes run the portable lanes where the kernels are
+    // scalar: the portable lanes, and AVX2 where the processor has it.
     let mut forms = kernel_forms();
+    forms.retain(|&k| k != Kernels::Scalar);
     if cfg!(debug_assertions) {
         native.retain(|(name, _)| NARROW_IN_DEBUG.contains(name));
-        forms.retain(|&k| k == Kernels::Scalar);
+        forms.retain(|&k| k == Kernels::Portable);
     }
     let mut wrong = Vec::new();
     for kernels in forms {
         for &(name, g) in &native {
             let got = checksum_of(name, g.steps, kernels, SettingsDesc::use_narrow_soft_step);
-            if kernels == Kernels::Scalar && std::env::var_os("TAMIAS_PRINT_GOLDENS").is_some() {
+            if kernels == Kernels::Portable && std::env::var_os("TAMIAS_PRINT_GOLDENS").is_some() {
                 println!("    (\"{name}\", {got:#018x}),");
             }
             let how = kernels.describe();
