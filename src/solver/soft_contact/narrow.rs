@@ -22,7 +22,7 @@
 //! run again by the exact kernel from its state before that pass (as the
 //! exact wide kernels do). The windows: body velocities below 1,024 m/s
 //! (and rad/s) at a pass's start, separations a bias reads below 64 m,
-//! and each manifold's impulses below `min(32, 2^35/G)` N·s, where `G` is
+//! and each manifold's impulses below `min(32, 2^11/G)` N·s, where `G` is
 //! its largest gain (`m⁻¹` or `I⁻¹ (r × d)`, in 1/kg): then a pass
 //! changes a velocity by under `2^13` m/s in all, the 48-bit velocities
 //! stay below `2^62` and every Q16.16 read fits 32 bits.
