@@ -102,6 +102,23 @@ impl SharedBody {
         }
     }
 
+    /// The raw bits of the velocities `[v.x, v.y, ω]` (the bias
+    /// velocities and masses not read).
+    #[inline(always)]
+    pub(crate) fn velocity_bits(&self) -> [i64; 3] {
+        let [x, y, w, ..] = &self.words;
+        [x, y, w].map(|a| a.load(Relaxed))
+    }
+
+    /// Sets the velocities `[v.x, v.y, ω]` from raw bits (the bias
+    /// velocities untouched, as the in-place store leaves them).
+    #[inline(always)]
+    pub(crate) fn set_velocity_bits(&self, v: [i64; 3]) {
+        for (x, r) in self.words.iter().zip(v) {
+            x.store(r, Relaxed);
+        }
+    }
+
     /// Sets the velocities (the solver never changes the inverse masses).
     #[inline(always)]
     pub(crate) fn store_velocities(&self, b: &SolverBody) {

@@ -106,6 +106,10 @@ pub(super) struct NarrowBatch {
     /// Lanes whose constants left their windows: the exact kernel runs
     /// them in every pass.
     exact: [bool; LANES],
+    /// Each lane's bodies the solver moves (a nonzero inverse mass or
+    /// moment, for the step): only those are stored back.
+    moves_a: [bool; LANES],
+    moves_b: [bool; LANES],
     points: [NarrowPoint; 2],
 }
 
@@ -207,10 +211,12 @@ pub(super) fn gather_narrow(
     batch: &mut NarrowBatch,
     manifolds: [(u32, u32); LANES],
     rows: &[SoftContact],
+    bodies: &[SolverBody],
 ) {
     batch.a = [u32::MAX; LANES];
     batch.b = [u32::MAX; LANES];
     batch.limit = splat(LIMIT_MAX);
+    let moves = |slot: u32| bodies.get(slot as usize).is_some_and(movable);
     for (lane, &(start, end)) in manifolds.iter().enumerate() {
         let Some(first) = rows.get(start as usize) else {
             continue;
@@ -218,6 +224,8 @@ pub(super) fn gather_narrow(
         let count = end.wrapping_sub(start);
         set(&mut batch.a, lane, first.a);
         set(&mut batch.b, lane, first.b);
+        set(&mut batch.moves_a, lane, moves(first.a));
+        set(&mut batch.moves_b, lane, moves(first.b));
         set(&mut batch.first, lane, start);
         set(&mut batch.count, lane, count);
         batch.points_used = batch.points_used.max(count as usize).min(2);
@@ -354,7 +362,6 @@ struct Velocities {
     vx: Lane,
     vy: Lane,
     w: Lane,
-    movable: [bool; LANES],
 }
 
 /// Velocities at a pass's start below `2^42` raw (1,024 m/s).
@@ -370,16 +377,10 @@ impl Velocities {
         slots: &[u32; LANES],
         rec: &mut Lane,
     ) -> Velocities {
-        let (mut vx, mut vy, mut w) = (splat(0), splat(0), splat(0));
-        let mut moves = [false; LANES];
-        for (lane, &slot) in slots.iter().enumerate() {
-            if let Some(body) = store.load(slot) {
-                set(&mut vx, lane, body.v.x.to_bits());
-                set(&mut vy, lane, body.v.y.to_bits());
-                set(&mut w, lane, body.w.to_bits());
-                set(&mut moves, lane, movable(&body));
-            }
-        }
+        let v = slots.map(|slot| store.velocities(slot).unwrap_or([0; 3]));
+        let vx = v.map(|[x, _, _]| x);
+        let vy = v.map(|[_, y, _]| y);
+        let w = v.map(|[_, _, r]| r);
         for v in [vx, vy, w] {
             *rec = record::<O, VELOCITY_BITS>(o, *rec, v, o.sign(v));
         }
@@ -387,33 +388,27 @@ impl Velocities {
             vx: o.shl_n::<16>(vx),
             vy: o.shl_n::<16>(vy),
             w: o.shl_n::<16>(w),
-            movable: moves,
         }
     }
 
-    /// The movable bodies of the lanes not `left` back into `store`.
+    /// The bodies of the lanes not `left` that `moves` back into `store`.
     #[inline(always)]
     fn scatter<O: Ops, S: BodyStore>(
         &self,
         o: O,
         store: &mut S,
         slots: &[u32; LANES],
+        moves: &[bool; LANES],
         left: &[bool; LANES],
     ) {
         let vx = round_full::<O, 16>(o, self.vx);
         let vy = round_full::<O, 16>(o, self.vy);
         let w = round_full::<O, 16>(o, self.w);
-        for (lane, ((&slot, &l), &m)) in slots.iter().zip(left).zip(&self.movable).enumerate() {
-            if l || !m {
-                continue;
+        let lanes = slots.iter().zip(moves).zip(left).zip(vx).zip(vy).zip(w);
+        for (((((&slot, &m), &l), x), y), r) in lanes {
+            if m && !l {
+                store.set_velocities(slot, [x, y, r]);
             }
-            let at = |v: &Lane| Real::from_bits(v.get(lane).copied().unwrap_or(0));
-            let body = SolverBody {
-                v: crate::math::Vect::new(at(&vx), at(&vy)),
-                w: at(&w),
-                ..SolverBody::default()
-            };
-            store.store(slot, &body);
         }
     }
 
@@ -590,8 +585,8 @@ fn finish<O: Ops, S: BodyStore>(
     f: impl FnMut(&mut [SoftContact], &mut [SolverBody; 2]),
     rows: &[SoftContact],
 ) -> usize {
-    a.scatter(o, store, &batch.a, &left);
-    b.scatter(o, store, &batch.b, &left);
+    a.scatter(o, store, &batch.a, &batch.moves_a, &left);
+    b.scatter(o, store, &batch.b, &batch.moves_b, &left);
     if left.contains(&true) {
         rerun_exact(batch, store, &left, f, rows)
     } else {
@@ -661,7 +656,6 @@ fn solve_narrow<O: Ops, S: BodyStore, const BIAS: bool>(
             vx: splat(0),
             vy: splat(0),
             w: splat(0),
-            movable: [false; LANES],
         });
         return finish(
             o,
@@ -951,7 +945,7 @@ mod tests {
     ) -> (Vec<SoftContact>, Vec<SolverBody>, usize) {
         let (mut rows, mut bodies) = (rows.to_vec(), bodies.to_vec());
         let mut batch = NarrowBatch::default();
-        gather_narrow(&mut batch, manifolds, &rows);
+        gather_narrow(&mut batch, manifolds, &rows, &bodies);
         let mut store = InPlace(&mut bodies);
         let left = match pass {
             None => warm_start_narrow(ops, &mut batch, &mut store, &rows, Real::ONE),

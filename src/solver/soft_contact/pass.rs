@@ -23,6 +23,11 @@ pub(super) trait BodyStore {
     fn load(&self, slot: u32) -> Option<SolverBody>;
     /// Its new velocities.
     fn store(&mut self, slot: u32, body: &SolverBody);
+    /// The raw bits of its velocities `[v.x, v.y, ω]` (`None` past the
+    /// end): what the narrow kernels read, nothing more.
+    fn velocities(&self, slot: u32) -> Option<[i64; 3]>;
+    /// Its new velocities `[v.x, v.y, ω]`, raw bits.
+    fn set_velocities(&mut self, slot: u32, v: [i64; 3]);
 }
 
 /// The bodies in place (one thread).
@@ -37,6 +42,18 @@ impl BodyStore for InPlace<'_> {
     fn store(&mut self, slot: u32, body: &SolverBody) {
         if let Some(b) = self.0.get_mut(slot as usize) {
             (b.v, b.w) = (body.v, body.w);
+        }
+    }
+    #[inline(always)]
+    fn velocities(&self, slot: u32) -> Option<[i64; 3]> {
+        let b = self.0.get(slot as usize)?;
+        Some([b.v.x.to_bits(), b.v.y.to_bits(), b.w.to_bits()])
+    }
+    #[inline(always)]
+    fn set_velocities(&mut self, slot: u32, [x, y, w]: [i64; 3]) {
+        if let Some(b) = self.0.get_mut(slot as usize) {
+            b.v = crate::math::Vect::new(Real::from_bits(x), Real::from_bits(y));
+            b.w = Real::from_bits(w);
         }
     }
 }
@@ -54,6 +71,18 @@ impl BodyStore for Shared<'_> {
     fn store(&mut self, slot: u32, body: &SolverBody) {
         if let Some(b) = self.0.get(slot as usize) {
             b.store_velocities(body);
+        }
+    }
+    #[inline(always)]
+    fn velocities(&self, slot: u32) -> Option<[i64; 3]> {
+        self.0
+            .get(slot as usize)
+            .map(sweep::SharedBody::velocity_bits)
+    }
+    #[inline(always)]
+    fn set_velocities(&mut self, slot: u32, v: [i64; 3]) {
+        if let Some(b) = self.0.get(slot as usize) {
+            b.set_velocity_bits(v);
         }
     }
 }

@@ -251,7 +251,7 @@ impl WideContacts {
         if narrow {
             self.narrow.resize(self.plan.len(), NarrowBatch::default());
             crate::threads::zip_split(&self.plan, &mut self.narrow, GATHER_PIECE, &|m, batch| {
-                gather_narrow(batch, *m, rows);
+                gather_narrow(batch, *m, rows, bodies);
             });
         } else {
             self.batches.resize(self.plan.len(), Batch::default());
