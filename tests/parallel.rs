@@ -162,19 +162,20 @@ fn every_thread_count_gives_the_bits_of_one_thread_on_the_soft_step() {
     every_thread_count_gives_the_bits_of_one_thread(Order::Soft);
 }
 
-/// The soft step's wide kernels, forced on (compiled for AVX2 where the
-/// processor has it, and for the build's instruction set), give the
-/// scalar kernels' bits at every step on 1, 2, 3 and 4 threads (a step
-/// that splits its passes between threads runs the scalar ones; one
-/// with fewer manifolds than a split needs runs them in place). A debug
-/// build, where the wide kernels are about 60 times slower, runs a short
-/// stack on the wide kernels as this processor runs them on 1, 2 and 3
-/// threads; release, every golden scene on both forms.
-#[test]
-fn wide_kernels_give_the_scalar_bits_on_every_thread_count() {
+/// Every kernel form of `order` (the wide kernels as this processor runs
+/// them, AVX2 where it has it, and compiled for the build's instruction
+/// set) gives the bits of `reference` on one thread at every step, on 1,
+/// 2, 3 and 4 threads: in release every golden scene, in a debug build
+/// (where lanes run about 60 times slower) the short `debug_scenes` on
+/// the wide kernels as this processor runs them.
+fn every_form_gives_the_reference_bits(
+    order: Order,
+    reference: Kernels,
+    debug_scenes: &[(&'static str, u32)],
+) {
     let watchdog = Watchdog::new(std::time::Duration::from_secs(900));
     let scenes: Vec<(&str, u32)> = if cfg!(debug_assertions) {
-        vec![("pyramid_20", 6)]
+        debug_scenes.to_vec()
     } else {
         REGISTRY
             .iter()
@@ -182,7 +183,7 @@ fn wide_kernels_give_the_scalar_bits_on_every_thread_count() {
             .collect()
     };
     for (name, steps) in scenes {
-        let scalar = checksums_on(name, Order::Soft, 1, Kernels::Scalar, steps);
+        let want = checksums_on(name, order, 1, reference, steps);
         let forms: &[Kernels] = if cfg!(debug_assertions) {
             &[Kernels::Wide]
         } else {
@@ -190,12 +191,14 @@ fn wide_kernels_give_the_scalar_bits_on_every_thread_count() {
         };
         for &kernels in forms {
             for &threads in thread_counts().iter().take(4) {
-                watchdog.at(format!("{name} ({kernels:?} kernels) on {threads} threads"));
-                let got = checksums_on(name, Order::Soft, threads, kernels, steps);
-                if let Some(n) = scalar.iter().zip(&got).position(|(a, b)| a != b) {
+                watchdog.at(format!(
+                    "{name} ({order:?}, {kernels:?}) on {threads} threads"
+                ));
+                let got = checksums_on(name, order, threads, kernels, steps);
+                if let Some(n) = want.iter().zip(&got).position(|(a, b)| a != b) {
                     panic!(
-                        "{name}: {kernels:?} kernels on {threads} threads differ from the \
-                         scalar ones at step {}",
+                        "{name} ({order:?}): {kernels:?} kernels on {threads} threads differ \
+                         from one thread's {reference:?} ones at step {}",
                         n + 1
                     );
                 }
@@ -204,44 +207,27 @@ fn wide_kernels_give_the_scalar_bits_on_every_thread_count() {
     }
 }
 
+/// The soft step's wide kernels, forced on, give the scalar kernels' bits
+/// at every step on 1, 2, 3 and 4 threads (a step that splits its passes
+/// between threads runs the scalar ones; one with fewer manifolds than a
+/// split needs runs them in place).
+#[test]
+fn wide_kernels_give_the_scalar_bits_on_every_thread_count() {
+    every_form_gives_the_reference_bits(Order::Soft, Kernels::Scalar, &[("pyramid_20", 6)]);
+}
+
 /// The narrow contact kernels give the same bits on every kernel form
-/// (the scalar choice runs the portable lanes; AVX2 where the processor
-/// has it) and on 1, 2, 3 and 4 threads, at every step: each color's
-/// batches split between threads, the overflow color's run in order. A
-/// debug build runs two short scenes (a stack, two-point manifolds; a
-/// bowl of circles, one-point ones); release, every golden scene.
+/// (the scalar choice runs the portable lanes) and thread count: each
+/// color's batches split between threads, the overflow color's run in
+/// order. In debug a stack (two-point manifolds) and a bowl of circles
+/// (one-point ones).
 #[test]
 fn narrow_kernels_give_the_same_bits_on_every_form_and_thread_count() {
-    let watchdog = Watchdog::new(std::time::Duration::from_secs(900));
-    let scenes: Vec<(&str, u32)> = if cfg!(debug_assertions) {
-        vec![("pyramid_20", 6), ("bowl_circles_100", 8)]
-    } else {
-        REGISTRY
-            .iter()
-            .filter_map(|info| Some((info.name, info.golden?.steps)))
-            .collect()
-    };
-    for (name, steps) in scenes {
-        let reference = checksums_on(name, Order::Narrow, 1, Kernels::Scalar, steps);
-        let forms: &[Kernels] = if cfg!(debug_assertions) {
-            &[Kernels::Wide]
-        } else {
-            &[Kernels::Wide, Kernels::Portable]
-        };
-        for &kernels in forms {
-            for &threads in thread_counts().iter().take(4) {
-                watchdog.at(format!("{name} (narrow, {kernels:?}) on {threads} threads"));
-                let got = checksums_on(name, Order::Narrow, threads, kernels, steps);
-                if let Some(n) = reference.iter().zip(&got).position(|(a, b)| a != b) {
-                    panic!(
-                        "{name}: narrow {kernels:?} kernels on {threads} threads differ from \
-                         one thread's portable lanes at step {}",
-                        n + 1
-                    );
-                }
-            }
-        }
-    }
+    every_form_gives_the_reference_bits(
+        Order::Narrow,
+        Kernels::Scalar,
+        &[("pyramid_20", 6), ("bowl_circles_100", 8)],
+    );
 }
 
 /// A handler that panics while the pool's workers are kept awake: the

@@ -32,11 +32,11 @@
 //! ones), and every manifold of a step runs in lanes (a color's last
 //! batch and the overflow color's manifolds with empty lanes), so the
 //! bits do not depend on which instructions run.
-use crate::math::lanes::{splat, Lane, Ops, Portable, LANES};
+use crate::math::lanes::{splat, Lane, Ops, LANES};
 use crate::math::Real;
 use crate::solver::SolverBody;
 
-use super::pass::{movable, on_store, set, BodyStore, Compiled, Pass};
+use super::pass::{keep_left, movable, on_store, set, BodyStore, LaneBatch, Pass, PointState};
 use super::row::{solve_manifold, warm_start_manifold, Motion, SoftContact, SoftContactParams};
 
 /// One point of four manifolds on the narrow grids.
@@ -67,18 +67,7 @@ struct NarrowPoint {
     surface_t: Lane,
     /// The separation at the collide (`Real` bits).
     dist: Lane,
-    state: NarrowState,
-}
-
-/// What a pass changes in a point's lanes: the separation (`Real` bits),
-/// the accumulated impulses and the largest normal impulse of the step
-/// (Q8.24).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-struct NarrowState {
-    sep: Lane,
-    jn: Lane,
-    jt: Lane,
-    max_jn: Lane,
+    state: PointState,
 }
 
 /// Four manifolds of one color on the narrow grids.
@@ -492,7 +481,7 @@ fn uniform(p: &SoftContactParams) -> Option<(Lane, Lane, Lane)> {
 /// Lanes whose accumulated impulses leave the window (`|jn|` at or above
 /// the limit, `|jt|` above half of it) in `rec`.
 #[inline(always)]
-fn check_state<O: Ops>(o: O, batch: &NarrowBatch, state: &[NarrowState; 2], rec: &mut Lane) {
+fn check_state<O: Ops>(o: O, batch: &NarrowBatch, state: &[PointState; 2], rec: &mut Lane) {
     let below = o.sub(batch.limit, splat(1));
     let half = o.shr_n::<1>(batch.limit);
     for s in state.iter().take(batch.points_used) {
@@ -825,111 +814,34 @@ fn narrow_motion<O: Ops>(
     out
 }
 
-/// `new` where the lane did not leave, `old` where it did.
-fn keep_left(old: NarrowState, new: NarrowState, left: &[bool; LANES]) -> NarrowState {
-    let pick = |o: Lane, n: Lane| {
-        let mut out = n;
-        for ((x, &o), &l) in out.iter_mut().zip(&o).zip(left) {
-            if l {
-                *x = o;
-            }
-        }
-        out
-    };
-    NarrowState {
-        sep: pick(old.sep, new.sep),
-        jn: pick(old.jn, new.jn),
-        jt: pick(old.jt, new.jt),
-        max_jn: pick(old.max_jn, new.max_jn),
-    }
-}
-
-/// One pass over narrow batches on the lane operations `O`: the kernel
-/// `tamias2d_simd` compiles for AVX2.
-struct NarrowPass<'a, O: Ops, S: BodyStore> {
-    ops: O,
-    pass: Pass,
-    batches: &'a mut [NarrowBatch],
-    store: S,
-    rows: &'a [SoftContact],
-    motion: &'a [Motion],
-}
-
-impl<O: Ops, S: BodyStore> tamias2d_simd::Kernel for NarrowPass<'_, O, S> {
-    type Output = ();
-
+impl LaneBatch for NarrowBatch {
     #[inline(always)]
-    fn run(self) {
-        let NarrowPass {
-            ops,
-            pass,
-            batches,
-            mut store,
-            rows,
-            motion,
-        } = self;
-        for batch in batches {
-            match pass {
-                Pass::WarmStart(dt_coef) => {
-                    warm_start_narrow(ops, batch, &mut store, rows, dt_coef);
-                }
-                Pass::Solve(p, true) => {
-                    solve_narrow::<O, S, true>(ops, batch, &mut store, rows, motion, &p);
-                }
-                Pass::Solve(p, false) => {
-                    solve_narrow::<O, S, false>(ops, batch, &mut store, rows, motion, &p);
-                }
+    fn run_pass<O: Ops, S: BodyStore>(
+        &mut self,
+        ops: O,
+        pass: Pass,
+        store: &mut S,
+        rows: &[SoftContact],
+        motion: &[Motion],
+    ) {
+        match pass {
+            Pass::WarmStart(dt_coef) => {
+                warm_start_narrow(ops, self, store, rows, dt_coef);
+            }
+            Pass::Solve(p, true) => {
+                solve_narrow::<O, S, true>(ops, self, store, rows, motion, &p);
+            }
+            Pass::Solve(p, false) => {
+                solve_narrow::<O, S, false>(ops, self, store, rows, motion, &p);
             }
         }
-    }
-}
-
-/// `pass` on narrow `batches`, in AVX2 instructions when the step chose
-/// them.
-#[inline(always)]
-pub(super) fn dispatch_narrow<S: BodyStore>(
-    compiled: Option<Compiled>,
-    pass: Pass,
-    batches: &mut [NarrowBatch],
-    store: S,
-    rows: &[SoftContact],
-    motion: &[Motion],
-) {
-    use tamias2d_simd::Kernel;
-    if batches.is_empty() {
-        return;
-    }
-    let avx2 = match compiled {
-        Some(Compiled::Avx2) => tamias2d_simd::Avx2::new(),
-        Some(Compiled::Portable) | None => None,
-    };
-    match avx2 {
-        Some(ops) => {
-            let job = NarrowPass {
-                ops,
-                pass,
-                batches,
-                store,
-                rows,
-                motion,
-            };
-            tamias2d_simd::run_avx2(job).unwrap_or_else(Kernel::run);
-        }
-        None => NarrowPass {
-            ops: Portable,
-            pass,
-            batches,
-            store,
-            rows,
-            motion,
-        }
-        .run(),
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::lanes::Portable;
     use crate::solver::soft_contact::pass::InPlace;
     use crate::solver::soft_contact::row::tests::{case, values, Counting};
     use proptest::prelude::*;

@@ -1,11 +1,11 @@
 //! What every contact pass kernel shares: which pass runs, how the lane
 //! kernels are compiled, and where a pass reads and writes the bodies (in
 //! place, or shared between threads).
-use crate::math::lanes::LANES;
+use crate::math::lanes::{Lane, Ops, Portable, LANES};
 use crate::math::Real;
 use crate::solver::{sweep, SolverBody};
 
-use super::row::{SoftContact, SoftContactParams};
+use super::row::{Motion, SoftContact, SoftContactParams};
 
 /// How the wide kernels are compiled.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -135,5 +135,126 @@ pub(crate) enum Pass {
 pub(super) fn set<T>(values: &mut [T; LANES], lane: usize, v: T) {
     if let Some(slot) = values.get_mut(lane) {
         *slot = v;
+    }
+}
+
+/// What a pass changes in a point's lanes: the separation, the
+/// accumulated impulses and the largest normal impulse of the step (each
+/// batch kind's own grid).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(super) struct PointState {
+    pub(super) sep: Lane,
+    pub(super) jn: Lane,
+    pub(super) jt: Lane,
+    pub(super) max_jn: Lane,
+}
+
+/// `new` where the lane did not leave, `old` where it did.
+#[inline(always)]
+pub(super) fn keep_left(old: PointState, new: PointState, left: &[bool; LANES]) -> PointState {
+    let pick = |o: Lane, n: Lane| {
+        let mut out = n;
+        for ((x, &o), &l) in out.iter_mut().zip(&o).zip(left) {
+            if l {
+                *x = o;
+            }
+        }
+        out
+    };
+    PointState {
+        sep: pick(old.sep, new.sep),
+        jn: pick(old.jn, new.jn),
+        jt: pick(old.jt, new.jt),
+        max_jn: pick(old.max_jn, new.max_jn),
+    }
+}
+
+/// A batch of four manifolds the lane kernels run: the exact wide
+/// kernels' or the narrow ones'.
+pub(super) trait LaneBatch: Send {
+    /// `pass` on this batch's manifolds on the lane operations `ops`,
+    /// their bodies in `store` (`rows`: the step's rows, which a lane
+    /// that leaves its window reruns from).
+    fn run_pass<O: Ops, S: BodyStore>(
+        &mut self,
+        ops: O,
+        pass: Pass,
+        store: &mut S,
+        rows: &[SoftContact],
+        motion: &[Motion],
+    );
+}
+
+/// `pass` on `batches`, in AVX2 instructions when the step chose them.
+#[inline(always)]
+pub(super) fn dispatch<S: BodyStore, B: LaneBatch>(
+    compiled: Option<Compiled>,
+    pass: Pass,
+    batches: &mut [B],
+    store: S,
+    rows: &[SoftContact],
+    motion: &[Motion],
+) {
+    use tamias2d_simd::Kernel;
+    if batches.is_empty() {
+        return;
+    }
+    let avx2 = match compiled {
+        Some(Compiled::Avx2) => tamias2d_simd::Avx2::new(),
+        Some(Compiled::Portable) | None => None,
+    };
+    match avx2 {
+        // The same bits either way: `run_avx2` hands the job back only if
+        // the processor lost AVX2 since the check, which it cannot.
+        Some(ops) => {
+            let job = BatchPass {
+                ops,
+                pass,
+                batches,
+                store,
+                rows,
+                motion,
+            };
+            tamias2d_simd::run_avx2(job).unwrap_or_else(Kernel::run);
+        }
+        None => BatchPass {
+            ops: Portable,
+            pass,
+            batches,
+            store,
+            rows,
+            motion,
+        }
+        .run(),
+    }
+}
+
+/// One pass over batches on the lane operations `O`: the kernel
+/// `tamias2d_simd` compiles for AVX2.
+struct BatchPass<'a, O: Ops, S: BodyStore, B: LaneBatch> {
+    ops: O,
+    pass: Pass,
+    batches: &'a mut [B],
+    store: S,
+    rows: &'a [SoftContact],
+    motion: &'a [Motion],
+}
+
+impl<O: Ops, S: BodyStore, B: LaneBatch> tamias2d_simd::Kernel for BatchPass<'_, O, S, B> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let BatchPass {
+            ops,
+            pass,
+            batches,
+            mut store,
+            rows,
+            motion,
+        } = self;
+        for batch in batches {
+            batch.run_pass(ops, pass, &mut store, rows, motion);
+        }
     }
 }

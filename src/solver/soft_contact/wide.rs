@@ -34,13 +34,16 @@
 //! The batches hold the rows' running impulses and separations while the
 //! sub-steps run; [`SoftContacts`](super::SoftContacts) writes them back
 //! to its rows before anything else reads the rows.
-use crate::math::lanes::{is_short, Factor, Lane, LaneArith, Ops, Portable, LANES};
+use crate::math::lanes::{is_short, Factor, Lane, LaneArith, Ops, LANES};
 use crate::math::{Real, Vect};
 use crate::solver::softness::Softness;
 use crate::solver::{graph, sweep, SolverBody};
 
-use super::narrow::{dispatch_narrow, gather_narrow, put_narrow, zero_narrow, NarrowBatch};
-use super::pass::{movable, on_store, set, BodyStore, Compiled, InPlace, Pass, Shared};
+use super::narrow::{gather_narrow, put_narrow, zero_narrow, NarrowBatch};
+use super::pass::{
+    dispatch, keep_left, movable, on_store, set, BodyStore, Compiled, InPlace, LaneBatch, Pass,
+    PointState, Shared,
+};
 use super::row::{
     scale_impulses, solve_manifold, warm_start_manifold, Motion, SoftContact, SoftContactParams,
 };
@@ -94,15 +97,6 @@ impl PointLanes {
         .into_iter()
         .all(is_short)
     }
-}
-
-/// What a pass changes in a point's lanes.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-struct PointState {
-    sep: Lane,
-    jn: Lane,
-    jt: Lane,
-    max_jn: Lane,
 }
 
 /// Four manifolds of one color.
@@ -297,9 +291,9 @@ impl WideContacts {
         let compiled = self.compiled;
         for c in 0..=graph::COLORS {
             let batches = part_mut(&mut self.batches, &self.color_batches, c);
-            dispatch(compiled, pass, batches, InPlace(bodies), motion);
+            dispatch(compiled, pass, batches, InPlace(bodies), rows, motion);
             let narrow = part_mut(&mut self.narrow, &self.color_batches, c);
-            dispatch_narrow(compiled, pass, narrow, InPlace(bodies), rows, motion);
+            dispatch(compiled, pass, narrow, InPlace(bodies), rows, motion);
             for &(start, end) in part(&self.scalar, &self.color_scalar, c) {
                 if let Some(m) = rows.get_mut(start as usize..end as usize) {
                     scalar_pass(pass, m, &mut InPlace(bodies), motion);
@@ -323,13 +317,13 @@ impl WideContacts {
         let compiled = self.compiled;
         for c in 0..=graph::COLORS {
             let batches = part_mut(&mut self.batches, &self.color_batches, c);
-            split_batches(compiled, pass, batches, Shared(shared), motion);
+            split_batches(compiled, pass, batches, Shared(shared), rows, motion);
             let narrow = part_mut(&mut self.narrow, &self.color_batches, c);
             if c < graph::COLORS {
-                split_narrow(compiled, pass, narrow, Shared(shared), rows, motion);
+                split_batches(compiled, pass, narrow, Shared(shared), rows, motion);
             } else {
                 // The overflow's manifolds may share bodies: in order.
-                dispatch_narrow(compiled, pass, narrow, Shared(shared), rows, motion);
+                dispatch(compiled, pass, narrow, Shared(shared), rows, motion);
             }
             for &(start, end) in part(&self.scalar, &self.color_scalar, c) {
                 if let Some(m) = rows.get_mut(start as usize..end as usize) {
@@ -345,42 +339,22 @@ const BATCH_PIECE: usize = 8;
 
 /// [`dispatch`] on `batches` in halves on threads, down to
 /// [`BATCH_PIECE`]s.
-fn split_batches(
+fn split_batches<B: LaneBatch>(
     compiled: Option<Compiled>,
     pass: Pass,
-    batches: &mut [Batch],
-    store: Shared<'_>,
-    motion: &[Motion],
-) {
-    if batches.len() <= BATCH_PIECE {
-        dispatch(compiled, pass, batches, store, motion);
-        return;
-    }
-    let (left, right) = batches.split_at_mut(batches.len() / 2);
-    crate::threads::join(
-        || split_batches(compiled, pass, left, store, motion),
-        || split_batches(compiled, pass, right, store, motion),
-    );
-}
-
-/// [`dispatch_narrow`] on `batches` in halves on threads, down to
-/// [`BATCH_PIECE`]s.
-fn split_narrow(
-    compiled: Option<Compiled>,
-    pass: Pass,
-    batches: &mut [NarrowBatch],
+    batches: &mut [B],
     store: Shared<'_>,
     rows: &[SoftContact],
     motion: &[Motion],
 ) {
     if batches.len() <= BATCH_PIECE {
-        dispatch_narrow(compiled, pass, batches, store, rows, motion);
+        dispatch(compiled, pass, batches, store, rows, motion);
         return;
     }
     let (left, right) = batches.split_at_mut(batches.len() / 2);
     crate::threads::join(
-        || split_narrow(compiled, pass, left, store, rows, motion),
-        || split_narrow(compiled, pass, right, store, rows, motion),
+        || split_batches(compiled, pass, left, store, rows, motion),
+        || split_batches(compiled, pass, right, store, rows, motion),
     );
 }
 
@@ -413,77 +387,22 @@ fn scalar_pass<S: BodyStore>(pass: Pass, m: &mut [SoftContact], store: &mut S, m
     }
 }
 
-/// `pass` on `batches`, in AVX2 instructions when the step chose them.
-#[inline(always)]
-fn dispatch<S: BodyStore>(
-    compiled: Option<Compiled>,
-    pass: Pass,
-    batches: &mut [Batch],
-    store: S,
-    motion: &[Motion],
-) {
-    use tamias2d_simd::Kernel;
-    if batches.is_empty() {
-        return;
-    }
-    let avx2 = match compiled {
-        Some(Compiled::Avx2) => tamias2d_simd::Avx2::new(),
-        Some(Compiled::Portable) | None => None,
-    };
-    match avx2 {
-        // The same bits either way: `run_avx2` hands the job back only if
-        // the processor lost AVX2 since the check, which it cannot.
-        Some(ops) => {
-            let job = BatchPass {
-                ops,
-                pass,
-                batches,
-                store,
-                motion,
-            };
-            tamias2d_simd::run_avx2(job).unwrap_or_else(Kernel::run);
-        }
-        None => BatchPass {
-            ops: Portable,
-            pass,
-            batches,
-            store,
-            motion,
-        }
-        .run(),
-    }
-}
-
-/// One pass over batches on the lane operations `O`: the kernel
-/// `tamias2d_simd` compiles for AVX2.
-struct BatchPass<'a, O: Ops, S: BodyStore> {
-    ops: O,
-    pass: Pass,
-    batches: &'a mut [Batch],
-    store: S,
-    motion: &'a [Motion],
-}
-
-impl<O: Ops, S: BodyStore> tamias2d_simd::Kernel for BatchPass<'_, O, S> {
-    type Output = ();
-
+impl LaneBatch for Batch {
     #[inline(always)]
-    fn run(self) {
-        let BatchPass {
-            ops,
-            pass,
-            batches,
-            mut store,
-            motion,
-        } = self;
-        for batch in batches {
-            match pass {
-                Pass::WarmStart(dt_coef) => {
-                    warm_start_batch(ops, batch, &mut store, dt_coef);
-                }
-                Pass::Solve(p, use_bias) => {
-                    solve_batch(ops, batch, &mut store, motion, &p, use_bias);
-                }
+    fn run_pass<O: Ops, S: BodyStore>(
+        &mut self,
+        ops: O,
+        pass: Pass,
+        store: &mut S,
+        _rows: &[SoftContact],
+        motion: &[Motion],
+    ) {
+        match pass {
+            Pass::WarmStart(dt_coef) => {
+                warm_start_batch(ops, self, store, dt_coef);
+            }
+            Pass::Solve(p, use_bias) => {
+                solve_batch(ops, self, store, motion, &p, use_bias);
             }
         }
     }
@@ -1109,26 +1028,6 @@ fn friction_row<O: Ops, const SHORT: bool>(
     apply_along(a, b, &pass.masses, &tangent, jt, ar);
 }
 
-/// `new` where the lane did not leave, `old` where it did.
-#[inline(always)]
-fn keep_left(old: PointState, new: PointState, left: &[bool; LANES]) -> PointState {
-    let pick = |o: Lane, n: Lane| {
-        let mut out = n;
-        for ((x, &o), &l) in out.iter_mut().zip(&o).zip(left) {
-            if l {
-                *x = o;
-            }
-        }
-        out
-    };
-    PointState {
-        sep: pick(old.sep, new.sep),
-        jn: pick(old.jn, new.jn),
-        jt: pick(old.jt, new.jt),
-        max_jn: pick(old.max_jn, new.max_jn),
-    }
-}
-
 /// The warm start of a batch: `warm_start_manifold` on four lanes;
 /// returns how many lanes ran again on the scalar kernel.
 #[inline(always)]
@@ -1251,6 +1150,7 @@ fn rerun_left<S: BodyStore>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::lanes::Portable;
     use crate::solver::soft_contact::row::on_bodies;
     use crate::solver::soft_contact::row::tests::{case, values, Counting};
     use proptest::prelude::*;
