@@ -13,8 +13,8 @@
 //! impulses on Q8.24; effective masses, the bias rate and `1/h` on
 //! Q16.16; friction and the impulse scale on Q2.30. Sums of products are
 //! exact in 64 bits and round once, to nearest with ties away from zero,
-//! as every rounding of the engine (a scene and its mirror image stay
-//! mirrors). Between passes the accumulated impulses stay on Q8.24.
+//! as every rounding of the engine (symmetric under negation). Between
+//! passes the accumulated impulses stay on Q8.24.
 //!
 //! Every value the proofs bound is checked: a manifold whose constants
 //! leave their windows runs the exact kernel for the whole step, and one
@@ -29,9 +29,9 @@
 //!
 //! The kernel is written once over [`Ops`]: the portable lanes are the
 //! reference, the AVX2 lanes give their bits (the operations are integer
-//! ones), and every manifold of a step runs in lanes (a color's last
-//! batch and the overflow color's manifolds with empty lanes), so the
-//! bits do not depend on which instructions run.
+//! ones), and every manifold that can join a batch runs in lanes (a
+//! color's last batch and the overflow color's manifolds with empty
+//! lanes), so the bits do not depend on which instructions run.
 use crate::math::lanes::{splat, Lane, Ops, LANES};
 use crate::math::Real;
 use crate::solver::SolverBody;
