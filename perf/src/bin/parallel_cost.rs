@@ -1,5 +1,5 @@
 //! The parallel step's figures for `docs/performance.md` ("The parallel
-//! step"): `parallel_cost [--quality] [--soft] [--scalar] [--threads N]
+//! step"): `parallel_cost [--quality] [--soft] [--narrow] [--scalar] [--threads N]
 //! [--samples N] [--quantile Q] [scene...]`.
 //!
 //! **Speed** (default): each scene (default `pyramid_100`,
@@ -24,10 +24,9 @@
 //! steadier figure for comparing two builds on a shared machine).
 //!
 //! `--soft` times the soft step instead (always in the colored order): 1
-//! against N threads. `--scalar` runs its scalar contact kernels on both
-//! (by default one thread runs the wide ones where the processor has
-//! AVX2; a step that splits its passes between threads runs the scalar
-//! ones).
+//! against N threads. `--narrow` times the soft step with the narrow
+//! contact kernels. `--scalar` runs the scalar contact kernels on both
+//! (by default the wide ones, where the processor has AVX2).
 //!
 //! Needs the `parallel` feature, which `perf/Cargo.toml` turns on:
 //! `cargo run --release -p tamias2d-perf --bin parallel_cost` (from the
@@ -52,6 +51,10 @@ static QUANTILE: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize
 /// `--soft`: the soft step instead of the sequential solver.
 static SOFT: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
+/// `--narrow`: the soft step with the narrow contact kernels
+/// (`ContactPrecision::Narrow`; implies `--soft`).
+static NARROW: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
 /// `--scalar`: the scalar contact kernels (`Kernels::Scalar`) instead of
 /// the default (`Kernels::Auto`: the wide ones where the processor has
 /// AVX2 and the passes stay on one thread).
@@ -69,8 +72,11 @@ fn world(scene: &str, colored: bool, threads: usize) -> ScriptedWorld {
     }
     desc.settings.colored_solver = colored;
     if SOFT.load(std::sync::atomic::Ordering::Relaxed) {
-        desc.settings.solver =
-            tamias2d::space::Solver::Soft(tamias2d::space::SoftStep::default()).into();
+        let mut soft = tamias2d::space::SoftStep::default();
+        if NARROW.load(std::sync::atomic::Ordering::Relaxed) {
+            soft.contact_precision = tamias2d::space::ContactPrecision::Narrow;
+        }
+        desc.settings.solver = tamias2d::space::Solver::Soft(soft).into();
     }
     let mut w = desc.build().expect("the scene builds");
     w.space.set_threads(threads).expect("the threads start");
@@ -236,6 +242,10 @@ fn main() {
         match a.as_str() {
             "--quality" => quality_mode = true,
             "--soft" => SOFT.store(true, std::sync::atomic::Ordering::Relaxed),
+            "--narrow" => {
+                SOFT.store(true, std::sync::atomic::Ordering::Relaxed);
+                NARROW.store(true, std::sync::atomic::Ordering::Relaxed);
+            }
             "--scalar" => SCALAR.store(true, std::sync::atomic::Ordering::Relaxed),
             "--quantile" => QUANTILE.store(
                 args.next().and_then(|n| n.parse().ok()).unwrap_or(50),
