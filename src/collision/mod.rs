@@ -160,15 +160,23 @@ fn collide_polys(a: &Poly, b: &Poly, warm_start_id: WarmStartId) -> CollisionInf
         return CollisionInfo::new(warm_start_id);
     }
     let anchor = first.vert(0);
-    let (first, second) = (moved_poly(first, anchor), moved_poly(second, anchor));
+    // No vertex moved by `−anchor` saturates (nor lands on `MIN` or `MAX`).
     let unsaturated = |p: &Poly| {
-        p.verts()
-            .iter()
-            .all(|v| !v.x.is_saturated() && !v.y.is_saturated())
+        p.verts().iter().all(|v| {
+            let moved = *v - anchor;
+            !moved.x.is_saturated() && !moved.y.is_saturated()
+        })
     };
-    if first.count() == second.count() && unsaturated(&first) && unsaturated(&second) {
-        pairs::poly_to_poly_ordered(&first, &second, &mut info);
+    if first.count() == second.count() && unsaturated(first) && unsaturated(second) {
+        // Separating axes on the polygons where they are: their answer is
+        // the moved pair's (`poly_to_poly_sat`); only GJK, whose rounding
+        // depends on where the pair is, needs the moved copies.
+        if !sat::poly_to_poly_sat(first, second, anchor, &mut info) {
+            let (first, second) = (moved_poly(first, anchor), moved_poly(second, anchor));
+            pairs::poly_to_poly_gjk_ordered(&first, &second, &mut info);
+        }
     } else {
+        let (first, second) = (moved_poly(first, anchor), moved_poly(second, anchor));
         poly_to_poly(&first, &second, &mut info);
     }
     info.translate(anchor);

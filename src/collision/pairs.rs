@@ -344,7 +344,7 @@ pub fn poly_to_poly(a: &Poly, b: &Poly, info: &mut CollisionInfo) {
 
 /// [`poly_to_poly`] for polygons already in canonical order.
 pub(crate) fn poly_to_poly_ordered(a: &Poly, b: &Poly, info: &mut CollisionInfo) {
-    if !poly_to_poly_sat(a, b, info) {
+    if !poly_to_poly_sat(a, b, Vect::ZERO, info) {
         poly_to_poly_gjk_ordered(a, b, info);
     }
 }
@@ -359,7 +359,7 @@ pub fn poly_to_poly_gjk(a: &Poly, b: &Poly, info: &mut CollisionInfo) {
     });
 }
 
-fn poly_to_poly_gjk_ordered(a: &Poly, b: &Poly, info: &mut CollisionInfo) {
+pub(crate) fn poly_to_poly_gjk_ordered(a: &Poly, b: &Poly, info: &mut CollisionInfo) {
     let points = gjk(&SupportContext::new(a, b), info.warm_start_id);
     note(info, &points);
     let n = points.n;

@@ -268,11 +268,19 @@ fn face_realises_distance(inc: &Poly, (p0, p1): (Vect, Vect), n: Vect, sep: i128
     })
 }
 
-/// Contacts of two polygons in canonical order by separating axes. Returns
-/// `false` (leaving `info` untouched) when the caller must use GJK instead:
-/// degenerate polygons, or cores apart within contact range whose closest
-/// features are not a vertex and a face (see the module docs).
-pub(crate) fn poly_to_poly_sat(a: &Poly, b: &Poly, info: &mut CollisionInfo) -> bool {
+/// Contacts of two polygons in canonical order by separating axes, with
+/// the contact points in the frame whose origin is `anchor` (the pair as
+/// if every vertex were moved by `−anchor`). Returns `false` (leaving
+/// `info` untouched) when the caller must use GJK instead: degenerate
+/// polygons, or cores apart within contact range whose closest features
+/// are not a vertex and a face (see the module docs).
+///
+/// Only the two support edges are moved. Everything before them is a
+/// difference of exact dot products, which moving both polygons by the
+/// same vector leaves unchanged, so the answer is the moved pair's as
+/// long as no moved coordinate saturates (the caller checks). That spares
+/// the narrowphase a copy of both polygons per pair.
+pub(crate) fn poly_to_poly_sat(a: &Poly, b: &Poly, anchor: Vect, info: &mut CollisionInfo) -> bool {
     if a.count() < 3 || b.count() < 3 {
         return false;
     }
@@ -316,8 +324,8 @@ pub(crate) fn poly_to_poly_sat(a: &Poly, b: &Poly, info: &mut CollisionInfo) -> 
         d: real_of(sep),
         ..ClosestPoints::default()
     };
-    let e1 = support_edge_for_poly(a, n);
-    let e2 = support_edge_for_poly(b, -n);
+    let e1 = support_edge_for_poly(a, n).moved(anchor);
+    let e2 = support_edge_for_poly(b, -n).moved(anchor);
     let mut out = CollisionInfo::new(info.warm_start_id);
     contact_points(&e1, &e2, &points, &mut out);
     // The deepest contact must be as deep as the axis says (the support
@@ -507,7 +515,7 @@ mod tests {
             real!(0.25),
         );
         let mut info = CollisionInfo::new(0);
-        assert!(!poly_to_poly_sat(&a, &b, &mut info));
+        assert!(!poly_to_poly_sat(&a, &b, Vect::ZERO, &mut info));
         assert_eq!(info, CollisionInfo::new(0));
     }
 
@@ -527,7 +535,7 @@ mod tests {
         );
         let floor = rect(-5, -1, 5, 0, real!(0.05));
         let mut info = CollisionInfo::new(0);
-        assert!(poly_to_poly_sat(&top, &floor, &mut info));
+        assert!(poly_to_poly_sat(&top, &floor, Vect::ZERO, &mut info));
         assert_eq!((info.count, info.normal), (2, -Vect::Y));
         for c in info.contacts() {
             assert_eq!(c.distance, real!(-0.01));
@@ -539,7 +547,7 @@ mod tests {
         let a = rect(0, 0, 1, 1, Real::ZERO);
         let b = rect(5, 5, 6, 6, Real::ZERO);
         let mut info = CollisionInfo::new(7);
-        assert!(poly_to_poly_sat(&a, &b, &mut info));
+        assert!(poly_to_poly_sat(&a, &b, Vect::ZERO, &mut info));
         assert_eq!(info, CollisionInfo::new(7));
     }
 }

@@ -221,6 +221,18 @@ pub struct Edge {
     pub normal: Vect,
 }
 
+impl Edge {
+    /// The edge with both ends moved by `−anchor` (as the vertices of a
+    /// polygon moved into the frame whose origin is `anchor`).
+    #[inline]
+    pub(crate) fn moved(self, anchor: Vect) -> Edge {
+        let mut e = self;
+        e.a.p -= anchor;
+        e.b.p -= anchor;
+        e
+    }
+}
+
 /// MIS `supportEdgeForPoly`: of the two edges at the vertex furthest along
 /// `n`, the one whose normal is closer to `n` (the later edge on a tie).
 pub fn support_edge_for_poly(poly: &Poly, n: Vect) -> Edge {
