@@ -459,10 +459,13 @@ fn velocity_read<O: Ops>(o: O, x: Lane, rec: &mut Lane) -> Lane {
     o.shr_n::<24>(o.add(o.add(x, splat(1 << 23)), sign))
 }
 
-/// The per-pass values every lane shares, on their grids, if they fit:
-/// `1/h` (Q16.16, below `2^12`), the slop (Q8.24, below 64 m) and the
-/// push-out speed's negation (40 fraction bits, below `2^55` raw).
-fn uniform(p: &SoftContactParams) -> Option<(Lane, Lane, Lane)> {
+/// The per-pass values every lane shares, on their grids: `1/h`
+/// (Q16.16, below `2^12`), the slop (Q8.24, below 64 m) and the push-out
+/// speed's negation (40 fraction bits, below `2^55` raw).
+type Uniform = (Lane, Lane, Lane);
+
+/// A solve's [`Uniform`] values, if they fit their grids.
+fn uniform(p: &SoftContactParams) -> Option<Uniform> {
     let mut fit = Fit { ok: true };
     let h_inv = fit.narrow(p.h_inv.to_bits(), 16);
     fit.within(i128::from(h_inv), 28);
@@ -634,12 +637,12 @@ fn solve_narrow<O: Ops, S: BodyStore, const BIAS: bool>(
     o: O,
     batch: &mut NarrowBatch,
     store: &mut S,
-    rows: &[SoftContact],
-    motion: &[Motion],
+    (rows, motion): (&[SoftContact], &[Motion]),
     p: &SoftContactParams,
+    constants: Option<Uniform>,
 ) -> usize {
     let mut bad = batch.exact;
-    let Some((h_inv, slop, neg_push)) = uniform(p) else {
+    let Some((h_inv, slop, neg_push)) = constants else {
         bad = [true; LANES];
         let v = [batch.a, batch.b].map(|_| Velocities {
             vx: splat(0),
@@ -815,24 +818,37 @@ fn narrow_motion<O: Ops>(
 }
 
 impl LaneBatch for NarrowBatch {
+    /// A solve's [`Uniform`] values (`None` for a warm start, or where
+    /// they do not fit their grids).
+    type PassConstants = Option<Uniform>;
+
+    fn pass_constants(pass: &Pass) -> Option<Uniform> {
+        match pass {
+            Pass::Solve(p, _) => uniform(p),
+            Pass::WarmStart(_) => None,
+        }
+    }
+
     #[inline(always)]
     fn run_pass<O: Ops, S: BodyStore>(
         &mut self,
         ops: O,
         pass: Pass,
+        constants: Option<Uniform>,
         store: &mut S,
         rows: &[SoftContact],
         motion: &[Motion],
     ) {
+        let inputs = (rows, motion);
         match pass {
             Pass::WarmStart(dt_coef) => {
                 warm_start_narrow(ops, self, store, rows, dt_coef);
             }
             Pass::Solve(p, true) => {
-                solve_narrow::<O, S, true>(ops, self, store, rows, motion, &p);
+                solve_narrow::<O, S, true>(ops, self, store, inputs, &p, constants);
             }
             Pass::Solve(p, false) => {
-                solve_narrow::<O, S, false>(ops, self, store, rows, motion, &p);
+                solve_narrow::<O, S, false>(ops, self, store, inputs, &p, constants);
             }
         }
     }
@@ -859,11 +875,14 @@ mod tests {
         let mut batch = NarrowBatch::default();
         gather_narrow(&mut batch, manifolds, &rows, &bodies);
         let mut store = InPlace(&mut bodies);
+        let (inputs, constants) = ((rows.as_slice(), motion), uniform(p));
         let left = match pass {
             None => warm_start_narrow(ops, &mut batch, &mut store, &rows, Real::ONE),
-            Some(true) => solve_narrow::<O, _, true>(ops, &mut batch, &mut store, &rows, motion, p),
+            Some(true) => {
+                solve_narrow::<O, _, true>(ops, &mut batch, &mut store, inputs, p, constants)
+            }
             Some(false) => {
-                solve_narrow::<O, _, false>(ops, &mut batch, &mut store, &rows, motion, p)
+                solve_narrow::<O, _, false>(ops, &mut batch, &mut store, inputs, p, constants)
             }
         };
         put_narrow(&batch, &mut rows);

@@ -172,13 +172,22 @@ pub(super) fn keep_left(old: PointState, new: PointState, left: &[bool; LANES]) 
 /// A batch of four manifolds the lane kernels run: the exact wide
 /// kernels' or the narrow ones'.
 pub(super) trait LaneBatch: Send {
+    /// What every batch of a pass reads, computed once per pass (the
+    /// pass's parameters on the batch kind's grids).
+    type PassConstants: Copy;
+
+    /// The [`PassConstants`](Self::PassConstants) of `pass`.
+    fn pass_constants(pass: &Pass) -> Self::PassConstants;
+
     /// `pass` on this batch's manifolds on the lane operations `ops`,
     /// their bodies in `store` (`rows`: the step's rows, which a lane
-    /// that leaves its window reruns from).
+    /// that leaves its window reruns from; `constants`: the pass's).
+    #[allow(clippy::too_many_arguments)]
     fn run_pass<O: Ops, S: BodyStore>(
         &mut self,
         ops: O,
         pass: Pass,
+        constants: Self::PassConstants,
         store: &mut S,
         rows: &[SoftContact],
         motion: &[Motion],
@@ -253,8 +262,9 @@ impl<O: Ops, S: BodyStore, B: LaneBatch> tamias2d_simd::Kernel for BatchPass<'_,
             rows,
             motion,
         } = self;
+        let constants = B::pass_constants(&pass);
         for batch in batches {
-            batch.run_pass(ops, pass, &mut store, rows, motion);
+            batch.run_pass(ops, pass, constants, &mut store, rows, motion);
         }
     }
 }

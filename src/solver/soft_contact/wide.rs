@@ -388,11 +388,16 @@ fn scalar_pass<S: BodyStore>(pass: Pass, m: &mut [SoftContact], store: &mut S, m
 }
 
 impl LaneBatch for Batch {
+    type PassConstants = ();
+
+    fn pass_constants(_: &Pass) {}
+
     #[inline(always)]
     fn run_pass<O: Ops, S: BodyStore>(
         &mut self,
         ops: O,
         pass: Pass,
+        (): (),
         store: &mut S,
         _rows: &[SoftContact],
         motion: &[Motion],
