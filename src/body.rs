@@ -472,6 +472,15 @@ fn small_angle_rot(theta: Real) -> Rot {
     // in (0, 1]): raw products of at most 2^62, so `mul_small` gives the bits of
     // `*` in one 64-bit multiply.
     let t2 = theta.mul_small(theta);
+    // Below about 2^-16.5 rad (a body at rest) θ² rounds to zero, and so
+    // does every term after the first: cos 1, sin θ, exactly the series'
+    // bits without its dozen products.
+    if t2.is_zero() {
+        return Rot {
+            c: Real::ONE,
+            s: theta,
+        };
+    }
     // Horner form; the coefficient constants are 1/k! rounded to nearest.
     const C2: Real = Real::from_bits(2_147_483_648); // 1/2
     const C4: Real = Real::from_bits(178_956_971); // 1/24
@@ -1085,6 +1094,23 @@ mod tests {
         let swept = (-edge..=edge).step_by(104_729);
         let edges = [-edge, -edge + 1, -1, 0, 1, edge - 1, edge];
         for raw in swept.chain(edges) {
+            let theta = Real::from_bits(raw);
+            assert_eq!(
+                small_angle_rot(theta),
+                small_angle_rot_reference(theta),
+                "θ raw {raw}"
+            );
+        }
+    }
+
+    #[test]
+    fn angles_whose_square_rounds_to_zero_take_the_shortcut_exactly() {
+        // Every seventh angle across the edge where θ² stops rounding to
+        // zero (|θ| raw about 46,341), and the angles at the edge.
+        for raw in (-70_000i64..=70_000)
+            .step_by(7)
+            .chain([-46_341, -46_340, 46_340, 46_341])
+        {
             let theta = Real::from_bits(raw);
             assert_eq!(
                 small_angle_rot(theta),
