@@ -9,7 +9,7 @@ use core::mem;
 use crate::arbiter::Arbiter;
 use crate::arena::Arena;
 use crate::body::Body;
-use crate::collision::{collide, CollisionInfo};
+use crate::collision::{collide, CollisionInfo, WarmStartId};
 use crate::constraint::solve::ConstraintScratch;
 use crate::math::Vect;
 use crate::shape::Shape;
@@ -49,17 +49,21 @@ impl Space {
             while let Some(arb) = take_if(&mut old_iter, |key| key < (ia, ib)) {
                 self.retire(arb, &mut arbiters);
             }
-            let existing = take_if(&mut old_iter, |key| key == (ia, ib));
+            // The pair's arbiter stays in `old` until it is copied once,
+            // straight into `arbiters`: an arbiter is some 250 bytes, and
+            // a move through a local was a second copy.
+            let existing = old_iter.as_slice().first().filter(|a| a.key() == (ia, ib));
+            let warm_start_id = existing.map_or(0, |a| a.warm_start_id);
+            let existing = existing.is_some().then_some(&mut old_iter);
             // By reference: an info is 150-odd bytes, a move is a memcpy.
             let computed;
             let info = if ahead {
                 infos.get(k).and_then(Option::as_ref)
             } else {
-                computed = self.narrowphase(ia, ib, existing.as_ref());
+                computed = self.narrowphase(ia, ib, warm_start_id);
                 computed.as_ref()
             };
-            // Touched in place at the end of `arbiters`: an arbiter is
-            // some 250 bytes, and each move of it was a memcpy.
+            // Touched in place at the end of `arbiters`.
             if self.collide_pair(ia, ib, info, existing, ahead, &mut arbiters) {
                 let index = arbiters.len().saturating_sub(1) as u32;
                 if let Some(arb) = arbiters.last_mut() {
@@ -139,8 +143,9 @@ impl Space {
     }
 
     /// [`Stage::Narrowphase`](super::Stage::Narrowphase) for one candidate pair, given the narrowphase's
-    /// `info`: pushes the touched arbiter (the pair's `existing` one or a
-    /// new one) onto `arbiters` and gives true. A pair that does not touch
+    /// `info`: pushes the touched arbiter (the pair's existing one, the
+    /// next of the old list `existing` when the pair has one, or a new
+    /// one) onto `arbiters` and gives true. A pair that does not touch
     /// retires its existing arbiter into `arbiters` and gives false.
     /// `touched_ahead`: an existing arbiter has already taken `info`
     /// ([`collide_ahead`](Self::collide_ahead)).
@@ -149,12 +154,12 @@ impl Space {
         ia: u32,
         ib: u32,
         info: Option<&CollisionInfo>,
-        existing: Option<Arbiter>,
+        existing: Option<&mut std::vec::Drain<'_, Arbiter>>,
         touched_ahead: bool,
         arbiters: &mut Vec<Arbiter>,
     ) -> bool {
         let Some(info) = info else {
-            if let Some(arb) = existing {
+            if let Some(arb) = existing.and_then(Iterator::next) {
                 self.retire(arb, arbiters);
             }
             return false;
@@ -168,16 +173,26 @@ impl Space {
             self.state.shapes.get_by_index(ia),
             self.state.shapes.get_by_index(ib),
         ) else {
+            // The pair's arbiter (if any) is dropped.
+            existing.and_then(Iterator::next);
             return false;
         };
         let (Some(body_a), Some(body_b)) = (
             self.state.bodies.get(sa.body),
             self.state.bodies.get(sb.body),
         ) else {
+            existing.and_then(Iterator::next);
             return false;
         };
         let touched = touched_ahead && existing.is_some();
-        arbiters.push(existing.unwrap_or_else(|| Arbiter::new(ha, sa, hb, sb)));
+        match existing {
+            // One copy, from the old list into the new one.
+            Some(old) => {
+                arbiters.extend_from_slice(old.as_slice().get(..1).unwrap_or(&[]));
+                old.next();
+            }
+            None => arbiters.push(Arbiter::new(ha, sa, hb, sb)),
+        }
         let Some(arb) = arbiters.last_mut() else {
             return false;
         };
@@ -208,14 +223,15 @@ impl Space {
     }
 
     /// Filters a candidate pair and collides it; `None` if rejected or not touching.
-    fn narrowphase(&self, ia: u32, ib: u32, existing: Option<&Arbiter>) -> Option<CollisionInfo> {
+    /// `warm_start_id`: the pair's arbiter's, or 0 for a new pair.
+    fn narrowphase(&self, ia: u32, ib: u32, warm_start_id: WarmStartId) -> Option<CollisionInfo> {
         let view = NarrowView {
             shapes: &self.state.shapes,
             bodies: &self.state.bodies,
             caches: &self.caches.shapes,
             constraints: &self.caches.constraints,
         };
-        view.collide(ia, ib, existing.map_or(0, |a| a.warm_start_id))
+        view.collide(ia, ib, warm_start_id)
     }
 
     /// Begin and pre-solve handlers; true if the arbiter goes to the solver.
