@@ -3,8 +3,11 @@
 //!
 //! - **Build.** `cargo build --profile web --target wasm32-unknown-unknown
 //!   -p tamias2d-web` in this source tree (after `rustup target add`, a
-//!   no-op once installed). The page and the glue are served from
-//!   `web/static/` as they are on disk, so editing them needs no rebuild.
+//!   no-op once installed), twice: the scalar module, and the `simd128`
+//!   one (`-C target-feature=+simd128`, in `target/wasm-simd128/`), which
+//!   the page loads where the browser has 128-bit SIMD. The page and the
+//!   glue are served from `web/static/` as they are on disk, so editing
+//!   them needs no rebuild.
 //! - **Serve.** A small HTTP/1.1 server on 127.0.0.1 (one thread per
 //!   connection, `Connection: close`): the static files, the `.wasm`, and
 //!   `POST /report`, where the page in `?check` mode posts its results.
@@ -12,11 +15,12 @@
 //!   and fails unless every golden check's checksum computed in the browser
 //!   (each golden scene on the canonical solver, the colored one and the
 //!   soft step on both kernel forms, the narrow soft step on the portable
-//!   lanes: `tamias2d_scenes::goldens::checks`)
+//!   lanes: `tamias2d_scenes::goldens::checks`), in both modules,
 //!   equals the native golden (compared here, not trusted from the page)
 //!   and the lockstep peers agreed on every confirmed frame.
 //!   It prints the browser's frame time of `pyramid_20` and
-//!   `bowl_boxes_500` (mean over the first 300 steps from the build) beside
+//!   `bowl_boxes_500` on sequential impulses and on the soft step (mean
+//!   over the first 300 steps from the build), in both modules, beside
 //!   this native build's, measured the same way in this process (an
 //!   optimised `tamias` only).
 //!   `--screenshot PNG` also saves a picture of the page after the test.
@@ -108,8 +112,17 @@ pub fn web(args: &WebArgs) -> Result<(), String> {
     verdict
 }
 
-/// Builds the wasm module; returns its path.
-fn build_wasm() -> Result<PathBuf, String> {
+/// The two builds of the module the page chooses between.
+struct Modules {
+    /// Built for the wasm baseline: runs in any engine.
+    scalar: PathBuf,
+    /// Built with 128-bit SIMD (`simd128`), which every current browser
+    /// has: the lane kernels run two 64-bit lanes an instruction.
+    simd128: PathBuf,
+}
+
+/// Builds both modules; returns their paths.
+fn build_wasm() -> Result<Modules, String> {
     let root = root();
     const TARGET: &str = "wasm32-unknown-unknown";
     // A no-op when installed; a clear error if rustup is missing.
@@ -121,28 +134,53 @@ fn build_wasm() -> Result<PathBuf, String> {
     if !rustup.is_ok_and(|s| s.success()) {
         eprintln!("note: `rustup target add {TARGET}` failed; trying the build anyway");
     }
+    let target =
+        std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
+    // The SIMD build has a target directory of its own: the two builds
+    // differ only in compiler flags, which cargo does not keep apart.
+    let simd_target = target.join("wasm-simd128");
+    let scalar = build_module(&root, &target, None)?;
+    let simd128 = build_module(&root, &simd_target, Some("+simd128"))?;
+    Ok(Modules { scalar, simd128 })
+}
+
+/// `cargo build --profile web --target wasm32-unknown-unknown -p
+/// tamias2d-web` into `target`, with the target `feature` on top of the
+/// caller's `RUSTFLAGS` if given; returns the module's path.
+fn build_module(root: &Path, target: &Path, feature: Option<&str>) -> Result<PathBuf, String> {
+    const TARGET: &str = "wasm32-unknown-unknown";
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let what = feature.map_or(String::new(), |f| format!(" with {f}"));
     println!(
-        "building the wasm module (cargo build --profile web --target {TARGET} -p tamias2d-web)"
+        "building the wasm module{what} (cargo build --profile web --target {TARGET} -p tamias2d-web)"
     );
-    let status = Command::new(cargo)
-        .current_dir(&root)
-        .args([
-            "build",
-            "--profile",
-            "web",
-            "--target",
-            TARGET,
-            "-p",
-            "tamias2d-web",
-        ])
+    let mut command = Command::new(cargo);
+    command.current_dir(root).args([
+        "build",
+        "--profile",
+        "web",
+        "--target",
+        TARGET,
+        "-p",
+        "tamias2d-web",
+        "--target-dir",
+    ]);
+    command.arg(target);
+    if let Some(feature) = feature {
+        let mut flags: Vec<String> = std::env::var("RUSTFLAGS")
+            .unwrap_or_default()
+            .split_whitespace()
+            .map(str::to_owned)
+            .collect();
+        flags.push(format!("-Ctarget-feature={feature}"));
+        command.env("CARGO_ENCODED_RUSTFLAGS", flags.join("\u{1f}"));
+    }
+    let status = command
         .status()
         .map_err(|e| format!("cannot run cargo: {e}"))?;
     if !status.success() {
-        return Err(format!("the wasm build failed ({status})"));
+        return Err(format!("the wasm build{what} failed ({status})"));
     }
-    let target =
-        std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
     let wasm = target.join(TARGET).join("web").join("tamias2d_web.wasm");
     if wasm.is_file() {
         Ok(wasm)
@@ -154,7 +192,7 @@ fn build_wasm() -> Result<PathBuf, String> {
 /// What the server hands out.
 struct Files {
     dir: PathBuf,
-    wasm: PathBuf,
+    wasm: Modules,
 }
 
 /// Accepts connections until the process ends; each on its own thread, so
@@ -202,10 +240,17 @@ fn answer(stream: TcpStream, files: &Files, reports: &mpsc::Sender<String>) -> s
             let _ = reports.send(String::from_utf8_lossy(&body).into_owned());
             respond(&mut out, "200 OK", "text/plain", b"ok")
         }
-        ("GET", "/tamias2d_web.wasm") => match std::fs::read(&files.wasm) {
-            Ok(bytes) => respond(&mut out, "200 OK", "application/wasm", &bytes),
-            Err(_) => respond(&mut out, "404 Not Found", "text/plain", b"not built"),
-        },
+        ("GET", "/tamias2d_web.wasm" | "/tamias2d_web_simd128.wasm") => {
+            let wasm = if path.contains("simd128") {
+                &files.wasm.simd128
+            } else {
+                &files.wasm.scalar
+            };
+            match std::fs::read(wasm) {
+                Ok(bytes) => respond(&mut out, "200 OK", "application/wasm", &bytes),
+                Err(_) => respond(&mut out, "404 Not Found", "text/plain", b"not built"),
+            }
+        }
         ("GET", path) => {
             let name = match path.trim_start_matches('/') {
                 "" => "index.html",
@@ -304,32 +349,17 @@ fn screenshot(args: &WebArgs, profile: &Path, url: &str, png: &Path) -> Result<(
 }
 
 /// Reads the page's report, compares it with the registry and prints the
-/// table.
+/// table (the other build's differences only).
 fn judge(body: &str) -> Result<(), String> {
     let report: serde_json::Value =
         serde_json::from_str(body).map_err(|e| format!("the page's report is not JSON: {e}"))?;
-    let got = report["goldens"].as_array().cloned().unwrap_or_default();
-    let expected = goldens::checks();
-    let mut same = 0;
-    for check in &expected {
-        let name = check.label();
-        let row = got
-            .iter()
-            .find(|o| o["name"].as_str() == Some(name.as_str()));
-        let computed = row
-            .and_then(|o| o["computed"].as_str())
-            .unwrap_or("missing");
-        let steps = row.and_then(|o| o["steps"].as_u64());
-        let native = format!("{:#018x}", check.checksum);
-        let ok = computed == native && steps == Some(u64::from(check.steps));
-        same += usize::from(ok);
-        println!(
-            "{name:<36} {:>4} steps  browser {computed:<18}  native {native}  {}",
-            check.steps,
-            if ok { "same" } else { "DIFFERENT" }
-        );
+    let module = report["module"].as_str().unwrap_or("?");
+    compare_goldens(module, &report["goldens"], true)?;
+    let fallback = &report["fallback"];
+    if !fallback.is_null() {
+        let other = fallback["module"].as_str().unwrap_or("?");
+        compare_goldens(other, &fallback["goldens"], false)?;
     }
-    println!("same bits: {same}/{}", expected.len());
     let lock = &report["lockstep"];
     let (agreed, confirmed) = (lock["agreed"].as_u64(), lock["confirmed"].as_u64());
     println!(
@@ -339,13 +369,6 @@ fn judge(body: &str) -> Result<(), String> {
         agreed.unwrap_or(0),
         confirmed.unwrap_or(0)
     );
-    if same != expected.len() {
-        return Err(format!(
-            "the browser computed different bits for {} of {} golden checks",
-            expected.len() - same,
-            expected.len()
-        ));
-    }
     if agreed.is_none() || agreed != confirmed || confirmed == Some(0) {
         return Err("the lockstep peers did not agree on every confirmed frame".into());
     }
@@ -362,30 +385,80 @@ fn judge(body: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// Compares one build's golden outcomes (`got`, the report's array) with
+/// the registry; prints every row (`all`) or only the differing ones, then
+/// the count.
+fn compare_goldens(module: &str, got: &serde_json::Value, all: bool) -> Result<(), String> {
+    let got = got.as_array().cloned().unwrap_or_default();
+    let expected = goldens::checks();
+    let mut same = 0;
+    for check in &expected {
+        let name = check.label();
+        let row = got
+            .iter()
+            .find(|o| o["name"].as_str() == Some(name.as_str()));
+        let computed = row
+            .and_then(|o| o["computed"].as_str())
+            .unwrap_or("missing");
+        let steps = row.and_then(|o| o["steps"].as_u64());
+        let native = format!("{:#018x}", check.checksum);
+        let ok = computed == native && steps == Some(u64::from(check.steps));
+        same += usize::from(ok);
+        if all || !ok {
+            println!(
+                "{name:<36} {:>4} steps  browser {computed:<18}  native {native}  {}",
+                check.steps,
+                if ok { "same" } else { "DIFFERENT" }
+            );
+        }
+    }
+    println!("same bits (wasm {module}): {same}/{}", expected.len());
+    if same == expected.len() {
+        Ok(())
+    } else {
+        Err(format!(
+            "the browser's {module} build computed different bits for {} of {} golden checks",
+            expected.len() - same,
+            expected.len()
+        ))
+    }
+}
+
 /// Prints the page's frame times beside this build's (an unoptimised
 /// build, such as the one CI's debug tests leave for its browser stage,
 /// prints the page's alone: its own steps would be no fair comparison).
 fn frame_times(body: &str) -> Result<(), String> {
     let report: serde_json::Value = serde_json::from_str(body).unwrap_or_default();
+    let module = report["module"].as_str().unwrap_or("?");
+    let other = report["fallback"]["module"].as_str().unwrap_or("?");
     for name in ["pyramid_20", "bowl_boxes_500"] {
-        let browser = report["timings"][name].as_f64();
-        if cfg!(debug_assertions) {
-            match browser {
-                Some(b) => println!(
-                    "frame time {name}: browser {b:.3} ms/step (native not timed: this `tamias` \
-                     is an unoptimised build)"
-                ),
-                None => println!("frame time {name}: browser missing"),
+        for soft in [false, true] {
+            let key = if soft {
+                format!("{name} soft")
+            } else {
+                name.to_owned()
+            };
+            let browser = report["timings"][&key].as_f64();
+            let fallback = report["fallback"]["timings"][&key]
+                .as_f64()
+                .map_or(String::new(), |t| format!(" (wasm {other} {t:.3})"));
+            let Some(b) = browser else {
+                println!("frame time {key}: browser missing");
+                continue;
+            };
+            if cfg!(debug_assertions) {
+                println!(
+                    "frame time {key}: browser wasm {module} {b:.3} ms/step{fallback} (native not \
+                     timed: this `tamias` is an unoptimised build)"
+                );
+                continue;
             }
-            continue;
-        }
-        let native = native_frame_time(name)?;
-        match browser {
-            Some(b) => println!(
-                "frame time {name}: browser {b:.3} ms/step, native {native:.3} ms/step, ratio {:.2}",
+            let native = native_frame_time(name, soft)?;
+            println!(
+                "frame time {key}: browser wasm {module} {b:.3} ms/step{fallback}, native \
+                 {native:.3} ms/step, ratio {:.2}",
                 b / native
-            ),
-            None => println!("frame time {name}: browser missing, native {native:.3} ms/step"),
+            );
         }
     }
     println!("browser: {}", report["userAgent"].as_str().unwrap_or("?"));
@@ -393,10 +466,22 @@ fn frame_times(body: &str) -> Result<(), String> {
 }
 
 /// This build's mean ms per step of `name` over its first 300 steps from
-/// the build, measured as the page does.
-fn native_frame_time(name: &str) -> Result<f64, String> {
+/// the build, on sequential impulses or the soft step (`soft`, scaled to
+/// the scene's gravity, as the page's solver switch), measured as the page
+/// does.
+fn native_frame_time(name: &str, soft: bool) -> Result<f64, String> {
     let desc = tamias2d_scenes::builtin(name).ok_or_else(|| format!("no scene {name}"))?;
     let mut world = desc.build().map_err(|e| format!("{name}: {e}"))?;
+    if soft {
+        let space = &mut world.space;
+        let settings = tamias2d::space::Settings {
+            solver: tamias2d::space::Solver::Soft(tamias2d_scenes::soft_step_for(
+                space.settings().gravity,
+            )),
+            ..*space.settings()
+        };
+        space.set_settings(settings).map_err(|e| e.to_string())?;
+    }
     let t0 = Instant::now();
     world.step_n(300).map_err(|e| format!("{name}: {e}"))?;
     Ok(t0.elapsed().as_secs_f64() * 1e3 / 300.0)
@@ -420,9 +505,12 @@ mod tests {
                 })
             })
             .collect();
+        let timings = serde_json::json!({ "pyramid_20": 1.0, "bowl_boxes_500": 2.0 });
         serde_json::json!({
-            "goldens": goldens,
-            "timings": { "pyramid_20": 1.0, "bowl_boxes_500": 2.0 },
+            "module": "simd128",
+            "goldens": goldens.clone(),
+            "fallback": { "module": "scalar", "goldens": goldens, "timings": timings.clone() },
+            "timings": timings,
             "lockstep": { "frames": 300, "confirmed": 295, "agreed": agreed, "rollbacks": 4 },
             "userAgent": "test",
             "ui": { "grabbed": true, "released": true, "dropped": true },
@@ -455,6 +543,13 @@ mod tests {
         partial["goldens"].as_array_mut().unwrap().pop();
         assert!(judge(&partial.to_string()).is_err());
         assert!(judge("not json").is_err());
+        // The other build one bit off, or its outcomes missing.
+        let mut other: serde_json::Value = serde_json::from_str(&report(|_, c| c, 295)).unwrap();
+        let first = &mut other["fallback"]["goldens"][0]["computed"];
+        *first = serde_json::Value::String("0x0000000000000000".into());
+        assert!(judge(&other.to_string()).is_err_and(|e| e.contains("scalar build")));
+        other["fallback"]["goldens"] = serde_json::Value::Array(Vec::new());
+        assert!(judge(&other.to_string()).is_err_and(|e| e.contains("scalar build")));
         // The page's pointer wiring failed.
         let mut clumsy: serde_json::Value = serde_json::from_str(&report(|_, c| c, 295)).unwrap();
         clumsy["ui"]["dropped"] = serde_json::Value::Bool(false);
@@ -479,7 +574,10 @@ mod tests {
         let (reports, report) = mpsc::channel();
         let files = Files {
             dir: root().join("web").join("static"),
-            wasm: root().join("no-such.wasm"),
+            wasm: Modules {
+                scalar: root().join("no-such.wasm"),
+                simd128: root().join("no-such-simd128.wasm"),
+            },
         };
         std::thread::spawn(move || serve(&listener, &files, &reports));
         let (status, body) = request(addr, "GET / HTTP/1.1\r\nHost: x\r\n\r\n");

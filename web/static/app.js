@@ -1,8 +1,11 @@
 // The demo page: a playground, the "same bits" panel and the lockstep view.
-// `?check` runs the browser test first (every golden check, two frame-time
-// figures, a lockstep run) and posts the results to the server's /report
-// (`tamias web --check` reads them), then plays as usual.
-import { Tamias } from './tamias.js';
+// `?check` runs the browser test first (every golden check, frame times,
+// a lockstep run) and posts the results to the server's /report
+// (`tamias web --check` reads them), then plays as usual. The page loads
+// the engine's `simd128` build where the browser has 128-bit SIMD, the
+// scalar build elsewhere (`?wasm=scalar` forces it); the check runs the
+// goldens and the frame times on the other build too.
+import { Tamias, MODULES } from './tamias.js';
 
 const params = new URLSearchParams(location.search);
 const CHECK = params.has('check');
@@ -92,7 +95,14 @@ class View {
 
 // ------------------------------------------------------------- the page ---
 
-const engine = await Tamias.load('tamias2d_web.wasm');
+const KIND = Tamias.moduleKind(location.search);
+const engine = await Tamias.load(MODULES[KIND]);
+// The check also runs the build the page did not choose (the scalar one,
+// where the browser has SIMD): both must give the native bits.
+const OTHER = KIND === 'simd128' ? 'scalar' : 'simd128';
+const other = CHECK && (OTHER === 'scalar' || Tamias.hasSimd128())
+  ? await Tamias.load(MODULES[OTHER]) : null;
+$('wasmkind').textContent = KIND === 'simd128' ? 'wasm simd128' : 'wasm scalar (no simd128 here)';
 const catalog = engine.catalog();
 const indexOf = (name) => catalog.findIndex((s) => s.name === name);
 const status = (text) => { $('status').textContent = text; };
@@ -253,13 +263,24 @@ for (const c of ['peerA', 'peerB']) {
 // ------------------------------------------------------- the browser test --
 
 /** Mean ms per step of a built-in scene over its first 300 steps from the
- * build (5 s of play: falling, piling, settling), as `tamias web --check`
- * measures natively. */
-function frameTime(name) {
-  engine.playBuiltin(indexOf(name));
+ * build (5 s of play: falling, piling, settling), on sequential impulses
+ * or the soft step, as `tamias web --check` measures natively. */
+function frameTime(eng, name, soft) {
+  eng.playBuiltin(indexOf(name));
+  eng.setSolver(soft);
   const t0 = performance.now();
-  engine.step(300);
+  eng.step(300);
   return (performance.now() - t0) / 300;
+}
+
+/** The frame times of one build: `{"pyramid_20": ms, "pyramid_20 soft": ms, …}`. */
+function frameTimes(eng) {
+  const timings = {};
+  for (const name of ['pyramid_20', 'bowl_boxes_500']) {
+    timings[name] = frameTime(eng, name, false);
+    timings[`${name} soft`] = frameTime(eng, name, true);
+  }
+  return timings;
 }
 
 /** The page's own wiring, through real pointer events on the playground:
@@ -303,13 +324,18 @@ function check() {
   const goldens = [];
   for (let i = 0; i < total; i++) goldens.push(runGolden(i));
   summarise(goldens, total);
-  const timings = {};
-  for (const name of ['pyramid_20', 'bowl_boxes_500']) timings[name] = frameTime(name);
+  const timings = frameTimes(engine);
+  let fallback = null;
+  if (other) {
+    const outcomes = [];
+    for (let i = 0; i < other.goldenCount(); i++) outcomes.push(other.goldenRun(i));
+    fallback = { module: OTHER, goldens: outcomes, timings: frameTimes(other) };
+  }
   newGame();
   let st;
   for (let f = 0; f < 300; f++) st = frameLockstep();
   const report = {
-    goldens, timings, userAgent: navigator.userAgent,
+    module: KIND, goldens, timings, fallback, userAgent: navigator.userAgent,
     lockstep: { frames: st.frame, confirmed: lock.confirmed, agreed: lock.agreed, rollbacks: lock.rollbacks },
   };
   report.ui = checkPointer();
@@ -339,7 +365,7 @@ if (CHECK) {
   newGame();
   // The goldens run in a worker, so the page keeps drawing meanwhile.
   const total = engine.goldenCount(); const goldens = [];
-  const worker = new Worker('golden-worker.js', { type: 'module' });
+  const worker = new Worker(`golden-worker.js?wasm=${KIND}`, { type: 'module' });
   worker.onmessage = ({ data }) => {
     if (data.outcome) { goldens.push(showGolden(data.outcome)); summarise(goldens, total); }
     if (data.error) status(`same bits: ${data.error}`);

@@ -11,7 +11,32 @@
 const decoder = new TextDecoder();
 const encoder = new TextEncoder();
 
+/** A module of one function that uses a 128-bit SIMD instruction
+ * (`i32.const 0; i8x16.splat; i8x16.popcnt`): it validates only where
+ * the engine has `simd128`. */
+const SIMD_PROBE = new Uint8Array([
+  0, 97, 115, 109, 1, 0, 0, 0, 1, 5, 1, 96, 0, 1, 123, 3, 2, 1, 0,
+  10, 10, 1, 8, 0, 65, 0, 253, 15, 253, 98, 11,
+]);
+
+/** The two builds of the engine: the same bits, different speed. */
+export const MODULES = {
+  simd128: 'tamias2d_web_simd128.wasm',
+  scalar: 'tamias2d_web.wasm',
+};
+
 export class Tamias {
+  /** True when this WebAssembly engine runs 128-bit SIMD. */
+  static hasSimd128() { return WebAssembly.validate(SIMD_PROBE); }
+
+  /** Which build to load: `simd128` where the engine has it, else
+   * `scalar`; `?wasm=scalar` (or `simd128`) in `search` forces one. */
+  static moduleKind(search = '') {
+    const asked = new URLSearchParams(search).get('wasm');
+    if (asked in MODULES) return asked;
+    return Tamias.hasSimd128() ? 'simd128' : 'scalar';
+  }
+
   /** Instantiates the module from a URL (fetched) or its bytes. */
   static async load(source) {
     const bytes = typeof source === 'string'
