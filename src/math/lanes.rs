@@ -171,13 +171,27 @@ impl Ops for Portable {
     }
     #[inline(always)]
     fn mul_lo32(self, a: Lane, b: Lane) -> Lane {
-        zip(a, b, |x, y| (x & LOW).wrapping_mul(y & LOW))
+        #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+        {
+            wasm_simd::mul_lo32(a, b)
+        }
+        #[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
+        {
+            zip(a, b, |x, y| (x & LOW).wrapping_mul(y & LOW))
+        }
     }
     #[inline(always)]
     fn mul_i32(self, a: Lane, b: Lane) -> Lane {
-        zip(a, b, |x, y| {
-            i64::from(x as i32).wrapping_mul(i64::from(y as i32))
-        })
+        #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+        {
+            wasm_simd::mul_i32(a, b)
+        }
+        #[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
+        {
+            zip(a, b, |x, y| {
+                i64::from(x as i32).wrapping_mul(i64::from(y as i32))
+            })
+        }
     }
     #[inline(always)]
     fn shr_n<const N: i32>(self, a: Lane) -> Lane {
@@ -201,6 +215,50 @@ impl Ops for Portable {
             zip(a, mask, |x, m| x & m),
             zip(b, mask, |y, m| y & !m),
             |x, y| x | y,
+        )
+    }
+}
+
+/// The lane products in wasm's 128-bit SIMD: the compiler's vectoriser
+/// does not find the widening multiplies by itself.
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+mod wasm_simd {
+    use super::Lane;
+    use core::arch::wasm32::{
+        i32x4_shuffle, i64x2, i64x2_extmul_low_i32x4, i64x2_extract_lane, u64x2_extmul_low_u32x4,
+        v128,
+    };
+
+    /// Lanes `k` and `k + 1`, their low 32-bit halves side by side.
+    #[inline(always)]
+    fn lows(a: Lane, k: usize) -> v128 {
+        let v = i64x2(a.get(k).copied().unwrap_or(0), a.get(k + 1).copied().unwrap_or(0));
+        i32x4_shuffle::<0, 2, 0, 2>(v, v)
+    }
+
+    #[inline(always)]
+    fn out(lo: v128, hi: v128) -> Lane {
+        [
+            i64x2_extract_lane::<0>(lo),
+            i64x2_extract_lane::<1>(lo),
+            i64x2_extract_lane::<0>(hi),
+            i64x2_extract_lane::<1>(hi),
+        ]
+    }
+
+    #[inline(always)]
+    pub(super) fn mul_lo32(a: Lane, b: Lane) -> Lane {
+        out(
+            u64x2_extmul_low_u32x4(lows(a, 0), lows(b, 0)),
+            u64x2_extmul_low_u32x4(lows(a, 2), lows(b, 2)),
+        )
+    }
+
+    #[inline(always)]
+    pub(super) fn mul_i32(a: Lane, b: Lane) -> Lane {
+        out(
+            i64x2_extmul_low_i32x4(lows(a, 0), lows(b, 0)),
+            i64x2_extmul_low_i32x4(lows(a, 2), lows(b, 2)),
         )
     }
 }
