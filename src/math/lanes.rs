@@ -229,10 +229,10 @@ mod wasm_simd {
         v128,
     };
 
-    /// Lanes `k` and `k + 1`, their low 32-bit halves side by side.
+    /// The low 32-bit halves of `x` and `y`, side by side.
     #[inline(always)]
-    fn lows(a: Lane, k: usize) -> v128 {
-        let v = i64x2(a.get(k).copied().unwrap_or(0), a.get(k + 1).copied().unwrap_or(0));
+    fn lows(x: i64, y: i64) -> v128 {
+        let v = i64x2(x, y);
         i32x4_shuffle::<0, 2, 0, 2>(v, v)
     }
 
@@ -247,18 +247,18 @@ mod wasm_simd {
     }
 
     #[inline(always)]
-    pub(super) fn mul_lo32(a: Lane, b: Lane) -> Lane {
+    pub(super) fn mul_lo32([a0, a1, a2, a3]: Lane, [b0, b1, b2, b3]: Lane) -> Lane {
         out(
-            u64x2_extmul_low_u32x4(lows(a, 0), lows(b, 0)),
-            u64x2_extmul_low_u32x4(lows(a, 2), lows(b, 2)),
+            u64x2_extmul_low_u32x4(lows(a0, a1), lows(b0, b1)),
+            u64x2_extmul_low_u32x4(lows(a2, a3), lows(b2, b3)),
         )
     }
 
     #[inline(always)]
-    pub(super) fn mul_i32(a: Lane, b: Lane) -> Lane {
+    pub(super) fn mul_i32([a0, a1, a2, a3]: Lane, [b0, b1, b2, b3]: Lane) -> Lane {
         out(
-            i64x2_extmul_low_i32x4(lows(a, 0), lows(b, 0)),
-            i64x2_extmul_low_i32x4(lows(a, 2), lows(b, 2)),
+            i64x2_extmul_low_i32x4(lows(a0, a1), lows(b0, b1)),
+            i64x2_extmul_low_i32x4(lows(a2, a3), lows(b2, b3)),
         )
     }
 }
