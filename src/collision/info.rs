@@ -83,10 +83,9 @@ pub struct CollisionInfo {
 impl CollisionInfo {
     /// An empty info carrying the warm-start id `warm_start_id`.
     pub fn new(warm_start_id: WarmStartId) -> CollisionInfo {
-        CollisionInfo {
-            warm_start_id,
-            ..CollisionInfo::default()
-        }
+        let mut info = EMPTY;
+        info.warm_start_id = warm_start_id;
+        info
     }
 
     /// The valid contacts.
@@ -109,11 +108,51 @@ impl CollisionInfo {
         }
     }
 
-    /// Moves every contact point by `offset`.
-    pub(super) fn translate(&mut self, offset: Vect) {
-        for c in self.contacts.iter_mut().take(self.count) {
-            c.point_a += offset;
-            c.point_b += offset;
+    /// The answer of a pair computed near the origin, put back: every
+    /// contact point moved by `offset`, the normal zero if there is no
+    /// contact, and seen from the other shape if `mirror`
+    /// ([`mirror`](Self::mirror)). Each contact is written once, whole:
+    /// moving and mirroring in place edited parts of each contact that
+    /// were then copied whole, and the copy waited on those stores (a
+    /// failed store-to-load forward) on every narrowphase call.
+    pub(super) fn placed(&self, offset: Vect, mirror: bool) -> CollisionInfo {
+        let place = |c: &Contact| {
+            let (a, b) = (c.point_a + offset, c.point_b + offset);
+            if mirror {
+                Contact {
+                    point_a: b,
+                    point_b: a,
+                    distance: c.distance,
+                    feature_id: c.feature_id.rotate_left(16),
+                }
+            } else {
+                Contact {
+                    point_a: a,
+                    point_b: b,
+                    distance: c.distance,
+                    feature_id: c.feature_id,
+                }
+            }
+        };
+        let [c0, c1] = &self.contacts;
+        let normal = match (self.count, mirror) {
+            (0, _) => Vect::ZERO,
+            (_, true) => -self.normal,
+            (_, false) => self.normal,
+        };
+        CollisionInfo {
+            normal,
+            count: self.count,
+            contacts: [
+                if self.count > 0 { place(c0) } else { *c0 },
+                if self.count > 1 { place(c1) } else { *c1 },
+            ],
+            warm_start_id: if mirror {
+                swap_id_shapes(self.warm_start_id)
+            } else {
+                self.warm_start_id
+            },
+            hit_iteration_cap: self.hit_iteration_cap,
         }
     }
 
@@ -134,6 +173,20 @@ impl CollisionInfo {
         self.warm_start_id = swap_id_shapes(self.warm_start_id);
     }
 }
+
+/// An empty info (all zero), written whole.
+const EMPTY: CollisionInfo = CollisionInfo {
+    normal: Vect::ZERO,
+    count: 0,
+    contacts: [Contact {
+        point_a: Vect::ZERO,
+        point_b: Vect::ZERO,
+        distance: Real::ZERO,
+        feature_id: 0,
+    }; MAX_CONTACTS_PER_ARBITER],
+    warm_start_id: 0,
+    hit_iteration_cap: false,
+};
 
 /// A warm-start id with the roles of the two shapes exchanged (the A and B
 /// bytes of each Minkowski point swap places).

@@ -125,14 +125,7 @@ fn collide_general(a: &Geometry, b: &Geometry, warm_start_id: WarmStartId) -> Co
     if !is_empty(&first) && !is_empty(&second) {
         dispatch(&first, &second, &mut info);
     }
-    info.translate(anchor);
-    if info.count == 0 {
-        info.normal = Vect::ZERO;
-    }
-    if swap {
-        info.mirror();
-    }
-    info
+    info.placed(anchor, swap)
 }
 
 /// [`collide`] for two polygons: the general path's steps on the two
@@ -179,14 +172,7 @@ fn collide_polys(a: &Poly, b: &Poly, warm_start_id: WarmStartId) -> CollisionInf
         let (first, second) = (moved_poly(first, anchor), moved_poly(second, anchor));
         poly_to_poly(&first, &second, &mut info);
     }
-    info.translate(anchor);
-    if info.count == 0 {
-        info.normal = Vect::ZERO;
-    }
-    if swap {
-        info.mirror();
-    }
-    info
+    info.placed(anchor, swap)
 }
 
 /// [`collide`] for two circles: the computation of the general path

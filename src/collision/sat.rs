@@ -326,23 +326,28 @@ pub(crate) fn poly_to_poly_sat(a: &Poly, b: &Poly, anchor: Vect, info: &mut Coll
     };
     let e1 = support_edge_for_poly(a, n).moved(anchor);
     let e2 = support_edge_for_poly(b, -n).moved(anchor);
-    let mut out = CollisionInfo::new(info.warm_start_id);
-    contact_points(&e1, &e2, &points, &mut out);
+    // The contacts go straight into `info` (kept to put back if GJK must
+    // decide): clipping into a local and copying it whole made the copy
+    // wait on the contacts' part-by-part stores on every call.
+    let before = *info;
+    *info = CollisionInfo::new(before.warm_start_id);
+    contact_points(&e1, &e2, &points, info);
     // The deepest contact must be as deep as the axis says (the support
     // vertex lies on the incident edge inside the reference face's slab).
     // Slivers break this: nearly collinear edges whose rounded normals make
     // `support_edge_for_poly` pick a neighbour of the reference face, or a
     // deepest vertex clipped off by a short face. GJK then decides.
     let expected = real_of(sep) - min_dist;
-    let deepest = out.contacts().iter().map(|c| c.distance).min();
+    let deepest = info.contacts().iter().map(|c| c.distance).min();
     let slack = Real::from_bits(SLACK_ULP) + Real::from_bits(expected.abs().to_bits() >> 20);
     match deepest {
-        Some(d) if d <= expected + slack => {}
-        None if expected > CONTACT_TOLERANCE - slack => {}
-        _ => return false,
+        Some(d) if d <= expected + slack => true,
+        None if expected > CONTACT_TOLERANCE - slack => true,
+        _ => {
+            *info = before;
+            false
+        }
     }
-    *info = out;
-    true
 }
 
 /// Rounding allowed between the axis separation and the deepest clipped
