@@ -28,6 +28,96 @@ const HALF: i128 = 1 << (FRAC_BITS - 1);
 /// reach it (see [`Unsaturated::round`]).
 const WIDE_LIMIT: u64 = 1 << 29;
 
+/// Sums of products in 64-bit pieces ([`SplitSum`]) instead of `i128`:
+/// on wasm32, whose only multiply is 64-bit. There an exact 128-bit
+/// product is four partial products plus carries, and the `i128`
+/// additions and shifts around it are several operations each; the
+/// pieces need neither. Elsewhere the compiler drops the pieces' code.
+const SPLIT: bool = cfg!(target_arch = "wasm32");
+
+/// A sum of up to four exact products `Σ xᵢ·yᵢ` (raw `Real` bits) in
+/// 64-bit pieces: with `x = xₕ·2^32 + xₗ` (`xₕ` signed, `0 ≤ xₗ < 2^32`),
+/// `x·y = xₕyₕ·2^64 + (xₕyₗ + xₗyₕ)·2^32 + xₗyₗ`, so the sum is
+/// `(high + Σ ⌊xₗyₗ / 2^32⌋)·2^32 + Σ (xₗyₗ mod 2^32)`.
+///
+/// The record is `(|xₕ| + 1)(|yₕ| + 1)` per product (one's complement for
+/// negative halves, so it bounds `|x·y| < record·2^64`), OR-ed. While
+/// every record is below `2^27`, each product is below `2^91` and its
+/// `high` part below `3·2^59`: four of them add without wrapping, the sum
+/// is below `2^93` and the rounded result within `[−2^61, 2^61]`, exactly
+/// the result and the bound of the `i128` form. [`round`](Self::round)
+/// puts the record into [`Unsaturated`]'s, scaled so that its limits
+/// (`2^29`, and `Ranged`'s `2^28`) stand for records of `2^27` and `2^26`:
+/// stricter than the `i128` form's, so at worst a false alarm (the
+/// saturating rerun), never a bit.
+#[derive(Clone, Copy, Debug, Default)]
+struct SplitSum {
+    /// `Σ (xₕyₕ·2^32 + xₕyₗ + xₗyₕ)`, in units of `2^32` of the sum.
+    high: i64,
+    /// `Σ ⌊xₗyₗ / 2^32⌋`.
+    carries: u64,
+    /// `Σ (xₗyₗ mod 2^32)`.
+    low: u64,
+    record: u64,
+}
+
+impl SplitSum {
+    /// The sum plus `a·b`.
+    #[inline(always)]
+    fn plus(self, a: Real, b: Real) -> SplitSum {
+        self.add(a.to_bits(), b.to_bits())
+    }
+
+    /// The sum minus `a·b` (`a·(−b)`: for `b = i64::MIN` the negation
+    /// wraps, but that factor's record, `2^31` at least, raises the flag).
+    #[inline(always)]
+    fn minus(self, a: Real, b: Real) -> SplitSum {
+        self.add(a.to_bits(), b.to_bits().wrapping_neg())
+    }
+
+    #[inline(always)]
+    fn add(self, x: i64, y: i64) -> SplitSum {
+        const LOW: i64 = 0xffff_ffff;
+        let (xh, xl, yh, yl) = (x >> 32, x & LOW, y >> 32, y & LOW);
+        let high = xh
+            .wrapping_mul(yh)
+            .wrapping_shl(32)
+            .wrapping_add(xh.wrapping_mul(yl))
+            .wrapping_add(xl.wrapping_mul(yh));
+        // Both factors below 2^32: the product below 2^64.
+        let ll = (xl as u64).wrapping_mul(yl as u64);
+        // |h| + 1 for h ≥ 0, |h| for h < 0: at most 2^31 each.
+        let size = |h: i64| ((h ^ (h >> 63)) as u64).wrapping_add(1);
+        SplitSum {
+            high: self.high.wrapping_add(high),
+            carries: self.carries.wrapping_add(ll >> 32),
+            low: self.low.wrapping_add(ll & LOW as u64),
+            record: self.record | size(xh).wrapping_mul(size(yh)),
+        }
+    }
+
+    /// The sum rounded as `Real`'s products (to nearest, ties away from
+    /// zero), its record added to `u`'s.
+    #[inline(always)]
+    fn round(self, u: &mut Unsaturated) -> Real {
+        // At most four terms: the carries below 2^34, the low sums below
+        // 2^34, so these additions do not wrap while the record is clear.
+        let high = self
+            .high
+            .wrapping_add(self.carries as i64)
+            .wrapping_add((self.low >> 32) as i64);
+        let low = self.low & 0xffff_ffff;
+        // The sum is high·2^32 + low with 0 ≤ low < 2^32: negative exactly
+        // when `high` is.
+        let negative = u64::from(high < 0);
+        // low + 2^31 − negative < 2^33: no wrap.
+        let up = low.wrapping_add(1 << 31).wrapping_sub(negative) >> 32;
+        // Records reach 2^62 (two factors of 2^31): capped before scaling.
+        u.wide |= self.record.min(1 << 60) << 2;
+        Real::from_bits(high.wrapping_add(up as i64))
+    }
+}
+
 /// A sticky overflow flag and the operations that raise it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Unsaturated {
@@ -98,6 +188,9 @@ impl Unsaturated {
     /// `a · b`, rounded as [`Real`]'s `*`.
     #[inline(always)]
     pub fn mul(&mut self, a: Real, b: Real) -> Real {
+        if SPLIT {
+            return SplitSum::default().plus(a, b).round(self);
+        }
         // |a·b| ≤ 2^126: the product itself never overflows i128.
         self.round(wide_mul(a.to_bits(), b.to_bits()))
     }
@@ -105,6 +198,9 @@ impl Unsaturated {
     /// `a·b + c·d` with one rounding, as [`Real::mul_add2`].
     #[inline(always)]
     pub fn mul_add2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real {
+        if SPLIT {
+            return SplitSum::default().plus(a, b).plus(c, d).round(self);
+        }
         let p = wide_mul(a.to_bits(), b.to_bits());
         let q = wide_mul(c.to_bits(), d.to_bits());
         // Each product lies in [−2^126 + 2^63, 2^126], so the sum wraps
@@ -116,6 +212,9 @@ impl Unsaturated {
     /// `a·b − c·d` with one rounding, as [`Real::mul_sub2`].
     #[inline(always)]
     pub fn mul_sub2(&mut self, a: Real, b: Real, c: Real, d: Real) -> Real {
+        if SPLIT {
+            return SplitSum::default().plus(a, b).minus(c, d).round(self);
+        }
         let p = wide_mul(a.to_bits(), b.to_bits());
         let q = wide_mul(c.to_bits(), d.to_bits());
         // Both products lie in [−2^126 + 2^63, 2^126]: the difference is
@@ -128,6 +227,10 @@ impl Unsaturated {
     pub fn dot4(&mut self, x: [Real; 4], y: [Real; 4]) -> Real {
         let [x0, x1, x2, x3] = x;
         let [y0, y1, y2, y3] = y;
+        if SPLIT {
+            let sum = SplitSum::default().plus(x0, y0).plus(x1, y1);
+            return sum.plus(x2, y2).plus(x3, y3).round(self);
+        }
         let p = |a: Real, b: Real| wide_mul(a.to_bits(), b.to_bits());
         let (s, o1) = p(x0, y0).overflowing_add(p(x1, y1));
         let (s, o2) = s.overflowing_add(p(x2, y2));
@@ -225,6 +328,9 @@ impl FixedArith for Bounded {
     }
     #[inline(always)]
     fn dot4_bounded(&mut self, x: [Real; 4], y: [Real; 4]) -> Real {
+        if SPLIT {
+            return self.0.dot4(x, y);
+        }
         let [x0, x1, x2, x3] = x;
         let [y0, y1, y2, y3] = y;
         let p = |a: Real, b: Real| wide_mul(a.to_bits(), b.to_bits());
@@ -323,6 +429,9 @@ impl Bounded {
     /// [`FixedArith::dot4_bounded`] recording into `u`.
     #[inline(always)]
     fn dot4_bounded_into(self, u: &mut Unsaturated, x: [Real; 4], y: [Real; 4]) -> Real {
+        if SPLIT {
+            return u.dot4(x, y);
+        }
         let [x0, x1, x2, x3] = x;
         let [y0, y1, y2, y3] = y;
         let p = |a: Real, b: Real| wide_mul(a.to_bits(), b.to_bits());
@@ -482,7 +591,81 @@ mod tests {
         ]
     }
 
+    /// The wasm32 form, run here: either its flag is raised, or each
+    /// operation gives the saturating operator's bits; and where
+    /// `Ranged`'s tighter limit holds, the result is within `2^60`.
+    fn split_agrees(u: Unsaturated, fast: Real, exact: Real) -> bool {
+        let ranged = Ranged(u);
+        agrees(u, fast, exact) && (ranged.overflowed() || fast.to_bits().unsigned_abs() <= 1 << 60)
+    }
+
+    #[test]
+    fn split_sums_flag_the_extremes() {
+        let split = |terms: &[(Real, Real)]| {
+            let mut u = Unsaturated::new();
+            let sum = terms
+                .iter()
+                .fold(SplitSum::default(), |s, &(a, b)| s.plus(a, b));
+            (sum.round(&mut u), u)
+        };
+        for (a, b) in [
+            (Real::MIN, Real::MIN),
+            (Real::MAX, Real::MAX),
+            (Real::MIN, Real::MAX),
+        ] {
+            assert!(split(&[(a, b)]).1.overflowed());
+            assert!(split(&[(a, b), (a, b), (a, b), (a, b)]).1.overflowed());
+        }
+        // Minus a product with `MIN`: the negation wraps, the flag is up.
+        let mut u = Unsaturated::new();
+        let _ = SplitSum::default()
+            .minus(Real::ONE, Real::MIN)
+            .round(&mut u);
+        assert!(u.overflowed());
+        // Ties go away from zero, both signs.
+        for raw in [-3i64, -1, 1, 3, -(1 << 33) - 1, (1 << 33) + 1] {
+            let (got, u) = split(&[(r(raw), Real::HALF)]);
+            assert_eq!(got, r(raw) * Real::HALF, "{raw}");
+            assert!(!u.overflowed());
+        }
+        assert_eq!(split(&[]).0, Real::ZERO);
+    }
+
     proptest! {
+        #[test]
+        fn split_sums_match_the_saturating_operations(
+            a in any_bits(), b in any_bits(), c in any_bits(), d in any_bits()
+        ) {
+            let (a, b, c, d) = (r(a), r(b), r(c), r(d));
+            let run = |sum: SplitSum| {
+                let mut u = Unsaturated::new();
+                (sum.round(&mut u), u)
+            };
+            let zero = SplitSum::default();
+            let (v, u) = run(zero.plus(a, b));
+            prop_assert!(split_agrees(u, v, a * b));
+            let (v, u) = run(zero.plus(a, b).plus(c, d));
+            prop_assert!(split_agrees(u, v, Real::mul_add2(a, b, c, d)));
+            let (v, u) = run(zero.plus(a, b).minus(c, d));
+            prop_assert!(split_agrees(u, v, Real::mul_sub2(a, b, c, d)));
+            let (v, u) = run(zero.plus(a, d).plus(b, c).plus(c, b).plus(d, a));
+            prop_assert!(split_agrees(u, v, Real::dot4([a, b, c, d], [d, c, b, a])));
+        }
+
+        /// Values of ordinary scenes (below 2^12 = 4,096 in `Real` units)
+        /// never raise the split form's flag, nor `Ranged`'s.
+        #[test]
+        fn split_sums_of_small_values_never_flag(
+            x in prop::array::uniform4(-(1i64 << 44)..(1i64 << 44)),
+            y in prop::array::uniform4(-(1i64 << 44)..(1i64 << 44)),
+        ) {
+            let sum = (0..4).fold(SplitSum::default(), |s, k| s.plus(r(x[k]), r(y[k])));
+            let mut u = Unsaturated::new();
+            let v = sum.round(&mut u);
+            prop_assert!(!u.overflowed() && !Ranged(u).overflowed());
+            prop_assert_eq!(v, Real::dot4(x.map(r), y.map(r)));
+        }
+
         #[test]
         fn matches_the_saturating_operations(
             a in any_bits(), b in any_bits(), c in any_bits(), d in any_bits()

@@ -2,27 +2,24 @@
 //! Every choice gives the same bits; the choice is speed only.
 use super::soft_contact::Compiled;
 
-/// A wasm build with 128-bit SIMD: the compiler turns the portable lane
-/// operations into `i64x2` instructions, two lanes each.
-const WASM_SIMD128: bool = cfg!(all(target_arch = "wasm32", target_feature = "simd128"));
-
 /// The kernels of the soft step's contact passes
 /// ([`Space::set_kernels`](crate::space::Space::set_kernels)).
 ///
 /// The wide kernels solve four manifolds of one color at a time in
 /// integer lanes, with exactly the bits of the scalar kernels (a lane that
-/// leaves their window is run again by the scalar kernel). They pay in
-/// AVX2 instructions and in wasm's 128-bit SIMD (`simd128`, a build
-/// option); for the x86_64 baseline (SSE2), for other processors and for
-/// wasm without SIMD they are slower than the scalar ones
+/// leaves their window is run again by the scalar kernel). They pay only
+/// in AVX2 instructions: for the x86_64 baseline (SSE2), for other
+/// processors and for wasm (even with its 128-bit SIMD, two lanes an
+/// instruction) they are slower than the scalar ones
 /// (`docs/performance.md`, "Wide kernels" and "In the browser"), so
-/// [`Kernels::Auto`] runs them only there, and only in optimised builds.
-/// Configuration, not state: never saved in a snapshot.
+/// [`Kernels::Auto`] runs them only where the processor has AVX2, and
+/// only in optimised builds. Configuration, not state: never saved in a
+/// snapshot.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Kernels {
     /// The fastest measured on this processor: the wide kernels in AVX2
-    /// instructions where it has AVX2 (a runtime check), in a wasm build
-    /// with `simd128`, the scalar ones elsewhere. The default. A build with debug assertions (an
+    /// instructions where it has AVX2 (a runtime check), the scalar ones
+    /// elsewhere. The default. A build with debug assertions (an
     /// unoptimised build, as a rule) runs the scalar ones: unoptimised,
     /// every lane operation is a call and the wide kernels run about 60
     /// times slower.
@@ -45,8 +42,8 @@ impl Kernels {
             Kernels::Scalar => None,
             Kernels::Auto if cfg!(debug_assertions) => None,
             Kernels::Auto | Kernels::Wide if tamias2d_simd::has_avx2() => Some(Compiled::Avx2),
-            Kernels::Auto if !WASM_SIMD128 => None,
-            Kernels::Auto | Kernels::Wide | Kernels::Portable => Some(Compiled::Portable),
+            Kernels::Auto => None,
+            Kernels::Wide | Kernels::Portable => Some(Compiled::Portable),
         }
     }
 
