@@ -19,7 +19,7 @@
 use super::info::{CollisionInfo, WarmStartId, CONTACT_TOLERANCE};
 use super::support::{Edge, MinkowskiPoint};
 use crate::math::exact;
-use crate::math::{Real, Vect};
+use crate::math::{FixedArith, Real, Saturating, Unsaturated, Vect};
 
 /// Closest points between two shape cores (MIS `ClosestPoints`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -158,12 +158,21 @@ pub(crate) fn contact_id(fa: u32, fb: u32) -> u32 {
 /// `a + (b − a)·(s − sa)/(sb − sa)` rounded once (`mul_div`), and the clamped
 /// ends are exactly `a` or `b`. An edge parallel to the normal (zero extent
 /// along the tangent) gives its endpoint furthest along `toward`, the side
-/// facing the other shape.
-#[inline]
-fn point_on_edge(a: Vect, b: Vect, (sa, sb): (Real, Real), s: Real, toward: Vect) -> Vect {
-    let (num, den) = (s - sa, sb - sa);
+/// facing the other shape. In the arithmetic `ar` (the saturating `Real`
+/// operators, or the fast path that gives their bits unless it overflowed).
+#[inline(always)]
+fn point_on_edge<A: FixedArith>(
+    a: Vect,
+    b: Vect,
+    (sa, sb): (Real, Real),
+    s: Real,
+    toward: Vect,
+    ar: &mut A,
+) -> Vect {
+    let (num, den) = (ar.sub(s, sa), ar.sub(sb, sa));
+    let d = Vect::new(ar.sub(b.x, a.x), ar.sub(b.y, a.y));
     if den.is_zero() {
-        if exact::dot(b - a, toward) > 0 {
+        if exact::dot(d, toward) > 0 {
             b
         } else {
             a
@@ -173,8 +182,9 @@ fn point_on_edge(a: Vect, b: Vect, (sa, sb): (Real, Real), s: Real, toward: Vect
     } else if num.abs() >= den.abs() {
         b
     } else {
-        let d = b - a;
-        a + Vect::new(d.x.mul_div(num, den), d.y.mul_div(num, den))
+        // `mul_div` and `abs` are the same functions in both arithmetics.
+        let (x, y) = (d.x.mul_div(num, den), d.y.mul_div(num, den));
+        Vect::new(ar.add(a.x, x), ar.add(a.y, y))
     }
 }
 
@@ -192,32 +202,78 @@ fn point_on_edge(a: Vect, b: Vect, (sa, sb): (Real, Real), s: Real, toward: Vect
 /// nearest the other shape). Each point is moved out by its radius along
 /// `±n`; a pair is a contact if its separation `(p2 − p1)·n ≤ 0`. A second pair
 /// identical to the first (corner against corner) is dropped.
+///
+/// The clipping runs in [`Unsaturated`] arithmetic first, and again in the
+/// saturating operators only if that overflowed: the bits of the
+/// saturating formulas either way, without a saturation test per
+/// operation.
 pub fn contact_points(e1: &Edge, e2: &Edge, points: &ClosestPoints, info: &mut CollisionInfo) {
     let min_dist = e1.radius + e2.radius;
     if points.d > min_dist + CONTACT_TOLERANCE {
         return;
     }
-    let n = points.n;
-    let (s1a, s1b) = (e1.a.p.cross(n), e1.b.p.cross(n));
-    let (s2a, s2b) = (e2.a.p.cross(n), e2.b.p.cross(n));
-    let (out1, out2) = (n.mult(e1.radius), n.mult(e2.radius));
+    let mut fast = Unsaturated::new();
+    let pairs = clip(e1, e2, points.n, &mut fast);
+    let pairs = if fast.overflowed() {
+        clip_saturating(e1, e2, points.n)
+    } else {
+        pairs
+    };
+    for (p1, p2, dist, id) in pairs.iter().flatten() {
+        info.push_contact(*p1, *p2, *dist, *id);
+    }
+    if info.count > 0 {
+        info.normal = points.n;
+    }
+}
+
+/// The contact pairs of two support edges along `n`, at the upper and the
+/// lower end of their overlap: points on A and on B, separation and
+/// feature id (`None`: apart, or the same pair as the first).
+type Clipped = [Option<(Vect, Vect, Real, u32)>; 2];
+
+/// [`clip`] in the saturating operators, out of line: inlined, the
+/// compiler kept the fast path's products alive for it.
+#[cold]
+#[inline(never)]
+fn clip_saturating(e1: &Edge, e2: &Edge, n: Vect) -> Clipped {
+    clip(e1, e2, n, &mut Saturating)
+}
+
+/// The clipping of [`contact_points`], in the arithmetic `ar`.
+#[inline(always)]
+fn clip<A: FixedArith>(e1: &Edge, e2: &Edge, n: Vect, ar: &mut A) -> Clipped {
+    let cross = |p: Vect, ar: &mut A| ar.mul_sub2(p.x, n.y, p.y, n.x);
+    let (s1a, s1b) = (cross(e1.a.p, ar), cross(e1.b.p, ar));
+    let (s2a, s2b) = (cross(e2.a.p, ar), cross(e2.b.p, ar));
+    // A zero radius (a polygon's) moves nothing: `n·0` is exactly 0.
+    let out = |r: Real, ar: &mut A| {
+        if r.is_zero() {
+            Vect::ZERO
+        } else {
+            Vect::new(ar.mul(n.x, r), ar.mul(n.y, r))
+        }
+    };
+    let (out1, out2) = (out(e1.radius, ar), out(e2.radius, ar));
     let ends = [
         (s2b, s1a, contact_id(e1.a.index, e2.b.index)),
         (s2a, s1b, contact_id(e1.b.index, e2.a.index)),
     ];
+    let mut pairs: Clipped = [None; 2];
     let mut first: Option<(Vect, Vect)> = None;
-    for (s_on_1, s_on_2, id) in ends {
-        let p1 = point_on_edge(e1.a.p, e1.b.p, (s1a, s1b), s_on_1, n) + out1;
-        let p2 = point_on_edge(e2.a.p, e2.b.p, (s2a, s2b), s_on_2, -n) - out2;
-        let dist = (p2 - p1).dot(n);
+    for ((s_on_1, s_on_2, id), slot) in ends.into_iter().zip(&mut pairs) {
+        let q1 = point_on_edge(e1.a.p, e1.b.p, (s1a, s1b), s_on_1, n, ar);
+        let q2 = point_on_edge(e2.a.p, e2.b.p, (s2a, s2b), s_on_2, -n, ar);
+        let p1 = Vect::new(ar.add(q1.x, out1.x), ar.add(q1.y, out1.y));
+        let p2 = Vect::new(ar.sub(q2.x, out2.x), ar.sub(q2.y, out2.y));
+        let gap = Vect::new(ar.sub(p2.x, p1.x), ar.sub(p2.y, p1.y));
+        let dist = ar.mul_add2(gap.x, n.x, gap.y, n.y);
         if dist <= CONTACT_TOLERANCE && first != Some((p1, p2)) {
-            info.push_contact(p1, p2, dist, id);
+            *slot = Some((p1, p2, dist, id));
             first = Some((p1, p2));
         }
     }
-    if info.count > 0 {
-        info.normal = n;
-    }
+    pairs
 }
 
 #[cfg(test)]
@@ -293,6 +349,88 @@ mod tests {
         assert_eq!((c.n, c.d), (Vect::Y, -Real::ONE));
         let c = closest_points_new(&v1, &v0);
         assert!(c.d > Real::ONE && c.n.x.is_positive() && c.n.y.is_negative());
+    }
+
+    /// A raw coordinate: anything, the extremes, or a scene-like value.
+    fn raw() -> impl proptest::strategy::Strategy<Value = i64> {
+        use proptest::prelude::*;
+        prop_oneof![
+            any::<i64>(),
+            Just(i64::MIN),
+            Just(i64::MAX),
+            -(1i64 << 40)..(1i64 << 40),
+            -(1i64 << 33)..(1i64 << 33),
+        ]
+    }
+
+    /// The clipping in `Real`'s operators, as it was written before the
+    /// fast path: the reference both arithmetics are checked against.
+    fn clip_reference(e1: &Edge, e2: &Edge, n: Vect) -> Clipped {
+        fn on_edge(a: Vect, b: Vect, (sa, sb): (Real, Real), s: Real, toward: Vect) -> Vect {
+            let (num, den) = (s - sa, sb - sa);
+            if den.is_zero() {
+                if exact::dot(b - a, toward) > 0 {
+                    b
+                } else {
+                    a
+                }
+            } else if num.is_zero() || num.is_negative() != den.is_negative() {
+                a
+            } else if num.abs() >= den.abs() {
+                b
+            } else {
+                let d = b - a;
+                a + Vect::new(d.x.mul_div(num, den), d.y.mul_div(num, den))
+            }
+        }
+        let (s1a, s1b) = (e1.a.p.cross(n), e1.b.p.cross(n));
+        let (s2a, s2b) = (e2.a.p.cross(n), e2.b.p.cross(n));
+        let (out1, out2) = (n.mult(e1.radius), n.mult(e2.radius));
+        let ends = [
+            (s2b, s1a, contact_id(e1.a.index, e2.b.index)),
+            (s2a, s1b, contact_id(e1.b.index, e2.a.index)),
+        ];
+        let mut pairs: Clipped = [None; 2];
+        let mut first = None;
+        for ((s_on_1, s_on_2, id), slot) in ends.into_iter().zip(&mut pairs) {
+            let p1 = on_edge(e1.a.p, e1.b.p, (s1a, s1b), s_on_1, n) + out1;
+            let p2 = on_edge(e2.a.p, e2.b.p, (s2a, s2b), s_on_2, -n) - out2;
+            let dist = (p2 - p1).dot(n);
+            if dist <= CONTACT_TOLERANCE && first != Some((p1, p2)) {
+                *slot = Some((p1, p2, dist, id));
+                first = Some((p1, p2));
+            }
+        }
+        pairs
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(20_000))]
+        /// The fast clipping gives the saturating operators' contacts on
+        /// any input: in scene ranges, near the extremes and past them
+        /// (where the fast path overflows and the saturating one runs).
+        #[test]
+        fn clipping_is_the_saturating_formulas(v in proptest::collection::vec(raw(), 12)) {
+            let x = |k: usize| Real::from_bits(v.get(k).copied().unwrap_or(0));
+            let edge = |k: usize, radius: Real| Edge {
+                a: EdgePoint { p: Vect::new(x(k), x(k + 1)), index: 1 },
+                b: EdgePoint { p: Vect::new(x(k + 2), x(k + 3)), index: 2 },
+                radius,
+                normal: Vect::ZERO,
+            };
+            let n = Vect::new(x(8), x(9));
+            // With rounded shapes' radii, and with polygons' zero ones.
+            for (r1, r2) in [(x(10).abs(), x(11).abs()), (Real::ZERO, Real::ZERO)] {
+                let (e1, e2) = (edge(0, r1), edge(4, r2));
+                let want = clip_reference(&e1, &e2, n);
+                proptest::prop_assert_eq!(clip_saturating(&e1, &e2, n), want);
+                let mut fast = Unsaturated::new();
+                let got = clip(&e1, &e2, n, &mut fast);
+                if !fast.overflowed() {
+                    proptest::prop_assert_eq!(got, want);
+                }
+            }
+        }
     }
 
     #[test]
