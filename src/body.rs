@@ -25,7 +25,7 @@ use crate::arena::Handle;
 use crate::compact;
 use crate::math::exact::{saturate_to_real, wide_mul, I256};
 use crate::math::real::FRAC_BITS;
-use crate::math::{Real, Rot, Vect};
+use crate::math::{FixedArith, Real, Rot, Saturating, Unsaturated, Vect};
 
 /// Handle of a body in a [`Space`](crate::space::Space).
 pub type BodyHandle = Handle<Body>;
@@ -930,26 +930,61 @@ impl Body {
     /// then the bias velocities are cleared. Static bodies never move.
     pub fn update_position(&mut self, dt: Real) {
         if self.body_type != BodyType::Static {
-            self.p += (self.v + self.v_bias) * dt;
-            let dtheta = (self.w + self.w_bias) * dt;
-            self.rotate_by(dtheta);
+            let mut fast = Unsaturated::new();
+            let moved = self.moved(dt, &mut fast);
+            (self.p, self.a, self.rot) = if fast.overflowed() {
+                self.moved_saturating(dt)
+            } else {
+                moved
+            };
         }
         self.v_bias = Vect::ZERO;
         self.w_bias = Real::ZERO;
     }
 
-    /// Advances the orientation by `dtheta` radians: exact small-angle
-    /// rotation, renormalised only when rounding drift exceeds 2^-24.
-    pub(crate) fn rotate_by(&mut self, dtheta: Real) {
+    /// The position, angle and rotation after `dt` at the velocities plus
+    /// the bias velocities: `p + (v + v_bias)·dt`, and the rotation
+    /// composed with the exact small-angle rotation of `(ω + ω_bias)·dt`,
+    /// renormalised only when its rounding drift exceeds 2^-24. In the
+    /// arithmetic `ar` ([`Unsaturated`] first: the saturating operators'
+    /// bits unless it overflowed).
+    #[inline(always)]
+    fn moved<A: FixedArith>(&self, dt: Real, ar: &mut A) -> (Vect, Real, Rot) {
+        let v = Vect::new(
+            ar.add(self.v.x, self.v_bias.x),
+            ar.add(self.v.y, self.v_bias.y),
+        );
+        let step = Vect::new(ar.mul(v.x, dt), ar.mul(v.y, dt));
+        let p = Vect::new(ar.add(self.p.x, step.x), ar.add(self.p.y, step.y));
+        let w = ar.add(self.w, self.w_bias);
+        let dtheta = ar.mul(w, dt);
         if dtheta.is_zero() {
-            return;
+            return (p, self.a, self.rot);
         }
-        self.a += dtheta;
-        self.rot = self.rot.compose(small_angle_rot(dtheta));
-        let drift = (self.rot.as_vect().dot(self.rot.as_vect()) - Real::ONE).abs();
-        if drift > ROT_DRIFT_LIMIT {
-            self.rot = self.rot.normalize();
-        }
+        // `small_angle_rot`, `abs` and `normalize` are the same functions
+        // in both arithmetics.
+        let q = small_angle_rot(dtheta);
+        let (c, s) = (self.rot.c, self.rot.s);
+        let rot = Rot {
+            c: ar.mul_sub2(c, q.c, s, q.s),
+            s: ar.mul_add2(c, q.s, s, q.c),
+        };
+        let len_sq = ar.mul_add2(rot.c, rot.c, rot.s, rot.s);
+        let drift = ar.sub(len_sq, Real::ONE).abs();
+        let rot = if drift > ROT_DRIFT_LIMIT {
+            rot.normalize()
+        } else {
+            rot
+        };
+        (p, ar.add(self.a, dtheta), rot)
+    }
+
+    /// [`moved`](Self::moved) in the saturating operators, out of line (so
+    /// that the fast path does not keep its products alive for it).
+    #[cold]
+    #[inline(never)]
+    fn moved_saturating(&self, dt: Real) -> (Vect, Real, Rot) {
+        self.moved(dt, &mut Saturating)
     }
 
     /// Sets mass properties summed from shapes (space-internal).
@@ -1121,6 +1156,37 @@ mod tests {
     }
 
     proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(20_000))]
+        /// The position update's fast path gives the bits of the former
+        /// formulas in `Real`'s saturating operators, on any input (and the
+        /// fallback does too, where the fast path overflows).
+        #[test]
+        fn position_update_is_the_saturating_formulas(
+            (px, py, vx, vy, bx) in (any_real(), any_real(), any_real(), any_real(), any_real()),
+            (by, w, bw, a, dt) in (any_real(), any_real(), any_real(), any_real(), any_real()),
+            turn in -(1i64 << 28)..(1i64 << 28),
+        ) {
+            let mut b = Body::new(Real::ONE, Real::ONE).unwrap();
+            (b.p, b.v, b.v_bias) = (Vect::new(px, py), Vect::new(vx, vy), Vect::new(bx, by));
+            (b.w, b.w_bias, b.a) = (w, bw, a);
+            b.rot = Rot::from_angle(Real::from_bits(turn.wrapping_mul(97)));
+            let mut want = b.clone();
+            want.p += (want.v + want.v_bias) * dt;
+            let dtheta = (want.w + want.w_bias) * dt;
+            if !dtheta.is_zero() {
+                want.a += dtheta;
+                want.rot = want.rot.compose(small_angle_rot(dtheta));
+                let drift = (want.rot.as_vect().dot(want.rot.as_vect()) - Real::ONE).abs();
+                if drift > ROT_DRIFT_LIMIT {
+                    want.rot = want.rot.normalize();
+                }
+            }
+            (want.v_bias, want.w_bias) = (Vect::ZERO, Real::ZERO);
+            proptest::prop_assert_eq!(b.moved_saturating(dt), (want.p, want.a, want.rot));
+            b.update_position(dt);
+            proptest::prop_assert_eq!((b.p, b.a, b.rot, b.v_bias, b.w_bias), (want.p, want.a, want.rot, want.v_bias, want.w_bias));
+        }
+
         /// The series' one-multiply products give the saturating products'
         /// bits at every angle of its window.
         #[test]
