@@ -516,8 +516,13 @@ impl Arbiter {
         self.friction = a.material.friction * b.material.friction;
         // Only the tangential part of the relative surface velocity matters.
         let sv = b.material.surface_velocity - a.material.surface_velocity;
-        let t = self.normal.perp();
-        self.surface_velocity = t * sv.dot(t);
+        // Equal surface velocities (most often none) give an exact zero.
+        self.surface_velocity = if sv == Vect::ZERO {
+            Vect::ZERO
+        } else {
+            let t = self.normal.perp();
+            t * sv.dot(t)
+        };
     }
 
     /// The two shapes, in the arbiter's (canonical) order. In a collision
