@@ -261,7 +261,7 @@ fn clip<A: FixedArith>(e1: &Edge, e2: &Edge, n: Vect, ar: &mut A) -> Clipped {
     ];
     let mut pairs: Clipped = [None; 2];
     let mut first: Option<(Vect, Vect)> = None;
-    for ((s_on_1, s_on_2, id), slot) in ends.into_iter().zip(&mut pairs) {
+    for (&(s_on_1, s_on_2, id), slot) in ends.iter().zip(&mut pairs) {
         let q1 = point_on_edge(e1.a.p, e1.b.p, (s1a, s1b), s_on_1, n, ar);
         let q2 = point_on_edge(e2.a.p, e2.b.p, (s2a, s2b), s_on_2, -n, ar);
         let p1 = Vect::new(ar.add(q1.x, out1.x), ar.add(q1.y, out1.y));
