@@ -406,6 +406,18 @@ impl RowConstants {
         let cross = |r: Vect, d: Vect, ar: &mut A| ar.mul_sub2(r.x, d.y, r.y, d.x);
         let (rn_a, rn_b) = (cross(r1, n, ar), cross(r2, n, ar));
         let (rt_a, rt_b) = (cross(r1, t, ar), cross(r2, t, ar));
+        // `n·r` is `r × t` for `t = perp(n) = (−n_y, n_x)`: `r_x n_x − r_y
+        // (−n_y)`, the same integer rounded once, in both arithmetics (the
+        // fast one even wraps alike), unless negating `n_y` saturated.
+        let perp = t.y == n.x && t.x.to_bits().checked_neg() == Some(n.y.to_bits());
+        let (nr_a, nr_b) = if perp {
+            (rt_a, rt_b)
+        } else {
+            (
+                ar.mul_add2(n.x, r1.x, n.y, r1.y),
+                ar.mul_add2(n.x, r2.x, n.y, r2.y),
+            )
+        };
         let (kn_a, kn_b) = (ar.mul(a.i_inv, rn_a), ar.mul(b.i_inv, rn_b));
         let (kt_a, kt_b) = (ar.mul(a.i_inv, rt_a), ar.mul(b.i_inv, rt_b));
         let m_ab = ar.add(a.m_inv, b.m_inv);
@@ -432,8 +444,8 @@ impl RowConstants {
             rn_b,
             rt_a,
             rt_b,
-            nr_a: ar.mul_add2(n.x, r1.x, n.y, r1.y),
-            nr_b: ar.mul_add2(n.x, r2.x, n.y, r2.y),
+            nr_a,
+            nr_b,
             kn_a,
             kn_b,
             kt_a,
