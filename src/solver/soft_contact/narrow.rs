@@ -230,13 +230,22 @@ pub(super) fn gather_narrow(
         batch.points_used = batch.points_used.max(count as usize).min(2);
         let mut fit = Fit { ok: true };
         let n = first.n;
-        let gains = [
-            fit.product(n.x, first.m_inv_a, 40),
-            fit.product(n.y, first.m_inv_a, 40),
-            fit.product(n.x, first.m_inv_b, 40),
-            fit.product(n.y, first.m_inv_b, 40),
-        ];
-        let [ga_x, ga_y, gb_x, gb_y] = gains;
+        // A pile's bodies often share their inverse mass, and a static
+        // body's is 0 (exact zero gains): those products are not redone.
+        let gain = |m_inv: Real, fit: &mut Fit| {
+            if m_inv.is_zero() {
+                [0, 0]
+            } else {
+                [fit.product(n.x, m_inv, 40), fit.product(n.y, m_inv, 40)]
+            }
+        };
+        let [ga_x, ga_y] = gain(first.m_inv_a, &mut fit);
+        let [gb_x, gb_y] = if first.m_inv_b == first.m_inv_a {
+            [ga_x, ga_y]
+        } else {
+            gain(first.m_inv_b, &mut fit)
+        };
+        let gains = [ga_x, ga_y, gb_x, gb_y];
         set(&mut batch.ga_x, lane, ga_x);
         set(&mut batch.ga_y, lane, ga_y);
         set(&mut batch.gb_x, lane, gb_x);
