@@ -23,8 +23,10 @@
 //! arbiter that fits none of the [`COLORS`] colors goes to the *overflow*,
 //! solved after the colors in canonical order (by one thread).
 //!
-//! The cost is one pass over the arbiters with a bit test per color tried
-//! (most find a color among the first few), and one bit cleared per body
+//! The cost is one pass over the arbiters with a few bit operations each
+//! (every body keeps a mask of the colors it is taken in: the free colors
+//! of a pair are the complement of their two masks' union, the first one
+//! from the start color its lowest set bit), and one mask cleared per body
 //! taken at the end: no pass over the bodies.
 
 /// The number of colors before the overflow. Box2D v3 uses 24; a body
@@ -40,17 +42,35 @@ const BANDS: usize = 64;
 /// An arbiter end that is not a movable body (in `ends_of`).
 const NO_SLOT: u32 = u32::MAX;
 
+/// Every color's bit.
+const ALL: u32 = (1 << COLORS) - 1;
+
+/// The color of an arbiter whose bodies are taken in the colors of
+/// `taken` (one bit per color): the first free one from the color after
+/// the highest taken (wrapping around), or [`COLORS`] (the overflow) if
+/// none is free.
+#[inline]
+fn first_free(taken: u32) -> usize {
+    let free = !taken & ALL;
+    // The highest taken color + 1 (0 if none), at most COLORS: a color.
+    let start = u32::BITS
+        .wrapping_sub(taken.leading_zeros())
+        .checked_rem(COLORS as u32)
+        .unwrap_or(0);
+    let from_start = free & (ALL << start);
+    match (from_start, free) {
+        (0, 0) => COLORS,
+        (0, _) => free.trailing_zeros() as usize,
+        _ => from_start.trailing_zeros() as usize,
+    }
+}
+
 /// The colors of one step's arbiters, and the scratch that computes them.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct ConstraintGraph {
-    /// One bit per (color, body slot): set while the body is taken in the
-    /// color. All clear between steps.
-    taken: Vec<u64>,
-    /// Words per color in `taken`.
-    words: usize,
-    /// Per body slot: the highest color it is taken in, + 1 (0: none yet
-    /// this step). All 0 between steps.
-    last: Vec<u8>,
+    /// Per body slot, one bit per color: set while the body is taken in
+    /// the color. All clear between steps.
+    used: Vec<u32>,
     /// Color (or [`COLORS`] for the overflow) of each arbiter of the
     /// input, in input order.
     color_of: Vec<u8>,
@@ -77,14 +97,10 @@ impl ConstraintGraph {
         body_slots: usize,
         mut bodies: impl FnMut(u32) -> [(u32, bool); 2],
     ) {
-        let words = body_slots.div_ceil(64);
-        if self.words != words || self.last.len() != body_slots {
-            // All bits and marks are clear here (cleared after each use).
-            self.words = words;
-            self.taken.clear();
-            self.taken.resize(words.saturating_mul(COLORS), 0);
-            self.last.clear();
-            self.last.resize(body_slots, 0);
+        if self.used.len() != body_slots {
+            // All masks are clear here (cleared after each use).
+            self.used.clear();
+            self.used.resize(body_slots, 0);
         }
         self.color_of.clear();
         self.ends_of.clear();
@@ -102,32 +118,14 @@ impl ConstraintGraph {
             // Measured on the pyramids against plain first fit and against
             // "after the color last taken": the best of the three on
             // `pyramid_20`, `many_pyramids_4x4` and `pyramid_100`.
-            let start = ends
-                .iter()
-                .flatten()
-                .filter_map(|&slot| self.last.get(slot))
-                .map(|&l| usize::from(l))
-                .max()
-                .unwrap_or(0);
-            let free = |c: usize, slot: usize| {
-                let at = c.saturating_mul(words).saturating_add(slot / 64);
-                self.taken
-                    .get(at)
-                    .is_some_and(|&x| x & (1u64 << (slot % 64)) == 0)
-            };
-            let color = (0..COLORS)
-                .map(|k| k.wrapping_add(start) % COLORS)
-                .find(|&c| ends.iter().flatten().all(|&slot| free(c, slot)))
-                .unwrap_or(COLORS);
+            let taken = ends.iter().flatten().fold(0u32, |m, &slot| {
+                m | self.used.get(slot).copied().unwrap_or(ALL)
+            });
+            let color = first_free(taken);
             if color < COLORS {
                 for &slot in ends.iter().flatten() {
-                    let at = color.saturating_mul(words).saturating_add(slot / 64);
-                    if let Some(x) = self.taken.get_mut(at) {
-                        *x |= 1u64 << (slot % 64);
-                    }
-                    if let Some(l) = self.last.get_mut(slot) {
-                        // color < COLORS = 24: color + 1 fits a u8.
-                        *l = (*l).max((color as u8).wrapping_add(1));
+                    if let Some(m) = self.used.get_mut(slot) {
+                        *m |= 1 << color;
                     }
                 }
             }
@@ -193,13 +191,8 @@ impl ConstraintGraph {
                 continue;
             }
             for &slot in ends.iter().filter(|&&slot| slot != NO_SLOT) {
-                let slot = slot as usize;
-                let at = c.saturating_mul(words).saturating_add(slot / 64);
-                if let Some(x) = self.taken.get_mut(at) {
-                    *x = 0;
-                }
-                if let Some(l) = self.last.get_mut(slot) {
-                    *l = 0;
+                if let Some(m) = self.used.get_mut(slot as usize) {
+                    *m = 0;
                 }
             }
         }
@@ -245,6 +238,42 @@ impl ConstraintGraph {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The color search as a loop over the colors: from the color after
+    /// the highest taken one, wrapping around, the first one not taken.
+    fn first_free_reference(taken: u32) -> usize {
+        let start = (0..COLORS)
+            .rev()
+            .find(|&c| taken & (1 << c) != 0)
+            .map_or(0, |c| c + 1);
+        (0..COLORS)
+            .map(|k| (k + start) % COLORS)
+            .find(|&c| taken & (1 << c) == 0)
+            .unwrap_or(COLORS)
+    }
+
+    #[test]
+    fn the_bit_search_is_the_loop_over_colors() {
+        // Masks on a prime stride, every mask with at most two colors free
+        // or at most two taken, and the edges.
+        let all = (1u32 << COLORS) - 1;
+        let sparse = (0..COLORS).flat_map(|i| (0..COLORS).map(move |j| (1u32 << i) | (1 << j)));
+        let masks = (0..=all)
+            .step_by(9_973)
+            .chain(sparse.clone())
+            .chain(sparse.map(|m| all & !m))
+            .chain([
+                0,
+                all,
+                all & !1,
+                all & !(1 << (COLORS - 1)),
+                1,
+                1 << (COLORS - 1),
+            ]);
+        for taken in masks {
+            assert_eq!(first_free(taken), first_free_reference(taken), "{taken:#x}");
+        }
+    }
 
     /// Colors `pairs` (body slots, all movable unless ≥ 100 = static).
     fn colors(pairs: &[(u32, u32)]) -> ConstraintGraph {
