@@ -898,21 +898,39 @@ impl Body {
     /// force and torque accumulators are cleared. `damping` is the per-step
     /// factor (the space precomputes `damping^dt`). Only dynamic bodies move.
     pub fn update_velocity(&mut self, gravity: Vect, damping: Real, dt: Real) {
+        self.update_velocity_by(gravity, gravity * dt, damping, dt);
+    }
+
+    /// [`update_velocity`](Self::update_velocity) given `gravity_dt =
+    /// gravity·dt`, the velocity change of every body without a force: the
+    /// step computes it once for all bodies (the same product each time).
+    pub(crate) fn update_velocity_by(
+        &mut self,
+        gravity: Vect,
+        gravity_dt: Vect,
+        damping: Real,
+        dt: Real,
+    ) {
         if self.body_type == BodyType::Dynamic {
             // Each shortcut skips a product whose result is known exactly
             // (`x·1 = x`, `0·x = 0`, `x + 0 = x`): the same bits, without
             // the multiplies of the usual body (no damping, no force).
             let damped = |x: Real| if damping == Real::ONE { x } else { x * damping };
-            let accel = if self.f == Vect::ZERO {
-                gravity
-            } else {
-                gravity + self.f * self.mass_inv
-            };
             let v = Vect::new(damped(self.v.x), damped(self.v.y));
-            self.v = if accel == Vect::ZERO {
-                v
+            self.v = if self.f == Vect::ZERO {
+                // The acceleration is gravity: `v + g·dt`, or `v` without.
+                if gravity == Vect::ZERO {
+                    v
+                } else {
+                    v + gravity_dt
+                }
             } else {
-                v + accel * dt
+                let accel = gravity + self.f * self.mass_inv;
+                if accel == Vect::ZERO {
+                    v
+                } else {
+                    v + accel * dt
+                }
             };
             let w = damped(self.w);
             self.w = if self.t.is_zero() {

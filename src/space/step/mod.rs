@@ -279,6 +279,7 @@ impl Space {
             // run on the stepping thread, in slot order (below).
             let level_touched = core::sync::atomic::AtomicBool::new(false);
             let (damping, dt) = (ctx.damping, ctx.dt);
+            let g_dt = g * dt;
             self.state.bodies.for_each_value_split(
                 positions::BODY_PIECE,
                 &|body: &mut crate::body::Body| {
@@ -290,7 +291,7 @@ impl Space {
                     {
                         level_touched.store(true, core::sync::atomic::Ordering::Relaxed);
                     }
-                    body.update_velocity(g, damping, dt);
+                    body.update_velocity_by(g, g_dt, damping, dt);
                 },
             );
             self.state.bodies.zip_values_split(
