@@ -128,6 +128,21 @@ fn collide_general(a: &Geometry, b: &Geometry, warm_start_id: WarmStartId) -> Co
     info.placed(anchor, swap)
 }
 
+/// True if every vertex coordinate of `p` lies in `[−2^61, 2^61)` raw
+/// (`±2^29` units): then the difference of two such coordinates lies
+/// strictly inside `(−2^62, 2^62)`, far from saturation. A sufficient
+/// test for [`collide_polys`]'s exact one, in two operations a coordinate:
+/// `x + 2^61` (wrapping) is below `2^62` exactly for `x` in the range, and
+/// an OR of values is below `2^62` exactly when each one is.
+#[inline(always)]
+fn within_half_range(p: &Poly) -> bool {
+    const HALF: u64 = 1 << 61;
+    let bits = p.verts().iter().fold(0u64, |acc, v| {
+        acc | (v.x.to_bits() as u64).wrapping_add(HALF) | (v.y.to_bits() as u64).wrapping_add(HALF)
+    });
+    bits < HALF << 1
+}
+
 /// [`collide`] for two polygons: the general path's steps on the two
 /// polygons alone, translated into fresh copies rather than through whole
 /// `Geometry` copies. When both have the same vertex count and no
@@ -160,7 +175,9 @@ fn collide_polys(a: &Poly, b: &Poly, warm_start_id: WarmStartId) -> CollisionInf
             !moved.x.is_saturated() && !moved.y.is_saturated()
         })
     };
-    if first.count() == second.count() && unsaturated(first) && unsaturated(second) {
+    let moves_unsaturated = within_half_range(first) && within_half_range(second)
+        || unsaturated(first) && unsaturated(second);
+    if first.count() == second.count() && moves_unsaturated {
         // Separating axes on the polygons where they are: their answer is
         // the moved pair's (`poly_to_poly_sat`); only GJK, whose rounding
         // depends on where the pair is, needs the moved copies.

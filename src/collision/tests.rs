@@ -150,6 +150,8 @@ fn poly_fast_path_is_the_general_path() {
         at(0, 5 << 30),
         at(i64::MAX - (1 << 33), 0),
         at(i64::MIN, i64::MAX),
+        at((1 << 61) - (1 << 34), -(1 << 61)),
+        at(1 << 61, 0),
     ];
     for ka in 0..3 {
         for kb in 0..3 {
@@ -163,6 +165,56 @@ fn poly_fast_path_is_the_general_path() {
                         assert_eq!(collide_polys(&b, &a, id), collide_general(&gb, &ga, id));
                     }
                 }
+            }
+        }
+    }
+}
+
+/// The polygon fast path's range test: exactly the coordinates in
+/// `[−2^61, 2^61)`, and inside it no move by another vertex saturates.
+#[test]
+fn half_range_test_is_its_bounds() {
+    const H: i64 = 1 << 61;
+    let tri = |x: i64, y: i64| {
+        let p = Vect::new(Real::from_bits(x), Real::from_bits(y));
+        Poly::from_ccw_unchecked(&[p, p + Vect::X, p + Vect::Y], Real::ZERO)
+    };
+    for (x, inside) in [
+        (-H, true),
+        (H - (1 << 33), true),
+        (H, false),
+        (-H - 1, false),
+        (i64::MIN, false),
+        (i64::MAX, false),
+    ] {
+        for y in [0, x] {
+            assert_eq!(within_half_range(&tri(x, y)), inside, "{x} {y}");
+            assert_eq!(within_half_range(&tri(y, x)), inside, "{y} {x}");
+        }
+    }
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(5_000))]
+    /// Where the range test holds for both polygons, no vertex moved by
+    /// either's vertex saturates or lands on `MIN` or `MAX`.
+    #[test]
+    fn half_range_implies_unsaturated_moves(
+        coords in proptest::collection::vec(
+            proptest::prop_oneof![-(1i64 << 61)..(1i64 << 61), (1i64 << 61) - 64..(1i64 << 61), -(1i64 << 61)..-(1i64 << 61) + 64],
+            8,
+        ),
+    ) {
+        let p = |k: usize| Vect::new(Real::from_bits(coords[k]), Real::from_bits(coords[k + 1]));
+        let (a, b) = (
+            Poly::from_ccw_unchecked(&[p(0), p(2)], Real::ZERO),
+            Poly::from_ccw_unchecked(&[p(4), p(6)], Real::ZERO),
+        );
+        proptest::prop_assert!(within_half_range(&a) && within_half_range(&b));
+        for v in a.verts().iter().chain(b.verts()) {
+            for w in a.verts().iter().chain(b.verts()) {
+                let moved = *v - *w;
+                proptest::prop_assert!(!moved.x.is_saturated() && !moved.y.is_saturated());
             }
         }
     }
