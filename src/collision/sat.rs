@@ -93,6 +93,15 @@ fn real_of(x: i128) -> Real {
     Real::from_bits(i64::try_from(raw).unwrap_or(if raw < 0 { i64::MIN } else { i64::MAX }))
 }
 
+/// `v · n` exactly, for `n` within the unit square: each product is
+/// below `2^95` in magnitude and their sum below `2^96`, so the sum
+/// cannot saturate and needs no test ([`exact::dot`]'s value).
+#[inline(always)]
+fn dot_unit(v: Vect, n: Vect) -> i128 {
+    let (x, y) = (v.x.to_bits(), v.y.to_bits());
+    exact::wide_mul(x, n.x.to_bits()).wrapping_add(exact::wide_mul(y, n.y.to_bits()))
+}
+
 /// Minimum over the vertices of `b` of `v · n`, exact.
 #[inline]
 fn min_dot(b: &Poly, n: Vect) -> i128 {
@@ -136,14 +145,24 @@ fn max_separation_box(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
     // 2^95: nothing saturates, and negating a dot product is exact.
     let within = |r: Real| (-Real::ONE..=Real::ONE).contains(&r);
     let unit = |n: Vect| within(n.x) && within(n.y);
-    if n2 != -n0 || n3 != -n1 || !unit(n0) || !unit(n1) || n0 == Vect::ZERO || n1 == Vect::ZERO {
+    if n2 != -n0
+        || n3 != -n1
+        || !unit(n0)
+        || !unit(n1)
+        || n0 == Vect::ZERO
+        || n1 == Vect::ZERO
+        || b.verts().is_empty()
+    {
         return max_separation_by_faces(a, b, limit);
     }
+    // Unit normals: every dot product is below `2^96` in magnitude, so
+    // the differences and negations below are exact without saturation
+    // tests (the saturating operators' values).
     let range = |n: Vect| {
         b.verts()
             .iter()
             .fold((i128::MAX, i128::MIN), |(lo, hi), v| {
-                let d = exact::dot(*v, n);
+                let d = dot_unit(*v, n);
                 (lo.min(d), hi.max(d))
             })
     };
@@ -152,20 +171,19 @@ fn max_separation_box(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
         edge: 0,
     };
     // Face by face in index order, as `max_separation_by_faces`: the second
-    // pass only if the first face does not already show the pair apart. No
-    // vertices: `max` is i128::MIN, the minimum over none i128::MAX.
+    // pass only if the first face does not already show the pair apart.
     let (min0, max0) = range(n0);
-    if best.take(min0.saturating_sub(exact::dot(p0, n0)), 0, limit) {
+    if best.take(min0.wrapping_sub(dot_unit(p0, n0)), 0, limit) {
         return Some(best);
     }
     let (min1, max1) = range(n1);
     let rest = [
         (min1, n1, p1),
-        (max0.saturating_neg(), n2, p2),
-        (max1.saturating_neg(), n3, p3),
+        (max0.wrapping_neg(), n2, p2),
+        (max1.wrapping_neg(), n3, p3),
     ];
     for (edge, (min, n, p)) in (1..).zip(rest) {
-        if best.take(min.saturating_sub(exact::dot(p, n)), edge, limit) {
+        if best.take(min.wrapping_sub(dot_unit(p, n)), edge, limit) {
             break;
         }
     }
@@ -196,7 +214,7 @@ fn max_separation_paired<const N: usize>(
             _ => false,
         },
     );
-    if !paired {
+    if !paired || b.verts().is_empty() {
         return Err(());
     }
     let mut best = Axis {
@@ -204,8 +222,9 @@ fn max_separation_paired<const N: usize>(
         edge: 0,
     };
     // The minima of the pairs' second faces, known once the first face's
-    // pass has run (no vertices: `max` is i128::MIN, the minimum over none
-    // i128::MAX).
+    // pass has run. Unit normals: the dot products, their differences
+    // and negations are exact without saturation tests (as in
+    // `max_separation_box`).
     let mut opposite = [i128::MAX; N];
     for (i, (n, p)) in normals.iter().zip(verts).enumerate() {
         if *n == Vect::ZERO {
@@ -216,11 +235,11 @@ fn max_separation_paired<const N: usize>(
                 .verts()
                 .iter()
                 .fold((i128::MAX, i128::MIN), |(lo, hi), v| {
-                    let d = exact::dot(*v, *n);
+                    let d = dot_unit(*v, *n);
                     (lo.min(d), hi.max(d))
                 });
             if let Some(o) = opposite.get_mut(i) {
-                *o = max.saturating_neg();
+                *o = max.wrapping_neg();
             }
             min
         } else {
@@ -229,7 +248,7 @@ fn max_separation_paired<const N: usize>(
                 .copied()
                 .unwrap_or(i128::MAX)
         };
-        if best.take(min.saturating_sub(exact::dot(*p, *n)), i, limit) {
+        if best.take(min.wrapping_sub(dot_unit(*p, *n)), i, limit) {
             break;
         }
     }
@@ -485,6 +504,31 @@ mod tests {
                 };
                 let (got, want) = (max_separation(x, y, limit), max_separation_by_faces(x, y, limit));
                 proptest::prop_assert_eq!(got.map(|s| (s.sep, s.edge)), want.map(|s| (s.sep, s.edge)));
+            }
+        }
+    }
+
+    #[test]
+    fn dot_unit_is_the_exact_dot_within_the_unit_square() {
+        let edges = [i64::MIN, i64::MIN + 1, -1, 0, 1, i64::MAX - 1, i64::MAX];
+        let unit = [
+            -(1i64 << 32),
+            -(1 << 32) + 1,
+            -1,
+            0,
+            1,
+            (1 << 32) - 1,
+            1 << 32,
+        ];
+        for x in edges {
+            for y in edges {
+                for nx in unit {
+                    for ny in unit {
+                        let v = Vect::new(Real::from_bits(x), Real::from_bits(y));
+                        let n = Vect::new(Real::from_bits(nx), Real::from_bits(ny));
+                        assert_eq!(dot_unit(v, n), exact::dot(v, n), "{v:?} {n:?}");
+                    }
+                }
             }
         }
     }
