@@ -51,7 +51,7 @@
 //! only unchecked construction can produce) take the GJK path.
 use super::contact::{contact_points, ClosestPoints};
 use super::info::{CollisionInfo, CONTACT_TOLERANCE};
-use super::support::support_edge_for_poly;
+use super::support::{support_edge_for_poly, support_edge_for_poly_unit};
 use crate::math::exact;
 use crate::math::{Real, Vect};
 use crate::shape::Poly;
@@ -91,15 +91,6 @@ fn wide_of(r: Real) -> i128 {
 fn real_of(x: i128) -> Real {
     let raw = x >> 32;
     Real::from_bits(i64::try_from(raw).unwrap_or(if raw < 0 { i64::MIN } else { i64::MAX }))
-}
-
-/// `v · n` exactly, for `n` within the unit square: each product is
-/// below `2^95` in magnitude and their sum below `2^96`, so the sum
-/// cannot saturate and needs no test ([`exact::dot`]'s value).
-#[inline(always)]
-fn dot_unit(v: Vect, n: Vect) -> i128 {
-    let (x, y) = (v.x.to_bits(), v.y.to_bits());
-    exact::wide_mul(x, n.x.to_bits()).wrapping_add(exact::wide_mul(y, n.y.to_bits()))
 }
 
 /// Minimum over the vertices of `b` of `v · n`, exact.
@@ -162,7 +153,7 @@ fn max_separation_box(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
         b.verts()
             .iter()
             .fold((i128::MAX, i128::MIN), |(lo, hi), v| {
-                let d = dot_unit(*v, n);
+                let d = exact::dot_unit(*v, n);
                 (lo.min(d), hi.max(d))
             })
     };
@@ -173,7 +164,7 @@ fn max_separation_box(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
     // Face by face in index order, as `max_separation_by_faces`: the second
     // pass only if the first face does not already show the pair apart.
     let (min0, max0) = range(n0);
-    if best.take(min0.wrapping_sub(dot_unit(p0, n0)), 0, limit) {
+    if best.take(min0.wrapping_sub(exact::dot_unit(p0, n0)), 0, limit) {
         return Some(best);
     }
     let (min1, max1) = range(n1);
@@ -183,7 +174,7 @@ fn max_separation_box(a: &Poly, b: &Poly, limit: i128) -> Option<Axis> {
         (max1.wrapping_neg(), n3, p3),
     ];
     for (edge, (min, n, p)) in (1..).zip(rest) {
-        if best.take(min.wrapping_sub(dot_unit(p, n)), edge, limit) {
+        if best.take(min.wrapping_sub(exact::dot_unit(p, n)), edge, limit) {
             break;
         }
     }
@@ -235,7 +226,7 @@ fn max_separation_paired<const N: usize>(
                 .verts()
                 .iter()
                 .fold((i128::MAX, i128::MIN), |(lo, hi), v| {
-                    let d = dot_unit(*v, *n);
+                    let d = exact::dot_unit(*v, *n);
                     (lo.min(d), hi.max(d))
                 });
             if let Some(o) = opposite.get_mut(i) {
@@ -248,7 +239,7 @@ fn max_separation_paired<const N: usize>(
                 .copied()
                 .unwrap_or(i128::MAX)
         };
-        if best.take(min.wrapping_sub(dot_unit(*p, *n)), i, limit) {
+        if best.take(min.wrapping_sub(exact::dot_unit(*p, *n)), i, limit) {
             break;
         }
     }
@@ -297,8 +288,10 @@ fn face_realises_distance(inc: &Poly, (p0, p1): (Vect, Vect), n: Vect, sep: i128
 /// Only the two support edges are moved. Everything before them is a
 /// difference of exact dot products, which moving both polygons by the
 /// same vector leaves unchanged, so the answer is the moved pair's as
-/// long as no moved coordinate saturates (the caller checks). That spares
-/// the narrowphase a copy of both polygons per pair.
+/// long as no moved coordinate saturates. The caller guarantees that
+/// (`collide_polys` checks it; `poly_to_poly` passes a zero anchor), and
+/// the two edges are moved without saturation tests. That spares the
+/// narrowphase a copy of both polygons per pair.
 pub(crate) fn poly_to_poly_sat(a: &Poly, b: &Poly, anchor: Vect, info: &mut CollisionInfo) -> bool {
     if a.count() < 3 || b.count() < 3 {
         return false;
@@ -343,8 +336,15 @@ pub(crate) fn poly_to_poly_sat(a: &Poly, b: &Poly, anchor: Vect, info: &mut Coll
         d: real_of(sep),
         ..ClosestPoints::default()
     };
-    let e1 = support_edge_for_poly(a, n).moved(anchor);
-    let e2 = support_edge_for_poly(b, -n).moved(anchor);
+    // The caller checked that no vertex moved by `−anchor` saturates.
+    let within = |r: Real| (-Real::ONE..=Real::ONE).contains(&r);
+    let support = if within(n.x) && within(n.y) {
+        support_edge_for_poly_unit
+    } else {
+        support_edge_for_poly
+    };
+    let e1 = support(a, n).moved_unsaturated(anchor);
+    let e2 = support(b, -n).moved_unsaturated(anchor);
     // The contacts go straight into `info` (kept to put back if GJK must
     // decide): clipping into a local and copying it whole made the copy
     // wait on the contacts' part-by-part stores on every call.
@@ -504,31 +504,6 @@ mod tests {
                 };
                 let (got, want) = (max_separation(x, y, limit), max_separation_by_faces(x, y, limit));
                 proptest::prop_assert_eq!(got.map(|s| (s.sep, s.edge)), want.map(|s| (s.sep, s.edge)));
-            }
-        }
-    }
-
-    #[test]
-    fn dot_unit_is_the_exact_dot_within_the_unit_square() {
-        let edges = [i64::MIN, i64::MIN + 1, -1, 0, 1, i64::MAX - 1, i64::MAX];
-        let unit = [
-            -(1i64 << 32),
-            -(1 << 32) + 1,
-            -1,
-            0,
-            1,
-            (1 << 32) - 1,
-            1 << 32,
-        ];
-        for x in edges {
-            for y in edges {
-                for nx in unit {
-                    for ny in unit {
-                        let v = Vect::new(Real::from_bits(x), Real::from_bits(y));
-                        let n = Vect::new(Real::from_bits(nx), Real::from_bits(ny));
-                        assert_eq!(dot_unit(v, n), exact::dot(v, n), "{v:?} {n:?}");
-                    }
-                }
             }
         }
     }

@@ -92,10 +92,16 @@ pub fn segment_support_point(seg: &Segment, n: Vect) -> SupportPoint {
 /// 0 for an empty polygon).
 #[inline]
 pub fn poly_support_index(poly: &Poly, n: Vect) -> usize {
+    support_index_by(poly, n, exact::dot)
+}
+
+/// [`poly_support_index`] with the exact dot product `dot`.
+#[inline(always)]
+fn support_index_by(poly: &Poly, n: Vect, dot: impl Fn(Vect, Vect) -> i128) -> usize {
     let mut best = 0;
     let mut best_dot = i128::MIN;
     for (i, v) in poly.verts().iter().enumerate() {
-        let d = exact::dot(*v, n);
+        let d = dot(*v, n);
         if d > best_dot {
             best = i;
             best_dot = d;
@@ -223,12 +229,17 @@ pub struct Edge {
 
 impl Edge {
     /// The edge with both ends moved by `−anchor` (as the vertices of a
-    /// polygon moved into the frame whose origin is `anchor`).
+    /// polygon moved into the frame whose origin is `anchor`), for a
+    /// caller that has checked that no moved coordinate saturates: the
+    /// difference is then exact, and the subtraction needs no saturation
+    /// test (the saturating operator's value).
     #[inline]
-    pub(crate) fn moved(self, anchor: Vect) -> Edge {
+    pub(crate) fn moved_unsaturated(self, anchor: Vect) -> Edge {
+        let sub = |r: Real, by: Real| Real::from_bits(r.to_bits().wrapping_sub(by.to_bits()));
+        let moved = |p: Vect| Vect::new(sub(p.x, anchor.x), sub(p.y, anchor.y));
         let mut e = self;
-        e.a.p -= anchor;
-        e.b.p -= anchor;
+        e.a.p = moved(e.a.p);
+        e.b.p = moved(e.b.p);
         e
     }
 }
@@ -236,8 +247,22 @@ impl Edge {
 /// MIS `supportEdgeForPoly`: of the two edges at the vertex furthest along
 /// `n`, the one whose normal is closer to `n` (the later edge on a tie).
 pub fn support_edge_for_poly(poly: &Poly, n: Vect) -> Edge {
+    support_edge_by(poly, n, exact::dot)
+}
+
+/// [`support_edge_for_poly`] for `n` within the unit square (the caller
+/// checks): its dot products need no saturation test
+/// ([`exact::dot_unit`]), the same edge.
+#[inline]
+pub(crate) fn support_edge_for_poly_unit(poly: &Poly, n: Vect) -> Edge {
+    support_edge_by(poly, n, exact::dot_unit)
+}
+
+/// [`support_edge_for_poly`] with the exact dot product `dot`.
+#[inline(always)]
+fn support_edge_by(poly: &Poly, n: Vect, dot: impl Fn(Vect, Vect) -> i128) -> Edge {
     let count = poly.count();
-    let i1 = poly_support_index(poly, n);
+    let i1 = support_index_by(poly, n, &dot);
     // count ≥ 1 whenever a vertex exists; max(1) keeps the indices defined for
     // an empty polygon (whose edge is then the zero point). i1 < m (an index
     // of the vertices, or 0): i0 and i2 are its cyclic neighbours, i1 − 1 (or
@@ -245,7 +270,7 @@ pub fn support_edge_for_poly(poly: &Poly, n: Vect) -> Edge {
     let m = count.max(1);
     let i0 = i1.checked_sub(1).unwrap_or(m.saturating_sub(1));
     let i2 = next_index(i1, m);
-    let (from, to) = if exact::dot(n, poly.normal(i0)) > exact::dot(n, poly.normal(i1)) {
+    let (from, to) = if dot(poly.normal(i0), n) > dot(poly.normal(i1), n) {
         (i0, i1)
     } else {
         (i1, i2)

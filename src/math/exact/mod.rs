@@ -32,6 +32,6 @@ pub(crate) mod predicates;
 
 pub(crate) use int::{wide_mul, I256};
 pub(crate) use predicates::{
-    cross, dot, len_sq, normalize, raw_diff, raw_sq, raw_sum, saturate_to_real, scale_by_ratio,
-    unit_or, unit_ratio,
+    cross, dot, dot_unit, len_sq, normalize, raw_diff, raw_sq, raw_sum, saturate_to_real,
+    scale_by_ratio, unit_or, unit_ratio,
 };

@@ -46,6 +46,16 @@ pub(crate) fn dot(a: Vect, b: Vect) -> i128 {
     wide_mul(ax, bx).saturating_add(wide_mul(ay, by))
 }
 
+/// `a · n` exactly, for `n` within the unit square (both components in
+/// `[−1, 1]`, which the caller guarantees): each product is below `2^95`
+/// in magnitude and their sum below `2^96`, so the sum cannot saturate
+/// and needs no test ([`dot`]'s value).
+#[inline(always)]
+pub(crate) fn dot_unit(a: Vect, n: Vect) -> i128 {
+    let (ax, ay, nx, ny) = (a.x.to_bits(), a.y.to_bits(), n.x.to_bits(), n.y.to_bits());
+    wide_mul(ax, nx).wrapping_add(wide_mul(ay, ny))
+}
+
 /// `a × b` (z of the 3D cross product), exact, in units of 2^-64.
 #[inline(always)]
 pub(crate) fn cross(a: Vect, b: Vect) -> i128 {
@@ -248,6 +258,31 @@ pub(crate) fn unit_or(v: Vect, fallback: Vect) -> Vect {
 #[allow(clippy::float_arithmetic)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn dot_unit_is_the_exact_dot_within_the_unit_square() {
+        let edges = [i64::MIN, i64::MIN + 1, -1, 0, 1, i64::MAX - 1, i64::MAX];
+        let unit = [
+            -(1i64 << 32),
+            -(1 << 32) + 1,
+            -1,
+            0,
+            1,
+            (1 << 32) - 1,
+            1 << 32,
+        ];
+        for x in edges {
+            for y in edges {
+                for nx in unit {
+                    for ny in unit {
+                        let v = Vect::new(Real::from_bits(x), Real::from_bits(y));
+                        let n = Vect::new(Real::from_bits(nx), Real::from_bits(ny));
+                        assert_eq!(dot_unit(v, n), dot(v, n), "{v:?} {n:?}");
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn raw_helpers_are_exact_at_the_range_edges() {
