@@ -137,7 +137,15 @@ const fn clamp_sum(p: i128) -> i128 {
 #[inline(always)]
 const fn div_round(n: i128, d: i128) -> i128 {
     let (n_abs, d_abs) = (n.unsigned_abs(), d.unsigned_abs());
-    let q = (n_abs + d_abs / 2) / d_abs;
+    let num = n_abs + d_abs / 2;
+    // The same floor quotient in one 64-bit division where both fit 64
+    // bits (d_abs ≤ num, or the quotient is 0 either way): the 128-bit
+    // one is a library call, and on wasm32 a long division.
+    let q = if num >> 64 == 0 && d_abs >> 64 == 0 {
+        ((num as u64) / (d_abs as u64)) as u128
+    } else {
+        num / d_abs
+    };
     // q < 2^127 because n_abs < 2^127 and d_abs >= 1.
     let q = q as i128;
     if (n < 0) != (d < 0) {
@@ -609,7 +617,40 @@ mod tests {
         ]
     }
 
+    /// `div_round` as it was: one 128-bit division.
+    #[allow(clippy::arithmetic_side_effects)]
+    fn div_round_reference(n: i128, d: i128) -> i128 {
+        let (n_abs, d_abs) = (n.unsigned_abs(), d.unsigned_abs());
+        let q = ((n_abs + d_abs / 2) / d_abs) as i128;
+        if (n < 0) != (d < 0) {
+            -q
+        } else {
+            q
+        }
+    }
+
     proptest! {
+        /// The 64-bit division path gives the 128-bit quotient: products
+        /// of raw values over the whole range (`mul_div`'s numerators),
+        /// shifted values (`div`'s), around 2^64.
+        #[test]
+        fn div_round_matches_the_128_bit_division(
+            (a, b, d) in (any_raw(), any_raw(), any_raw()),
+            shift in 0u32..64,
+            near in -3i128..3,
+        ) {
+            let d = if d == 0 { 1 } else { d };
+            for n in [
+                wide_mul(a, b),
+                i128::from(a) << shift,
+                (1i128 << 64) + near,
+                -(1i128 << 64) + near,
+                (1i128 << 64) - i128::from(d.unsigned_abs() / 2) + near,
+            ] {
+                prop_assert_eq!(div_round(n, i128::from(d)), div_round_reference(n, i128::from(d)));
+            }
+        }
+
         #[test]
         fn sums_of_products_match_the_saturating_reference(
             v in proptest::array::uniform8(any_raw())
