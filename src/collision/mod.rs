@@ -181,7 +181,7 @@ fn collide_polys(a: &Poly, b: &Poly, warm_start_id: WarmStartId) -> CollisionInf
         // Separating axes on the polygons where they are: their answer is
         // the moved pair's (`poly_to_poly_sat`); only GJK, whose rounding
         // depends on where the pair is, needs the moved copies.
-        if !sat::poly_to_poly_sat(first, second, anchor, &mut info) {
+        if !sat::poly_to_poly_sat_fresh(first, second, anchor, &mut info) {
             let (first, second) = (moved_poly(first, anchor), moved_poly(second, anchor));
             pairs::poly_to_poly_gjk_ordered(&first, &second, &mut info);
         }

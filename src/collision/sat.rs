@@ -272,9 +272,12 @@ fn face_realises_distance(inc: &Poly, (p0, p1): (Vect, Vect), n: Vect, sep: i128
     let base = exact::dot(p0, n);
     let edge = p1 - p0;
     let len_sq = exact::dot(edge, edge);
+    // The projection only for a vertex at the separation (one or two).
     inc.verts().iter().any(|v| {
-        let along = exact::dot(*v - p0, edge);
-        exact::dot(*v, n).saturating_sub(base) == sep && along >= 0 && along <= len_sq
+        exact::dot(*v, n).saturating_sub(base) == sep && {
+            let along = exact::dot(*v - p0, edge);
+            along >= 0 && along <= len_sq
+        }
     })
 }
 
@@ -293,6 +296,24 @@ fn face_realises_distance(inc: &Poly, (p0, p1): (Vect, Vect), n: Vect, sep: i128
 /// the two edges are moved without saturation tests. That spares the
 /// narrowphase a copy of both polygons per pair.
 pub(crate) fn poly_to_poly_sat(a: &Poly, b: &Poly, anchor: Vect, info: &mut CollisionInfo) -> bool {
+    sat_into::<false>(a, b, anchor, info)
+}
+
+/// [`poly_to_poly_sat`] into a fresh `info` (`CollisionInfo::new` of its
+/// warm-start id, as `collide_polys` passes): nothing to save and put
+/// back but the id, where the general form copies the whole answer.
+pub(crate) fn poly_to_poly_sat_fresh(
+    a: &Poly,
+    b: &Poly,
+    anchor: Vect,
+    info: &mut CollisionInfo,
+) -> bool {
+    sat_into::<true>(a, b, anchor, info)
+}
+
+/// [`poly_to_poly_sat`]; `FRESH`: `info` is `CollisionInfo::new` of its id.
+#[inline(always)]
+fn sat_into<const FRESH: bool>(a: &Poly, b: &Poly, anchor: Vect, info: &mut CollisionInfo) -> bool {
     if a.count() < 3 || b.count() < 3 {
         return false;
     }
@@ -348,8 +369,10 @@ pub(crate) fn poly_to_poly_sat(a: &Poly, b: &Poly, anchor: Vect, info: &mut Coll
     // The contacts go straight into `info` (kept to put back if GJK must
     // decide): clipping into a local and copying it whole made the copy
     // wait on the contacts' part-by-part stores on every call.
-    let before = *info;
-    *info = CollisionInfo::new(before.warm_start_id);
+    let before = if FRESH { None } else { Some(*info) };
+    if !FRESH {
+        *info = CollisionInfo::new(info.warm_start_id);
+    }
     contact_points(&e1, &e2, &points, info);
     // The deepest contact must be as deep as the axis says (the support
     // vertex lies on the incident edge inside the reference face's slab).
@@ -363,7 +386,7 @@ pub(crate) fn poly_to_poly_sat(a: &Poly, b: &Poly, anchor: Vect, info: &mut Coll
         Some(d) if d <= expected + slack => true,
         None if expected > CONTACT_TOLERANCE - slack => true,
         _ => {
-            *info = before;
+            *info = before.unwrap_or(CollisionInfo::new(info.warm_start_id));
             false
         }
     }
