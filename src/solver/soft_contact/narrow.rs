@@ -9,12 +9,14 @@
 //! The grids (fraction bits): velocities read by a row on Q16.16 (from
 //! the bodies' velocities, which a pass keeps on 48 fraction bits so that
 //! an impulse times a gain adds to them exactly); the normal, lever arms,
-//! `I⁻¹ (r × d)`, the gains `m⁻¹·n`, the separation a bias reads and the
-//! impulses on Q8.24; effective masses, the bias rate and `1/h` on
-//! Q16.16; friction and the impulse scale on Q2.30. Sums of products are
-//! exact in 64 bits and round once, to nearest with ties away from zero,
-//! as every rounding of the engine (symmetric under negation). Between
-//! passes the accumulated impulses stay on Q8.24.
+//! `n·r` and the separation a bias reads on Q8.24; a manifold's impulses
+//! on Q(8+k).(24−k) and its gains (`m⁻¹·n`, `I⁻¹ (r × d)`) on
+//! Q(8−k).(24+k), for its impulse shift `k` (0 but in heavy piles:
+//! [`impulse_shift`]); effective masses (divided by `2^k`), the bias rate
+//! and `1/h` on Q16.16; friction and the impulse scale on Q2.30. Sums of
+//! products are exact in 64 bits and round once, to nearest with ties
+//! away from zero, as every rounding of the engine (symmetric under
+//! negation). Between passes the accumulated impulses stay on their grid.
 //!
 //! Every value the proofs bound is checked: a manifold whose constants
 //! leave their windows runs the exact kernel for the whole step, and one
@@ -22,8 +24,9 @@
 //! run again by the exact kernel from its state before that pass (as the
 //! exact wide kernels do). The windows: body velocities below 1,024 m/s
 //! (and rad/s) at a pass's start, separations a bias reads below 64 m,
-//! and each manifold's impulses below `min(32, 2^11/G)` N·s, where `G` is
-//! its largest gain (`m⁻¹` or `I⁻¹ (r × d)`, in 1/kg): then a pass
+//! and each manifold's impulses below `min(2^29, 2^59/G)` grid units, where
+//! `G` is its largest gain in grid units (for `k = 0`: `min(32, 2^11/G)`
+//! N·s, `G` in 1/kg): then a pass
 //! changes a velocity by under `2^13` m/s in all, the 48-bit velocities
 //! stay below `2^62` and every Q16.16 read fits 32 bits.
 //!
@@ -32,6 +35,7 @@
 //! ones), and every manifold that can join a batch runs in lanes (a
 //! color's last batch and the overflow color's manifolds with empty
 //! lanes), so the bits do not depend on which instructions run.
+use crate::math::exact::wide_mul;
 use crate::math::lanes::{splat, Lane, Ops, LANES};
 use crate::math::Real;
 use crate::solver::SolverBody;
@@ -43,7 +47,7 @@ use super::row::{solve_manifold, warm_start_manifold, Motion, SoftContact, SoftC
 #[derive(Clone, Copy, Debug, Default)]
 struct NarrowPoint {
     /// The normal, the lever arms across it and the tangent (`r × n`,
-    /// `r × t`), `n·r` and `I⁻¹ (r × d)`: Q8.24.
+    /// `r × t`) and `n·r` on Q8.24; `I⁻¹ (r × d)` on the gains' grid.
     n_x: Lane,
     n_y: Lane,
     rn_a: Lane,
@@ -78,7 +82,8 @@ pub(super) struct NarrowBatch {
     first: [u32; LANES],
     count: [u32; LANES],
     points_used: usize,
-    /// The gains `m⁻¹·n` of both bodies (Q8.24); the tangent's are the
+    /// The gains `m⁻¹·n` of both bodies (Q(8−k).(24+k) for each lane's
+    /// impulse shift `k`); the tangent's are the
     /// same values, swapped and one negated.
     ga_x: Lane,
     ga_y: Lane,
@@ -86,10 +91,13 @@ pub(super) struct NarrowBatch {
     gb_y: Lane,
     /// Every lane's two gains are equal (a pile of like bodies).
     same_gains: bool,
+    /// Each lane's impulse shift `k`: its impulses on Q(8+k).(24−k)
+    /// (heavy piles: [`impulse_shift`]).
+    impulse_shift: [u32; LANES],
     /// Q2.30 and Q16.16.
     impulse_scale: Lane,
     bias_rate: Lane,
-    /// The impulse window (Q8.24): a normal impulse below it, a friction
+    /// The impulse window (on the lane's impulse grid): a normal impulse below it, a friction
     /// bound at most half of it.
     limit: Lane,
     /// Lanes whose constants left their windows: the exact kernel runs
@@ -103,6 +111,7 @@ pub(super) struct NarrowBatch {
 }
 
 /// `x / 2^s` rounded to nearest, ties away from zero (`s` in `1..=63`).
+#[cfg(test)]
 fn round_bits(x: i128, s: u32) -> i128 {
     let half = 1u128.checked_shl(s.saturating_sub(1)).unwrap_or(0);
     let m = x
@@ -130,13 +139,19 @@ impl Fit {
     fn narrow(&mut self, x: i64, s: u32) -> i64 {
         let half = 1u64.wrapping_shl(s.wrapping_sub(1));
         let m = x.unsigned_abs().saturating_add(half).wrapping_shr(s);
+        self.signed_lane(m, x < 0)
+    }
+
+    /// The magnitude `m` with the sign `negative`, if below `2^31`.
+    #[inline(always)]
+    fn signed_lane(&mut self, m: u64, negative: bool) -> i64 {
         if m >> 31 != 0 {
             self.ok = false;
             return 0;
         }
         // m < 2^31: the cast and the negation are exact.
         let m = m as i64;
-        if x < 0 {
+        if negative {
             m.wrapping_neg()
         } else {
             m
@@ -144,14 +159,21 @@ impl Fit {
     }
 
     /// The product of two `Real`s' raw bits (64 fraction bits) rounded
-    /// by `s` bits, if a 32-bit lane value.
+    /// by `s` bits (in `1..=63`), if a 32-bit lane value: [`round_bits`]
+    /// of the exact product, whose magnitude (at most `2^126`) leaves
+    /// room for the half.
+    #[inline(always)]
     fn product(&mut self, a: Real, b: Real, s: u32) -> i64 {
-        let p = i128::from(a.to_bits()).saturating_mul(i128::from(b.to_bits()));
-        self.fits(round_bits(p, s))
+        let p = wide_mul(a.to_bits(), b.to_bits());
+        let half = 1u128.wrapping_shl(s.wrapping_sub(1));
+        let m = p.unsigned_abs().wrapping_add(half).wrapping_shr(s);
+        // A magnitude of 2^64 or more is outside the lane either way.
+        let m = u64::try_from(m).unwrap_or(u64::MAX);
+        self.signed_lane(m, p < 0)
     }
 
     /// `v` if its magnitude is below `2^31`.
-    #[inline(always)]
+    #[cfg(test)]
     fn fits(&mut self, v: i128) -> i64 {
         self.within(v, 31)
     }
@@ -193,14 +215,54 @@ fn impulse_limit(gain: i64) -> i64 {
         .min(LIMIT_MAX)
 }
 
-/// An impulse (`Real` bits) on Q8.24.
-fn impulse_bits(j: Real) -> i64 {
-    i64::try_from(round_bits(i128::from(j.to_bits()), 8)).unwrap_or(0)
+/// An impulse (`Real` bits) on the lane grid of impulse shift `k` (in
+/// `0..=MAX_IMPULSE_SHIFT`), Q(8+k).(24−k): [`round_bits`] by `8 + k`
+/// bits, in 64 bits (a magnitude of at most `2^63` leaves room for the
+/// half).
+#[inline(always)]
+fn impulse_bits(j: Real, k: u32) -> i64 {
+    let x = j.to_bits();
+    let s = 8u32.wrapping_add(k);
+    let half = 1u64.wrapping_shl(s.wrapping_sub(1));
+    let m = x.unsigned_abs().wrapping_add(half).wrapping_shr(s);
+    // m ≤ 2^55: the cast and the negation are exact.
+    let m = m as i64;
+    if x < 0 {
+        m.wrapping_neg()
+    } else {
+        m
+    }
 }
 
-/// A Q8.24 impulse as a `Real`.
-fn impulse_real(j: i64) -> Real {
-    Real::from_bits(j.saturating_mul(256))
+/// An impulse on the lane grid of impulse shift `k` as a `Real`.
+fn impulse_real(j: i64, k: u32) -> Real {
+    let unit = 1i64.wrapping_shl(8u32.wrapping_add(k));
+    Real::from_bits(j.saturating_mul(unit))
+}
+
+/// The largest impulse shift: impulses up to `2^7` times the window of
+/// Q8.24 (4,096 N·s), the gains `I⁻¹ (r × d)` then on Q1.31 (each at
+/// most `2^30` for a full window, so they fit).
+const MAX_IMPULSE_SHIFT: u32 = 7;
+
+/// The impulse shift of a manifold from its warm-start impulses (the
+/// largest one's complement magnitudes of the normal and the tangent
+/// ones, on Q8.24) and its largest gain `gain` (Q8.24): the least `k`
+/// whose grid holds them at half the window and the tangent at a quarter
+/// (room for the step's growth, as a pass checks them against the window
+/// and half of it: [`check_state`]); [`MAX_IMPULSE_SHIFT`] if none does.
+/// A shift gains only while the gains times `2^k` stay at most
+/// [`FULL_WINDOW_GAIN`]: past that the window in newtons·seconds is the
+/// gain's, whatever `k`.
+fn impulse_shift(jn: i64, jt: i64, gain: i64) -> u32 {
+    (0..=MAX_IMPULSE_SHIFT)
+        .find(|&k| {
+            let limit = impulse_limit(gain.saturating_mul(1i64.wrapping_shl(k)));
+            let fits =
+                |j: i64, room: u32| j.unsigned_abs().wrapping_shr(k) < (limit >> room) as u64;
+            fits(jn, 1) && fits(jt, 2)
+        })
+        .unwrap_or(MAX_IMPULSE_SHIFT)
 }
 
 /// The lanes of four manifolds' rows (`(start, end)` each; an empty lane,
@@ -216,6 +278,16 @@ pub(super) fn gather_narrow(
     batch.b = [u32::MAX; LANES];
     batch.limit = splat(LIMIT_MAX);
     let moves = |slot: u32| bodies.get(slot as usize).is_some_and(movable);
+    // A body the solver cannot move and that does not turn (the ground, a
+    // kinematic body without spin): its lever arms only ever multiply its
+    // zero angular velocity, its zero turn since the collide and its zero
+    // `I⁻¹`, so its lanes hold 0 for them, the products' exact value, and
+    // a far anchor (a large static body's) does not leave the window.
+    let still = |slot: u32| {
+        bodies
+            .get(slot as usize)
+            .is_none_or(|b| !movable(b) && b.w.is_zero() && b.w_bias.is_zero())
+    };
     for (lane, &(start, end)) in manifolds.iter().enumerate() {
         let Some(first) = rows.get(start as usize) else {
             continue;
@@ -228,94 +300,136 @@ pub(super) fn gather_narrow(
         set(&mut batch.first, lane, start);
         set(&mut batch.count, lane, count);
         batch.points_used = batch.points_used.max(count as usize).min(2);
-        let mut fit = Fit { ok: true };
-        let n = first.n;
-        // A pile's bodies often share their inverse mass, and a static
-        // body's is 0 (exact zero gains): those products are not redone.
-        let gain = |m_inv: Real, fit: &mut Fit| {
-            if m_inv.is_zero() {
-                [0, 0]
-            } else {
-                [fit.product(n.x, m_inv, 40), fit.product(n.y, m_inv, 40)]
-            }
-        };
-        let [ga_x, ga_y] = gain(first.m_inv_a, &mut fit);
-        let [gb_x, gb_y] = if first.m_inv_b == first.m_inv_a {
-            [ga_x, ga_y]
+        let points = rows.get(start as usize..end as usize).unwrap_or(&[]);
+        let still = [still(first.a), still(first.b)];
+        let (ok, gain) = gather_lane(batch, lane, (first, points), 0, still);
+        // Warm-start impulses past half the Q8.24 window: the manifold's
+        // impulses go to a coarser grid, its gains to a finer one.
+        let oc = |x: i64| x ^ (x >> 63);
+        let (jn, jt) = points.iter().fold((0i64, 0i64), |(n, t), row| {
+            let (rn, rt) = (impulse_bits(row.jn, 0), impulse_bits(row.jt, 0));
+            (n.max(oc(rn)), t.max(oc(rt)))
+        });
+        let k = if ok { impulse_shift(jn, jt, gain) } else { 0 };
+        let ok = if k > 0 {
+            gather_lane(batch, lane, (first, points), k, still).0
         } else {
-            gain(first.m_inv_b, &mut fit)
+            ok
         };
-        let gains = [ga_x, ga_y, gb_x, gb_y];
-        set(&mut batch.ga_x, lane, ga_x);
-        set(&mut batch.ga_y, lane, ga_y);
-        set(&mut batch.gb_x, lane, gb_x);
-        set(&mut batch.gb_y, lane, gb_y);
-        let soft = first.soft;
-        let impulse_scale = fit.narrow(soft.impulse_scale.to_bits(), 2);
-        set(&mut batch.impulse_scale, lane, impulse_scale);
-        // Below 2^12 /s: a bias of at most 2^58 (40 fraction bits).
-        let bias_rate = fit.narrow(soft.bias_rate.to_bits(), 16);
-        fit.within(i128::from(bias_rate), 28);
-        set(&mut batch.bias_rate, lane, bias_rate);
-        let mut gain = gains.iter().map(|g| g.saturating_abs()).max().unwrap_or(0);
-        for (point, row) in batch
-            .points
-            .iter_mut()
-            .zip(rows.get(start as usize..end as usize).unwrap_or(&[]))
-        {
-            let arm = |v: Real, fit: &mut Fit| fit.narrow(v.to_bits(), 8);
-            set(&mut point.n_x, lane, arm(row.n.x, &mut fit));
-            set(&mut point.n_y, lane, arm(row.n.y, &mut fit));
-            set(&mut point.rn_a, lane, arm(row.rn_a, &mut fit));
-            set(&mut point.rn_b, lane, arm(row.rn_b, &mut fit));
-            set(&mut point.rt_a, lane, arm(row.rt_a, &mut fit));
-            set(&mut point.rt_b, lane, arm(row.rt_b, &mut fit));
-            set(&mut point.nr_a, lane, arm(row.nr_a, &mut fit));
-            set(&mut point.nr_b, lane, arm(row.nr_b, &mut fit));
-            let ks = [row.kn_a, row.kn_b, row.kt_a, row.kt_b].map(|k| arm(k, &mut fit));
-            for k in ks {
-                gain = gain.max(k.saturating_abs());
-            }
-            let [kn_a, kn_b, kt_a, kt_b] = ks;
-            set(&mut point.kn_a, lane, kn_a);
-            set(&mut point.kn_b, lane, kn_b);
-            set(&mut point.kt_a, lane, kt_a);
-            set(&mut point.kt_b, lane, kt_b);
-            set(
-                &mut point.n_mass,
-                lane,
-                fit.narrow(row.n_mass.to_bits(), 16),
-            );
-            let soft_mass = fit.product(row.n_mass, soft.mass_scale, 48);
-            set(&mut point.n_mass_soft, lane, soft_mass);
-            set(
-                &mut point.t_mass,
-                lane,
-                fit.narrow(row.t_mass.to_bits(), 16),
-            );
-            set(
-                &mut point.friction,
-                lane,
-                fit.narrow(row.friction.to_bits(), 2),
-            );
-            // Below 2^52 raw: 2^60 on 40 fraction bits.
-            let surface = fit.within(i128::from(row.surface_t.to_bits()), 52);
-            set(&mut point.surface_t, lane, surface.wrapping_shl(8));
-            set(
-                &mut point.dist,
-                lane,
-                fit.within(i128::from(row.dist.to_bits()), 61),
-            );
-            let s = &mut point.state;
-            set(&mut s.sep, lane, row.sep.to_bits());
-            set(&mut s.jn, lane, impulse_bits(row.jn));
-            set(&mut s.jt, lane, impulse_bits(row.jt));
-            set(&mut s.max_jn, lane, impulse_bits(row.max_jn));
-        }
-        set(&mut batch.limit, lane, impulse_limit(gain));
-        set(&mut batch.exact, lane, !fit.ok);
+        set(&mut batch.exact, lane, !ok);
     }
     batch.same_gains = batch.ga_x == batch.gb_x && batch.ga_y == batch.gb_y;
+}
+
+/// One lane's values from its manifold's rows (`first` is `points[0]`)
+/// with impulse shift `k`: the impulses on Q(8+k).(24−k), the gains and
+/// `I⁻¹ (r × d)` on Q(8−k).(24+k), the effective masses divided by `2^k`
+/// on Q16.16, so that every product of an impulse keeps its grid. The
+/// lever arms of a body `still` (a and b) are 0. Returns whether every
+/// value fits its window, and the largest gain.
+#[inline(always)]
+fn gather_lane(
+    batch: &mut NarrowBatch,
+    lane: usize,
+    (first, points): (&SoftContact, &[SoftContact]),
+    k: u32,
+    [still_a, still_b]: [bool; 2],
+) -> (bool, i64) {
+    set(&mut batch.impulse_shift, lane, k);
+    let mut fit = Fit { ok: true };
+    let n = first.n;
+    // A pile's bodies often share their inverse mass, and a static
+    // body's is 0 (exact zero gains): those products are not redone.
+    let gain = |m_inv: Real, fit: &mut Fit| {
+        if m_inv.is_zero() {
+            [0, 0]
+        } else {
+            let s = 40u32.wrapping_sub(k);
+            [fit.product(n.x, m_inv, s), fit.product(n.y, m_inv, s)]
+        }
+    };
+    let [ga_x, ga_y] = gain(first.m_inv_a, &mut fit);
+    let [gb_x, gb_y] = if first.m_inv_b == first.m_inv_a {
+        [ga_x, ga_y]
+    } else {
+        gain(first.m_inv_b, &mut fit)
+    };
+    let gains = [ga_x, ga_y, gb_x, gb_y];
+    set(&mut batch.ga_x, lane, ga_x);
+    set(&mut batch.ga_y, lane, ga_y);
+    set(&mut batch.gb_x, lane, gb_x);
+    set(&mut batch.gb_y, lane, gb_y);
+    let soft = first.soft;
+    let impulse_scale = fit.narrow(soft.impulse_scale.to_bits(), 2);
+    set(&mut batch.impulse_scale, lane, impulse_scale);
+    // Below 2^12 /s: a bias of at most 2^58 (40 fraction bits).
+    let bias_rate = fit.narrow(soft.bias_rate.to_bits(), 16);
+    fit.within(i128::from(bias_rate), 28);
+    set(&mut batch.bias_rate, lane, bias_rate);
+    let mut gain = gains.iter().map(|g| g.saturating_abs()).max().unwrap_or(0);
+    let mass_shift = 16u32.wrapping_add(k);
+    for (point, row) in batch.points.iter_mut().zip(points) {
+        let arm = |v: Real, fit: &mut Fit| fit.narrow(v.to_bits(), 8);
+        set(&mut point.n_x, lane, arm(row.n.x, &mut fit));
+        set(&mut point.n_y, lane, arm(row.n.y, &mut fit));
+        let arms = |r: [Real; 3], still: bool, fit: &mut Fit| {
+            if still {
+                [0; 3]
+            } else {
+                r.map(|v| arm(v, fit))
+            }
+        };
+        let [rn_a, rt_a, nr_a] = arms([row.rn_a, row.rt_a, row.nr_a], still_a, &mut fit);
+        let [rn_b, rt_b, nr_b] = arms([row.rn_b, row.rt_b, row.nr_b], still_b, &mut fit);
+        set(&mut point.rn_a, lane, rn_a);
+        set(&mut point.rn_b, lane, rn_b);
+        set(&mut point.rt_a, lane, rt_a);
+        set(&mut point.rt_b, lane, rt_b);
+        set(&mut point.nr_a, lane, nr_a);
+        set(&mut point.nr_b, lane, nr_b);
+        let ks = [row.kn_a, row.kn_b, row.kt_a, row.kt_b]
+            .map(|v| fit.narrow(v.to_bits(), 8u32.wrapping_sub(k)));
+        for k in ks {
+            gain = gain.max(k.saturating_abs());
+        }
+        let [kn_a, kn_b, kt_a, kt_b] = ks;
+        set(&mut point.kn_a, lane, kn_a);
+        set(&mut point.kn_b, lane, kn_b);
+        set(&mut point.kt_a, lane, kt_a);
+        set(&mut point.kt_b, lane, kt_b);
+        set(
+            &mut point.n_mass,
+            lane,
+            fit.narrow(row.n_mass.to_bits(), mass_shift),
+        );
+        let soft_mass = fit.product(row.n_mass, soft.mass_scale, 48u32.wrapping_add(k));
+        set(&mut point.n_mass_soft, lane, soft_mass);
+        set(
+            &mut point.t_mass,
+            lane,
+            fit.narrow(row.t_mass.to_bits(), mass_shift),
+        );
+        set(
+            &mut point.friction,
+            lane,
+            fit.narrow(row.friction.to_bits(), 2),
+        );
+        // Below 2^52 raw: 2^60 on 40 fraction bits.
+        let surface = fit.within(i128::from(row.surface_t.to_bits()), 52);
+        set(&mut point.surface_t, lane, surface.wrapping_shl(8));
+        set(
+            &mut point.dist,
+            lane,
+            fit.within(i128::from(row.dist.to_bits()), 61),
+        );
+        let s = &mut point.state;
+        set(&mut s.sep, lane, row.sep.to_bits());
+        set(&mut s.jn, lane, impulse_bits(row.jn, k));
+        set(&mut s.jt, lane, impulse_bits(row.jt, k));
+        set(&mut s.max_jn, lane, impulse_bits(row.max_jn, k));
+    }
+    set(&mut batch.limit, lane, impulse_limit(gain));
+    (fit.ok, gain)
 }
 
 /// The batch's state back into its rows.
@@ -326,13 +440,14 @@ pub(super) fn put_narrow(batch: &NarrowBatch, rows: &mut [SoftContact]) {
         let Some(out) = rows.get_mut(start..start.saturating_add(count)) else {
             continue;
         };
+        let k = batch.impulse_shift.get(lane).copied().unwrap_or(0);
         for (row, point) in out.iter_mut().zip(&batch.points) {
             let s = &point.state;
             let at = |v: &Lane| v.get(lane).copied().unwrap_or(0);
             row.sep = Real::from_bits(at(&s.sep));
-            row.jn = impulse_real(at(&s.jn));
-            row.jt = impulse_real(at(&s.jt));
-            row.max_jn = impulse_real(at(&s.max_jn));
+            row.jn = impulse_real(at(&s.jn), k);
+            row.jt = impulse_real(at(&s.jt), k);
+            row.max_jn = impulse_real(at(&s.max_jn), k);
         }
     }
 }
@@ -432,7 +547,7 @@ impl Velocities {
     }
 }
 
-/// An impulse `j` (Q8.24) on both bodies along the gains `(g_x, g_y)`
+/// An impulse `j` (Q(8+k).(24−k)) on both bodies along the gains `(g_x, g_y)`
 /// and angular terms `k` of each: b gains, a loses.
 #[inline(always)]
 fn apply<O: Ops>(
@@ -526,8 +641,11 @@ fn warm_start_narrow<O: Ops, S: BodyStore>(
         // The first sub-step after a change of time step (rare): the
         // products of `Real`, back on the grid.
         for pt in &mut batch.points {
-            for v in pt.state.jn.iter_mut().chain(&mut pt.state.jt) {
-                *v = impulse_bits(impulse_real(*v) * dt_coef);
+            let (jn, jt) = (&mut pt.state.jn, &mut pt.state.jt);
+            for ((n, t), &k) in jn.iter_mut().zip(jt).zip(&batch.impulse_shift) {
+                for v in [n, t] {
+                    *v = impulse_bits(impulse_real(*v, k) * dt_coef, k);
+                }
             }
         }
     }
@@ -624,15 +742,16 @@ fn rerun_exact<S: BodyStore>(
             continue;
         };
         count = count.saturating_add(1);
+        let k = batch.impulse_shift.get(lane).copied().unwrap_or(0);
         let mut m = [SoftContact::default(); 2];
         for ((row, src), pt) in m.iter_mut().zip(src).zip(&batch.points) {
             let at = |v: &Lane| v.get(lane).copied().unwrap_or(0);
             let s = &pt.state;
             *row = SoftContact {
                 sep: Real::from_bits(at(&s.sep)),
-                jn: impulse_real(at(&s.jn)),
-                jt: impulse_real(at(&s.jt)),
-                max_jn: impulse_real(at(&s.max_jn)),
+                jn: impulse_real(at(&s.jn), k),
+                jt: impulse_real(at(&s.jt), k),
+                max_jn: impulse_real(at(&s.max_jn), k),
                 ..*src
             };
         }
@@ -641,9 +760,9 @@ fn rerun_exact<S: BodyStore>(
         for (row, pt) in m.iter().zip(&mut batch.points) {
             let s = &mut pt.state;
             set(&mut s.sep, lane, row.sep.to_bits());
-            set(&mut s.jn, lane, impulse_bits(row.jn));
-            set(&mut s.jt, lane, impulse_bits(row.jt));
-            set(&mut s.max_jn, lane, impulse_bits(row.max_jn));
+            set(&mut s.jn, lane, impulse_bits(row.jn, k));
+            set(&mut s.jt, lane, impulse_bits(row.jt, k));
+            set(&mut s.max_jn, lane, impulse_bits(row.max_jn, k));
         }
     }
     count
@@ -890,9 +1009,27 @@ mod tests {
         manifolds: [(u32, u32); LANES],
         pass: Option<bool>,
     ) -> (Vec<SoftContact>, Vec<SolverBody>, usize) {
+        run_shifted(ops, (rows, bodies, motion, p), manifolds, pass, None)
+    }
+
+    /// [`run`], every lane regathered with impulse shift `shift` if given.
+    fn run_shifted<O: Ops>(
+        ops: O,
+        (rows, bodies, motion, p): (&[SoftContact], &[SolverBody], &[Motion], &SoftContactParams),
+        manifolds: [(u32, u32); LANES],
+        pass: Option<bool>,
+        shift: Option<u32>,
+    ) -> (Vec<SoftContact>, Vec<SolverBody>, usize) {
         let (mut rows, mut bodies) = (rows.to_vec(), bodies.to_vec());
         let mut batch = NarrowBatch::default();
         gather_narrow(&mut batch, manifolds, &rows, &bodies);
+        if let Some(k) = shift {
+            for (lane, &(start, end)) in manifolds.iter().enumerate() {
+                let points = &rows[start as usize..end as usize];
+                let still = [false; 2];
+                assert!(gather_lane(&mut batch, lane, (&points[0], points), k, still).0);
+            }
+        }
         let mut store = InPlace(&mut bodies);
         let (inputs, constants) = ((rows.as_slice(), motion), uniform(p));
         let left = match pass {
@@ -942,6 +1079,32 @@ mod tests {
                 .unwrap_or(LIMIT_MAX)
                 .min(LIMIT_MAX);
             assert_eq!(impulse_limit(gain), want, "gain {gain}");
+        }
+    }
+
+    /// A raw value of any magnitude: uniform bits shifted right by 0 to 63,
+    /// so that small values (the lane windows) and the extremes are drawn.
+    fn any_raw() -> impl Strategy<Value = i64> {
+        prop_oneof![
+            (any::<i64>(), 0u32..64).prop_map(|(v, k)| v >> k),
+            prop::sample::select(vec![i64::MIN, i64::MIN + 1, i64::MAX, -1, 0, 1]),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(5_000))]
+        /// The gather's 64-bit roundings give [`round_bits`]' answers and
+        /// windows: an impulse on Q8.24, and a product rounded by `s` bits
+        /// (lane value, or out of its window).
+        #[test]
+        fn gather_roundings_are_round_bits(x in any_raw(), a in any_raw(), b in any_raw(), s in 1u32..64) {
+            let want = i64::try_from(round_bits(i128::from(x), 8)).unwrap();
+            prop_assert_eq!(impulse_bits(Real::from_bits(x), 0), want);
+            let (mut got, mut reference) = (Fit { ok: true }, Fit { ok: true });
+            let product = got.product(Real::from_bits(a), Real::from_bits(b), s);
+            let exact = i128::from(a) * i128::from(b);
+            let want = reference.fits(round_bits(exact, s));
+            prop_assert_eq!((product, got.ok), (want, reference.ok));
         }
     }
 
@@ -1025,9 +1188,9 @@ mod tests {
             assert_eq!(left, LANES);
             let (mut e_rows, mut e_bodies) = (rows.clone(), bodies.clone());
             for r in &mut e_rows {
-                r.jn = impulse_real(impulse_bits(r.jn));
-                r.jt = impulse_real(impulse_bits(r.jt));
-                r.max_jn = impulse_real(impulse_bits(r.max_jn));
+                r.jn = impulse_real(impulse_bits(r.jn, 0), 0);
+                r.jt = impulse_real(impulse_bits(r.jt, 0), 0);
+                r.max_jn = impulse_real(impulse_bits(r.max_jn, 0), 0);
             }
             for &(start, end) in &manifolds {
                 let m = &mut e_rows[start as usize..end as usize];
@@ -1036,13 +1199,107 @@ mod tests {
                     Some(bias) => solve_manifold(m, copy, &motion, &p, bias),
                 });
                 for r in m.iter_mut() {
-                    r.jn = impulse_real(impulse_bits(r.jn));
-                    r.jt = impulse_real(impulse_bits(r.jt));
-                    r.max_jn = impulse_real(impulse_bits(r.max_jn));
+                    r.jn = impulse_real(impulse_bits(r.jn, 0), 0);
+                    r.jt = impulse_real(impulse_bits(r.jt, 0), 0);
+                    r.max_jn = impulse_real(impulse_bits(r.max_jn, 0), 0);
                 }
             }
             assert_eq!(n_rows, e_rows, "{pass:?}");
             assert_eq!(n_bodies, e_bodies, "{pass:?}");
+        }
+    }
+
+    /// A heavy pile's warm-start impulses (100 N·s, past Q8.24's 32 N·s)
+    /// put the manifold on a coarser impulse grid instead of the exact
+    /// kernel: the least shift that holds them at half the window, and no
+    /// lane left to the exact kernel in any pass. On impulses that fit
+    /// Q8.24 (10 N·s), the coarser grid moves no velocity by more than a
+    /// step of the Q16.16 grid the passes read velocities on.
+    #[test]
+    fn heavy_impulses_take_a_coarser_grid() {
+        let vals: Vec<i64> = (1..200i64)
+            .map(|k| k.wrapping_mul(0x9e37_79b9_7f4a_7c15_u64 as i64) >> 35)
+            .collect();
+        let (mut rows, manifolds, bodies, motion, mut p) = case(vals, [true; LANES], true, false);
+        scene_params(&mut p);
+        let passes = [None, Some(true), Some(false)];
+        for r in &mut rows {
+            (r.jn, r.jt) = (Real::from_int(100), Real::from_int(-20));
+        }
+        let mut batch = NarrowBatch::default();
+        gather_narrow(&mut batch, manifolds, &rows, &bodies);
+        assert_eq!(batch.exact, [false; LANES]);
+        // 100 / 2^3 is below 16 N·s, half the window; 100 / 2^2 is not.
+        assert_eq!(batch.impulse_shift, [3; LANES]);
+        for pass in passes {
+            let input = (rows.as_slice(), bodies.as_slice(), &motion[..], &p);
+            assert_eq!(run(Portable, input, manifolds, pass).2, 0, "{pass:?}");
+        }
+        for r in &mut rows {
+            (r.jn, r.jt) = (Real::from_int(10), Real::from_int(-2));
+        }
+        let step = Real::from_bits(1 << 16);
+        for pass in passes {
+            let input = (rows.as_slice(), bodies.as_slice(), &motion[..], &p);
+            let (_, fine, left) = run_shifted(Portable, input, manifolds, pass, None);
+            let (_, coarse, left_coarse) = run_shifted(Portable, input, manifolds, pass, Some(3));
+            assert_eq!((left, left_coarse), (0, 0), "{pass:?}");
+            for (f, c) in fine.iter().zip(&coarse) {
+                for d in [f.v.x - c.v.x, f.v.y - c.v.y, f.w - c.w] {
+                    assert!(d.abs() <= step, "{pass:?}: {d:?}");
+                }
+            }
+        }
+    }
+
+    /// The lever arms of a body that neither moves under the solver nor
+    /// turns (the ground) only multiply zeros: a far anchor (200 m, past
+    /// the 128 m window) keeps the manifold in lanes, with the bits of a
+    /// near one. The same anchor on a spinning kinematic body leaves the
+    /// window: that manifold runs the exact kernel.
+    #[test]
+    fn a_still_body_s_far_arms_stay_in_lanes() {
+        let vals: Vec<i64> = (1..200i64)
+            .map(|k| k.wrapping_mul(0x9e37_79b9_7f4a_7c15_u64 as i64) >> 35)
+            .collect();
+        let (rows, manifolds, mut bodies, mut motion, mut p) =
+            case(vals, [true; LANES], true, false);
+        scene_params(&mut p);
+        for lane in 0..LANES {
+            bodies[2 * lane] = SolverBody::default();
+            motion[2 * lane].dq_c1 = Real::ZERO;
+            motion[2 * lane].dq_s = Real::ZERO;
+        }
+        let anchored = |arm: i32| {
+            let mut rows = rows.clone();
+            for r in &mut rows {
+                r.m_inv_a = Real::ZERO;
+                (r.kn_a, r.kt_a) = (Real::ZERO, Real::ZERO);
+                (r.rn_a, r.rt_a, r.nr_a) = (
+                    Real::from_int(arm),
+                    Real::from_int(-arm),
+                    Real::from_int(arm),
+                );
+            }
+            rows
+        };
+        let (far, near) = (anchored(200), anchored(3));
+        for pass in [None, Some(true), Some(false)] {
+            let run_on = |rows: &[SoftContact], bodies: &[SolverBody]| {
+                run(Portable, (rows, bodies, &motion[..], &p), manifolds, pass)
+            };
+            let (far_rows, far_bodies, left) = run_on(&far, &bodies);
+            let (near_rows, near_bodies, _) = run_on(&near, &bodies);
+            assert_eq!(left, 0, "{pass:?}");
+            assert_eq!(far_bodies, near_bodies, "{pass:?}");
+            let impulses =
+                |rows: &[SoftContact]| rows.iter().map(|r| (r.jn, r.jt)).collect::<Vec<_>>();
+            assert_eq!(impulses(&far_rows), impulses(&near_rows), "{pass:?}");
+            let mut spinning = bodies.clone();
+            for lane in 0..LANES {
+                spinning[2 * lane].w = Real::ONE;
+            }
+            assert_eq!(run_on(&far, &spinning).2, LANES, "{pass:?}");
         }
     }
 
