@@ -180,7 +180,7 @@ def main():
     ap.add_argument("--every", type=int, default=10, help="measure the overlap every K steps [10]")
     ap.add_argument("--json", action="store_true", help="one JSON object instead of lines")
     ap.add_argument("--ours", metavar="TAMIAS", help="also run `TAMIAS run SCENE --threads 1`")
-    ap.add_argument("--solver", choices=["sequential", "soft"],
+    ap.add_argument("--solver", choices=["sequential", "soft", "soft-narrow"],
                     help="our solver (`tamias run --solver`) [default: the scene's]")
     ap.add_argument("--table", metavar="JSONL", help="print the markdown table of --json lines")
     args = ap.parse_args()

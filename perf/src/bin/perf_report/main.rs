@@ -25,7 +25,11 @@
 //! `--skip-sleep` the sleeping table; `--only side|joints|sleep|sweep` runs
 //! that part alone (`side` is sections A–C) and rewrites only its sections
 //! of `performance.md` (the machine table belongs to `side` and `sweep`;
-//! the joint and sleeping sections carry their own).
+//! the joint and sleeping sections carry their own). `--soft-narrow` runs
+//! the side-by-side with Tamias2D on the narrow soft step (its own four
+//! sub-steps) and Rapier at four iterations (its sub-steps), the setting
+//! the Box2D comparison uses; its figures are printed (give it an `--out`
+//! of its own: the generated tables are the default solver's).
 #![allow(clippy::float_arithmetic)] // measurement and reports only
 
 use tamias2d_scenes::bench as common;
@@ -50,6 +54,7 @@ pub struct Options {
     sleep: bool,
     scenes: Option<Vec<String>>,
     substeps: bool,
+    soft_narrow: bool,
 }
 
 fn parse_args() -> Result<Options, String> {
@@ -62,12 +67,14 @@ fn parse_args() -> Result<Options, String> {
         sleep: true,
         scenes: None,
         substeps: true,
+        soft_narrow: false,
     };
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         match a.as_str() {
             "--out" => o.out = args.next().ok_or("--out needs a directory")?.into(),
             "--quick" => o.quick = true,
+            "--soft-narrow" => o.soft_narrow = true,
             "--skip-side" => o.side = false,
             "--skip-sweep" => o.sweep = false,
             "--skip-substeps" => o.substeps = false,
@@ -95,7 +102,7 @@ fn parse_args() -> Result<Options, String> {
                 return Err("usage: perf_report [--out DIR] [--quick] [--skip-side] \
                             [--skip-sweep] [--skip-substeps] [--skip-joints] \
                             [--skip-sleep] [--only side|joints|sleep|sweep] \
-                            [--scenes a,b,…]"
+                            [--scenes a,b,…] [--soft-narrow]"
                     .to_owned())
             }
             other => return Err(format!("unknown argument {other:?} (try --help)")),
@@ -129,7 +136,11 @@ fn main() -> ExitCode {
             scenes.extend(common::full_scenes());
         }
         for name in scenes.into_iter().filter(keep) {
-            let row = side::run(name);
+            let row = if opts.soft_narrow {
+                side::run_soft_narrow(name)
+            } else {
+                side::run(name)
+            };
             eprintln!(
                 "[{:>5.0} s] {name:<20} Tamias2D {:>8.3} ms  Rapier {:>8.3} ms  ratio {:.2}",
                 started.elapsed().as_secs_f64(),

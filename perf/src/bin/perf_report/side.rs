@@ -81,8 +81,24 @@ pub fn run_joints(name: &str) -> SideRow {
     run_with(name, common::scene_config(name))
 }
 
+/// Runs scene `name` with Tamias2D on the narrow soft step (four
+/// sub-steps of its own, one pipeline step) and Rapier at four iterations,
+/// which are its sub-steps: both engines at four soft sub-steps.
+pub fn run_soft_narrow(name: &str) -> SideRow {
+    let config = Config {
+        iterations: 4,
+        ..Config::DEFAULT
+    };
+    let mut desc = common::scene_with(name, config);
+    desc.settings.use_narrow_soft_step();
+    run_desc(name, desc, config)
+}
+
 fn run_with(name: &str, config: Config) -> SideRow {
-    let desc = common::scene_with(name, config);
+    run_desc(name, common::scene_with(name, config), config)
+}
+
+fn run_desc(name: &str, desc: tamias2d_scenes::SceneDesc, config: Config) -> SideRow {
     let resolved: Vec<Resolved> = joints::resolve(&desc);
     let steps = desc.steps;
     // The joint scenes move throughout (falls, swings, a drive): their
