@@ -167,9 +167,17 @@ impl Fit {
         let p = wide_mul(a.to_bits(), b.to_bits());
         let half = 1u128.wrapping_shl(s.wrapping_sub(1));
         let m = p.unsigned_abs().wrapping_add(half).wrapping_shr(s);
-        // A magnitude of 2^64 or more is outside the lane either way.
-        let m = u64::try_from(m).unwrap_or(u64::MAX);
-        self.signed_lane(m, p < 0)
+        if m >> 31 != 0 {
+            self.ok = false;
+            return 0;
+        }
+        // m < 2^31: the cast and the negation are exact.
+        let m = m as i64;
+        if p < 0 {
+            m.wrapping_neg()
+        } else {
+            m
+        }
     }
 
     /// `v` if its magnitude is below `2^31`.
@@ -277,56 +285,70 @@ pub(super) fn gather_narrow(
     batch.a = [u32::MAX; LANES];
     batch.b = [u32::MAX; LANES];
     batch.limit = splat(LIMIT_MAX);
-    let moves = |slot: u32| bodies.get(slot as usize).is_some_and(movable);
-    // A body the solver cannot move and that does not turn (the ground, a
-    // kinematic body without spin): its lever arms only ever multiply its
-    // zero angular velocity, its zero turn since the collide and its zero
-    // `I⁻¹`, so its lanes hold 0 for them, the products' exact value, and
-    // a far anchor (a large static body's) does not leave the window.
-    let still = |slot: u32| {
-        bodies
-            .get(slot as usize)
-            .is_none_or(|b| !movable(b) && b.w.is_zero() && b.w_bias.is_zero())
+    // Whether a body moves under the solver, and whether it is still: it
+    // cannot move and does not turn (the ground, a kinematic body without
+    // spin). A still body's lever arms only ever multiply its zero angular
+    // velocity, its zero turn since the collide and its zero `I⁻¹`, so its
+    // lanes hold 0 for them, the products' exact value, and a far anchor
+    // (a large static body's) does not leave the window.
+    let motion = |slot: u32| match bodies.get(slot as usize) {
+        Some(b) if movable(b) => (true, false),
+        Some(b) => (false, b.w.is_zero() && b.w_bias.is_zero()),
+        None => (false, true),
     };
     for (lane, &(start, end)) in manifolds.iter().enumerate() {
         let Some(first) = rows.get(start as usize) else {
             continue;
         };
         let count = end.wrapping_sub(start);
+        let ((moves_a, still_a), (moves_b, still_b)) = (motion(first.a), motion(first.b));
         set(&mut batch.a, lane, first.a);
         set(&mut batch.b, lane, first.b);
-        set(&mut batch.moves_a, lane, moves(first.a));
-        set(&mut batch.moves_b, lane, moves(first.b));
+        set(&mut batch.moves_a, lane, moves_a);
+        set(&mut batch.moves_b, lane, moves_b);
         set(&mut batch.first, lane, start);
         set(&mut batch.count, lane, count);
         batch.points_used = batch.points_used.max(count as usize).min(2);
         let points = rows.get(start as usize..end as usize).unwrap_or(&[]);
-        let still = [still(first.a), still(first.b)];
-        let (ok, gain) = gather_lane(batch, lane, (first, points), 0, still);
+        let still = [still_a, still_b];
+        let lane_fit = gather_lane(batch, lane, (first, points), 0, still);
         // Warm-start impulses past half the Q8.24 window: the manifold's
         // impulses go to a coarser grid, its gains to a finer one.
-        let oc = |x: i64| x ^ (x >> 63);
-        let (jn, jt) = points.iter().fold((0i64, 0i64), |(n, t), row| {
-            let (rn, rt) = (impulse_bits(row.jn, 0), impulse_bits(row.jt, 0));
-            (n.max(oc(rn)), t.max(oc(rt)))
-        });
-        let k = if ok { impulse_shift(jn, jt, gain) } else { 0 };
-        let ok = if k > 0 {
-            gather_lane(batch, lane, (first, points), k, still).0
-        } else {
-            ok
+        let ok = match lane_fit {
+            LaneFit::Heavy { gain, jn, jt } => {
+                let k = impulse_shift(jn, jt, gain);
+                !matches!(
+                    gather_lane(batch, lane, (first, points), k, still),
+                    LaneFit::Out
+                )
+            }
+            LaneFit::Fits => true,
+            LaneFit::Out => false,
         };
         set(&mut batch.exact, lane, !ok);
     }
     batch.same_gains = batch.ga_x == batch.gb_x && batch.ga_y == batch.gb_y;
 }
 
+/// What [`gather_lane`] found of a lane's values.
+enum LaneFit {
+    /// Every value in its window, the warm-start impulses within half of
+    /// it (the tangent one within a quarter).
+    Fits,
+    /// Every value in its window but the warm-start impulses, which are
+    /// past half of it: the largest gain and the largest one's complement
+    /// magnitudes of the normal and the tangent impulses, on their grids
+    /// ([`impulse_shift`]'s inputs).
+    Heavy { gain: i64, jn: i64, jt: i64 },
+    /// A constant out of its window: the exact kernel's lane.
+    Out,
+}
+
 /// One lane's values from its manifold's rows (`first` is `points[0]`)
 /// with impulse shift `k`: the impulses on Q(8+k).(24−k), the gains and
 /// `I⁻¹ (r × d)` on Q(8−k).(24+k), the effective masses divided by `2^k`
 /// on Q16.16, so that every product of an impulse keeps its grid. The
-/// lever arms of a body `still` (a and b) are 0. Returns whether every
-/// value fits its window, and the largest gain.
+/// lever arms of a body `still` (a and b) are 0.
 #[inline(always)]
 fn gather_lane(
     batch: &mut NarrowBatch,
@@ -334,7 +356,7 @@ fn gather_lane(
     (first, points): (&SoftContact, &[SoftContact]),
     k: u32,
     [still_a, still_b]: [bool; 2],
-) -> (bool, i64) {
+) -> LaneFit {
     set(&mut batch.impulse_shift, lane, k);
     let mut fit = Fit { ok: true };
     let n = first.n;
@@ -368,6 +390,7 @@ fn gather_lane(
     set(&mut batch.bias_rate, lane, bias_rate);
     let mut gain = gains.iter().map(|g| g.saturating_abs()).max().unwrap_or(0);
     let mass_shift = 16u32.wrapping_add(k);
+    let (mut jn_max, mut jt_max) = (0i64, 0i64);
     for (point, row) in batch.points.iter_mut().zip(points) {
         let arm = |v: Real, fit: &mut Fit| fit.narrow(v.to_bits(), 8);
         set(&mut point.n_x, lane, arm(row.n.x, &mut fit));
@@ -423,13 +446,27 @@ fn gather_lane(
             fit.within(i128::from(row.dist.to_bits()), 61),
         );
         let s = &mut point.state;
+        let (jn, jt) = (impulse_bits(row.jn, k), impulse_bits(row.jt, k));
+        let oc = |x: i64| x ^ (x >> 63);
+        (jn_max, jt_max) = (jn_max.max(oc(jn)), jt_max.max(oc(jt)));
         set(&mut s.sep, lane, row.sep.to_bits());
-        set(&mut s.jn, lane, impulse_bits(row.jn, k));
-        set(&mut s.jt, lane, impulse_bits(row.jt, k));
+        set(&mut s.jn, lane, jn);
+        set(&mut s.jt, lane, jt);
         set(&mut s.max_jn, lane, impulse_bits(row.max_jn, k));
     }
-    set(&mut batch.limit, lane, impulse_limit(gain));
-    (fit.ok, gain)
+    let limit = impulse_limit(gain);
+    set(&mut batch.limit, lane, limit);
+    if !fit.ok {
+        LaneFit::Out
+    } else if jn_max < limit >> 1 && jt_max < limit >> 2 {
+        LaneFit::Fits
+    } else {
+        LaneFit::Heavy {
+            gain,
+            jn: jn_max,
+            jt: jt_max,
+        }
+    }
 }
 
 /// The batch's state back into its rows.
@@ -1027,7 +1064,8 @@ mod tests {
             for (lane, &(start, end)) in manifolds.iter().enumerate() {
                 let points = &rows[start as usize..end as usize];
                 let still = [false; 2];
-                assert!(gather_lane(&mut batch, lane, (&points[0], points), k, still).0);
+                let fit = gather_lane(&mut batch, lane, (&points[0], points), k, still);
+                assert!(!matches!(fit, LaneFit::Out));
             }
         }
         let mut store = InPlace(&mut bodies);
