@@ -19,7 +19,8 @@
 //!   equals the native golden (compared here, not trusted from the page)
 //!   and the lockstep peers agreed on every confirmed frame.
 //!   It prints the browser's frame time of `pyramid_20` and
-//!   `bowl_boxes_500` on sequential impulses and on the soft step (mean
+//!   `bowl_boxes_500` on sequential impulses, on the soft step and on the
+//!   soft step with the narrow contact kernels (mean
 //!   over the first 300 steps from the build), in both modules, beside
 //!   this native build's, measured the same way in this process (an
 //!   optimised `tamias` only).
@@ -432,12 +433,8 @@ fn frame_times(body: &str) -> Result<(), String> {
     let module = report["module"].as_str().unwrap_or("?");
     let other = report["fallback"]["module"].as_str().unwrap_or("?");
     for name in ["pyramid_20", "bowl_boxes_500"] {
-        for soft in [false, true] {
-            let key = if soft {
-                format!("{name} soft")
-            } else {
-                name.to_owned()
-            };
+        for solver in [PageSolver::Sequential, PageSolver::Soft, PageSolver::Narrow] {
+            let key = format!("{name}{}", solver.suffix());
             let browser = report["timings"][&key].as_f64();
             let fallback = report["fallback"]["timings"][&key]
                 .as_f64()
@@ -453,7 +450,7 @@ fn frame_times(body: &str) -> Result<(), String> {
                 );
                 continue;
             }
-            let native = native_frame_time(name, soft)?;
+            let native = native_frame_time(name, solver)?;
             println!(
                 "frame time {key}: browser wasm {module} {b:.3} ms/step{fallback}, native \
                  {native:.3} ms/step, ratio {:.2}",
@@ -465,19 +462,42 @@ fn frame_times(body: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// The page's solver switch, as its frame times name them.
+#[derive(Clone, Copy)]
+enum PageSolver {
+    /// Sequential impulses, the scene's own settings.
+    Sequential,
+    /// The soft step scaled to the scene's gravity.
+    Soft,
+    /// That soft step on the narrow contact kernels.
+    Narrow,
+}
+
+impl PageSolver {
+    /// The suffix of the page's timing key.
+    fn suffix(self) -> &'static str {
+        match self {
+            PageSolver::Sequential => "",
+            PageSolver::Soft => " soft",
+            PageSolver::Narrow => " soft narrow",
+        }
+    }
+}
+
 /// This build's mean ms per step of `name` over its first 300 steps from
-/// the build, on sequential impulses or the soft step (`soft`, scaled to
-/// the scene's gravity, as the page's solver switch), measured as the page
-/// does.
-fn native_frame_time(name: &str, soft: bool) -> Result<f64, String> {
+/// the build, on `solver` (set as the page's solver switch sets it),
+/// measured as the page does.
+fn native_frame_time(name: &str, solver: PageSolver) -> Result<f64, String> {
     let desc = tamias2d_scenes::builtin(name).ok_or_else(|| format!("no scene {name}"))?;
     let mut world = desc.build().map_err(|e| format!("{name}: {e}"))?;
-    if soft {
+    if let PageSolver::Soft | PageSolver::Narrow = solver {
         let space = &mut world.space;
+        let mut soft = tamias2d_scenes::soft_step_for(space.settings().gravity);
+        if let PageSolver::Narrow = solver {
+            soft.contact_precision = tamias2d::space::ContactPrecision::Narrow;
+        }
         let settings = tamias2d::space::Settings {
-            solver: tamias2d::space::Solver::Soft(tamias2d_scenes::soft_step_for(
-                space.settings().gravity,
-            )),
+            solver: tamias2d::space::Solver::Soft(soft),
             ..*space.settings()
         };
         space.set_settings(settings).map_err(|e| e.to_string())?;

@@ -184,7 +184,7 @@ pub extern "C" fn tamias_play_status() -> i32 {
                 "steps": p.world.steps_taken(),
                 "bodies": p.world.space.bodies().count(),
                 "checksum": format!("{:#018x}", p.world.space.checksum()),
-                "solver": if p.world.space.settings().solver.is_soft() { "soft" } else { "sequential" },
+                "solver": solver_name(&p.world.space.settings().solver),
                 "dragging": p.dragging(),
             })
             .to_string()
@@ -194,19 +194,38 @@ pub extern "C" fn tamias_play_status() -> i32 {
     })
 }
 
-/// Switches the playground's solver: the soft step (scaled to the
-/// scene's gravity) if `soft` is non-zero, sequential impulses otherwise.
+/// The status's name of a solver: `sequential`, `soft` or `soft narrow`.
+fn solver_name(solver: &tamias2d::space::Solver) -> &'static str {
+    match solver {
+        tamias2d::space::Solver::Soft(soft)
+            if soft.contact_precision == tamias2d::space::ContactPrecision::Narrow =>
+        {
+            "soft narrow"
+        }
+        tamias2d::space::Solver::Soft(_) => "soft",
+        _ => "sequential",
+    }
+}
+
+/// Switches the playground's solver: sequential impulses (`mode` 0), the
+/// soft step scaled to the scene's gravity (1), or that soft step on the
+/// narrow contact kernels (2, `ContactPrecision::Narrow`); any other
+/// mode is an error.
 #[no_mangle]
-pub extern "C" fn tamias_play_solver(soft: u32) -> i32 {
+pub extern "C" fn tamias_play_solver(mode: u32) -> i32 {
     with(|s| {
         let r = s.play().and_then(|p| {
             let space = &mut p.world.space;
-            let solver = if soft == 0 {
-                tamias2d::space::Solver::Sequential
-            } else {
-                tamias2d::space::Solver::Soft(tamias2d_scenes::soft_step_for(
-                    space.settings().gravity,
-                ))
+            let solver = match mode {
+                0 => tamias2d::space::Solver::Sequential,
+                1 | 2 => {
+                    let mut soft = tamias2d_scenes::soft_step_for(space.settings().gravity);
+                    if mode == 2 {
+                        soft.contact_precision = tamias2d::space::ContactPrecision::Narrow;
+                    }
+                    tamias2d::space::Solver::Soft(soft)
+                }
+                _ => return Err(format!("solver mode {mode}: 0, 1 or 2 expected")),
             };
             let settings = tamias2d::space::Settings {
                 solver,
@@ -437,6 +456,12 @@ mod tests {
         assert_eq!(tamias_play_step(2), 0);
         assert!(tamias_play_status() > 0);
         assert!(out().contains("\"solver\":\"soft\""), "{}", out());
+        assert_eq!(tamias_play_solver(2), 0);
+        assert_eq!(tamias_play_step(2), 0);
+        assert!(tamias_play_status() > 0);
+        assert!(out().contains("\"solver\":\"soft narrow\""), "{}", out());
+        assert_eq!(tamias_play_solver(3), -1);
+        assert!(out().contains("solver mode 3"), "{}", out());
         assert_eq!(tamias_play_solver(0), 0);
         assert_eq!(tamias_drop(1, 0.0, 50.0), 0);
         assert_eq!(tamias_drop(0, f64::NAN, 50.0), -1);

@@ -119,7 +119,7 @@ for (const [i, s] of catalog.entries()) {
 function loadScene(index) {
   play.index = index; play.times = [];
   engine.playBuiltin(index);
-  engine.setSolver($('solver').value === 'soft');
+  engine.setSolver($('solver').value);
   $('scene').value = index;
   view.fit(engine.drawPlay(false));
   $('load').disabled = true; $('snapshot').textContent = '–';
@@ -148,7 +148,7 @@ const guard = (f) => (...args) => {
 };
 
 $('scene').onchange = (e) => loadScene(Number(e.target.value));
-$('solver').onchange = guard((e) => engine.setSolver(e.target.value === 'soft'));
+$('solver').onchange = guard((e) => engine.setSolver(e.target.value));
 $('scenefile').onchange = guard(async (e) => {
   const file = e.target.files[0];
   if (!file) return;
@@ -263,22 +263,24 @@ for (const c of ['peerA', 'peerB']) {
 // ------------------------------------------------------- the browser test --
 
 /** Mean ms per step of a built-in scene over its first 300 steps from the
- * build (5 s of play: falling, piling, settling), on sequential impulses
- * or the soft step, as `tamias web --check` measures natively. */
-function frameTime(eng, name, soft) {
+ * build (5 s of play: falling, piling, settling), on `solver` (as
+ * `setSolver` takes it), as `tamias web --check` measures natively. */
+function frameTime(eng, name, solver) {
   eng.playBuiltin(indexOf(name));
-  eng.setSolver(soft);
+  eng.setSolver(solver);
   const t0 = performance.now();
   eng.step(300);
   return (performance.now() - t0) / 300;
 }
 
-/** The frame times of one build: `{"pyramid_20": ms, "pyramid_20 soft": ms, …}`. */
+/** The frame times of one build:
+ * `{"pyramid_20": ms, "pyramid_20 soft": ms, "pyramid_20 soft narrow": ms, …}`. */
 function frameTimes(eng) {
   const timings = {};
   for (const name of ['pyramid_20', 'bowl_boxes_500']) {
-    timings[name] = frameTime(eng, name, false);
-    timings[`${name} soft`] = frameTime(eng, name, true);
+    timings[name] = frameTime(eng, name, 'sequential');
+    timings[`${name} soft`] = frameTime(eng, name, 'soft');
+    timings[`${name} soft narrow`] = frameTime(eng, name, 'narrow');
   }
   return timings;
 }

@@ -20,6 +20,9 @@ const SIMD_PROBE = new Uint8Array([
 ]);
 
 /** The two builds of the engine: the same bits, different speed. */
+/** The playground's solvers, in the order of `tamias_play_solver`'s modes. */
+const SOLVERS = ['sequential', 'soft', 'narrow'];
+
 export const MODULES = {
   simd128: 'tamias2d_web_simd128.wasm',
   scalar: 'tamias2d_web.wasm',
@@ -89,8 +92,9 @@ export class Tamias {
     this.ok(this.x.tamias_play_json());
   }
   step(n = 1) { this.ok(this.x.tamias_play_step(n)); }
-  /** The soft step (true) or sequential impulses (false) for the playground. */
-  setSolver(soft) { this.ok(this.x.tamias_play_solver(soft ? 1 : 0)); }
+  /** The playground's solver: `'sequential'`, `'soft'` (the soft step) or
+   * `'narrow'` (the soft step on the narrow contact kernels). */
+  setSolver(name) { this.ok(this.x.tamias_play_solver(SOLVERS.indexOf(name))); }
   /** `{name, steps, bodies, checksum, dragging}`. */
   status() { return this.json(this.x.tamias_play_status()); }
   drawPlay(contacts) { return this.drawList(this.x.tamias_play_draw(contacts ? 1 : 0)); }
