@@ -24,9 +24,13 @@
 //! only that, never a bit).
 //!
 //! The arithmetic is written once over [`Ops`], the lane operations it is
-//! built from: [`Portable`] in plain Rust, and `tamias2d_simd::Avx2`, one
+//! built from: [`Portable`] in plain Rust, `tamias2d_simd::Avx2`, one
 //! AVX2 instruction each (left to itself, the compiler's vectoriser turns
-//! some lane products back into scalar ones). Both give the same bits.
+//! some lane products back into scalar ones), and, in a wasm build with
+//! `simd128`, `Wasm128`, one or two `i64x2` instructions each. All give
+//! the same bits (integer operations; the AVX2 ones are proptested
+//! against the portable ones, the `simd128` ones are checked by the
+//! browser test's narrow goldens, which run in them).
 //! Code the AVX2 kernel runs calls lane operations only from functions
 //! marked `#[inline(always)]`, never from a closure: a closure is not
 //! always inlined into the kernel, and outside it each AVX2 operation is
@@ -58,6 +62,10 @@ pub(crate) const fn splat(x: i64) -> Lane {
 
 /// `f` lane by lane on two groups.
 #[inline(always)]
+#[cfg_attr(
+    all(target_arch = "wasm32", target_feature = "simd128", not(test)),
+    allow(dead_code, reason = "the simd128 build's passes run `Wasm128`")
+)]
 fn zip(a: Lane, b: Lane, f: impl Fn(i64, i64) -> i64) -> Lane {
     let mut out = a;
     for (o, &y) in out.iter_mut().zip(&b) {
@@ -138,6 +146,10 @@ pub(crate) trait Ops: Copy {
 
 /// [`Ops`] in plain Rust.
 #[derive(Clone, Copy, Debug, Default)]
+#[cfg_attr(
+    all(target_arch = "wasm32", target_feature = "simd128", not(test)),
+    allow(dead_code, reason = "the simd128 build's passes run `Wasm128`")
+)]
 pub(crate) struct Portable;
 
 impl Ops for Portable {
@@ -171,27 +183,13 @@ impl Ops for Portable {
     }
     #[inline(always)]
     fn mul_lo32(self, a: Lane, b: Lane) -> Lane {
-        #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
-        {
-            wasm_simd::mul_lo32(a, b)
-        }
-        #[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
-        {
-            zip(a, b, |x, y| (x & LOW).wrapping_mul(y & LOW))
-        }
+        zip(a, b, |x, y| (x & LOW).wrapping_mul(y & LOW))
     }
     #[inline(always)]
     fn mul_i32(self, a: Lane, b: Lane) -> Lane {
-        #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
-        {
-            wasm_simd::mul_i32(a, b)
-        }
-        #[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
-        {
-            zip(a, b, |x, y| {
-                i64::from(x as i32).wrapping_mul(i64::from(y as i32))
-            })
-        }
+        zip(a, b, |x, y| {
+            i64::from(x as i32).wrapping_mul(i64::from(y as i32))
+        })
     }
     #[inline(always)]
     fn shr_n<const N: i32>(self, a: Lane) -> Lane {
@@ -219,25 +217,69 @@ impl Ops for Portable {
     }
 }
 
-/// The lane products in wasm's 128-bit SIMD: the compiler's vectoriser
-/// does not find the widening multiplies by itself.
+/// The lane operations in wasm's 128-bit SIMD, two `i64x2` halves a lane
+/// group, each operation one or two instructions. Left to itself the
+/// compiler vectorises the portable operations, but it rewrites the
+/// widening products (`i64x2.extmul_low_i32x4`) as sign or zero
+/// extensions and a full 64-bit `i64x2.mul`, which wasm engines emulate
+/// in many instructions on x86_64. The products here first gather each
+/// 64-bit lane's low half with an `i8x16.swizzle` whose index vector the
+/// compiler cannot see through (made opaque once, in [`Wasm128::new`]),
+/// so it keeps the one widening multiply where both factors are gathered
+/// in the product's block of code (a factor gathered once for products
+/// in several blocks still becomes `i64x2.mul`: making every index depend
+/// on the other factor too, to prevent that, was slower in Chromium).
+/// Integer operations: the bits of [`Portable`].
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
-mod wasm_simd {
-    use super::Lane;
+mod wasm128 {
+    use super::{Lane, Ops};
     use core::arch::wasm32::{
-        i32x4_shuffle, i64x2, i64x2_extmul_low_i32x4, i64x2_extract_lane, u64x2_extmul_low_u32x4,
-        v128,
+        i64x2, i64x2_add, i64x2_extmul_low_i32x4, i64x2_extract_lane, i64x2_gt, i64x2_shl,
+        i64x2_sub, i8x16, i8x16_swizzle, u64x2_extmul_low_u32x4, u64x2_shr, v128, v128_and,
+        v128_bitselect, v128_or, v128_xor,
     };
 
-    /// The low 32-bit halves of `x` and `y`, side by side.
-    #[inline(always)]
-    fn lows(x: i64, y: i64) -> v128 {
-        let v = i64x2(x, y);
-        i32x4_shuffle::<0, 2, 0, 2>(v, v)
+    /// The wasm `simd128` lane operations.
+    #[derive(Clone, Copy, Debug)]
+    pub(crate) struct Wasm128 {
+        /// The byte indices of each 64-bit lane's low 32 bits, side by
+        /// side in the low 64 bits (and again above).
+        lows: v128,
+        /// Zero, opaque: `0 > a` stays one comparison instead of the
+        /// arithmetic shift by 63 the compiler prefers (which wasm
+        /// engines emulate on x86_64).
+        zero: v128,
     }
 
+    impl Wasm128 {
+        /// The operations, with their swizzle index made opaque.
+        #[inline(always)]
+        pub(crate) fn new() -> Wasm128 {
+            Wasm128 {
+                lows: core::hint::black_box(i8x16(
+                    0, 1, 2, 3, 8, 9, 10, 11, 0, 1, 2, 3, 8, 9, 10, 11,
+                )),
+                zero: core::hint::black_box(i64x2(0, 0)),
+            }
+        }
+
+        /// The low 32 bits of each 64-bit lane of `x` and of `y`, side by
+        /// side in the low 64 bits: the operands of a widening product.
+        #[inline(always)]
+        fn lows_of(self, x: v128, y: v128) -> (v128, v128) {
+            (i8x16_swizzle(x, self.lows), i8x16_swizzle(y, self.lows))
+        }
+    }
+
+    /// A lane group as two `i64x2`.
     #[inline(always)]
-    fn out(lo: v128, hi: v128) -> Lane {
+    fn halves(a: Lane) -> [v128; 2] {
+        [i64x2(a[0], a[1]), i64x2(a[2], a[3])]
+    }
+
+    /// Two `i64x2` as a lane group.
+    #[inline(always)]
+    fn join([lo, hi]: [v128; 2]) -> Lane {
         [
             i64x2_extract_lane::<0>(lo),
             i64x2_extract_lane::<1>(lo),
@@ -246,22 +288,90 @@ mod wasm_simd {
         ]
     }
 
-    #[inline(always)]
-    pub(super) fn mul_lo32([a0, a1, a2, a3]: Lane, [b0, b1, b2, b3]: Lane) -> Lane {
-        out(
-            u64x2_extmul_low_u32x4(lows(a0, a1), lows(b0, b1)),
-            u64x2_extmul_low_u32x4(lows(a2, a3), lows(b2, b3)),
-        )
+    /// One `simd128` operation on both halves of two lane groups.
+    macro_rules! both {
+        ($a:expr, $b:expr, $op:expr) => {{
+            let ([a0, a1], [b0, b1]) = (halves($a), halves($b));
+            join([$op(a0, b0), $op(a1, b1)])
+        }};
     }
 
-    #[inline(always)]
-    pub(super) fn mul_i32([a0, a1, a2, a3]: Lane, [b0, b1, b2, b3]: Lane) -> Lane {
-        out(
-            i64x2_extmul_low_i32x4(lows(a0, a1), lows(b0, b1)),
-            i64x2_extmul_low_i32x4(lows(a2, a3), lows(b2, b3)),
-        )
+    impl Ops for Wasm128 {
+        #[inline(always)]
+        fn run_part<K: tamias2d_simd::Kernel>(self, kernel: K) -> K::Output {
+            super::portable_part(kernel)
+        }
+        #[inline(always)]
+        fn add(self, a: Lane, b: Lane) -> Lane {
+            both!(a, b, i64x2_add)
+        }
+        #[inline(always)]
+        fn sub(self, a: Lane, b: Lane) -> Lane {
+            both!(a, b, i64x2_sub)
+        }
+        #[inline(always)]
+        fn xor(self, a: Lane, b: Lane) -> Lane {
+            both!(a, b, v128_xor)
+        }
+        #[inline(always)]
+        fn and(self, a: Lane, b: Lane) -> Lane {
+            both!(a, b, v128_and)
+        }
+        #[inline(always)]
+        fn or(self, a: Lane, b: Lane) -> Lane {
+            both!(a, b, v128_or)
+        }
+        #[inline(always)]
+        fn gt(self, a: Lane, b: Lane) -> Lane {
+            both!(a, b, i64x2_gt)
+        }
+        #[inline(always)]
+        fn sign(self, a: Lane) -> Lane {
+            let [lo, hi] = halves(a);
+            join([i64x2_gt(self.zero, lo), i64x2_gt(self.zero, hi)])
+        }
+        #[inline(always)]
+        fn mul_lo32(self, a: Lane, b: Lane) -> Lane {
+            both!(a, b, |x, y| {
+                let (x, y) = self.lows_of(x, y);
+                u64x2_extmul_low_u32x4(x, y)
+            })
+        }
+        #[inline(always)]
+        fn mul_i32(self, a: Lane, b: Lane) -> Lane {
+            both!(a, b, |x, y| {
+                let (x, y) = self.lows_of(x, y);
+                i64x2_extmul_low_i32x4(x, y)
+            })
+        }
+        #[inline(always)]
+        fn shr_n<const N: i32>(self, a: Lane) -> Lane {
+            let [lo, hi] = halves(a);
+            join([u64x2_shr(lo, N as u32), u64x2_shr(hi, N as u32)])
+        }
+        #[inline(always)]
+        fn shl_n<const N: i32>(self, a: Lane) -> Lane {
+            let [lo, hi] = halves(a);
+            join([i64x2_shl(lo, N as u32), i64x2_shl(hi, N as u32)])
+        }
+        #[inline(always)]
+        fn shr32(self, a: Lane) -> Lane {
+            self.shr_n::<32>(a)
+        }
+        #[inline(always)]
+        fn shl32(self, a: Lane) -> Lane {
+            self.shl_n::<32>(a)
+        }
+        #[inline(always)]
+        fn select(self, mask: Lane, a: Lane, b: Lane) -> Lane {
+            let ([m0, m1], [a0, a1], [b0, b1]) = (halves(mask), halves(a), halves(b));
+            join([v128_bitselect(a0, b0, m0), v128_bitselect(a1, b1, m1)])
+        }
     }
 }
+
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+pub(crate) use wasm128::Wasm128;
 
 /// `[i64; 4]` as the unsigned lanes `tamias2d_simd` takes, and back (the
 /// same bits).
@@ -824,6 +934,39 @@ mod tests {
         assert_eq!(o.neg([i64::MIN, -5, 5, 0]), [i64::MIN, 5, -5, 0]);
     }
 
+    /// Every operation of `v`, and the arithmetic built on them, gives
+    /// [`Portable`]'s bits and records on the lanes `[a, b, c, d]`.
+    fn same_as_portable<V: Ops>(v: V, [a, b, c, d]: [Lane; 4]) -> Result<(), TestCaseError> {
+        let o = Portable;
+        prop_assert_eq!(o.add(a, b), v.add(a, b));
+        prop_assert_eq!(o.sub(a, b), v.sub(a, b));
+        prop_assert_eq!(o.xor(a, b), v.xor(a, b));
+        prop_assert_eq!(o.and(a, b), v.and(a, b));
+        prop_assert_eq!(o.or(a, b), v.or(a, b));
+        prop_assert_eq!(o.gt(a, b), v.gt(a, b));
+        prop_assert_eq!(o.gt(a, a), v.gt(a, a));
+        prop_assert_eq!(o.sign(c), v.sign(c));
+        prop_assert_eq!(o.mul_lo32(a, b), v.mul_lo32(a, b));
+        prop_assert_eq!(o.mul_i32(c, d), v.mul_i32(c, d));
+        prop_assert_eq!(o.shr_n::<7>(a), v.shr_n::<7>(a));
+        prop_assert_eq!(o.shl_n::<24>(a), v.shl_n::<24>(a));
+        prop_assert_eq!(o.shr32(b), v.shr32(b));
+        prop_assert_eq!(o.shl32(b), v.shl32(b));
+        let (mut p, mut w) = (LaneArith::new(o), LaneArith::new(v));
+        prop_assert_eq!(p.mul(a, b), w.mul(a, b));
+        prop_assert_eq!(
+            p.dot([a, b, c, d], [d, c, b, a]),
+            w.dot([a, b, c, d], [d, c, b, a])
+        );
+        prop_assert_eq!(p.dot([a, c], [b, d]), w.dot([a, c], [b, d]));
+        prop_assert_eq!(p.left(), w.left());
+        prop_assert_eq!(o.min(a, b), v.min(a, b));
+        prop_assert_eq!(o.max(a, b), v.max(a, b));
+        prop_assert_eq!(o.select(o.positive(c), a, b), v.select(v.positive(c), a, b));
+        prop_assert_eq!(o.neg(d), v.neg(d));
+        Ok(())
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(5_000))]
         #[test]
@@ -849,16 +992,7 @@ mod tests {
             let Some(v) = tamias2d_simd::Avx2::new() else {
                 return Ok(());
             };
-            let (mut p, mut w) = (LaneArith::new(Portable), LaneArith::new(v));
-            prop_assert_eq!(p.mul(a, b), w.mul(a, b));
-            prop_assert_eq!(p.dot([a, b, c, d], [d, c, b, a]), w.dot([a, b, c, d], [d, c, b, a]));
-            prop_assert_eq!(p.dot([a, c], [b, d]), w.dot([a, c], [b, d]));
-            prop_assert_eq!(p.left(), w.left());
-            let o = Portable;
-            prop_assert_eq!(o.min(a, b), Ops::min(v, a, b));
-            prop_assert_eq!(o.max(a, b), Ops::max(v, a, b));
-            prop_assert_eq!(o.select(o.positive(c), a, b), Ops::select(v, Ops::positive(v, c), a, b));
-            prop_assert_eq!(o.neg(d), Ops::neg(v, d));
+            same_as_portable(v, [a, b, c, d])?;
         }
 
         /// Short factors skip the partial products that are 0: the bits

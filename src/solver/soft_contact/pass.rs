@@ -1,7 +1,9 @@
 //! What every contact pass kernel shares: which pass runs, how the lane
 //! kernels are compiled, and where a pass reads and writes the bodies (in
 //! place, or shared between threads).
-use crate::math::lanes::{Lane, Ops, Portable, LANES};
+#[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
+use crate::math::lanes::Portable;
+use crate::math::lanes::{Lane, Ops, LANES};
 use crate::math::Real;
 use crate::solver::{sweep, SolverBody};
 
@@ -227,7 +229,7 @@ pub(super) fn dispatch<S: BodyStore, B: LaneBatch>(
             tamias2d_simd::run_avx2(job).unwrap_or_else(Kernel::run);
         }
         None => BatchPass {
-            ops: Portable,
+            ops: portable_ops(),
             pass,
             batches,
             store,
@@ -236,6 +238,22 @@ pub(super) fn dispatch<S: BodyStore, B: LaneBatch>(
         }
         .run(),
     }
+}
+
+/// The lane operations of the build's instruction set: wasm's `simd128`
+/// ones where the build has it (the compiler does not find its widening
+/// products by itself), plain Rust elsewhere. The same bits.
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+#[inline(always)]
+fn portable_ops() -> crate::math::lanes::Wasm128 {
+    crate::math::lanes::Wasm128::new()
+}
+
+/// [`portable_ops`] without `simd128`: the plain Rust lanes.
+#[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
+#[inline(always)]
+fn portable_ops() -> Portable {
+    Portable
 }
 
 /// One pass over batches on the lane operations `O`: the kernel
