@@ -156,6 +156,12 @@ impl ConstraintGraph {
                 COLORS * BANDS
             }
         };
+        if arbiters.is_empty() {
+            // No arbiter: every color empty, without the buckets.
+            self.order.clear();
+            self.starts = [0; COLORS + 2];
+            return;
+        }
         let mut next = core::mem::take(&mut self.next);
         next.clear();
         next.resize(COLORS * BANDS + 2, 0);
@@ -328,5 +334,23 @@ mod tests {
             [(a, true), (b, true)]
         });
         assert_eq!(g.order(), again.order());
+    }
+
+    /// The colors past the last one in use are empty, at the end of the
+    /// order; the ranges tile the order (none of the scene's arbiters, and
+    /// a few).
+    #[test]
+    fn unused_colors_are_empty_at_the_end() {
+        for pairs in [vec![], vec![(0, 1), (1, 2), (100, 0)]] {
+            let g = colors(&pairs);
+            let mut end = 0;
+            for c in 0..=COLORS {
+                let r = g.range(c);
+                assert_eq!(r.start, end, "color {c}");
+                assert!(c < g.colors_used() || r.is_empty(), "color {c}");
+                end = r.end;
+            }
+            assert_eq!(end, pairs.len());
+        }
     }
 }

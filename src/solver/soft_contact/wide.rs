@@ -140,9 +140,27 @@ pub(crate) struct WideContacts {
     narrow: Vec<NarrowBatch>,
     /// How the passes run this step (`None`: the wide kernels are off).
     compiled: Option<Compiled>,
+    /// One bit per color (the overflow's at `graph::COLORS`) with batches
+    /// or scalar manifolds.
+    colors_in_use: u32,
 }
 
+const _: () = assert!(graph::COLORS < 32, "a color's bit in a u32");
+
 impl WideContacts {
+    /// The colors (the overflow's `graph::COLORS` last) with batches or
+    /// scalar manifolds, in order: a pass skips the empty ones without
+    /// looking into them (a small scene uses a few of the colors).
+    fn colors_in_use(&self) -> impl Iterator<Item = usize> {
+        let mut left = self.colors_in_use;
+        core::iter::from_fn(move || {
+            let c = left.trailing_zeros();
+            // Clears the lowest set bit (none once `left` is 0).
+            left &= left.wrapping_sub(1);
+            (c < u32::BITS).then_some(c as usize)
+        })
+    }
+
     /// Whether the passes run the batches this step.
     pub(crate) fn is_on(&self) -> bool {
         self.compiled.is_some()
@@ -155,6 +173,7 @@ impl WideContacts {
         self.color_batches.clear();
         self.scalar.clear();
         self.color_scalar.clear();
+        self.colors_in_use = 0;
         self.compiled = None;
     }
 
@@ -240,6 +259,16 @@ impl WideContacts {
         }
         self.color_batches.push(self.plan.len() as u32);
         self.color_scalar.push(self.scalar.len() as u32);
+        let filled = |starts: &[u32], c: usize| match (starts.get(c), starts.get(c.wrapping_add(1)))
+        {
+            (Some(a), Some(b)) => a < b,
+            _ => false,
+        };
+        for c in 0..=graph::COLORS {
+            if filled(&self.color_batches, c) || filled(&self.color_scalar, c) {
+                self.colors_in_use |= 1 << c;
+            }
+        }
         // The gathers, about 3 % of a step, split between threads (each
         // batch is gathered alone: the same bits).
         if narrow {
@@ -289,7 +318,7 @@ impl WideContacts {
         motion: &[Motion],
     ) {
         let compiled = self.compiled;
-        for c in 0..=graph::COLORS {
+        for c in self.colors_in_use() {
             let batches = part_mut(&mut self.batches, &self.color_batches, c);
             dispatch(compiled, pass, batches, InPlace(bodies), rows, motion);
             let narrow = part_mut(&mut self.narrow, &self.color_batches, c);
@@ -315,7 +344,7 @@ impl WideContacts {
         motion: &[Motion],
     ) {
         let compiled = self.compiled;
-        for c in 0..=graph::COLORS {
+        for c in self.colors_in_use() {
             let batches = part_mut(&mut self.batches, &self.color_batches, c);
             split_batches(compiled, pass, batches, Shared(shared), rows, motion);
             let narrow = part_mut(&mut self.narrow, &self.color_batches, c);
