@@ -169,7 +169,9 @@ impl WideContacts {
     /// Turns the wide kernels off (the rows hold the state).
     pub(crate) fn clear(&mut self) {
         self.batches.clear();
-        self.narrow.clear();
+        // The narrow batches keep their length (and memory): `build`
+        // resets each one it gathers (or empties them, for the exact
+        // kernels), and nothing reads them while the wide kernels are off.
         self.color_batches.clear();
         self.scalar.clear();
         self.color_scalar.clear();
@@ -272,11 +274,18 @@ impl WideContacts {
         // The gathers, about 3 % of a step, split between threads (each
         // batch is gathered alone: the same bits).
         if narrow {
-            self.narrow.resize(self.plan.len(), NarrowBatch::default());
+            // Each batch is reset to the default in its gather, on the
+            // thread that gathers it and just before (not in one serial
+            // fill of the whole vector first: some 1.7 kB a batch).
+            let n = self.plan.len();
+            self.narrow.truncate(n);
+            self.narrow.resize(n, NarrowBatch::default());
             crate::threads::zip_split(&self.plan, &mut self.narrow, GATHER_PIECE, &|m, batch| {
+                *batch = NarrowBatch::default();
                 gather_narrow(batch, *m, rows, bodies);
             });
         } else {
+            self.narrow.clear();
             self.batches.resize(self.plan.len(), Batch::default());
             gather_split(&mut self.batches, &self.plan, rows);
         }
