@@ -406,3 +406,45 @@ fn adding_a_body_after_a_restore_yields_the_same_handle_in_every_world() {
         assert!(a.space.state() == c.state(), "a vs c after {n} steps");
     }
 }
+
+/// The wide kernels keep their batches' memory from step to step: a
+/// world that switches between the narrow and the full-precision soft
+/// step, and between kernel forms, gives after every run of steps the
+/// bits of a new world that loads the same frame at each switch (whose
+/// batches are new).
+#[test]
+fn switching_contact_kernels_between_steps_gives_a_fresh_world_s_bits() {
+    use tamias2d::space::{ContactPrecision, Kernels, Settings, Solver};
+    let set = |world: &mut ScriptedWorld, precision: ContactPrecision, kernels: Kernels| {
+        let mut soft = scenes::soft_step_for(world.space.settings().gravity);
+        soft.contact_precision = precision;
+        let settings = Settings {
+            solver: Solver::Soft(soft),
+            ..*world.space.settings()
+        };
+        world.space.set_settings(settings).expect("valid settings");
+        world.space.set_kernels(kernels);
+    };
+    let (narrow, full) = (ContactPrecision::Narrow, ContactPrecision::Full);
+    let runs = [
+        (narrow, Kernels::Auto, 12),
+        (full, Kernels::Wide, 6),
+        (narrow, Kernels::Portable, 6),
+        (full, Kernels::Scalar, 3),
+        (narrow, Kernels::Wide, 6),
+    ];
+    let mut world = build("pyramid_20");
+    for (k, &(precision, kernels, steps)) in runs.iter().enumerate() {
+        let frame = tamias2d::snapshot::save_frame(&world.space);
+        let mut fresh = build("pyramid_20");
+        fresh
+            .space
+            .load_frame_snapshot(&frame)
+            .expect("the frame loads");
+        for w in [&mut world, &mut fresh] {
+            set(w, precision, kernels);
+            w.step_n(steps).expect("steps");
+        }
+        assert_eq!(world.space.checksum(), fresh.space.checksum(), "run {k}");
+    }
+}

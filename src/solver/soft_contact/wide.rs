@@ -168,10 +168,9 @@ impl WideContacts {
 
     /// Turns the wide kernels off (the rows hold the state).
     pub(crate) fn clear(&mut self) {
-        self.batches.clear();
-        // The narrow batches keep their length (and memory): `build`
-        // resets each one it gathers (or empties them, for the exact
-        // kernels), and nothing reads them while the wide kernels are off.
+        // The batches keep their length (and memory): `build` resets each
+        // one it gathers and empties the other kind, and nothing reads
+        // them while the wide kernels are off.
         self.color_batches.clear();
         self.scalar.clear();
         self.color_scalar.clear();
@@ -278,6 +277,7 @@ impl WideContacts {
             // thread that gathers it and just before (not in one serial
             // fill of the whole vector first: some 1.7 kB a batch).
             let n = self.plan.len();
+            self.batches.clear();
             self.narrow.truncate(n);
             self.narrow.resize(n, NarrowBatch::default());
             crate::threads::zip_split(&self.plan, &mut self.narrow, GATHER_PIECE, &|m, batch| {
@@ -286,7 +286,9 @@ impl WideContacts {
             });
         } else {
             self.narrow.clear();
-            self.batches.resize(self.plan.len(), Batch::default());
+            let n = self.plan.len();
+            self.batches.truncate(n);
+            self.batches.resize(n, Batch::default());
             gather_split(&mut self.batches, &self.plan, rows);
         }
         self.compiled = Some(compiled);
@@ -478,12 +480,13 @@ fn gather_batch(manifolds: [(u32, u32); LANES], rows: &[SoftContact]) -> Batch {
 /// Batches per piece of the split gathers (a few µs of work).
 const GATHER_PIECE: usize = 64;
 
-/// Each batch of `batches` (each `Batch::default()`) gathered from its
-/// manifolds in `plan` ([`gather_into`]), in place (a batch is about
+/// Each batch of `batches` reset and gathered from its manifolds in
+/// `plan` ([`gather_into`]), in place (a batch is about
 /// 1.5 KB: building it apart and moving it in cost two copies), halves in
 /// parallel down to [`GATHER_PIECE`]s.
 fn gather_split(batches: &mut [Batch], plan: &[[(u32, u32); LANES]], rows: &[SoftContact]) {
     crate::threads::zip_split(plan, batches, GATHER_PIECE, &|manifolds, batch| {
+        *batch = Batch::default();
         gather_into(batch, *manifolds, rows);
     });
 }
