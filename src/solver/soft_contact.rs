@@ -173,7 +173,7 @@ impl SoftContacts {
     /// store read.
     pub(crate) fn end_passes(&mut self) {
         if self.wide.is_on() {
-            self.wide.write_back(&mut self.rows);
+            self.wide.write_back(&mut self.rows, &self.color_rows);
             self.wide.clear();
         }
     }

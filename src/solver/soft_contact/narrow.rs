@@ -469,10 +469,11 @@ fn gather_lane(
     }
 }
 
-/// The batch's state back into its rows.
-pub(super) fn put_narrow(batch: &NarrowBatch, rows: &mut [SoftContact]) {
+/// The batch's state back into its rows, `rows` beginning at row `base`.
+pub(super) fn put_narrow(batch: &NarrowBatch, rows: &mut [SoftContact], base: u32) {
     for lane in 0..LANES {
-        let start = batch.first.get(lane).copied().unwrap_or(0) as usize;
+        let start = batch.first.get(lane).copied().unwrap_or(0);
+        let start = start.wrapping_sub(base) as usize;
         let count = batch.count.get(lane).copied().unwrap_or(0) as usize;
         let Some(out) = rows.get_mut(start..start.saturating_add(count)) else {
             continue;
@@ -1079,7 +1080,7 @@ mod tests {
                 solve_narrow::<O, _, false>(ops, &mut batch, &mut store, inputs, p, constants)
             }
         };
-        put_narrow(&batch, &mut rows);
+        put_narrow(&batch, &mut rows, 0);
         (rows, bodies, left)
     }
 

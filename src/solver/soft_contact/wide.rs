@@ -294,16 +294,22 @@ impl WideContacts {
         self.compiled = Some(compiled);
     }
 
-    /// The batches' state back into `rows` (the wide kernels stay on).
-    pub(crate) fn write_back(&self, rows: &mut [SoftContact]) {
+    /// The batches' state back into `rows` (the wide kernels stay on),
+    /// whose colors start at `color_rows` (the overflow's at
+    /// `graph::COLORS`, then the end). The narrow batches' halves of the
+    /// colors in parallel: a color's batches write only its rows.
+    pub(crate) fn write_back(&self, rows: &mut [SoftContact], color_rows: &[u32]) {
         for batch in &self.batches {
             for lane in 0..LANES {
                 put_lane(batch, lane, rows);
             }
         }
-        for batch in &self.narrow {
-            put_narrow(batch, rows);
-        }
+        let colors = ColorParts {
+            batches: &self.narrow,
+            color_batches: &self.color_batches,
+            color_rows,
+        };
+        colors.put(0..graph::COLORS.wrapping_add(1), rows, 0);
     }
 
     /// Warm starting off: every accumulated impulse starts from 0.
@@ -368,6 +374,45 @@ impl WideContacts {
             for &(start, end) in part(&self.scalar, &self.color_scalar, c) {
                 if let Some(m) = rows.get_mut(start as usize..end as usize) {
                     scalar_pass(pass, m, &mut Shared(shared), motion);
+                }
+            }
+        }
+    }
+}
+
+/// The narrow batches by color, and where each color's batches and rows
+/// start.
+struct ColorParts<'a> {
+    batches: &'a [NarrowBatch],
+    color_batches: &'a [u32],
+    color_rows: &'a [u32],
+}
+
+impl ColorParts<'_> {
+    /// The batches of `colors` back into `rows`, the rows of those colors
+    /// (the first of which is row `base`): halves of the colors in
+    /// parallel down to [`BATCH_PIECE`] batches.
+    fn put(&self, colors: core::ops::Range<usize>, rows: &mut [SoftContact], base: u32) {
+        let at = |starts: &[u32], c: usize| starts.get(c).copied().unwrap_or(0);
+        let batches =
+            at(self.color_batches, colors.end).saturating_sub(at(self.color_batches, colors.start));
+        let mid = colors.start.wrapping_add(colors.len() / 2);
+        let cut = at(self.color_rows, mid);
+        let halves = cut
+            .checked_sub(base)
+            .and_then(|cut| rows.split_at_mut_checked(cut as usize));
+        match halves {
+            Some((left, right)) if colors.len() > 1 && batches as usize > BATCH_PIECE => {
+                crate::threads::join(
+                    || self.put(colors.start..mid, left, base),
+                    || self.put(mid..colors.end, right, cut),
+                );
+            }
+            _ => {
+                for c in colors {
+                    for batch in part(self.batches, self.color_batches, c) {
+                        put_narrow(batch, rows, base);
+                    }
                 }
             }
         }
