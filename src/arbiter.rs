@@ -78,6 +78,12 @@ pub(crate) struct ArbiterBuffers {
     /// The narrowphase's answer for each candidate pair when threads
     /// compute them ahead of the merge (`space/step/`).
     pub(crate) infos: Vec<Option<crate::collision::CollisionInfo>>,
+    /// With threads: each candidate pair's warm-start id (its arbiter's,
+    /// or 0), kept for its allocation.
+    pub(crate) warm_start_ids: Vec<u32>,
+    /// With threads: for each arbiter of last step's list, the candidate
+    /// pair it matches (`u32::MAX`: none), kept for its allocation.
+    pub(crate) matched: Vec<u32>,
 }
 
 /// Where an arbiter is in its life.

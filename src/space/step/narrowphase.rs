@@ -92,35 +92,38 @@ impl Space {
     /// nothing in the merge changes (the handlers change only their own
     /// arbiter, after its touch), so the bits are the serial pass's.
     fn collide_ahead(
-        &self,
+        &mut self,
         pairs: &[(u32, u32)],
         old: &mut [Arbiter],
         infos: &mut Vec<Option<CollisionInfo>>,
     ) {
-        infos.clear();
+        // Every slot is written by `collide_split`: only new ones need a
+        // value first (a refill would touch every slot's cache lines on
+        // this thread alone).
+        infos.truncate(pairs.len());
         infos.resize(pairs.len(), None);
         // The warm-start ids, and each old arbiter's pair, by the merge the
         // serial pass makes.
-        let mut matched = vec![u32::MAX; old.len()];
+        let mut matched = mem::take(&mut self.caches.arbiters.matched);
+        matched.clear();
+        matched.resize(old.len(), u32::MAX);
+        let mut ids = mem::take(&mut self.caches.arbiters.warm_start_ids);
+        ids.clear();
         let mut next_old = 0usize;
-        let ids: Vec<u32> = pairs
-            .iter()
-            .enumerate()
-            .map(|(k, &key)| {
-                while old.get(next_old).is_some_and(|a| a.key() < key) {
-                    next_old = next_old.saturating_add(1);
-                }
-                match old.get(next_old).filter(|a| a.key() == key) {
-                    Some(a) => {
-                        if let Some(m) = matched.get_mut(next_old) {
-                            *m = k as u32;
-                        }
-                        a.warm_start_id
+        ids.extend(pairs.iter().enumerate().map(|(k, &key)| {
+            while old.get(next_old).is_some_and(|a| a.key() < key) {
+                next_old = next_old.saturating_add(1);
+            }
+            match old.get(next_old).filter(|a| a.key() == key) {
+                Some(a) => {
+                    if let Some(m) = matched.get_mut(next_old) {
+                        *m = k as u32;
                     }
-                    None => 0,
+                    a.warm_start_id
                 }
-            })
-            .collect();
+                None => 0,
+            }
+        }));
         let view = NarrowView {
             shapes: &self.state.shapes,
             bodies: &self.state.bodies,
@@ -140,6 +143,8 @@ impl Space {
                 arb.touch(info, sa, sb, centers, stamp);
             }
         });
+        self.caches.arbiters.matched = matched;
+        self.caches.arbiters.warm_start_ids = ids;
     }
 
     /// [`Stage::Narrowphase`](super::Stage::Narrowphase) for one candidate pair, given the narrowphase's
@@ -169,35 +174,42 @@ impl Space {
         stats.iteration_cap_hits = stats
             .iteration_cap_hits
             .saturating_add(u32::from(info.hit_iteration_cap));
-        let (Some((ha, sa)), Some((hb, sb))) = (
-            self.state.shapes.get_by_index(ia),
-            self.state.shapes.get_by_index(ib),
-        ) else {
-            // The pair's arbiter (if any) is dropped.
-            existing.and_then(Iterator::next);
-            return false;
+        // An arbiter touched ahead took the answer already, from shapes
+        // and bodies that the answer proves exist: no lookup.
+        let inputs = if touched_ahead && existing.is_some() {
+            None
+        } else {
+            let (Some((ha, sa)), Some((hb, sb))) = (
+                self.state.shapes.get_by_index(ia),
+                self.state.shapes.get_by_index(ib),
+            ) else {
+                // The pair's arbiter (if any) is dropped.
+                existing.and_then(Iterator::next);
+                return false;
+            };
+            let (Some(body_a), Some(body_b)) = (
+                self.state.bodies.get(sa.body),
+                self.state.bodies.get(sb.body),
+            ) else {
+                existing.and_then(Iterator::next);
+                return false;
+            };
+            Some((ha, sa, hb, sb, (body_a.center(), body_b.center())))
         };
-        let (Some(body_a), Some(body_b)) = (
-            self.state.bodies.get(sa.body),
-            self.state.bodies.get(sb.body),
-        ) else {
-            existing.and_then(Iterator::next);
-            return false;
-        };
-        let touched = touched_ahead && existing.is_some();
         match existing {
             // One copy, from the old list into the new one.
             Some(old) => {
                 arbiters.extend_from_slice(old.as_slice().get(..1).unwrap_or(&[]));
                 old.next();
             }
-            None => arbiters.push(Arbiter::new(ha, sa, hb, sb)),
+            None => {
+                let Some((ha, sa, hb, sb, _)) = inputs else {
+                    return false;
+                };
+                arbiters.push(Arbiter::new(ha, sa, hb, sb));
+            }
         }
-        let Some(arb) = arbiters.last_mut() else {
-            return false;
-        };
-        if !touched {
-            let centers = (body_a.center(), body_b.center());
+        if let (Some((_, sa, _, sb, centers)), Some(arb)) = (inputs, arbiters.last_mut()) {
             arb.touch(info, sa, sb, centers, self.state.stamp);
         }
         true
