@@ -75,12 +75,16 @@ impl Clone for SharedBody {
 
 impl SharedBody {
     /// The body's current value.
+    ///
+    /// Every word loaded by name, here and below: an array `map` over
+    /// atomics was left out of line in a build of the kernels (a call to
+    /// `try_map` per body), where the in-place loads were inlined.
     #[inline(always)]
     pub(crate) fn load(&self) -> SolverBody {
-        let [vx, vy, w, bx, by, bw, m, i] = self
-            .words
-            .each_ref()
-            .map(|x| Real::from_bits(x.load(Relaxed)));
+        let [vx, vy, w, bx, by, bw, m, i] = &self.words;
+        let at = |x: &AtomicI64| Real::from_bits(x.load(Relaxed));
+        let [vx, vy, w, bx, by, bw, m, i] =
+            [at(vx), at(vy), at(w), at(bx), at(by), at(bw), at(m), at(i)];
         SolverBody {
             v: Vect::new(vx, vy),
             w,
@@ -107,16 +111,17 @@ impl SharedBody {
     #[inline(always)]
     pub(crate) fn velocity_bits(&self) -> [i64; 3] {
         let [x, y, w, ..] = &self.words;
-        [x, y, w].map(|a| a.load(Relaxed))
+        [x.load(Relaxed), y.load(Relaxed), w.load(Relaxed)]
     }
 
     /// Sets the velocities `[v.x, v.y, ω]` from raw bits (the bias
     /// velocities untouched, as the in-place store leaves them).
     #[inline(always)]
-    pub(crate) fn set_velocity_bits(&self, v: [i64; 3]) {
-        for (x, r) in self.words.iter().zip(v) {
-            x.store(r, Relaxed);
-        }
+    pub(crate) fn set_velocity_bits(&self, [vx, vy, vw]: [i64; 3]) {
+        let [x, y, w, ..] = &self.words;
+        x.store(vx, Relaxed);
+        y.store(vy, Relaxed);
+        w.store(vw, Relaxed);
     }
 
     /// Sets the velocities (the solver never changes the inverse masses).
