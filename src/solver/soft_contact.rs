@@ -54,6 +54,9 @@ pub(crate) struct SoftContacts {
     motion: Vec<Motion>,
     /// Each manifold's first row, in solve order, and the end.
     manifold_rows: Vec<u32>,
+    /// Each arbiter's first row (by arbiter index; `u32::MAX`: none), for
+    /// the store, which then walks the arbiters in order.
+    arbiter_rows: Vec<u32>,
     /// Each color's first row (the overflow's at `graph::COLORS`), and the
     /// end.
     color_rows: [u32; graph::COLORS + 2],
@@ -106,10 +109,15 @@ impl SoftContacts {
         // are prepared in pieces, halves in parallel where there are
         // threads (inline on one), each writing only its own rows.
         soft.manifold_rows.clear();
+        soft.arbiter_rows.clear();
+        soft.arbiter_rows.resize(arbiters.len(), u32::MAX);
         let mut count = 0u32;
         soft.bouncy = false;
         for &i in graph.order() {
             soft.manifold_rows.push(count);
+            if let Some(first) = soft.arbiter_rows.get_mut(i as usize) {
+                *first = count;
+            }
             let Some(arb) = arbiters.get(i as usize) else {
                 continue;
             };
@@ -366,19 +374,43 @@ impl SoftContacts {
     }
 
     /// The soft rows' accumulated impulses into the arbiters' manifold
-    /// points (the next step's warm start, and the handlers').
-    pub(crate) fn store_impulses(&self, arbiters: &mut [Arbiter]) {
-        for r in &self.rows {
-            let contact = arbiters
-                .get_mut(r.arbiter as usize)
-                .and_then(|arb| arb.contacts.get_mut(r.slot as usize));
-            if let Some(contact) = contact {
-                contact.jn_acc = r.jn;
-                contact.jt_acc = r.jt;
+    /// points (the next step's warm start, and the handlers'). On one
+    /// thread, row by row; with threads (`split`), arbiter by arbiter from
+    /// each one's own rows, in pieces the threads share (the rows are in
+    /// solve order: split by rows, the pieces would write the arbiters at
+    /// random). The same values either way.
+    pub(crate) fn store_impulses(&self, arbiters: &mut [Arbiter], split: bool) {
+        if !split {
+            for r in &self.rows {
+                let contact = arbiters
+                    .get_mut(r.arbiter as usize)
+                    .and_then(|arb| arb.contacts.get_mut(r.slot as usize));
+                if let Some(contact) = contact {
+                    contact.jn_acc = r.jn;
+                    contact.jt_acc = r.jt;
+                }
             }
+            return;
         }
+        let rows = self.rows.as_slice();
+        crate::threads::zip_split(&self.arbiter_rows, arbiters, STORE_PIECE, &|&first, arb| {
+            if first == u32::MAX {
+                return; // Not solved this step (a cached arbiter).
+            }
+            let first = first as usize;
+            let n = arb.count();
+            for r in rows.get(first..first.saturating_add(n)).unwrap_or(&[]) {
+                if let Some(contact) = arb.contacts.get_mut(r.slot as usize) {
+                    contact.jn_acc = r.jn;
+                    contact.jt_acc = r.jt;
+                }
+            }
+        });
     }
 }
+/// Arbiters per piece of the split store (a few µs).
+const STORE_PIECE: usize = 256;
+
 /// Body slots per piece of the split motion tracking (a few µs).
 const BODY_PIECE: usize = 512;
 

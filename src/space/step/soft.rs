@@ -134,15 +134,19 @@ impl Space {
                 let warm = warm_starting.then_some(first_coef);
                 self.soft_sub_step(h_i, i, &coef, &forces, warm);
             }
+            // With the threads still awake: the narrow batches' write-back
+            // (the restitution's first act) and the velocities' store split
+            // between them.
+            let (soft, bodies) = (
+                &mut self.caches.soft_contacts,
+                &mut self.caches.solver.bodies,
+            );
+            soft.restitution(bodies, &coef.contacts); // Restitution
+            let split = self.caches.threads.parallel();
+            soft.store_impulses(&mut self.state.arbiters, split); // Store
+            self.caches.solver.store_velocities(&mut self.state.bodies);
         });
         self.caches.step.soft_forces = forces;
-        let (soft, bodies) = (
-            &mut self.caches.soft_contacts,
-            &mut self.caches.solver.bodies,
-        );
-        soft.restitution(bodies, &coef.contacts); // Restitution
-        soft.store_impulses(&mut self.state.arbiters); // Store
-        self.caches.solver.store_velocities(&mut self.state.bodies);
         self.run_constraint_callbacks(super::super::constraints::Phase::PostSolve);
         if !self.caches.ccd.bullets.is_empty() {
             self.update_shape_caches();
