@@ -477,6 +477,16 @@ impl Arbiter {
         idle >= u64::from(persistence)
     }
 
+    /// The solver's accumulated impulses into manifold point `slot` (the
+    /// next step's warm start, and the handlers'); nothing past the
+    /// points.
+    pub(crate) fn set_impulses(&mut self, slot: u32, jn: Real, jt: Real) {
+        if let Some(contact) = self.contacts.get_mut(slot as usize) {
+            contact.jn_acc = jn;
+            contact.jt_acc = jt;
+        }
+    }
+
     /// End of a step that touched it (`stamp` is the world's): a first
     /// contact becomes `Normal`, so the begin handler does not run again.
     pub(crate) fn settle(&mut self, stamp: u64) {

@@ -320,12 +320,8 @@ impl ContactSolver {
     /// velocities back into the awake dynamic bodies.
     pub(crate) fn store(&self, arbiters: &mut [Arbiter], bodies: &mut Arena<Body>) {
         for c in &self.constraints {
-            let contact = arbiters
-                .get_mut(c.arbiter as usize)
-                .and_then(|arb| arb.contacts.get_mut(c.slot as usize));
-            if let Some(contact) = contact {
-                contact.jn_acc = c.jn_acc;
-                contact.jt_acc = c.jt_acc;
+            if let Some(arb) = arbiters.get_mut(c.arbiter as usize) {
+                arb.set_impulses(c.slot, c.jn_acc, c.jt_acc);
             }
         }
         self.store_velocities(bodies);

@@ -378,36 +378,41 @@ impl SoftContacts {
     /// thread, row by row; with threads (`split`), arbiter by arbiter from
     /// each one's own rows, in pieces the threads share (the rows are in
     /// solve order: split by rows, the pieces would write the arbiters at
-    /// random). The same values either way.
-    pub(crate) fn store_impulses(&self, arbiters: &mut [Arbiter], split: bool) {
-        if !split {
+    /// random), settling each arbiter on the way with `settle`'s stamp
+    /// ([`Arbiter::settle`]). The same values either way.
+    pub(crate) fn store_impulses(&self, arbiters: &mut [Arbiter], how: StoreImpulses) {
+        if !how.split {
             for r in &self.rows {
-                let contact = arbiters
-                    .get_mut(r.arbiter as usize)
-                    .and_then(|arb| arb.contacts.get_mut(r.slot as usize));
-                if let Some(contact) = contact {
-                    contact.jn_acc = r.jn;
-                    contact.jt_acc = r.jt;
+                if let Some(arb) = arbiters.get_mut(r.arbiter as usize) {
+                    arb.set_impulses(r.slot, r.jn, r.jt);
                 }
             }
             return;
         }
         let rows = self.rows.as_slice();
         crate::threads::zip_split(&self.arbiter_rows, arbiters, STORE_PIECE, &|&first, arb| {
+            if let Some(stamp) = how.settle {
+                arb.settle(stamp);
+            }
             if first == u32::MAX {
                 return; // Not solved this step (a cached arbiter).
             }
             let first = first as usize;
             let n = arb.count();
             for r in rows.get(first..first.saturating_add(n)).unwrap_or(&[]) {
-                if let Some(contact) = arb.contacts.get_mut(r.slot as usize) {
-                    contact.jn_acc = r.jn;
-                    contact.jt_acc = r.jt;
-                }
+                arb.set_impulses(r.slot, r.jn, r.jt);
             }
         });
     }
 }
+/// How [`SoftContacts::store_impulses`] walks: split between threads, and
+/// with the step's stamp to settle every arbiter on the way.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct StoreImpulses {
+    pub(crate) split: bool,
+    pub(crate) settle: Option<u64>,
+}
+
 /// Arbiters per piece of the split store (a few µs).
 const STORE_PIECE: usize = 256;
 

@@ -191,7 +191,7 @@ impl Space {
             .store(&mut self.state.arbiters, &mut self.state.bodies); // Store
         self.store_constraint_impulses(); // Store: joints
         self.count_saturated_bodies(); // Diagnostics
-        self.post_solve(&active); // PostSolve
+        self.post_solve(&active, false); // PostSolve
         self.update_sleep(dt, &active); // Sleep
         self.caches.arbiters.active = active;
 
@@ -361,8 +361,10 @@ impl Space {
         self.caches.step.stats.saturated_bodies = u32::try_from(saturated).unwrap_or(u32::MAX);
     }
 
-    /// [`Stage::PostSolve`]: post-solve handlers, then first contacts become normal.
-    fn post_solve(&mut self, active: &[u32]) {
+    /// [`Stage::PostSolve`]: post-solve handlers, then first contacts become
+    /// normal (unless `settled`: the store did it already, with no handler
+    /// to see the difference).
+    fn post_solve(&mut self, active: &[u32], settled: bool) {
         if !self.handlers.is_empty() {
             for &i in active {
                 let Some(arb) = self.state.arbiters.get_mut(i as usize) else {
@@ -375,6 +377,9 @@ impl Space {
                     &mut self.post_step,
                 );
             }
+        }
+        if settled {
+            return;
         }
         let stamp = self.state.stamp;
         for arb in self.state.arbiters.iter_mut() {

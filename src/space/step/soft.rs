@@ -21,7 +21,7 @@
 //! differ by at most one ulp) and the settings, once per step.
 use crate::body::BodyHandle;
 use crate::math::{Real, Vect};
-use crate::solver::soft_contact::{SoftContactParams, SoftPass};
+use crate::solver::soft_contact::{SoftContactParams, SoftPass, StoreImpulses};
 use crate::solver::softness::Softness;
 
 use super::super::{ContactPrecision, SoftStep, Space, SpaceError};
@@ -123,6 +123,14 @@ impl Space {
             );
         }
         let first_coef = self.warm_start_coef();
+        // With threads, the impulse store walks every arbiter in pieces the
+        // threads share; without handlers (nothing between it and the
+        // post-solve stage reads what a settle changes), that walk also
+        // settles them, instead of a walk of its own on this thread.
+        let store = StoreImpulses {
+            split: threads.parallel(),
+            settle: (threads.parallel() && self.handlers.is_empty()).then_some(self.state.stamp),
+        };
         threads.awake(|| {
             self.caches.soft_contacts.use_wide(
                 self.caches.kernels.wide(),
@@ -142,8 +150,7 @@ impl Space {
                 &mut self.caches.solver.bodies,
             );
             soft.restitution(bodies, &coef.contacts); // Restitution
-            let split = self.caches.threads.parallel();
-            soft.store_impulses(&mut self.state.arbiters, split); // Store
+            soft.store_impulses(&mut self.state.arbiters, store); // Store
             self.caches.solver.store_velocities(&mut self.state.bodies);
         });
         self.caches.step.soft_forces = forces;
@@ -153,7 +160,7 @@ impl Space {
             self.sweep_bullets(); // Bullets
         }
         self.count_saturated_bodies(); // Diagnostics
-        self.post_solve(&active); // PostSolve
+        self.post_solve(&active, store.settle.is_some()); // PostSolve
         self.update_sleep(dt, &active); // Sleep
         self.caches.arbiters.active = active;
         self.locked = false;
