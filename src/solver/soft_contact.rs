@@ -379,15 +379,17 @@ impl SoftContacts {
     /// each one's own rows, in pieces the threads share (the rows are in
     /// solve order: split by rows, the pieces would write the arbiters at
     /// random), settling each arbiter on the way with `settle`'s stamp
-    /// ([`Arbiter::settle`]). The same values either way.
-    pub(crate) fn store_impulses(&self, arbiters: &mut [Arbiter], how: StoreImpulses) {
-        if !how.split {
+    /// ([`Arbiter::settle`]). The same values either way. Returns whether
+    /// it settled every arbiter (the split walk with a stamp, over the
+    /// arbiters the prepare saw).
+    pub(crate) fn store_impulses(&self, arbiters: &mut [Arbiter], how: StoreImpulses) -> bool {
+        if !how.split || self.arbiter_rows.len() != arbiters.len() {
             for r in &self.rows {
                 if let Some(arb) = arbiters.get_mut(r.arbiter as usize) {
                     arb.set_impulses(r.slot, r.jn, r.jt);
                 }
             }
-            return;
+            return false;
         }
         let rows = self.rows.as_slice();
         crate::threads::zip_split(&self.arbiter_rows, arbiters, STORE_PIECE, &|&first, arb| {
@@ -403,8 +405,10 @@ impl SoftContacts {
                 arb.set_impulses(r.slot, r.jn, r.jt);
             }
         });
+        how.settle.is_some()
     }
 }
+
 /// How [`SoftContacts::store_impulses`] walks: split between threads, and
 /// with the step's stamp to settle every arbiter on the way.
 #[derive(Clone, Copy, Debug)]

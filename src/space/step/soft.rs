@@ -131,7 +131,7 @@ impl Space {
             split: threads.parallel(),
             settle: (threads.parallel() && self.handlers.is_empty()).then_some(self.state.stamp),
         };
-        threads.awake(|| {
+        let settled = threads.awake(|| {
             self.caches.soft_contacts.use_wide(
                 self.caches.kernels.wide(),
                 coef.contacts.narrow,
@@ -150,8 +150,9 @@ impl Space {
                 &mut self.caches.solver.bodies,
             );
             soft.restitution(bodies, &coef.contacts); // Restitution
-            soft.store_impulses(&mut self.state.arbiters, store); // Store
+            let settled = soft.store_impulses(&mut self.state.arbiters, store); // Store
             self.caches.solver.store_velocities(&mut self.state.bodies);
+            settled
         });
         self.caches.step.soft_forces = forces;
         self.run_constraint_callbacks(super::super::constraints::Phase::PostSolve);
@@ -160,7 +161,7 @@ impl Space {
             self.sweep_bullets(); // Bullets
         }
         self.count_saturated_bodies(); // Diagnostics
-        self.post_solve(&active, store.settle.is_some()); // PostSolve
+        self.post_solve(&active, settled); // PostSolve
         self.update_sleep(dt, &active); // Sleep
         self.caches.arbiters.active = active;
         self.locked = false;
