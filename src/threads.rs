@@ -143,6 +143,33 @@ pub(crate) fn join<A: FnOnce() + Send, B: FnOnce() + Send>(a: A, b: B) {
     b();
 }
 
+/// Runs `blocks.len()` stages in order: stage `s`'s `blocks[s]` blocks
+/// (`block(s, k)` for `k < blocks[s]`, each once, on any thread), then
+/// `serial(s)` on this thread alone, before stage `s + 1` starts. Inside
+/// [`Threads::awake`], the pool's workers take part in every stage,
+/// claiming blocks as they go: one hand-over for all the stages, and a
+/// spin on a counter between them, where a [`join`] per stage would hand
+/// over (and wait) once per stage. Elsewhere, in order on this thread.
+/// Blocks must not [`join`] (the workers are busy in the stages).
+/// Which thread runs which block never changes what they compute.
+pub(crate) fn stages(
+    blocks: &[u32],
+    block: &(impl Fn(usize, u32) + Sync),
+    mut serial: impl FnMut(usize),
+) {
+    #[cfg(feature = "parallel")]
+    if let Some(Some(pool)) = main::free_worker() {
+        main::stages(&pool, blocks, block, serial);
+        return;
+    }
+    for (s, &n) in blocks.iter().enumerate() {
+        for k in 0..n {
+            block(s, k);
+        }
+        serial(s);
+    }
+}
+
 /// `f(src[i], dst[i])` for every `i` of both, halves in parallel (through
 /// [`join`]) down to pieces of `piece` (at least 1): for work on each pair
 /// alone, which gives the same result however it is split.
@@ -173,7 +200,7 @@ pub(crate) fn zip_split<S: Sync, D: Send>(
 #[cfg(feature = "parallel")]
 mod main {
     use core::cell::RefCell;
-    use core::sync::atomic::{AtomicBool, Ordering};
+    use core::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
     use std::sync::{Arc, Mutex, PoisonError};
 
     /// While a step's parallel stages run on this thread: its pool, how
@@ -261,12 +288,159 @@ mod main {
         })
     }
 
+    /// [`super::stages`] with the pool's workers: the caller counted one
+    /// of them as outstanding ([`free_worker`]), and this takes the others
+    /// too until the stages end. This thread moves the stages on. Each of
+    /// the team (this thread first, then each worker as it arrives) owns
+    /// the same share of every stage's blocks, a run of them, and takes
+    /// them in order; then it takes what is left of the others' shares. A
+    /// block thus runs on the same thread from stage to stage while all
+    /// keep up (its data stays in that core's cache), and a worker that
+    /// comes late (or never) only leaves more blocks to the others. Each
+    /// stage has its own counters, so a worker that still looks at a
+    /// finished stage claims nothing of the next.
+    pub(super) fn stages(
+        pool: &rayon::ThreadPool,
+        blocks: &[u32],
+        block: &(impl Fn(usize, u32) + Sync),
+        mut serial: impl FnMut(usize),
+    ) {
+        let workers = HANDOVER.with(|h| {
+            h.borrow_mut().as_mut().map_or(0, |h| {
+                let free = h.workers.saturating_sub(h.outstanding).saturating_add(1);
+                h.outstanding = h.workers;
+                free
+            })
+        });
+        let team = workers.saturating_add(1);
+        // Blocks claimed, per stage and share; blocks done, per stage.
+        let claimed: Vec<AtomicU32> = (0..blocks.len().saturating_mul(team))
+            .map(|_| AtomicU32::new(0))
+            .collect();
+        let done: Vec<AtomicU32> = blocks.iter().map(|_| AtomicU32::new(0)).collect();
+        // The stage the workers follow (`OVER` once every stage is done).
+        let current = AtomicUsize::new(0);
+        const OVER: usize = usize::MAX;
+        let arrived = AtomicUsize::new(1);
+        // Runs stage `s`'s blocks, the share of member `me` first, until
+        // none is left.
+        let work = |s: usize, me: usize| {
+            let (Some(&n), Some(finished)) = (blocks.get(s), done.get(s)) else {
+                return;
+            };
+            let base = s.saturating_mul(team);
+            for j in (me..team).chain(0..me) {
+                let Some(counter) = claimed.get(base.saturating_add(j)) else {
+                    continue;
+                };
+                let (first, end) = (
+                    share_start(n, team, j),
+                    share_start(n, team, j.saturating_add(1)),
+                );
+                loop {
+                    let k = counter.fetch_add(1, Ordering::Relaxed);
+                    let Some(b) = first.checked_add(k).filter(|&b| b < end) else {
+                        break;
+                    };
+                    // Counted as done also if it unwinds (never waited on
+                    // for ever; the scope passes the panic on).
+                    let _done = CountOnDrop(finished);
+                    block(s, b);
+                }
+            }
+        };
+        pool.in_place_scope(|scope| {
+            for _ in 0..workers {
+                scope.spawn(|_| {
+                    let me = arrived.fetch_add(1, Ordering::Relaxed);
+                    working(|| {
+                        let mut seen = OVER;
+                        let mut spins = 0u32;
+                        loop {
+                            let s = current.load(Ordering::Acquire);
+                            if s == OVER {
+                                return;
+                            }
+                            if s != seen {
+                                work(s, me);
+                                seen = s;
+                                spins = 0;
+                            } else {
+                                wait_a_little(&mut spins);
+                            }
+                        }
+                    });
+                });
+            }
+            // Sends the workers home when dropped: also if this thread
+            // unwinds, which would otherwise leave the scope waiting on
+            // them.
+            let _over = SetOnDrop(&current, OVER);
+            for (s, (finished, &n)) in done.iter().zip(blocks).enumerate() {
+                current.store(s, Ordering::Release);
+                work(s, 0);
+                let mut spins = 0u32;
+                while finished.load(Ordering::Acquire) < n {
+                    wait_a_little(&mut spins);
+                }
+                serial(s);
+            }
+        });
+        HANDOVER.with(|h| {
+            if let Some(h) = h.borrow_mut().as_mut() {
+                h.outstanding = h.outstanding.saturating_sub(workers);
+            }
+        });
+    }
+
+    /// The first of `n` blocks in share `j` of `team` (the end of share
+    /// `team - 1` is `n`): shares differ by at most one block.
+    fn share_start(n: u32, team: usize, j: usize) -> u32 {
+        let team = team.max(1) as u64;
+        let at = u64::from(n)
+            .saturating_mul(j as u64)
+            .checked_div(team)
+            .unwrap_or(0);
+        u32::try_from(at).unwrap_or(n)
+    }
+
+    /// One round of a wait on another thread: a spin, or after 128 of
+    /// them, the core given away (with more threads than cores, the one
+    /// waited for may need it).
+    #[inline]
+    fn wait_a_little(spins: &mut u32) {
+        if *spins < 128 {
+            *spins = spins.wrapping_add(1);
+            core::hint::spin_loop();
+        } else {
+            std::thread::yield_now();
+        }
+    }
+
     /// Sets its flag when dropped: when its half is done, or unwinding.
-    struct SetOnDrop<'a>(&'a AtomicBool);
+    struct FlagOnDrop<'a>(&'a AtomicBool);
+
+    impl Drop for FlagOnDrop<'_> {
+        fn drop(&mut self) {
+            self.0.store(true, Ordering::Release);
+        }
+    }
+
+    /// Sets its word to a value when dropped.
+    struct SetOnDrop<'a>(&'a AtomicUsize, usize);
 
     impl Drop for SetOnDrop<'_> {
         fn drop(&mut self) {
-            self.0.store(true, Ordering::Release);
+            self.0.store(self.1, Ordering::Release);
+        }
+    }
+
+    /// Counts one more when dropped: when its block is done, or unwinding.
+    struct CountOnDrop<'a>(&'a AtomicU32);
+
+    impl Drop for CountOnDrop<'_> {
+        fn drop(&mut self) {
+            self.0.fetch_add(1, Ordering::Release);
         }
     }
 
@@ -289,7 +463,7 @@ mod main {
         };
         pool.in_place_scope(|scope| {
             scope.spawn(|_| {
-                let _done = SetOnDrop(&done);
+                let _done = FlagOnDrop(&done);
                 if !claimed.swap(true, Ordering::AcqRel) {
                     working(run_b);
                 }
@@ -298,17 +472,10 @@ mod main {
             if !claimed.swap(true, Ordering::AcqRel) {
                 run_b();
             } else {
-                // A worker has it: wait, spinning briefly, then giving the
-                // core away (with more threads than cores, the worker may
-                // need this one).
+                // A worker has it: wait.
                 let mut spins = 0u32;
                 while !done.load(Ordering::Acquire) {
-                    if spins < 128 {
-                        spins = spins.wrapping_add(1);
-                        core::hint::spin_loop();
-                    } else {
-                        std::thread::yield_now();
-                    }
+                    wait_a_little(&mut spins);
                 }
             }
             HANDOVER.with(|h| {

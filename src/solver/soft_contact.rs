@@ -258,6 +258,29 @@ impl SoftContacts {
         };
         sweep::share(bodies, shared);
         let motion = motion.as_slice();
+        if wide.is_on() {
+            // The lane passes between warm starts without warm starting
+            // (which zero the impulses) in one set of stages.
+            let mut lane_passes = Vec::with_capacity(passes.len());
+            for &pass in passes {
+                match pass {
+                    SoftPass::WarmStart(None) => {
+                        wide.run_shared(&lane_passes, rows, shared, motion);
+                        lane_passes.clear();
+                        wide.zero_impulses(rows);
+                    }
+                    SoftPass::WarmStart(Some(dt_coef)) => {
+                        lane_passes.push(Pass::WarmStart(dt_coef));
+                    }
+                    SoftPass::Solve { use_bias } => {
+                        lane_passes.push(Pass::Solve(*params, use_bias));
+                    }
+                }
+            }
+            wide.run_shared(&lane_passes, rows, shared, motion);
+            sweep::unshare(shared, bodies);
+            return;
+        }
         for &pass in passes {
             let kernel = |m: &mut [SoftContact], copy: &mut [SolverBody; 2]| match pass {
                 SoftPass::WarmStart(Some(dt_coef)) => {
@@ -268,18 +291,11 @@ impl SoftContacts {
                 SoftPass::Solve { use_bias } => solve_manifold(m, copy, motion, params, use_bias),
             };
             match pass {
-                SoftPass::WarmStart(None) if wide.is_on() => wide.zero_impulses(rows),
                 SoftPass::WarmStart(None) => {
                     for row in rows.iter_mut() {
                         row.jn = Real::ZERO;
                         row.jt = Real::ZERO;
                     }
-                }
-                SoftPass::WarmStart(Some(dt_coef)) if wide.is_on() => {
-                    wide.run_shared(Pass::WarmStart(dt_coef), rows, shared, motion);
-                }
-                SoftPass::Solve { use_bias } if wide.is_on() => {
-                    wide.run_shared(Pass::Solve(*params, use_bias), rows, shared, motion);
                 }
                 _ => sweep::for_each_color(rows, layout, shared, &kernel),
             }

@@ -348,35 +348,134 @@ impl WideContacts {
         }
     }
 
-    /// `pass` on bodies threads share, color after color: a color's
-    /// batches split between the threads (halves down to
-    /// [`BATCH_PIECE`]s; any split gives the same bits, as no two
-    /// manifolds of a color share a body the solver moves), then its
-    /// other manifolds on this thread.
+    /// `passes` on bodies threads share, in order, color after color: a
+    /// color's batches split between the threads in blocks of
+    /// [`BATCH_PIECE`] (any split gives the same bits, as no two
+    /// manifolds of a color share a body the solver moves), then its other
+    /// manifolds on this thread. One set of stages for all the passes
+    /// ([`crate::threads::stages`]): the threads meet between colors on a
+    /// counter instead of a hand-over per color.
     pub(crate) fn run_shared(
         &mut self,
-        pass: Pass,
+        passes: &[Pass],
         rows: &mut [SoftContact],
         shared: &[sweep::SharedBody],
         motion: &[Motion],
     ) {
-        let compiled = self.compiled;
-        for c in self.colors_in_use() {
-            let batches = part_mut(&mut self.batches, &self.color_batches, c);
-            split_batches(compiled, pass, batches, Shared(shared), rows, motion);
-            let narrow = part_mut(&mut self.narrow, &self.color_batches, c);
-            if c < graph::COLORS {
-                split_batches(compiled, pass, narrow, Shared(shared), rows, motion);
+        // Pass after pass, color after color.
+        let stages: Vec<(Pass, usize)> = passes
+            .iter()
+            .flat_map(|&pass| self.colors_in_use().map(move |c| (pass, c)))
+            .collect();
+        let WideContacts {
+            batches,
+            color_batches,
+            scalar,
+            color_scalar,
+            narrow,
+            compiled,
+            ..
+        } = self;
+        let run = SharedRun {
+            compiled: *compiled,
+            stages: &stages,
+            color_batches,
+            scalar,
+            color_scalar,
+        };
+        // One kind of batch holds a step's manifolds (`build`).
+        if narrow.is_empty() {
+            run.run(batches, rows, shared, motion);
+        } else {
+            run.run(narrow, rows, shared, motion);
+        }
+    }
+}
+
+/// The stages of [`WideContacts::run_shared`] (a pass and a color each),
+/// and where each color's batches and scalar manifolds start.
+struct SharedRun<'a> {
+    compiled: Option<Compiled>,
+    stages: &'a [(Pass, usize)],
+    color_batches: &'a [u32],
+    scalar: &'a [(u32, u32)],
+    color_scalar: &'a [u32],
+}
+
+impl SharedRun<'_> {
+    /// The stages on one kind of batch: a color's blocks on any thread
+    /// (each locked by the one thread that claimed it), its scalar
+    /// manifolds on this thread once the blocks are done (the rows locked
+    /// for writing then, for reading while blocks run).
+    fn run<B: LaneBatch>(
+        &self,
+        batches: &mut [B],
+        rows: &mut [SoftContact],
+        shared: &[sweep::SharedBody],
+        motion: &[Motion],
+    ) {
+        use std::sync::{Mutex, PoisonError, RwLock};
+        // Each color's batches in blocks (the overflow's in one, in
+        // order: its manifolds may share bodies), and each color's first
+        // block.
+        let mut blocks: Vec<Mutex<&mut [B]>> = Vec::new();
+        let mut first_block = [0u32; graph::COLORS + 2];
+        let mut rest = batches;
+        for (c, first) in first_block.iter_mut().enumerate() {
+            *first = blocks.len() as u32;
+            let Some((mine, tail)) =
+                core::mem::take(&mut rest).split_at_mut_checked(part_len(self.color_batches, c))
+            else {
+                continue;
+            };
+            rest = tail;
+            if c == graph::COLORS {
+                blocks.extend((!mine.is_empty()).then(|| Mutex::new(mine)));
             } else {
-                // The overflow's manifolds may share bodies: in order.
-                dispatch(compiled, pass, narrow, Shared(shared), rows, motion);
+                blocks.extend(mine.chunks_mut(BATCH_PIECE).map(Mutex::new));
             }
-            for &(start, end) in part(&self.scalar, &self.color_scalar, c) {
+        }
+        let counts: Vec<u32> = self
+            .stages
+            .iter()
+            .map(|&(_, c)| part_len(&first_block, c) as u32)
+            .collect();
+        let rows = RwLock::new(rows);
+        let block = |s: usize, k: u32| {
+            let Some(&(pass, c)) = self.stages.get(s) else {
+                return;
+            };
+            let index = first_block.get(c).copied().unwrap_or(0).saturating_add(k);
+            let Some(block) = blocks.get(index as usize) else {
+                return;
+            };
+            let mut batches = block.lock().unwrap_or_else(PoisonError::into_inner);
+            let rows = rows.read().unwrap_or_else(PoisonError::into_inner);
+            dispatch(
+                self.compiled,
+                pass,
+                &mut batches,
+                Shared(shared),
+                &rows,
+                motion,
+            );
+        };
+        let serial = |s: usize| {
+            let Some(&(pass, c)) = self.stages.get(s) else {
+                return;
+            };
+            let manifolds = part(self.scalar, self.color_scalar, c);
+            if manifolds.is_empty() {
+                return;
+            }
+            let mut rows = rows.write().unwrap_or_else(PoisonError::into_inner);
+            for &(start, end) in manifolds {
                 if let Some(m) = rows.get_mut(start as usize..end as usize) {
                     scalar_pass(pass, m, &mut Shared(shared), motion);
                 }
             }
-        }
+        };
+        crate::threads::stages(&counts, &block, serial);
     }
 }
 
@@ -419,29 +518,8 @@ impl ColorParts<'_> {
     }
 }
 
-/// Batches per piece of a split color (about 2 µs of work).
+/// Batches per block of a split color (a µs or two of work).
 const BATCH_PIECE: usize = 8;
-
-/// [`dispatch`] on `batches` in halves on threads, down to
-/// [`BATCH_PIECE`]s.
-fn split_batches<B: LaneBatch>(
-    compiled: Option<Compiled>,
-    pass: Pass,
-    batches: &mut [B],
-    store: Shared<'_>,
-    rows: &[SoftContact],
-    motion: &[Motion],
-) {
-    if batches.len() <= BATCH_PIECE {
-        dispatch(compiled, pass, batches, store, rows, motion);
-        return;
-    }
-    let (left, right) = batches.split_at_mut(batches.len() / 2);
-    crate::threads::join(
-        || split_batches(compiled, pass, left, store, rows, motion),
-        || split_batches(compiled, pass, right, store, rows, motion),
-    );
-}
 
 /// Part `c` of `items`, whose parts start at `starts` (and end at the
 /// next start).
@@ -449,6 +527,12 @@ fn part<'a, T>(items: &'a [T], starts: &[u32], c: usize) -> &'a [T] {
     let start = starts.get(c).copied().unwrap_or(0) as usize;
     let end = starts.get(c.saturating_add(1)).copied().unwrap_or(0) as usize;
     items.get(start..end.max(start)).unwrap_or(&[])
+}
+
+/// The length of part `c` of items whose parts start at `starts`.
+fn part_len(starts: &[u32], c: usize) -> usize {
+    let at = |c: usize| starts.get(c).copied().unwrap_or(0) as usize;
+    at(c.saturating_add(1)).saturating_sub(at(c))
 }
 
 /// [`part`], mutable.
