@@ -135,6 +135,9 @@ pub(crate) struct WideContacts {
     /// Each batch's manifolds (row ranges), found before the batches are
     /// gathered (kept for its allocation).
     plan: Vec<[(u32, u32); LANES]>,
+    /// Each color's plan (the overflow's last), before they are joined
+    /// into `plan` and `scalar` (kept for their allocations).
+    color_plans: Vec<ColorPlan>,
     /// The batches on the narrow grids, when this step's contacts are
     /// narrow (module `narrow`; `batches` is then empty).
     narrow: Vec<NarrowBatch>,
@@ -195,68 +198,28 @@ impl WideContacts {
         bodies: &[SolverBody],
     ) {
         self.clear();
-        let rows_of = |m: usize| {
-            let start = manifold_rows.get(m).copied().unwrap_or(0);
-            let end = manifold_rows
-                .get(m.saturating_add(1))
-                .copied()
-                .unwrap_or(start);
-            (start, end.max(start))
+        // Each color's plan alone, colors in parallel where there are
+        // threads (a color's plan reads only its own manifolds), then
+        // the plans one after the other.
+        let colors: [usize; graph::COLORS + 1] = core::array::from_fn(|c| c);
+        self.color_plans
+            .resize_with(graph::COLORS.wrapping_add(1), ColorPlan::default);
+        let step = StepRows {
+            narrow,
+            rows,
+            manifold_rows,
+            graph,
+            bodies,
         };
+        crate::threads::zip_split(&colors, &mut self.color_plans, 1, &|&c, out| {
+            step.plan_color(c, out);
+        });
         self.plan.clear();
-        for c in 0..=graph::COLORS {
+        for p in &self.color_plans {
             self.color_batches.push(self.plan.len() as u32);
             self.color_scalar.push(self.scalar.len() as u32);
-            // Manifolds of one and of two points batch apart (a batch
-            // solves as many points as its largest manifold has).
-            let mut pending: [[usize; LANES]; 2] = [[0; LANES]; 2];
-            let mut counts = [0usize; 2];
-            for m in graph.range(c) {
-                let (start, end) = rows_of(m);
-                let joins = (c < graph::COLORS || narrow)
-                    && rows.get(start as usize).is_some_and(|r| {
-                        r.a != r.b && (r.a as usize) < bodies.len() && (r.b as usize) < bodies.len()
-                    })
-                    && matches!(end.wrapping_sub(start), 1 | 2)
-                    && rows
-                        .get(start as usize..end as usize)
-                        .is_some_and(shares_manifold_constants);
-                if !joins {
-                    self.scalar.push((start, end));
-                    continue;
-                }
-                if c == graph::COLORS {
-                    let mut alone = [(u32::MAX, u32::MAX); LANES];
-                    set(&mut alone, 0, (start, end));
-                    self.plan.push(alone);
-                    continue;
-                }
-                let kind = usize::from(end.wrapping_sub(start) == 2);
-                let (Some(group), Some(n)) = (pending.get_mut(kind), counts.get_mut(kind)) else {
-                    continue;
-                };
-                if let Some(slot) = group.get_mut(*n) {
-                    *slot = m;
-                    *n = n.saturating_add(1);
-                }
-                if *n == LANES {
-                    self.plan.push(group.map(rows_of));
-                    *n = 0;
-                }
-            }
-            let padded = if narrow { 1 } else { PADDED_BATCH };
-            for (group, &n) in pending.iter().zip(&counts) {
-                if n >= padded {
-                    let mut manifolds = [(u32::MAX, u32::MAX); LANES];
-                    for (slot, &m) in manifolds.iter_mut().zip(group.iter().take(n)) {
-                        *slot = rows_of(m);
-                    }
-                    self.plan.push(manifolds);
-                } else {
-                    self.scalar
-                        .extend(group.iter().take(n).map(|&m| rows_of(m)));
-                }
-            }
+            self.plan.extend_from_slice(&p.batches);
+            self.scalar.extend_from_slice(&p.scalar);
         }
         self.color_batches.push(self.plan.len() as u32);
         self.color_scalar.push(self.scalar.len() as u32);
@@ -388,6 +351,96 @@ impl WideContacts {
             run.run(batches, rows, shared, motion);
         } else {
             run.run(narrow, rows, shared, motion);
+        }
+    }
+}
+
+/// One color's plan: each of its batches' manifolds (row ranges), and
+/// the manifolds the scalar kernel runs.
+#[derive(Clone, Debug, Default)]
+struct ColorPlan {
+    batches: Vec<[(u32, u32); LANES]>,
+    scalar: Vec<(u32, u32)>,
+}
+
+/// What [`WideContacts::build`] plans from: a step's rows, where each
+/// manifold's rows start, the colors and the bodies.
+struct StepRows<'a> {
+    narrow: bool,
+    rows: &'a [SoftContact],
+    manifold_rows: &'a [u32],
+    graph: &'a graph::ConstraintGraph,
+    bodies: &'a [SolverBody],
+}
+
+impl StepRows<'_> {
+    /// Manifold `m`'s rows.
+    fn rows_of(&self, m: usize) -> (u32, u32) {
+        let start = self.manifold_rows.get(m).copied().unwrap_or(0);
+        let end = self
+            .manifold_rows
+            .get(m.saturating_add(1))
+            .copied()
+            .unwrap_or(start);
+        (start, end.max(start))
+    }
+
+    /// Color `c`'s plan into `out` (emptied first): its manifolds in
+    /// batches of four, the rest for the scalar kernel (see
+    /// [`WideContacts::build`]).
+    fn plan_color(&self, c: usize, out: &mut ColorPlan) {
+        out.batches.clear();
+        out.scalar.clear();
+        let (rows, bodies) = (self.rows, self.bodies);
+        // Manifolds of one and of two points batch apart (a batch solves
+        // as many points as its largest manifold has).
+        let mut pending: [[usize; LANES]; 2] = [[0; LANES]; 2];
+        let mut counts = [0usize; 2];
+        for m in self.graph.range(c) {
+            let (start, end) = self.rows_of(m);
+            let joins = (c < graph::COLORS || self.narrow)
+                && rows.get(start as usize).is_some_and(|r| {
+                    r.a != r.b && (r.a as usize) < bodies.len() && (r.b as usize) < bodies.len()
+                })
+                && matches!(end.wrapping_sub(start), 1 | 2)
+                && rows
+                    .get(start as usize..end as usize)
+                    .is_some_and(shares_manifold_constants);
+            if !joins {
+                out.scalar.push((start, end));
+                continue;
+            }
+            if c == graph::COLORS {
+                let mut alone = [(u32::MAX, u32::MAX); LANES];
+                set(&mut alone, 0, (start, end));
+                out.batches.push(alone);
+                continue;
+            }
+            let kind = usize::from(end.wrapping_sub(start) == 2);
+            let (Some(group), Some(n)) = (pending.get_mut(kind), counts.get_mut(kind)) else {
+                continue;
+            };
+            if let Some(slot) = group.get_mut(*n) {
+                *slot = m;
+                *n = n.saturating_add(1);
+            }
+            if *n == LANES {
+                out.batches.push(group.map(|m| self.rows_of(m)));
+                *n = 0;
+            }
+        }
+        let padded = if self.narrow { 1 } else { PADDED_BATCH };
+        for (group, &n) in pending.iter().zip(&counts) {
+            if n >= padded {
+                let mut manifolds = [(u32::MAX, u32::MAX); LANES];
+                for (slot, &m) in manifolds.iter_mut().zip(group.iter().take(n)) {
+                    *slot = self.rows_of(m);
+                }
+                out.batches.push(manifolds);
+            } else {
+                out.scalar
+                    .extend(group.iter().take(n).map(|&m| self.rows_of(m)));
+            }
         }
     }
 }
