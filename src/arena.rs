@@ -457,6 +457,54 @@ impl<T> Arena<T> {
         });
     }
 
+    /// Runs `f` on every live object, the element of `read` at its slot
+    /// and the element of `write` at its slot (slots past the end of
+    /// either are skipped), in pieces of `piece` slots split between
+    /// threads: for work on each object alone.
+    pub(crate) fn zip_values_mut2_split<U, V, F>(
+        &mut self,
+        read: &[U],
+        write: &mut [V],
+        piece: usize,
+        f: &F,
+    ) where
+        T: Send,
+        U: Sync,
+        V: Send,
+        F: Fn(&mut T, &U, &mut V) + Sync,
+    {
+        fn split<T: Send, U: Sync, V: Send, F: Fn(&mut T, &U, &mut V) + Sync>(
+            slots: &mut [Slot<T>],
+            read: &[U],
+            write: &mut [V],
+            piece: usize,
+            f: &F,
+        ) {
+            let len = slots.len().min(read.len()).min(write.len());
+            if len <= piece {
+                for ((s, u), v) in slots.iter_mut().zip(read).zip(write) {
+                    if let Some(t) = s.value.as_mut() {
+                        f(t, u, v);
+                    }
+                }
+                return;
+            }
+            let mid = len / 2;
+            let (Some((s_l, s_r)), Some((u_l, u_r)), Some((v_l, v_r))) = (
+                slots.split_at_mut_checked(mid),
+                read.split_at_checked(mid),
+                write.split_at_mut_checked(mid),
+            ) else {
+                return;
+            };
+            crate::threads::join(
+                || split(s_l, u_l, v_l, piece, f),
+                || split(s_r, u_r, v_r, piece, f),
+            );
+        }
+        split(&mut self.slots, read, write, piece.max(1), f);
+    }
+
     /// Checks the internal invariants: the free list names exactly the empty
     /// slots, each once, and `len` counts the full ones. Used by snapshot
     /// loading and by tests; returns a description of the first violation.

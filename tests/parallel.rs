@@ -397,3 +397,49 @@ fn handlers_and_custom_integrators_give_the_bits_of_one_thread() {
         }
     }
 }
+
+/// The soft step keeps the solver bodies shared between threads from the
+/// first sub-step to the last when no joint or custom integrator comes
+/// between them, and fuses the body stages: forces re-applied in every
+/// sub-step, damping, a torque, and a force on a static body (the level
+/// changes) give the bits of one thread, step by step.
+#[test]
+fn forces_and_damping_on_shared_sub_steps_give_the_bits_of_one_thread() {
+    use tamias2d::math::{Real, Vect};
+    let run = |threads: usize| -> Vec<u64> {
+        let mut desc = tamias2d_scenes::builtin("pyramid_20").expect("a registered scene");
+        desc.settings.use_narrow_soft_step();
+        desc.settings.damping = Real::lit("0.97");
+        let mut world = desc.build().expect("a valid scene");
+        world.space.set_threads(threads).expect("threads start");
+        let handles: Vec<_> = world.space.bodies().map(|(h, _)| h).collect();
+        (0..60u32)
+            .map(|n| {
+                for (k, &h) in handles.iter().enumerate() {
+                    let Some(body) = world.space.body_mut(h) else {
+                        continue;
+                    };
+                    if !body.is_dynamic() {
+                        if n % 20 == 5 {
+                            body.apply_force(Vect::new(Real::ONE, Real::ZERO));
+                        }
+                    } else if k % 3 == 0 {
+                        body.apply_force(Vect::from_ints((k % 7) as i32, 2));
+                        body.set_torque(Real::from_int((k % 5) as i32 - 2));
+                    }
+                }
+                world
+                    .step()
+                    .unwrap_or_else(|e| panic!("{threads} threads, step {n}: {e}"));
+                world.space.checksum()
+            })
+            .collect()
+    };
+    let one = run(1);
+    for &threads in thread_counts().iter().filter(|&&t| t > 1) {
+        let got = run(threads);
+        if let Some(n) = one.iter().zip(&got).position(|(a, b)| a != b) {
+            panic!("{threads} threads differ from one at step {}", n + 1);
+        }
+    }
+}

@@ -331,16 +331,21 @@ impl ContactSolver {
     pub(crate) fn store_velocities(&self, bodies: &mut Arena<Body>) {
         // Body by body (slot i from solver slot i), in pieces the threads
         // share.
-        bodies.zip_values_mut_split(&self.bodies, 512, &|body: &mut Body, s: &SolverBody| {
-            if body.body_type() != BodyType::Dynamic || body.is_sleeping() {
-                return;
-            }
-            body.v = s.v;
-            body.w = s.w;
-            body.v_bias = s.v_bias;
-            body.w_bias = s.w_bias;
-        });
+        bodies.zip_values_mut_split(&self.bodies, 512, &store_velocity);
     }
+}
+
+/// The velocities and bias velocities of solver body `s` into `body`, if
+/// it is dynamic and awake (the solver moves no other).
+#[inline]
+pub(crate) fn store_velocity(body: &mut Body, s: &SolverBody) {
+    if body.body_type() != BodyType::Dynamic || body.is_sleeping() {
+        return;
+    }
+    body.v = s.v;
+    body.w = s.w;
+    body.v_bias = s.v_bias;
+    body.w_bias = s.w_bias;
 }
 
 /// Colors the `active` arbiters ([`graph::ConstraintGraph::color`]): a

@@ -253,6 +253,39 @@ impl SoftContacts {
         params: &SoftContactParams,
         passes: &[SoftPass],
     ) {
+        self.share_bodies(bodies);
+        self.solve_shared(graph, params, passes);
+        self.unshare_bodies(bodies);
+    }
+
+    /// The bodies into the copy threads share ([`shared_bodies`](Self::shared_bodies)).
+    pub(crate) fn share_bodies(&mut self, bodies: &[SolverBody]) {
+        sweep::share(bodies, &mut self.shared);
+    }
+
+    /// The shared copy back into `bodies`.
+    pub(crate) fn unshare_bodies(&self, bodies: &mut [SolverBody]) {
+        sweep::unshare(&self.shared, bodies);
+    }
+
+    /// The bodies while threads share them (by slot).
+    pub(crate) fn shared_bodies(&self) -> &[sweep::SharedBody] {
+        &self.shared
+    }
+
+    /// The shared bodies, and the motion to track from the bodies' poses.
+    pub(crate) fn shared_bodies_and_motion(&mut self) -> (&[sweep::SharedBody], &mut [Motion]) {
+        (&self.shared, &mut self.motion)
+    }
+
+    /// [`solve_split`](Self::solve_split) on the bodies already shared
+    /// ([`share_bodies`](Self::share_bodies)), left there.
+    pub(crate) fn solve_shared(
+        &mut self,
+        graph: &graph::ConstraintGraph,
+        params: &SoftContactParams,
+        passes: &[SoftPass],
+    ) {
         let SoftContacts {
             rows,
             motion,
@@ -267,7 +300,6 @@ impl SoftContacts {
             color_rows,
             manifold_rows,
         };
-        sweep::share(bodies, shared);
         let motion = motion.as_slice();
         if wide.is_on() {
             // The lane passes between warm starts without warm starting
@@ -289,7 +321,6 @@ impl SoftContacts {
                 }
             }
             wide.run_shared(&lane_passes, rows, shared, motion);
-            sweep::unshare(shared, bodies);
             return;
         }
         for &pass in passes {
@@ -311,7 +342,6 @@ impl SoftContacts {
                 _ => sweep::for_each_color(rows, layout, shared, &kernel),
             }
         }
-        sweep::unshare(shared, bodies);
     }
 
     /// One pass over the rows in solve order: with `use_bias` the sub-step's
@@ -385,18 +415,7 @@ impl SoftContacts {
         bodies.zip_values_split(
             &mut self.motion,
             BODY_PIECE,
-            &|body: &Body, m: &mut Motion| {
-                if body.is_sleeping() {
-                    return;
-                }
-                m.dp = body.p - m.p0;
-                (m.dq_c1, m.dq_s) = if body.rot == m.rot0 {
-                    (Real::ZERO, Real::ZERO)
-                } else {
-                    let dq = body.rot.compose(m.rot0.inv()).as_vect();
-                    (dq.x - Real::ONE, dq.y)
-                };
-            },
+            &|body: &Body, m: &mut Motion| m.track(body),
         );
     }
 

@@ -31,6 +31,26 @@ pub(crate) struct Motion {
     pub(super) dq_s: Real,
 }
 
+impl Motion {
+    /// The motion of `body` (at this slot) since the collide, after a
+    /// sub-step's positions were integrated: `Δp = p − p₀`,
+    /// `Δq = q·q₀⁻¹` (exact while the body has not moved); a sleeping
+    /// body's is left as it is.
+    #[inline]
+    pub(crate) fn track(&mut self, body: &crate::body::Body) {
+        if body.is_sleeping() {
+            return;
+        }
+        self.dp = body.p - self.p0;
+        (self.dq_c1, self.dq_s) = if body.rot == self.rot0 {
+            (Real::ZERO, Real::ZERO)
+        } else {
+            let dq = body.rot.compose(self.rot0.inv()).as_vect();
+            (dq.x - Real::ONE, dq.y)
+        };
+    }
+}
+
 /// The soft step's contact constants of one step (from the settings and
 /// the sub-step length).
 #[derive(Clone, Copy, Debug)]

@@ -36,6 +36,7 @@ mod narrowphase;
 mod pairs;
 mod positions;
 mod shape_caches;
+mod shared_sub_step;
 mod soft;
 mod stages;
 

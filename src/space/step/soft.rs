@@ -138,9 +138,22 @@ impl Space {
                 &self.caches.solver.graph,
                 &self.caches.solver.bodies,
             );
+            let shared = self.keeps_bodies_shared(SPLIT_MIN_MANIFOLDS);
+            if shared {
+                let soft = &mut self.caches.soft_contacts;
+                soft.share_bodies(&self.caches.solver.bodies);
+            }
             for (i, h_i) in sub_step_dts(dt, substeps).enumerate() {
                 let warm = warm_starting.then_some(first_coef);
-                self.soft_sub_step(h_i, i, &coef, &forces, warm);
+                if shared {
+                    self.shared_sub_step(h_i, i, &coef.contacts, &forces, warm);
+                } else {
+                    self.soft_sub_step(h_i, i, &coef, &forces, warm);
+                }
+            }
+            if shared {
+                let soft = &self.caches.soft_contacts;
+                soft.unshare_bodies(&mut self.caches.solver.bodies);
             }
             // With the threads still awake: the narrow batches' write-back
             // (the restitution's first act) and the velocities' store split
