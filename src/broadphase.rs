@@ -413,22 +413,19 @@ impl Broadphase {
             self.hits.resize_with(slots, StaticHits::default);
         }
         let Broadphase {
-            sorted,
-            found,
-            hits,
-            pairs,
-            ..
+            found, hits, pairs, ..
         } = self;
-        let mut rest = sorted.as_slice();
-        while let Some((a, later)) = rest.split_first() {
+        // In the caller's order (by shape slot where a space calls), not
+        // the sweep's: the table is then read in order instead of at
+        // random, and the pairs are sorted below anyway.
+        for a in moving {
             if found.len() > limit {
                 found.clear();
                 pairs.clear();
                 return false;
             }
-            rest = later;
             if statics.is_empty() && sleeping.is_empty() {
-                continue;
+                break;
             }
             match hits.get_mut(at(a.index)).filter(|_| table) {
                 Some(cache) => {
