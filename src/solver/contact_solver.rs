@@ -79,26 +79,28 @@ impl ContactSolver {
         let sb = &mut self.bodies;
         sb.clear();
         sb.resize(bodies.capacity_slots(), SolverBody::default());
-        let mut massless = 0u32;
-        for (h, body) in bodies.iter() {
-            if let Some(slot) = sb.get_mut(h.index() as usize) {
-                let dynamic = body.body_type() == BodyType::Dynamic && !body.is_sleeping();
-                massless = massless.saturating_add(u32::from(dynamic && !body.can_step()));
-                *slot = SolverBody {
-                    v: body.velocity(),
-                    w: body.angular_velocity(),
-                    v_bias: body.v_bias,
-                    w_bias: body.w_bias,
-                    m_inv: if dynamic { body.mass_inv() } else { Real::ZERO },
-                    i_inv: if dynamic {
-                        body.moment_inv()
-                    } else {
-                        Real::ZERO
-                    },
-                };
+        // Body by body (slot i into solver slot i), in pieces the threads
+        // share; the count does not depend on the order.
+        let massless = core::sync::atomic::AtomicU32::new(0);
+        bodies.zip_values_split(sb, 512, &|body: &Body, slot: &mut SolverBody| {
+            let dynamic = body.body_type() == BodyType::Dynamic && !body.is_sleeping();
+            if dynamic && !body.can_step() {
+                massless.fetch_add(1, core::sync::atomic::Ordering::Relaxed);
             }
-        }
-        massless
+            *slot = SolverBody {
+                v: body.velocity(),
+                w: body.angular_velocity(),
+                v_bias: body.v_bias,
+                w_bias: body.w_bias,
+                m_inv: if dynamic { body.mass_inv() } else { Real::ZERO },
+                i_inv: if dynamic {
+                    body.moment_inv()
+                } else {
+                    Real::ZERO
+                },
+            };
+        });
+        massless.into_inner()
     }
 
     /// The rows of the `active` arbiters: the solve order (canonical, or by

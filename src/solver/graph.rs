@@ -42,6 +42,9 @@ const BANDS: usize = 64;
 /// An arbiter end that is not a movable body (in `ends_of`).
 const NO_SLOT: u32 = u32::MAX;
 
+/// Arbiters per piece of the split read of their bodies (a few µs).
+const ENDS_PIECE: usize = 1024;
+
 /// Every color's bit.
 const ALL: u32 = (1 << COLORS) - 1;
 
@@ -95,7 +98,7 @@ impl ConstraintGraph {
         &mut self,
         arbiters: &[u32],
         body_slots: usize,
-        mut bodies: impl FnMut(u32) -> [(u32, bool); 2],
+        bodies: impl Fn(u32) -> [(u32, bool); 2] + Sync,
     ) {
         if self.used.len() != body_slots {
             // All masks are clear here (cleared after each use).
@@ -103,14 +106,23 @@ impl ConstraintGraph {
             self.used.resize(body_slots, 0);
         }
         self.color_of.clear();
+        // Each arbiter's movable bodies first, in pieces the threads share
+        // (the arbiters' and bodies' reads are the cache misses); then the
+        // colors one arbiter after the other, from that compact list.
         self.ends_of.clear();
-        for &i in arbiters {
-            let ends = bodies(i).map(|(slot, movable)| {
-                (movable && (slot as usize) < body_slots).then_some(slot as usize)
-            });
+        self.ends_of.resize(arbiters.len(), [NO_SLOT; 2]);
+        crate::threads::zip_split(arbiters, &mut self.ends_of, ENDS_PIECE, &|&i, ends| {
             // Slots below body_slots fit u32 (they came as u32).
-            self.ends_of
-                .push(ends.map(|e| e.map_or(NO_SLOT, |slot| slot as u32)));
+            *ends = bodies(i).map(|(slot, movable)| {
+                if movable && (slot as usize) < body_slots {
+                    slot
+                } else {
+                    NO_SLOT
+                }
+            });
+        });
+        for ends in &self.ends_of {
+            let ends = ends.map(|e| (e != NO_SLOT).then_some(e as usize));
             // Start after the highest color its bodies are taken in, so
             // that an arbiter sharing a body with earlier ones is solved
             // after them whenever the colors allow (the canonical order's

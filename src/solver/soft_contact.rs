@@ -95,15 +95,13 @@ impl SoftContacts {
         soft.wide.clear();
         soft.motion.clear();
         soft.motion.resize(solver_bodies.len(), Motion::default());
-        for (h, body) in bodies.iter() {
-            if let Some(m) = soft.motion.get_mut(h.index() as usize) {
-                *m = Motion {
-                    p0: body.p,
-                    rot0: body.rot,
-                    ..Motion::default()
-                };
-            }
-        }
+        bodies.zip_values_split(&mut soft.motion, BODY_PIECE, &|body: &Body, m| {
+            *m = Motion {
+                p0: body.p,
+                rot0: body.rot,
+                ..Motion::default()
+            };
+        });
         color_arbiters(graph, arbiters, active, solver_bodies);
         // Where each manifold's rows go, in one pass: then the manifolds
         // are prepared in pieces, halves in parallel where there are
