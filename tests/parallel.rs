@@ -389,13 +389,7 @@ fn handlers_and_custom_integrators_give_the_bits_of_one_thread() {
             })
             .collect()
     };
-    let one = run(1);
-    for &threads in thread_counts().iter().filter(|&&t| t > 1) {
-        let got = run(threads);
-        if let Some(n) = one.iter().zip(&got).position(|(a, b)| a != b) {
-            panic!("{threads} threads differ from one at step {}", n + 1);
-        }
-    }
+    every_thread_count_agrees_with_one(run);
 }
 
 /// The soft step keeps the solver bodies shared between threads from the
@@ -435,6 +429,12 @@ fn forces_and_damping_on_shared_sub_steps_give_the_bits_of_one_thread() {
             })
             .collect()
     };
+    every_thread_count_agrees_with_one(run);
+}
+
+/// Panics at the first step where `run(threads)`'s checksums differ from
+/// `run(1)`'s, for every thread count above one.
+fn every_thread_count_agrees_with_one(run: impl Fn(usize) -> Vec<u64>) {
     let one = run(1);
     for &threads in thread_counts().iter().filter(|&&t| t > 1) {
         let got = run(threads);

@@ -49,14 +49,9 @@ impl Space {
         warm: Option<Real>,
     ) {
         if i > 0 {
-            // The forces act in every sub-step (only the force and torque
-            // accumulators change: before the velocities' store as after).
-            for &(b, f, t) in forces {
-                if let Some(body) = self.state.bodies.get_mut(b) {
-                    body.f += f;
-                    body.t += t;
-                }
-            }
+            // Only the force and torque accumulators change: before the
+            // velocities' store (fused below) as after it.
+            self.add_forces_again(forces);
         }
         let ctx = self.step_context(h);
         self.integrate_shared_velocities(&ctx, i > 0); // IntegrateVelocities

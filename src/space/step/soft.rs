@@ -202,6 +202,17 @@ impl Space {
         }
     }
 
+    /// The forces and torques set before the step, added again for a
+    /// sub-step after the first (integrating the velocities clears them).
+    pub(super) fn add_forces_again(&mut self, forces: &[(BodyHandle, Vect, Real)]) {
+        for &(b, f, t) in forces {
+            if let Some(body) = self.state.bodies.get_mut(b) {
+                body.f += f;
+                body.t += t;
+            }
+        }
+    }
+
     /// Sub-step `i` of length `h`: velocities, the joints' rows, the warm
     /// start (the first sub-step's scaled by `min(dt / prev_dt, 1)`),
     /// solve, positions, relax.
@@ -217,12 +228,7 @@ impl Space {
             // The solver bodies hold the velocities; the forces act in
             // every sub-step.
             self.caches.solver.store_velocities(&mut self.state.bodies);
-            for &(b, f, t) in forces {
-                if let Some(body) = self.state.bodies.get_mut(b) {
-                    body.f += f;
-                    body.t += t;
-                }
-            }
+            self.add_forces_again(forces);
         }
         let ctx = self.step_context(h);
         self.integrate_velocities(&ctx); // IntegrateVelocities
