@@ -443,3 +443,25 @@ fn every_thread_count_agrees_with_one(run: impl Fn(usize) -> Vec<u64>) {
         }
     }
 }
+
+/// Warm starting off on the narrow soft step (the impulses start from 0
+/// in every sub-step, between the shared passes) gives the bits of one
+/// thread, step by step.
+#[test]
+fn warm_starting_off_on_the_soft_step_gives_the_bits_of_one_thread() {
+    every_thread_count_agrees_with_one(|threads| {
+        let mut desc = tamias2d_scenes::builtin("pyramid_20").expect("a registered scene");
+        desc.settings.use_narrow_soft_step();
+        desc.settings.warm_starting = false;
+        let mut world = desc.build().expect("a valid scene");
+        world.space.set_threads(threads).expect("threads start");
+        (0..40u32)
+            .map(|n| {
+                world
+                    .step()
+                    .unwrap_or_else(|e| panic!("{threads} threads, step {n}: {e}"));
+                world.space.checksum()
+            })
+            .collect()
+    });
+}

@@ -306,8 +306,10 @@ impl SoftContacts {
             for &pass in passes {
                 match pass {
                     SoftPass::WarmStart(None) => {
-                        wide.run_shared(&lane_passes, rows, shared, motion);
-                        lane_passes.clear();
+                        if !lane_passes.is_empty() {
+                            wide.run_shared(&lane_passes, rows, shared, motion);
+                            lane_passes.clear();
+                        }
                         wide.zero_impulses(rows);
                     }
                     SoftPass::WarmStart(Some(dt_coef)) => {
@@ -318,7 +320,9 @@ impl SoftContacts {
                     }
                 }
             }
-            wide.run_shared(&lane_passes, rows, shared, motion);
+            if !lane_passes.is_empty() {
+                wide.run_shared(&lane_passes, rows, shared, motion);
+            }
             return;
         }
         for &pass in passes {
