@@ -84,6 +84,18 @@ pub(crate) struct ArbiterBuffers {
     /// With threads: for each arbiter of last step's list, the candidate
     /// pair it matches (`u32::MAX`: none), kept for its allocation.
     pub(crate) matched: Vec<u32>,
+    /// With threads: for each arbiter of last step's list, the candidate
+    /// pair it matches or, if none, the first pair whose key follows its
+    /// own (the number of pairs if none does): nondecreasing, kept for its
+    /// allocation.
+    pub(crate) place: Vec<u32>,
+    /// With threads: for each candidate pair, whether it touches and
+    /// whether its narrowphase hit the iteration cap (bit flags, `space/step/`),
+    /// kept for its allocation.
+    pub(crate) answer_flags: Vec<u8>,
+    /// With threads and no collision handler: which arbiter fills each
+    /// slot of this step's list (`space/step/`), kept for its allocation.
+    pub(crate) slots: Vec<crate::space::MergeSlot>,
 }
 
 /// Where an arbiter is in its life.
@@ -416,6 +428,24 @@ impl Arbiter {
             shape_b: sb,
             body_a: a.body,
             body_b: b.body,
+            state: ArbiterState::FirstCollision,
+            sensor: a.sensor || b.sensor,
+            ..Arbiter::blank()
+        }
+    }
+
+    /// A placeholder, overwritten before it is read: the slots by which
+    /// the list of arbiters grows before threads fill them.
+    pub(crate) fn blank() -> Arbiter {
+        let (shape, body) = (
+            ShapeHandle::from_raw_parts(0, 0),
+            BodyHandle::from_raw_parts(0, 0),
+        );
+        Arbiter {
+            shape_a: shape,
+            shape_b: shape,
+            body_a: body,
+            body_b: body,
             normal: Vect::ZERO,
             count: 0,
             contacts: [ManifoldPoint::default(); MAX_CONTACTS_PER_ARBITER],
@@ -424,8 +454,8 @@ impl Arbiter {
             surface_velocity: Vect::ZERO,
             warm_start_id: 0,
             stamp: 0,
-            state: ArbiterState::FirstCollision,
-            sensor: a.sensor || b.sensor,
+            state: ArbiterState::Cached,
+            sensor: false,
         }
     }
 

@@ -196,6 +196,31 @@ pub(crate) fn zip_split<S: Sync, D: Send>(
     );
 }
 
+/// [`zip_split`] with both slices written: `f(a[i], b[i])` for every `i`
+/// of both, halves in parallel down to pieces of `piece` (at least 1).
+pub(crate) fn zip_mut_split<A: Send, B: Send>(
+    a: &mut [A],
+    b: &mut [B],
+    piece: usize,
+    f: &(impl Fn(&mut A, &mut B) + Sync),
+) {
+    let len = a.len().min(b.len());
+    if len <= piece.max(1) {
+        a.iter_mut().zip(b.iter_mut()).for_each(|(x, y)| f(x, y));
+        return;
+    }
+    let (Some((a_l, a_r)), Some((b_l, b_r))) = (
+        a.split_at_mut_checked(len / 2),
+        b.split_at_mut_checked(len / 2),
+    ) else {
+        return;
+    };
+    join(
+        || zip_mut_split(a_l, b_l, piece, f),
+        || zip_mut_split(a_r, b_r, piece, f),
+    );
+}
+
 /// The thread that steps, taking part in the parallel stages.
 #[cfg(feature = "parallel")]
 mod main {

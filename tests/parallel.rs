@@ -465,3 +465,50 @@ fn warm_starting_off_on_the_soft_step_gives_the_bits_of_one_thread() {
             .collect()
     });
 }
+
+/// With no handler, threads split the narrowphase's arbiter merge; pairs
+/// that come and go (elastic circles), cached arbiters that expire after
+/// two idle steps, sensors (kept, never solved) and shapes removed in the
+/// middle of the run give one thread's snapshot bytes, step by step.
+#[test]
+fn arbiters_coming_and_going_give_the_bytes_of_one_thread() {
+    let run = |threads: usize| -> Vec<u64> {
+        let mut desc = tamias2d_scenes::builtin("bouncy_circles_500").expect("a registered scene");
+        desc.settings.collision_persistence = 2;
+        let mut world = desc.build().expect("a valid scene");
+        world.space.set_threads(threads).expect("threads start");
+        let shapes: Vec<_> = world.space.shapes().map(|(h, _)| h).collect();
+        (0..50u32)
+            .map(|n| {
+                if n == 10 {
+                    // Every 7th shape becomes a sensor in a new slot.
+                    for &h in shapes.iter().step_by(7) {
+                        let mut shape = world.space.remove_shape(h).expect("a live shape");
+                        shape.sensor = true;
+                        world.space.add_shape(shape).expect("shape added back");
+                    }
+                }
+                if n == 30 {
+                    for &h in shapes.iter().skip(3).step_by(11) {
+                        let _ = world.space.remove_shape(h);
+                    }
+                }
+                world
+                    .step()
+                    .unwrap_or_else(|e| panic!("{threads} threads, step {n}: {e}"));
+                let space = &world.space;
+                let is_sensor = |h| space.shape(h).is_some_and(|s| s.sensor);
+                let sensor_pairs = space
+                    .arbiters()
+                    .iter()
+                    .filter(|a| is_sensor(a.shapes().0) || is_sensor(a.shapes().1))
+                    .count();
+                assert!(n < 12 || sensor_pairs > 0, "step {n}: no sensor touches");
+                let mut hasher = std::hash::DefaultHasher::new();
+                std::hash::Hash::hash(&tamias2d::snapshot::save(space), &mut hasher);
+                std::hash::Hasher::finish(&hasher)
+            })
+            .collect()
+    };
+    every_thread_count_agrees_with_one(run);
+}

@@ -30,6 +30,7 @@ use crate::solver::contact_solver::RowOrder;
 
 use super::{Space, SpaceError};
 
+mod arbiter_merge;
 mod bullets;
 mod context;
 mod narrowphase;
@@ -40,6 +41,7 @@ mod shared_sub_step;
 mod soft;
 mod stages;
 
+pub(crate) use arbiter_merge::MergeSlot;
 pub use context::StepStats;
 pub(crate) use context::{StepCache, StepContext};
 pub(crate) use shape_caches::ShapeCache;

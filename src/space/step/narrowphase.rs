@@ -2,8 +2,9 @@
 //! matched with its arbiter (which keeps the accumulated impulses of the
 //! points it matches by feature id), the begin and pre-solve handlers run;
 //! arbiters whose pair stopped touching retire (separate handler, expiry).
-//! With threads, every pair's collision and its arbiter's update first,
-//! in pieces; then the same merge in pair order.
+//! With threads, every pair's collision first, in pieces; then the same
+//! merge in pair order, split between threads when no handler is
+//! registered (`arbiter_merge`).
 use core::mem;
 
 use crate::arbiter::Arbiter;
@@ -12,9 +13,10 @@ use crate::body::Body;
 use crate::collision::{collide, CollisionInfo, WarmStartId};
 use crate::constraint::solve::ConstraintScratch;
 use crate::math::Vect;
-use crate::shape::Shape;
+use crate::shape::{Shape, ShapeHandle};
 
 use super::super::Space;
+use super::arbiter_merge::{answer_flags, MergeInputs, NONE};
 use super::context::StepStats;
 use super::shape_caches::ShapeCache;
 
@@ -24,11 +26,11 @@ impl Space {
     /// whose pair is not touching are retired on the way (separate handler,
     /// expiry). Returns the indices of the arbiters to solve this step.
     pub(super) fn collide_pairs(&mut self) -> Vec<u32> {
-        // Double-buffered: last step's list is drained into this step's,
-        // and both allocations are kept for the next step.
+        // Double-buffered: last step's list is copied into this step's
+        // (drained on this thread, or read whole by the split merge), and
+        // both allocations are kept for the next step.
         let mut old = mem::take(&mut self.state.arbiters);
         let mut arbiters = mem::take(&mut self.caches.arbiters.spare);
-        arbiters.clear();
         let mut active = mem::take(&mut self.caches.arbiters.active);
         active.clear();
         let pairs = mem::take(&mut self.caches.broadphase.sweep.pairs);
@@ -37,20 +39,61 @@ impl Space {
             ..StepStats::default()
         };
         // With threads, every pair's narrowphase first, in parallel; then
-        // the same merge.
+        // the same merge, also split if no handler needs it in order.
         let mut infos = mem::take(&mut self.caches.arbiters.infos);
         let ahead = self.caches.threads.parallel();
+        let split_merge = ahead && self.handlers.is_empty();
         if ahead {
             self.collide_ahead(&pairs, &mut old, &mut infos);
         }
+        if split_merge {
+            let matched = mem::take(&mut self.caches.arbiters.matched);
+            let place = mem::take(&mut self.caches.arbiters.place);
+            let flags = mem::take(&mut self.caches.arbiters.answer_flags);
+            let input = MergeInputs {
+                pairs: &pairs,
+                infos: &infos,
+                flags: &flags,
+                old: &old,
+                matched: &matched,
+                place: &place,
+            };
+            self.merge_split(&input, &mut arbiters, &mut active);
+            self.caches.arbiters.matched = matched;
+            self.caches.arbiters.place = place;
+            self.caches.arbiters.answer_flags = flags;
+        } else {
+            arbiters.clear();
+            self.merge_serial((&pairs, &infos), &mut old, &mut arbiters, &mut active);
+        }
+        self.caches.broadphase.sweep.pairs = pairs;
+        self.caches.arbiters.infos = infos;
+        self.state.arbiters = arbiters;
+        self.caches.arbiters.spare = old;
+        active
+    }
+
+    /// The merge of [`collide_pairs`](Self::collide_pairs) on this thread:
+    /// each candidate pair's arbiter (last step's, drained from `old`, or
+    /// a new one) touched with the pair's answer (`infos[k]` if computed
+    /// ahead) and pushed onto `arbiters`, its handlers run; last step's
+    /// arbiters whose pair is gone or not touching retired in between.
+    fn merge_serial(
+        &mut self,
+        (pairs, infos): (&[(u32, u32)], &[Option<CollisionInfo>]),
+        old: &mut Vec<Arbiter>,
+        arbiters: &mut Vec<Arbiter>,
+        active: &mut Vec<u32>,
+    ) {
+        let ahead = self.caches.threads.parallel();
         let mut old_iter = old.drain(..);
         for (k, &(ia, ib)) in pairs.iter().enumerate() {
             // Arbiters of pairs that the broadphase no longer reports.
             while let Some(arb) = take_if(&mut old_iter, |key| key < (ia, ib)) {
-                self.retire(arb, &mut arbiters);
+                self.retire(arb, arbiters);
             }
             // The pair's arbiter stays in `old` until it is copied once,
-            // straight into `arbiters`: an arbiter is some 250 bytes, and
+            // straight into `arbiters`: an arbiter is some 240 bytes, and
             // a move through a local was a second copy.
             let existing = old_iter.as_slice().first().filter(|a| a.key() == (ia, ib));
             let warm_start_id = existing.map_or(0, |a| a.warm_start_id);
@@ -64,7 +107,7 @@ impl Space {
                 computed.as_ref()
             };
             // Touched in place at the end of `arbiters`.
-            if self.collide_pair(ia, ib, info, existing, ahead, &mut arbiters) {
+            if self.collide_pair(ia, ib, info, existing, ahead, arbiters) {
                 let index = arbiters.len().saturating_sub(1) as u32;
                 if let Some(arb) = arbiters.last_mut() {
                     if self.run_contact_handlers(arb) {
@@ -74,21 +117,19 @@ impl Space {
             }
         }
         for arb in old_iter {
-            self.retire(arb, &mut arbiters);
+            self.retire(arb, arbiters);
         }
-        self.caches.broadphase.sweep.pairs = pairs;
-        self.caches.arbiters.infos = infos;
-        self.state.arbiters = arbiters;
-        self.caches.arbiters.spare = old;
-        active
     }
 
     /// [`Stage::Narrowphase`](super::Stage::Narrowphase) for every candidate pair at once, split between threads:
-    /// `infos[k]` becomes pair `k`'s narrowphase answer, warm-started from
-    /// its arbiter in `old` (last step's, in canonical order like `pairs`),
-    /// and each arbiter of `old` whose pair touches takes its answer
-    /// ([`Arbiter::touch`]), also split. The merge then only moves them:
-    /// a touch reads the answer, the shapes and the bodies' centres, which
+    /// `infos[k]` becomes pair `k`'s narrowphase answer (and the answer
+    /// flags its [`answer_flags`]), warm-started from its arbiter in `old`
+    /// (last step's, in canonical order like `pairs`); `matched` and
+    /// `place` ([`MergeInputs`]) record where each arbiter of `old` falls
+    /// among the pairs. Each arbiter of `old` whose pair touches takes its
+    /// answer ([`Arbiter::touch`]) in the same piece, while the pair's
+    /// shapes and bodies are in cache, and the merge only moves them: a
+    /// touch reads the answer, the shapes and the bodies' centres, which
     /// nothing in the merge changes (the handlers change only their own
     /// arbiter, after its touch), so the bits are the serial pass's.
     fn collide_ahead(
@@ -97,53 +138,61 @@ impl Space {
         old: &mut [Arbiter],
         infos: &mut Vec<Option<CollisionInfo>>,
     ) {
-        // Every slot is written by `collide_split`: only new ones need a
+        // Every slot is written by the pieces: only new ones need a
         // value first (a refill would touch every slot's cache lines on
         // this thread alone).
         infos.truncate(pairs.len());
         infos.resize(pairs.len(), None);
+        let mut flags = mem::take(&mut self.caches.arbiters.answer_flags);
+        flags.truncate(pairs.len());
+        flags.resize(pairs.len(), 0);
         // The warm-start ids, and each old arbiter's pair, by the merge the
         // serial pass makes.
         let mut matched = mem::take(&mut self.caches.arbiters.matched);
         matched.clear();
-        matched.resize(old.len(), u32::MAX);
+        matched.resize(old.len(), NONE);
+        let mut place = mem::take(&mut self.caches.arbiters.place);
+        place.clear();
+        place.resize(old.len(), pairs.len() as u32);
         let mut ids = mem::take(&mut self.caches.arbiters.warm_start_ids);
         ids.clear();
         let mut next_old = 0usize;
         ids.extend(pairs.iter().enumerate().map(|(k, &key)| {
             while old.get(next_old).is_some_and(|a| a.key() < key) {
+                // An arbiter that matched a pair keeps that pair's index.
+                if matched.get(next_old) == Some(&NONE) {
+                    if let Some(p) = place.get_mut(next_old) {
+                        *p = k as u32;
+                    }
+                }
                 next_old = next_old.saturating_add(1);
             }
             match old.get(next_old).filter(|a| a.key() == key) {
                 Some(a) => {
-                    if let Some(m) = matched.get_mut(next_old) {
-                        *m = k as u32;
+                    if let (Some(m), Some(p)) = (matched.get_mut(next_old), place.get_mut(next_old))
+                    {
+                        (*m, *p) = (k as u32, k as u32);
                     }
                     a.warm_start_id
                 }
                 None => 0,
             }
         }));
-        let view = NarrowView {
-            shapes: &self.state.shapes,
-            bodies: &self.state.bodies,
-            caches: &self.caches.shapes,
-            constraints: &self.caches.constraints,
+        let view = self.narrow_view();
+        let piece = AheadPiece {
+            first: 0,
+            pairs,
+            ids: &ids,
+            infos,
+            flags: &mut flags,
+            old,
+            matched: &matched,
+            place: &place,
         };
-        collide_split(&view, pairs, &ids, infos);
-        let stamp = self.state.stamp;
-        let infos: &[Option<CollisionInfo>] = infos;
-        crate::threads::zip_split(&matched, old, PAIR_PIECE, &|&k, arb: &mut Arbiter| {
-            let (Some(Some(info)), Some(&(ia, ib))) =
-                (infos.get(k as usize), pairs.get(k as usize))
-            else {
-                return;
-            };
-            if let Some((sa, sb, centers)) = view.touch_inputs(ia, ib) {
-                arb.touch(info, sa, sb, centers, stamp);
-            }
-        });
+        piece.run_split(&view, self.state.stamp);
         self.caches.arbiters.matched = matched;
+        self.caches.arbiters.place = place;
+        self.caches.arbiters.answer_flags = flags;
         self.caches.arbiters.warm_start_ids = ids;
     }
 
@@ -237,13 +286,17 @@ impl Space {
     /// Filters a candidate pair and collides it; `None` if rejected or not touching.
     /// `warm_start_id`: the pair's arbiter's, or 0 for a new pair.
     fn narrowphase(&self, ia: u32, ib: u32, warm_start_id: WarmStartId) -> Option<CollisionInfo> {
-        let view = NarrowView {
+        self.narrow_view().collide(ia, ib, warm_start_id)
+    }
+
+    /// What the narrowphase reads, for threads to share.
+    pub(super) fn narrow_view(&self) -> NarrowView<'_> {
+        NarrowView {
             shapes: &self.state.shapes,
             bodies: &self.state.bodies,
             caches: &self.caches.shapes,
             constraints: &self.caches.constraints,
-        };
-        view.collide(ia, ib, warm_start_id)
+        }
     }
 
     /// Begin and pre-solve handlers; true if the arbiter goes to the solver.
@@ -262,7 +315,7 @@ impl Space {
 
 /// What the narrowphase of a pair reads: the space's parts threads may
 /// share (the space itself holds callbacks, which they may not).
-struct NarrowView<'a> {
+pub(super) struct NarrowView<'a> {
     shapes: &'a Arena<Shape>,
     bodies: &'a Arena<Body>,
     caches: &'a [Option<ShapeCache>],
@@ -298,43 +351,118 @@ impl NarrowView<'_> {
 
     /// What [`Arbiter::touch`] reads for the pair of shape slots `ia`,
     /// `ib` besides the answer: the shapes and the bodies' centres.
-    fn touch_inputs(&self, ia: u32, ib: u32) -> Option<(&Shape, &Shape, (Vect, Vect))> {
-        let (_, sa) = self.shapes.get_by_index(ia)?;
-        let (_, sb) = self.shapes.get_by_index(ib)?;
+    pub(super) fn touch_inputs(&self, ia: u32, ib: u32) -> Option<(&Shape, &Shape, (Vect, Vect))> {
+        let ((_, sa), (_, sb), centers) = self.touch_handles(ia, ib)?;
+        Some((sa, sb, centers))
+    }
+
+    /// [`touch_inputs`](Self::touch_inputs) with the shapes' handles
+    /// (what [`Arbiter::new`] reads).
+    pub(super) fn touch_handles(
+        &self,
+        ia: u32,
+        ib: u32,
+    ) -> Option<(HandledShape<'_>, HandledShape<'_>, (Vect, Vect))> {
+        let (ha, sa) = self.shapes.get_by_index(ia)?;
+        let (hb, sb) = self.shapes.get_by_index(ib)?;
         let ba = self.bodies.get(sa.body)?;
         let bb = self.bodies.get(sb.body)?;
-        Some((sa, sb, (ba.center(), bb.center())))
+        Some(((ha, sa), (hb, sb), (ba.center(), bb.center())))
     }
 }
+
+/// A shape and its handle.
+type HandledShape<'a> = (ShapeHandle, &'a Shape);
 
 /// Pairs per piece of the split narrowphase (a few µs of work).
 const PAIR_PIECE: usize = 64;
 
-/// [`NarrowView::collide`] for every pair, halves in parallel down to
-/// [`PAIR_PIECE`]s: each piece writes its own slots of `infos`.
-fn collide_split(
-    view: &NarrowView<'_>,
-    pairs: &[(u32, u32)],
-    ids: &[u32],
-    infos: &mut [Option<CollisionInfo>],
-) {
-    if infos.len() <= PAIR_PIECE {
-        for ((info, &(ia, ib)), &ws) in infos.iter_mut().zip(pairs).zip(ids) {
-            *info = view.collide(ia, ib, ws);
+/// A run of the candidate pairs (`first` is the index of `pairs[0]` among
+/// all of them) with their warm-start ids and the slots for their answers,
+/// and the run of last step's arbiters that falls among them: those whose
+/// `place` (nondecreasing, [`MergeInputs`]) is in the run.
+struct AheadPiece<'a> {
+    first: u32,
+    pairs: &'a [(u32, u32)],
+    ids: &'a [u32],
+    infos: &'a mut [Option<CollisionInfo>],
+    flags: &'a mut [u8],
+    old: &'a mut [Arbiter],
+    matched: &'a [u32],
+    place: &'a [u32],
+}
+
+impl AheadPiece<'_> {
+    /// [`NarrowView::collide`] for every pair and [`Arbiter::touch`] for
+    /// every arbiter whose pair touches, halves in parallel down to
+    /// [`PAIR_PIECE`] pairs: each piece writes its own slots.
+    fn run_split(self, view: &NarrowView<'_>, stamp: u64) {
+        if self.pairs.len() <= PAIR_PIECE {
+            self.run(view, stamp);
+            return;
         }
-        return;
+        let (left, right) = self.split();
+        crate::threads::join(
+            || left.run_split(view, stamp),
+            || right.run_split(view, stamp),
+        );
     }
-    let mid = infos.len() / 2;
-    let (left, right) = infos.split_at_mut(mid);
-    let (pl, pr) = (
-        pairs.get(..mid).unwrap_or(&[]),
-        pairs.get(mid..).unwrap_or(&[]),
-    );
-    let (il, ir) = (ids.get(..mid).unwrap_or(&[]), ids.get(mid..).unwrap_or(&[]));
-    crate::threads::join(
-        || collide_split(view, pl, il, left),
-        || collide_split(view, pr, ir, right),
-    );
+
+    /// The first half of the pairs and the arbiters placed among them, and
+    /// the rest.
+    fn split(self) -> (Self, Self) {
+        let mid = self.pairs.len() / 2;
+        let bound = self.first.saturating_add(mid as u32);
+        let old_mid = self.place.partition_point(|&p| p < bound);
+        let (pairs_l, pairs_r) = self.pairs.split_at(mid);
+        let (ids_l, ids_r) = self.ids.split_at(mid.min(self.ids.len()));
+        let (infos_l, infos_r) = self.infos.split_at_mut(mid.min(self.infos.len()));
+        let (flags_l, flags_r) = self.flags.split_at_mut(mid.min(self.flags.len()));
+        let (old_l, old_r) = self.old.split_at_mut(old_mid.min(self.old.len()));
+        let (matched_l, matched_r) = self.matched.split_at(old_mid.min(self.matched.len()));
+        let (place_l, place_r) = self.place.split_at(old_mid);
+        let left = AheadPiece {
+            first: self.first,
+            pairs: pairs_l,
+            ids: ids_l,
+            infos: infos_l,
+            flags: flags_l,
+            old: old_l,
+            matched: matched_l,
+            place: place_l,
+        };
+        let right = AheadPiece {
+            first: bound,
+            pairs: pairs_r,
+            ids: ids_r,
+            infos: infos_r,
+            flags: flags_r,
+            old: old_r,
+            matched: matched_r,
+            place: place_r,
+        };
+        (left, right)
+    }
+
+    /// The piece on this thread: the pairs' answers, then the touches.
+    fn run(self, view: &NarrowView<'_>, stamp: u64) {
+        let out = self.infos.iter_mut().zip(self.flags.iter_mut());
+        for (((info, flag), &(ia, ib)), &ws) in out.zip(self.pairs).zip(self.ids) {
+            *info = view.collide(ia, ib, ws);
+            *flag = answer_flags(info.as_ref());
+        }
+        for (arb, &k) in self.old.iter_mut().zip(self.matched) {
+            let local = k.wrapping_sub(self.first) as usize;
+            let (Some(Some(info)), Some(&(ia, ib))) =
+                (self.infos.get(local), self.pairs.get(local))
+            else {
+                continue;
+            };
+            if let Some((sa, sb, centers)) = view.touch_inputs(ia, ib) {
+                arb.touch(info, sa, sb, centers, stamp);
+            }
+        }
+    }
 }
 
 /// The next arbiter of `old` if its pair key satisfies `pred`.
