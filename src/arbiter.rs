@@ -95,7 +95,21 @@ pub(crate) struct ArbiterBuffers {
     pub(crate) answer_flags: Vec<u8>,
     /// With threads and no collision handler: which arbiter fills each
     /// slot of this step's list (`space/step/`), kept for its allocation.
-    pub(crate) slots: Vec<crate::space::MergeSlot>,
+    pub(crate) slots: Vec<MergeSlot>,
+}
+
+/// One slot of a step's arbiter list as the split merge plans it
+/// (`space/step/`): which arbiter fills it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct MergeSlot {
+    /// The arbiter of last step's list that fills the slot (its index), or
+    /// `u32::MAX`: a new arbiter.
+    pub(crate) old: u32,
+    /// The candidate pair whose answer the arbiter takes (its index), or
+    /// `u32::MAX`: the arbiter retires (its pair no longer touches).
+    pub(crate) pair: u32,
+    /// Set by the fill: the arbiter goes to the solver.
+    pub(crate) active: bool,
 }
 
 /// Where an arbiter is in its life.

@@ -61,7 +61,6 @@ pub use crate::shape::ShapeHandle;
 pub(crate) use caches::Caches;
 pub use error::SpaceError;
 pub use state::WorldState;
-pub(crate) use step::MergeSlot;
 pub use step::StepStats;
 pub use validate::validate_state;
 pub(crate) use validate::validate_state_trusting_level;

@@ -10,59 +10,14 @@
 //! and a slot's arbiter depends on its own inputs alone: the same list,
 //! the same bits. (A handler may read or change any arbiter, in the
 //! merge's order: with one, the merge stays serial.)
-use crate::arbiter::Arbiter;
-use crate::collision::CollisionInfo;
+use crate::arbiter::{Arbiter, MergeSlot};
 
 use super::super::Space;
-use super::narrowphase::NarrowView;
-
-/// An index meaning "none": in a [`MergeSlot`], and in `matched`.
-pub(super) const NONE: u32 = u32::MAX;
-
-/// [`answer_flags`]: the pair touches.
-const TOUCHES: u8 = 1;
-/// [`answer_flags`]: the pair's narrowphase hit its iteration cap.
-const HIT_CAP: u8 = 2;
-
-/// What the plan reads of a pair's narrowphase answer, a byte a pair where
-/// the answer is some 150: whether it touches, and whether it hit the
-/// iteration cap.
-pub(super) fn answer_flags(info: Option<&CollisionInfo>) -> u8 {
-    info.map_or(0, |info| {
-        TOUCHES | if info.hit_iteration_cap { HIT_CAP } else { 0 }
-    })
-}
+use super::narrowphase::{MergeInputs, NarrowView, HIT_CAP, NONE, TOUCHES};
 
 /// Slots per piece of the split fill (a copy and a touch each: a few µs a
 /// piece).
 const SLOT_PIECE: usize = 64;
-
-/// One slot of this step's arbiter list, as planned.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct MergeSlot {
-    /// The arbiter of last step's list that fills the slot (its index), or
-    /// [`NONE`]: a new arbiter.
-    old: u32,
-    /// The candidate pair whose answer the arbiter takes (its index), or
-    /// [`NONE`]: the arbiter retires (its pair no longer touches).
-    pair: u32,
-    /// Set by the fill: the arbiter goes to the solver.
-    active: bool,
-}
-
-/// What the merge reads besides the space: the step's candidate pairs,
-/// their narrowphase answers and those answers' [`answer_flags`], last
-/// step's arbiters, and for each of those the pair it matches (`matched`,
-/// [`NONE`]: none) or, if none, the first pair whose key follows its own
-/// (`place`).
-pub(super) struct MergeInputs<'a> {
-    pub(super) pairs: &'a [(u32, u32)],
-    pub(super) infos: &'a [Option<CollisionInfo>],
-    pub(super) flags: &'a [u8],
-    pub(super) old: &'a [Arbiter],
-    pub(super) matched: &'a [u32],
-    pub(super) place: &'a [u32],
-}
 
 impl Space {
     /// The merge of [`collide_pairs`](Self::collide_pairs) split between

@@ -41,7 +41,6 @@ mod shared_sub_step;
 mod soft;
 mod stages;
 
-pub(crate) use arbiter_merge::MergeSlot;
 pub use context::StepStats;
 pub(crate) use context::{StepCache, StepContext};
 pub(crate) use shape_caches::ShapeCache;

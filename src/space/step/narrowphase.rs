@@ -16,7 +16,6 @@ use crate::math::Vect;
 use crate::shape::{Shape, ShapeHandle};
 
 use super::super::Space;
-use super::arbiter_merge::{answer_flags, MergeInputs, NONE};
 use super::context::StepStats;
 use super::shape_caches::ShapeCache;
 
@@ -369,6 +368,37 @@ impl NarrowView<'_> {
         let bb = self.bodies.get(sb.body)?;
         Some(((ha, sa), (hb, sb), (ba.center(), bb.center())))
     }
+}
+
+/// An index meaning "none": in `matched`, and in a [`MergeSlot`](crate::arbiter::MergeSlot).
+pub(super) const NONE: u32 = u32::MAX;
+
+/// [`answer_flags`]: the pair touches.
+pub(super) const TOUCHES: u8 = 1;
+/// [`answer_flags`]: the pair's narrowphase hit its iteration cap.
+pub(super) const HIT_CAP: u8 = 2;
+
+/// What the split merge's plan reads of a pair's narrowphase answer, a byte a pair where
+/// the answer is some 150: whether it touches, and whether it hit the
+/// iteration cap.
+pub(super) fn answer_flags(info: Option<&CollisionInfo>) -> u8 {
+    info.map_or(0, |info| {
+        TOUCHES | if info.hit_iteration_cap { HIT_CAP } else { 0 }
+    })
+}
+
+/// What the merge reads besides the space: the step's candidate pairs,
+/// their narrowphase answers and those answers' [`answer_flags`], last
+/// step's arbiters, and for each of those the pair it matches (`matched`,
+/// [`NONE`]: none) or, if none, the first pair whose key follows its own
+/// (`place`).
+pub(super) struct MergeInputs<'a> {
+    pub(super) pairs: &'a [(u32, u32)],
+    pub(super) infos: &'a [Option<CollisionInfo>],
+    pub(super) flags: &'a [u8],
+    pub(super) old: &'a [Arbiter],
+    pub(super) matched: &'a [u32],
+    pub(super) place: &'a [u32],
 }
 
 /// A shape and its handle.
