@@ -5,8 +5,9 @@
 //! stepping thread only plans the new list: which of last step's arbiters,
 //! or which new pair, fills each slot, from indices the threads computed
 //! beside the narrowphase (no arbiter is read but the few that retire).
-//! The threads then fill the slots in pieces, each touching its arbiter
-//! with the pair's answer on the way. The plan is the serial merge's order
+//! The threads then fill the slots in pieces: copies of last step's
+//! arbiters (which took their pair's answer in the narrowphase's pieces),
+//! and new arbiters, made and touched. The plan is the serial merge's order
 //! and a slot's arbiter depends on its own inputs alone: the same list,
 //! the same bits. (A handler may read or change any arbiter, in the
 //! merge's order: with one, the merge stays serial.)
@@ -15,8 +16,8 @@ use crate::arbiter::{Arbiter, MergeSlot};
 use super::super::Space;
 use super::narrowphase::{MergeInputs, NarrowView, HIT_CAP, NONE, TOUCHES};
 
-/// Slots per piece of the split fill (a copy and a touch each: a few µs a
-/// piece).
+/// Slots per piece of the split fill (a copy each, a new arbiter's touch
+/// besides: a few µs a piece).
 const SLOT_PIECE: usize = 64;
 
 impl Space {
