@@ -152,31 +152,19 @@ impl Space {
         matched.resize(old.len(), NONE);
         let mut place = mem::take(&mut self.caches.arbiters.place);
         place.clear();
-        place.resize(old.len(), pairs.len() as u32);
+        place.resize(old.len(), 0);
         let mut ids = mem::take(&mut self.caches.arbiters.warm_start_ids);
         ids.clear();
-        let mut next_old = 0usize;
-        ids.extend(pairs.iter().enumerate().map(|(k, &key)| {
-            while old.get(next_old).is_some_and(|a| a.key() < key) {
-                // An arbiter that matched a pair keeps that pair's index.
-                if matched.get(next_old) == Some(&NONE) {
-                    if let Some(p) = place.get_mut(next_old) {
-                        *p = k as u32;
-                    }
-                }
-                next_old = next_old.saturating_add(1);
-            }
-            match old.get(next_old).filter(|a| a.key() == key) {
-                Some(a) => {
-                    if let (Some(m), Some(p)) = (matched.get_mut(next_old), place.get_mut(next_old))
-                    {
-                        (*m, *p) = (k as u32, k as u32);
-                    }
-                    a.warm_start_id
-                }
-                None => 0,
-            }
-        }));
+        ids.resize(pairs.len(), 0);
+        let walk = KeyWalk {
+            first: 0,
+            pairs,
+            old,
+            ids: &mut ids,
+            matched: &mut matched,
+            place: &mut place,
+        };
+        walk.run_split();
         let view = self.narrow_view();
         let piece = AheadPiece {
             first: 0,
@@ -406,6 +394,95 @@ type HandledShape<'a> = (ShapeHandle, &'a Shape);
 
 /// Pairs per piece of the split narrowphase (a few µs of work).
 const PAIR_PIECE: usize = 64;
+
+/// Pairs per piece of the split key walk (a cache miss an arbiter).
+const WALK_PIECE: usize = 1024;
+
+/// The merge walk of a run of the candidate pairs (`first` is the index
+/// of `pairs[0]` among all of them) and of the run of last step's
+/// arbiters whose keys fall before the next run's first pair: each pair's
+/// warm-start id (`ids`, its arbiter's or 0) and each arbiter's `matched`
+/// and `place` ([`MergeInputs`]), the serial merge's matching.
+struct KeyWalk<'a> {
+    first: u32,
+    pairs: &'a [(u32, u32)],
+    old: &'a [Arbiter],
+    ids: &'a mut [u32],
+    matched: &'a mut [u32],
+    place: &'a mut [u32],
+}
+
+impl KeyWalk<'_> {
+    /// Halves in parallel down to [`WALK_PIECE`] pairs: the arbiters
+    /// split at the first whose key is not below the second half's first
+    /// pair (a binary search of the sorted keys).
+    fn run_split(self) {
+        let mid = self.pairs.len() / 2;
+        let Some(&key) = self
+            .pairs
+            .get(mid)
+            .filter(|_| self.pairs.len() > WALK_PIECE)
+        else {
+            self.run();
+            return;
+        };
+        let old_mid = self.old.partition_point(|a| a.key() < key);
+        let (pairs_l, pairs_r) = self.pairs.split_at(mid);
+        let (old_l, old_r) = self.old.split_at(old_mid);
+        let (ids_l, ids_r) = self.ids.split_at_mut(mid.min(self.ids.len()));
+        let (matched_l, matched_r) = self.matched.split_at_mut(old_mid.min(self.matched.len()));
+        let (place_l, place_r) = self.place.split_at_mut(old_mid.min(self.place.len()));
+        let left = KeyWalk {
+            first: self.first,
+            pairs: pairs_l,
+            old: old_l,
+            ids: ids_l,
+            matched: matched_l,
+            place: place_l,
+        };
+        let right = KeyWalk {
+            first: self.first.saturating_add(mid as u32),
+            pairs: pairs_r,
+            old: old_r,
+            ids: ids_r,
+            matched: matched_r,
+            place: place_r,
+        };
+        crate::threads::join(|| left.run_split(), || right.run_split());
+    }
+
+    /// The walk of the run on this thread.
+    fn run(self) {
+        // An arbiter after the run's last pair comes before the next
+        // run's first (or after every pair).
+        let end = self.first.saturating_add(self.pairs.len() as u32);
+        self.place.fill(end);
+        let mut next_old = 0usize;
+        for (local, (&key, id)) in self.pairs.iter().zip(self.ids.iter_mut()).enumerate() {
+            let k = self.first.saturating_add(local as u32);
+            while self.old.get(next_old).is_some_and(|a| a.key() < key) {
+                // An arbiter that matched a pair keeps that pair's index.
+                if self.matched.get(next_old) == Some(&NONE) {
+                    if let Some(p) = self.place.get_mut(next_old) {
+                        *p = k;
+                    }
+                }
+                next_old = next_old.saturating_add(1);
+            }
+            *id = match self.old.get(next_old).filter(|a| a.key() == key) {
+                Some(a) => {
+                    if let (Some(m), Some(p)) =
+                        (self.matched.get_mut(next_old), self.place.get_mut(next_old))
+                    {
+                        (*m, *p) = (k, k);
+                    }
+                    a.warm_start_id
+                }
+                None => 0,
+            };
+        }
+    }
+}
 
 /// A run of the candidate pairs (`first` is the index of `pairs[0]` among
 /// all of them) with their warm-start ids and the slots for their answers,
