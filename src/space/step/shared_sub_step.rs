@@ -29,10 +29,16 @@ impl Space {
     /// threads throughout: the contact passes split (threads, and at
     /// least `split_min` manifolds), and no joint or custom integrator
     /// reads or writes the solver bodies in place between them.
+    ///
+    /// The joints are the space's, not the joint rows: those are built in
+    /// the first sub-step, so before it they are the step before's (none
+    /// on a first step, after a load, or when a joint's bodies wake up),
+    /// and the shared sub-steps, which have no joint stages, would skip
+    /// the joints of this step.
     pub(super) fn keeps_bodies_shared(&self, split_min: usize) -> bool {
         self.caches.threads.parallel()
             && self.caches.soft_contacts.manifolds() >= split_min
-            && self.caches.constraints.is_empty()
+            && self.state.constraints.is_empty()
             && self.integrators.velocity.is_empty()
             && self.integrators.position.is_empty()
     }
