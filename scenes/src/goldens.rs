@@ -113,7 +113,7 @@ pub const NARROW: &[(&str, u64)] = &[
     ("incline_stick", 0xb2cf27d62e78f530),
     ("stack_10", 0x0d3b91a9933afbe4),
     ("sleep_wake", 0x5091c63f950665e1),
-    ("bullets", 0xa224692594e76156),
+    ("bullets", 0xcea42bccd477441a),
     ("pendulum", 0x0f3da75fd38bc12a),
     ("chain_100", 0x7fc68affed814a63),
     ("windmill", 0xdb47ec2658f98a53),
@@ -121,7 +121,7 @@ pub const NARROW: &[(&str, u64)] = &[
     ("spring_mass", 0xbc587b38aeb55dfa),
     ("ratchet", 0x1639f2b31ea360ce),
     ("rope_bridge", 0x2d118cf8b660ed16),
-    ("ragdolls_20", 0xd807018ba32a360d),
+    ("ragdolls_20", 0xc4c6cbfd990061d8),
     ("car", 0x7dbe1a2e63c5567a),
     ("level_300", 0xdb5deb7d5f86bd9c),
 ];

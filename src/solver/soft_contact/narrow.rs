@@ -11,8 +11,9 @@
 //! an impulse times a gain adds to them exactly); the normal, lever arms,
 //! `n·r` and the separation a bias reads on Q8.24; a manifold's impulses
 //! on Q(8+k).(24−k) and its gains (`m⁻¹·n`, `I⁻¹ (r × d)`) on
-//! Q(8−k).(24+k), for its impulse shift `k` (0 but in heavy piles:
-//! [`impulse_shift`]); effective masses (divided by `2^k`), the bias rate
+//! Q(8−k).(24+k), for its impulse shift `k` (0 but in heavy piles,
+//! [`impulse_shift`], and for small light bodies, [`light_shift`]);
+//! effective masses (divided by `2^k`), the bias rate
 //! and `1/h` on Q16.16; friction and the impulse scale on Q2.30. Sums of
 //! products are exact in 64 bits and round once, to nearest with ties
 //! away from zero, as every rounding of the engine (symmetric under
@@ -92,8 +93,9 @@ pub(super) struct NarrowBatch {
     /// Every lane's two gains are equal (a pile of like bodies).
     same_gains: bool,
     /// Each lane's impulse shift `k`: its impulses on Q(8+k).(24−k)
-    /// (heavy piles: [`impulse_shift`]).
-    impulse_shift: [u32; LANES],
+    /// (heavy piles: [`impulse_shift`]; small light bodies:
+    /// [`light_shift`]).
+    impulse_shift: [i32; LANES],
     /// Q2.30 and Q16.16.
     impulse_scale: Lane,
     bias_rate: Lane,
@@ -224,13 +226,13 @@ fn impulse_limit(gain: i64) -> i64 {
 }
 
 /// An impulse (`Real` bits) on the lane grid of impulse shift `k` (in
-/// `0..=MAX_IMPULSE_SHIFT`), Q(8+k).(24−k): [`round_bits`] by `8 + k`
-/// bits, in 64 bits (a magnitude of at most `2^63` leaves room for the
-/// half).
+/// `MIN_IMPULSE_SHIFT..=MAX_IMPULSE_SHIFT`), Q(8+k).(24−k): [`round_bits`]
+/// by `8 + k` bits (at least 1), in 64 bits (a magnitude of at most
+/// `2^63` leaves room for the half).
 #[inline(always)]
-fn impulse_bits(j: Real, k: u32) -> i64 {
+fn impulse_bits(j: Real, k: i32) -> i64 {
     let x = j.to_bits();
-    let s = 8u32.wrapping_add(k);
+    let s = 8i32.wrapping_add(k) as u32;
     let half = 1u64.wrapping_shl(s.wrapping_sub(1));
     let m = x.unsigned_abs().wrapping_add(half).wrapping_shr(s);
     // m ≤ 2^55: the cast and the negation are exact.
@@ -243,15 +245,19 @@ fn impulse_bits(j: Real, k: u32) -> i64 {
 }
 
 /// An impulse on the lane grid of impulse shift `k` as a `Real`.
-fn impulse_real(j: i64, k: u32) -> Real {
-    let unit = 1i64.wrapping_shl(8u32.wrapping_add(k));
+fn impulse_real(j: i64, k: i32) -> Real {
+    let unit = 1i64.wrapping_shl(8i32.wrapping_add(k) as u32);
     Real::from_bits(j.saturating_mul(unit))
 }
 
 /// The largest impulse shift: impulses up to `2^7` times the window of
 /// Q8.24 (4,096 N·s), the gains `I⁻¹ (r × d)` then on Q1.31 (each at
 /// most `2^30` for a full window, so they fit).
-const MAX_IMPULSE_SHIFT: u32 = 7;
+const MAX_IMPULSE_SHIFT: i32 = 7;
+
+/// The least impulse shift: gains up to `2^14` (`I⁻¹ (r × d)` of a
+/// 2.5 cm box of 10 g), then on Q15.17, the impulses on Q1.31.
+const MIN_IMPULSE_SHIFT: i32 = -7;
 
 /// The impulse shift of a manifold from its warm-start impulses (the
 /// largest one's complement magnitudes of the normal and the tangent
@@ -262,15 +268,41 @@ const MAX_IMPULSE_SHIFT: u32 = 7;
 /// A shift gains only while the gains times `2^k` stay at most
 /// [`FULL_WINDOW_GAIN`]: past that the window in newtons·seconds is the
 /// gain's, whatever `k`.
-fn impulse_shift(jn: i64, jt: i64, gain: i64) -> u32 {
+fn impulse_shift(jn: i64, jt: i64, gain: i64) -> i32 {
     (0..=MAX_IMPULSE_SHIFT)
         .find(|&k| {
-            let limit = impulse_limit(gain.saturating_mul(1i64.wrapping_shl(k)));
-            let fits =
-                |j: i64, room: u32| j.unsigned_abs().wrapping_shr(k) < (limit >> room) as u64;
+            let limit = impulse_limit(gain.saturating_mul(1i64.wrapping_shl(k as u32)));
+            let fits = |j: i64, room: u32| {
+                j.unsigned_abs().wrapping_shr(k as u32) < (limit >> room) as u64
+            };
             fits(jn, 1) && fits(jt, 2)
         })
         .unwrap_or(MAX_IMPULSE_SHIFT)
+}
+
+/// The impulse shift of a manifold whose gains leave Q8.24 (`m⁻¹` or
+/// `I⁻¹ (r × d)` of 128 or more: small light bodies, as a 25 cm box of
+/// 62.5 g): the negative `k` nearest 0 whose grid Q(8−k).(24+k) holds its
+/// largest gain, its impulses then on the finer Q(8+k).(24−k) (they are
+/// small: the bodies are light); `None` if the gains fit Q8.24 (the
+/// manifold left its window for another reason) or no shift down to
+/// [`MIN_IMPULSE_SHIFT`] holds them.
+fn light_shift(first: &SoftContact, points: &[SoftContact]) -> Option<i32> {
+    let mut gain = first.m_inv_a.abs().max(first.m_inv_b.abs());
+    for row in points {
+        for g in [row.kn_a, row.kn_b, row.kt_a, row.kt_b] {
+            gain = gain.max(g.abs());
+        }
+    }
+    // `2^(7+j)`: the gains below it are below 2^31 units of
+    // Q(8+j).(24−j), the grid of shift −j.
+    let bound = |j: u32| Real::from_bits(1i64.wrapping_shl(39u32.wrapping_add(j)));
+    if gain < bound(0) {
+        return None;
+    }
+    (1..=MIN_IMPULSE_SHIFT.unsigned_abs())
+        .find(|&j| gain < bound(j))
+        .map(|j| (j as i32).wrapping_neg())
 }
 
 /// The lanes of four manifolds' rows (`(start, end)` each; an empty lane,
@@ -323,7 +355,21 @@ pub(super) fn gather_narrow(
                 )
             }
             LaneFit::Fits => true,
-            LaneFit::Out => false,
+            // Gains past Q8.24 (small light bodies): a finer grid for the
+            // impulses, a coarser one for the gains. A manifold that
+            // leaves its windows there too runs the exact kernel from
+            // the Q8.24 grid, as any other.
+            LaneFit::Out => match light_shift(first, points) {
+                Some(k) => {
+                    let shifted = gather_lane(batch, lane, (first, points), k, still);
+                    let fits = !matches!(shifted, LaneFit::Out);
+                    if !fits {
+                        gather_lane(batch, lane, (first, points), 0, still);
+                    }
+                    fits
+                }
+                None => false,
+            },
         };
         set(&mut batch.exact, lane, !ok);
     }
@@ -354,7 +400,7 @@ fn gather_lane(
     batch: &mut NarrowBatch,
     lane: usize,
     (first, points): (&SoftContact, &[SoftContact]),
-    k: u32,
+    k: i32,
     [still_a, still_b]: [bool; 2],
 ) -> LaneFit {
     set(&mut batch.impulse_shift, lane, k);
@@ -366,7 +412,7 @@ fn gather_lane(
         if m_inv.is_zero() {
             [0, 0]
         } else {
-            let s = 40u32.wrapping_sub(k);
+            let s = 40i32.wrapping_sub(k) as u32;
             [fit.product(n.x, m_inv, s), fit.product(n.y, m_inv, s)]
         }
     };
@@ -389,7 +435,7 @@ fn gather_lane(
     fit.within(i128::from(bias_rate), 28);
     set(&mut batch.bias_rate, lane, bias_rate);
     let mut gain = gains.iter().map(|g| g.saturating_abs()).max().unwrap_or(0);
-    let mass_shift = 16u32.wrapping_add(k);
+    let mass_shift = 16i32.wrapping_add(k) as u32;
     let (mut jn_max, mut jt_max) = (0i64, 0i64);
     for (point, row) in batch.points.iter_mut().zip(points) {
         let arm = |v: Real, fit: &mut Fit| fit.narrow(v.to_bits(), 8);
@@ -411,7 +457,7 @@ fn gather_lane(
         set(&mut point.nr_a, lane, nr_a);
         set(&mut point.nr_b, lane, nr_b);
         let ks = [row.kn_a, row.kn_b, row.kt_a, row.kt_b]
-            .map(|v| fit.narrow(v.to_bits(), 8u32.wrapping_sub(k)));
+            .map(|v| fit.narrow(v.to_bits(), 8i32.wrapping_sub(k) as u32));
         for k in ks {
             gain = gain.max(k.saturating_abs());
         }
@@ -425,7 +471,7 @@ fn gather_lane(
             lane,
             fit.narrow(row.n_mass.to_bits(), mass_shift),
         );
-        let soft_mass = fit.product(row.n_mass, soft.mass_scale, 48u32.wrapping_add(k));
+        let soft_mass = fit.product(row.n_mass, soft.mass_scale, 48i32.wrapping_add(k) as u32);
         set(&mut point.n_mass_soft, lane, soft_mass);
         set(
             &mut point.t_mass,
@@ -1056,19 +1102,32 @@ mod tests {
         (rows, bodies, motion, p): (&[SoftContact], &[SolverBody], &[Motion], &SoftContactParams),
         manifolds: [(u32, u32); LANES],
         pass: Option<bool>,
-        shift: Option<u32>,
+        shift: Option<i32>,
+    ) -> (Vec<SoftContact>, Vec<SolverBody>, usize) {
+        let regather = |batch: &mut NarrowBatch, rows: &[SoftContact]| {
+            let Some(k) = shift else { return };
+            for (lane, &(start, end)) in manifolds.iter().enumerate() {
+                let points = &rows[start as usize..end as usize];
+                let still = [false; 2];
+                let fit = gather_lane(batch, lane, (&points[0], points), k, still);
+                assert!(!matches!(fit, LaneFit::Out));
+            }
+        };
+        run_adjusted(ops, (rows, bodies, motion, p), manifolds, pass, regather)
+    }
+
+    /// [`run`], the batch changed by `adjust` after its gather.
+    fn run_adjusted<O: Ops>(
+        ops: O,
+        (rows, bodies, motion, p): (&[SoftContact], &[SolverBody], &[Motion], &SoftContactParams),
+        manifolds: [(u32, u32); LANES],
+        pass: Option<bool>,
+        adjust: impl FnOnce(&mut NarrowBatch, &[SoftContact]),
     ) -> (Vec<SoftContact>, Vec<SolverBody>, usize) {
         let (mut rows, mut bodies) = (rows.to_vec(), bodies.to_vec());
         let mut batch = NarrowBatch::default();
         gather_narrow(&mut batch, manifolds, &rows, &bodies);
-        if let Some(k) = shift {
-            for (lane, &(start, end)) in manifolds.iter().enumerate() {
-                let points = &rows[start as usize..end as usize];
-                let still = [false; 2];
-                let fit = gather_lane(&mut batch, lane, (&points[0], points), k, still);
-                assert!(!matches!(fit, LaneFit::Out));
-            }
-        }
+        adjust(&mut batch, &rows);
         let mut store = InPlace(&mut bodies);
         let (inputs, constants) = ((rows.as_slice(), motion), uniform(p));
         let left = match pass {
@@ -1289,6 +1348,72 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Small light bodies (a 25 cm box of 62.5 g: `m⁻¹` 16 /kg,
+    /// `I⁻¹ (r × d)` of some 300, past the 128 of Q8.24) take a negative
+    /// impulse shift and stay in lanes, where they ran the exact kernel.
+    /// On resting contacts (separation 0: the bias path rounds the
+    /// separation and the bias rate alike at every shift) each pass
+    /// leaves every velocity within two steps of the Q16.16 grid the
+    /// passes read velocities on of the exact kernel's: a row reads its
+    /// relative velocity within `2^-17 (2 + |r_a| + |r_b|)`, and a gain
+    /// times an effective mass is about 1. Past the least shift the
+    /// manifold runs the exact kernel.
+    #[test]
+    fn light_bodies_take_a_finer_impulse_grid() {
+        let vals: Vec<i64> = (1..200i64)
+            .map(|k| k.wrapping_mul(0x9e37_79b9_7f4a_7c15_u64 as i64) >> 35)
+            .collect();
+        let (rows, manifolds, bodies, motion, mut p) = case(vals, [true; LANES], true, false);
+        scene_params(&mut p);
+        let light = |gain: i32| {
+            let mut rows = rows.clone();
+            for (i, r) in rows.iter_mut().enumerate() {
+                // A manifold's points share its normal.
+                r.n = crate::math::Vect::new(Real::lit("0.6"), Real::lit("-0.8"));
+                (r.m_inv_a, r.m_inv_b) = (Real::from_int(16), Real::from_int(16));
+                let g = Real::from_int(gain - gain / 16 * (i as i32 % 3));
+                (r.kn_a, r.kn_b, r.kt_a, r.kt_b) = (g, -g, g * Real::HALF, -g);
+                let mass = Real::ONE / (Real::from_int(32) + g * Real::lit("0.36"));
+                (r.n_mass, r.t_mass) = (mass, mass);
+                (r.jn, r.jt) = (Real::lit("0.01"), Real::lit("-0.002"));
+                (r.dist, r.sep) = (Real::ZERO, Real::ZERO);
+            }
+            rows
+        };
+        let step = Real::from_bits(1 << 16);
+        for (gain, shift) in [(300, -2), (1000, -3)] {
+            let rows = light(gain);
+            let mut batch = NarrowBatch::default();
+            gather_narrow(&mut batch, manifolds, &rows, &bodies);
+            assert_eq!(batch.exact, [false; LANES], "{gain}");
+            // Below 2^(7−k), not 2^(8−k).
+            assert_eq!(batch.impulse_shift, [shift; LANES], "{gain}");
+            for pass in [None, Some(true), Some(false)] {
+                let input = (rows.as_slice(), bodies.as_slice(), &motion[..], &p);
+                let (_, lanes, left) = run(Portable, input, manifolds, pass);
+                assert_eq!(left, 0, "{gain} {pass:?}");
+                let all_exact = |b: &mut NarrowBatch, _: &[SoftContact]| b.exact = [true; LANES];
+                let (_, exact, left) = run_adjusted(Portable, input, manifolds, pass, all_exact);
+                assert_eq!(left, LANES, "{gain} {pass:?}");
+                for (l, e) in lanes.iter().zip(&exact) {
+                    for d in [l.v.x - e.v.x, l.v.y - e.v.y, l.w - e.w] {
+                        assert!(
+                            d.abs() <= step * Real::from_int(2),
+                            "{gain} {pass:?}: {d:?}"
+                        );
+                    }
+                }
+            }
+        }
+        // Gains of 2^15 (2^14 and more): past the least shift, the exact
+        // kernel.
+        let rows = light(1 << 15);
+        let mut batch = NarrowBatch::default();
+        gather_narrow(&mut batch, manifolds, &rows, &bodies);
+        assert_eq!(batch.exact, [true; LANES]);
+        assert_eq!(batch.impulse_shift, [0; LANES]);
     }
 
     /// The lever arms of a body that neither moves under the solver nor
