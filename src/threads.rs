@@ -14,6 +14,15 @@
 /// not start a thread per body.
 pub(crate) const MAX_THREADS: usize = 256;
 
+/// The default least work a step shares between threads
+/// ([`Space::set_parallel_threshold`](crate::space::Space::set_parallel_threshold)):
+/// below it, on the project's 2-core machine,
+/// handing stages to the other thread cost more than it saved
+/// (`pyramid_20`, work about 1,210, and `bowl_circles_500`, 1,260, ran
+/// at 0.90–0.97× the speed of one thread; `bowl_hexagons_500`, 1,400
+/// and up, at 1.16–1.20×).
+pub const DEFAULT_PARALLEL_THRESHOLD: u32 = 1350;
+
 /// A space's threads: a count, and with the `parallel` feature and more
 /// than one thread, the pool of the other `count - 1` (the thread that
 /// steps is the first: it takes part, see [`join`]), shared by the space's
@@ -21,6 +30,11 @@ pub(crate) const MAX_THREADS: usize = 256;
 #[derive(Clone, Debug)]
 pub(crate) struct Threads {
     count: usize,
+    /// The least work a step shares ([`Threads::engage`]).
+    threshold: u32,
+    /// Whether this step shares its stages: set by [`Threads::engage`]
+    /// before the step's first stage.
+    engaged: bool,
     #[cfg(feature = "parallel")]
     pool: Option<std::sync::Arc<rayon::ThreadPool>>,
 }
@@ -29,6 +43,8 @@ impl Default for Threads {
     fn default() -> Self {
         Threads {
             count: 1,
+            threshold: DEFAULT_PARALLEL_THRESHOLD,
+            engaged: false,
             #[cfg(feature = "parallel")]
             pool: None,
         }
@@ -56,10 +72,44 @@ impl Threads {
             } else {
                 None
             };
-            Ok(Threads { count, pool })
+            Ok(Threads {
+                count,
+                pool,
+                ..Threads::default()
+            })
         }
         #[cfg(not(feature = "parallel"))]
-        Ok(Threads { count })
+        Ok(Threads {
+            count,
+            ..Threads::default()
+        })
+    }
+
+    /// These threads with the threshold of `other` (a new count keeps the
+    /// space's threshold).
+    pub(crate) fn with_threshold_of(self, other: &Threads) -> Threads {
+        Threads {
+            threshold: other.threshold,
+            ..self
+        }
+    }
+
+    /// The least work a step shares.
+    pub(crate) fn threshold(&self) -> u32 {
+        self.threshold
+    }
+
+    /// Sets the least work a step shares (0: every step).
+    pub(crate) fn set_threshold(&mut self, work: u32) {
+        self.threshold = work;
+    }
+
+    /// Decides, before a step's first stage, whether its stages split
+    /// between the threads: when `work` (an estimate from the step
+    /// before, [`Space`](crate::space::Space)'s) reaches the threshold.
+    /// Either way gives the same bits; only the time differs.
+    pub(crate) fn engage(&mut self, work: u32) {
+        self.engaged = work >= self.threshold;
     }
 
     /// The thread count asked for.
@@ -68,10 +118,11 @@ impl Threads {
     }
 
     /// Whether stages split between threads (the feature, more than one
-    /// thread): otherwise they take the cheaper in-place serial paths.
+    /// thread, a step [`engage`](Self::engage)d): otherwise they take the
+    /// cheaper in-place serial paths.
     pub(crate) fn parallel(&self) -> bool {
         #[cfg(feature = "parallel")]
-        return self.pool.is_some();
+        return self.engaged && self.pool.is_some();
         #[cfg(not(feature = "parallel"))]
         false
     }
@@ -84,7 +135,7 @@ impl Threads {
     /// of sleeping while the pool works. Without a pool, just `f()`.
     pub(crate) fn awake<R>(&self, f: impl FnOnce() -> R) -> R {
         #[cfg(feature = "parallel")]
-        if let Some(pool) = &self.pool {
+        if let Some(pool) = self.pool.as_ref().filter(|_| self.engaged) {
             use core::sync::atomic::{AtomicBool, Ordering};
             let done = AtomicBool::new(false);
             return pool.in_place_scope(|scope| {

@@ -65,6 +65,7 @@ fn checksums_on(
     }
     let mut world = desc.build().expect("a valid scene");
     world.space.set_threads(threads).expect("threads start");
+    world.space.set_parallel_threshold(0);
     assert_eq!(world.space.threads(), threads);
     world.space.set_kernels(kernels);
     (0..steps)
@@ -240,6 +241,7 @@ fn a_panicking_handler_with_threads_unwinds_and_does_not_hang() {
         .build()
         .expect("a valid scene");
     world.space.set_threads(2).expect("threads start");
+    world.space.set_parallel_threshold(0);
     world
         .space
         .add_wildcard_handler(Default::default())
@@ -262,6 +264,7 @@ fn ggrs_synctest_on_two_threads_agrees_with_a_straight_run_on_one() {
         };
         game.space.set_settings(settings).expect("valid settings");
         game.space.set_threads(threads).expect("threads start");
+        game.space.set_parallel_threshold(0);
         game
     };
     let frames = if cfg!(debug_assertions) { 120 } else { 600 };
@@ -280,6 +283,7 @@ fn snapshot_continuation_across_thread_counts() {
         desc.settings.colored_solver = true;
         let mut world = desc.build().expect("a valid scene");
         world.space.set_threads(threads).expect("threads start");
+        world.space.set_parallel_threshold(0);
         world
     };
     let mut straight = build(1);
@@ -357,6 +361,7 @@ fn handlers_and_custom_integrators_give_the_bits_of_one_thread() {
         desc.settings.use_soft_step();
         let mut world = desc.build().expect("a valid scene");
         world.space.set_threads(threads).expect("threads start");
+        world.space.set_parallel_threshold(0);
         let handler = world.space.add_wildcard_handler(Default::default());
         // A pair whose second shape's slot is 3 modulo 7 never collides;
         // the others solve with a friction set by their contact count.
@@ -407,6 +412,7 @@ fn forces_and_damping_on_shared_sub_steps_give_the_bits_of_one_thread() {
         desc.settings.damping = Real::lit("0.97");
         let mut world = desc.build().expect("a valid scene");
         world.space.set_threads(threads).expect("threads start");
+        world.space.set_parallel_threshold(0);
         let handles: Vec<_> = world.space.bodies().map(|(h, _)| h).collect();
         (0..60u32)
             .map(|n| {
@@ -456,6 +462,7 @@ fn warm_starting_off_on_the_soft_step_gives_the_bits_of_one_thread() {
         desc.settings.warm_starting = false;
         let mut world = desc.build().expect("a valid scene");
         world.space.set_threads(threads).expect("threads start");
+        world.space.set_parallel_threshold(0);
         (0..40u32)
             .map(|n| {
                 world
@@ -478,6 +485,7 @@ fn arbiters_coming_and_going_give_the_bytes_of_one_thread() {
         desc.settings.collision_persistence = 2;
         let mut world = desc.build().expect("a valid scene");
         world.space.set_threads(threads).expect("threads start");
+        world.space.set_parallel_threshold(0);
         let shapes: Vec<_> = world.space.shapes().map(|(h, _)| h).collect();
         (0..50u32)
             .map(|n| {
@@ -547,6 +555,7 @@ fn box2d_scenes_made_small_give_the_bits_of_one_thread() {
                 }
                 let mut world = desc.build().expect("a valid scene");
                 world.space.set_threads(threads).expect("threads start");
+                world.space.set_parallel_threshold(0);
                 let mut sums = Vec::new();
                 for n in 0..24u32 {
                     if n == 8 {
@@ -564,5 +573,48 @@ fn box2d_scenes_made_small_give_the_bits_of_one_thread() {
                 sums
             });
         }
+    }
+}
+
+/// A step below the parallel threshold runs on the calling thread, one at
+/// or above it splits; the two paths share the arbiters' caches, so a run
+/// that switches between them gives one thread's bits: the threshold
+/// switched between 0 and `u32::MAX` in a changing pattern, then a
+/// threshold the scene's work grows through (the rain piles up: about
+/// 175 at step 60, 400 at step 110). The threshold is kept by a new
+/// thread count.
+#[test]
+fn steps_switching_between_split_and_serial_give_the_bits_of_one_thread() {
+    let mut space = tamias2d::space::Space::new();
+    assert_eq!(
+        space.parallel_threshold(),
+        tamias2d::space::DEFAULT_PARALLEL_THRESHOLD
+    );
+    space.set_parallel_threshold(7);
+    space.set_threads(2).expect("threads start");
+    assert_eq!(space.parallel_threshold(), 7);
+    for narrow in [false, true] {
+        every_thread_count_agrees_with_one(|threads| {
+            let mut desc = tamias2d_scenes::builtin("rain_1000").expect("a registered scene");
+            if narrow {
+                desc.settings.use_narrow_soft_step();
+            }
+            let mut world = desc.build().expect("a valid scene");
+            world.space.set_threads(threads).expect("threads start");
+            (0..120u32)
+                .map(|n| {
+                    let threshold = match n {
+                        0..60 if n % 5 < 2 || n % 7 == 3 => u32::MAX,
+                        0..60 => 0,
+                        _ => 300,
+                    };
+                    world.space.set_parallel_threshold(threshold);
+                    world
+                        .step()
+                        .unwrap_or_else(|e| panic!("{threads} threads, step {n}: {e}"));
+                    world.space.checksum()
+                })
+                .collect()
+        });
     }
 }

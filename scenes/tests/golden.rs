@@ -113,6 +113,8 @@ fn checksum_of(
         .space
         .set_threads(threads)
         .unwrap_or_else(|e| panic!("{name}: {threads} threads: {e}"));
+    // Every step split, however small the scene.
+    world.space.set_parallel_threshold(0);
     world.space.set_kernels(kernels);
     if trace {
         println!("trace {name} 0 {:#018x}", world.space.checksum());

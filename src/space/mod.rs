@@ -35,6 +35,7 @@ use crate::limits::Limits;
 use core::fmt;
 
 pub use crate::solver::Kernels;
+pub use crate::threads::DEFAULT_PARALLEL_THRESHOLD;
 pub use cast::ShapeCast;
 pub use ccd::MAX_TOI_ITERATIONS;
 pub use frame_state::FrameState;
@@ -199,20 +200,42 @@ impl Space {
     /// error; the default is 1).
     /// Nothing a step computes depends on it: any count gives the bits of
     /// one thread. Without the `parallel` cargo feature the count is kept
-    /// and the step runs on the calling thread. With it, the stages split
-    /// between the threads are the contact iterations of the colored
-    /// solver ([`Settings::colored_solver`]; the canonical order is one
+    /// and the step runs on the calling thread. With it, a step with
+    /// enough work ([`set_parallel_threshold`](Self::set_parallel_threshold))
+    /// splits its stages between the threads: the body stages, the
+    /// broadphase, the narrowphase and the arbiters' merge, the prepare,
+    /// and the contact passes color by color (the colored orders: the soft
+    /// step, or [`Settings::colored_solver`]; the canonical order is one
     /// sequence, solved on one thread). An error (and no change) if the
     /// operating system will not start the threads.
     pub fn set_threads(&mut self, n: usize) -> Result<(), SpaceError> {
-        self.caches.threads =
-            crate::threads::Threads::new(n).map_err(SpaceError::InvalidSetting)?;
+        let threads = crate::threads::Threads::new(n).map_err(SpaceError::InvalidSetting)?;
+        self.caches.threads = threads.with_threshold_of(&self.caches.threads);
         Ok(())
     }
 
     /// The thread count of [`set_threads`](Self::set_threads).
     pub fn threads(&self) -> usize {
         self.caches.threads.count()
+    }
+
+    /// The least work a step shares between threads (with more than one,
+    /// [`set_threads`](Self::set_threads)): a step runs on the calling
+    /// thread alone when the step before had fewer contact points plus
+    /// joints plus bodies than `work`. The default,
+    /// [`DEFAULT_PARALLEL_THRESHOLD`],
+    /// is where two threads stopped paying on a 2-core machine
+    /// (`docs/performance.md`, "The parallel step"); 0 shares every step
+    /// (the tests use it to split small scenes). Nothing a step computes
+    /// depends on it. Configuration, like the thread count: kept by
+    /// restores and loads, not saved, copied by `clone`.
+    pub fn set_parallel_threshold(&mut self, work: u32) {
+        self.caches.threads.set_threshold(work);
+    }
+
+    /// The threshold of [`set_parallel_threshold`](Self::set_parallel_threshold).
+    pub fn parallel_threshold(&self) -> u32 {
+        self.caches.threads.threshold()
     }
 
     /// Chooses the compiled form of the soft step's contact passes

@@ -338,11 +338,13 @@ fn any_thread_count_and_a_snapshot_round_trip_give_the_same_bits() {
         desc.settings.use_soft_step();
         let mut w = desc.build().unwrap();
         w.space.set_threads(threads).unwrap();
+        w.space.set_parallel_threshold(0);
         for n in 0..steps {
             if Some(n) == split {
                 let bytes = tamias2d::snapshot::save(&w.space);
                 let mut restored = tamias2d::snapshot::load(&bytes).unwrap();
                 restored.set_threads(threads).unwrap();
+                restored.set_parallel_threshold(0);
                 w.space = restored;
             }
             w.space.step(dt()).unwrap();

@@ -129,6 +129,19 @@ impl Space {
         self.check_step_invariants()
     }
 
+    /// What sharing this (sub-)step between threads would be worth, from
+    /// the step before: its contact points, the joints and the bodies.
+    fn parallel_work(&self) -> u32 {
+        let bodies = u32::try_from(self.state.bodies.len()).unwrap_or(u32::MAX);
+        let joints = u32::try_from(self.state.constraints.len()).unwrap_or(u32::MAX);
+        self.caches
+            .step
+            .stats
+            .solver_contacts
+            .saturating_add(joints)
+            .saturating_add(bodies)
+    }
+
     /// Adds the forces and torques the step started with to the bodies that
     /// still exist (velocity integration cleared them).
     fn reapply_forces(&mut self, forces: &[(BodyHandle, Vect, Real)]) {
@@ -145,6 +158,8 @@ impl Space {
     /// pairs than the space's limits allow: the sub-step then stops after
     /// [`Stage::Broadphase`] (bodies moved, no contact touched).
     fn sub_step(&mut self, dt: Real) -> Result<(), SpaceError> {
+        let work = self.parallel_work();
+        self.caches.threads.engage(work);
         if let super::Solver::Soft(soft) = self.state.settings.solver {
             return self.soft_step(dt, soft);
         }
