@@ -240,10 +240,10 @@ impl Space {
 
     /// Chooses the compiled form of the soft step's contact passes
     /// ([`Kernels`]; the default is [`Kernels::Auto`]). Nothing a step
-    /// computes depends on it: every choice gives the same bits. The wide
-    /// kernels run on one thread (a step that splits its passes between
-    /// threads runs the scalar ones). Configuration, not state: kept by
-    /// restores and loads, not saved, copied by `clone`.
+    /// computes depends on it: every choice gives the same bits. With
+    /// threads, each color's batches of the wide kernels are split between
+    /// them. Configuration, not state: kept by restores and loads, not
+    /// saved, copied by `clone`.
     pub fn set_kernels(&mut self, kernels: Kernels) {
         self.caches.kernels = kernels;
     }
