@@ -23,7 +23,8 @@
 //! leave their windows runs the exact kernel for the whole step, and one
 //! whose velocities, impulses or separations leave theirs in a pass is
 //! run again by the exact kernel from its state before that pass (as the
-//! exact wide kernels do). The windows: body velocities below 1,024 m/s
+//! exact wide kernels do), then gathered again on a coarser impulse grid
+//! if its impulses outgrew its own ([`widen_impulse_grid`]). The windows: body velocities below 1,024 m/s
 //! (and rad/s) at a pass's start, separations a bias reads below 64 m,
 //! and each manifold's impulses below `min(2^29, 2^59/G)` grid units, where
 //! `G` is its largest gain in grid units (for `k = 0`: `min(32, 2^11/G)`
@@ -265,6 +266,7 @@ const MIN_IMPULSE_SHIFT: i32 = -7;
 /// whose grid holds them at half the window and the tangent at a quarter
 /// (room for the step's growth, as a pass checks them against the window
 /// and half of it: [`check_state`]); [`MAX_IMPULSE_SHIFT`] if none does.
+/// Given on the grids of a shift `j` instead, the shift to add to `j`.
 /// A shift gains only while the gains times `2^k` stay at most
 /// [`FULL_WINDOW_GAIN`]: past that the window in newtons·seconds is the
 /// gain's, whatever `k`.
@@ -848,8 +850,77 @@ fn rerun_exact<S: BodyStore>(
             set(&mut s.jt, lane, impulse_bits(row.jt, k));
             set(&mut s.max_jn, lane, impulse_bits(row.max_jn, k));
         }
+        if !batch.exact.get(lane).copied().unwrap_or(true) {
+            widen_impulse_grid(batch, lane, m);
+        }
     }
     count
+}
+
+/// After the exact kernel ran a lane's pass: if the lane's impulses have
+/// outgrown its grid (past half the window, the tangent's past a quarter:
+/// what the gather calls heavy), the lane is regathered from `rows` (its
+/// rows, with the state after that pass) at the impulse shift that holds
+/// them, so that the step's next passes run it in lanes again instead of
+/// in the exact kernel. A new contact in a heavy pile starts at shift 0
+/// (it has no warm-start impulse) and its first impulses pass the
+/// window; so do a resting contact's under an impact. A lane that does
+/// not fit at a coarser grid either keeps its shift.
+#[cold]
+#[inline(never)]
+fn widen_impulse_grid(batch: &mut NarrowBatch, lane: usize, rows: &[SoftContact]) {
+    let (Some(first), Some(&k)) = (rows.first(), batch.impulse_shift.get(lane)) else {
+        return;
+    };
+    if k >= MAX_IMPULSE_SHIFT {
+        return;
+    }
+    // A body the solver does not move whose lever arms the lane holds as
+    // 0 is regathered as still: its arms are 0 again, whether the gather
+    // found it still or they were 0 anyway.
+    let at = |v: &Lane| v.get(lane).copied().unwrap_or(0);
+    let used = batch.points.get(..rows.len()).unwrap_or(&[]);
+    let still = |moves: &[bool; LANES], arms: fn(&NarrowPoint) -> [&Lane; 3]| {
+        !moves.get(lane).copied().unwrap_or(true)
+            && used.iter().all(|pt| arms(pt).iter().all(|&v| at(v) == 0))
+    };
+    let still = [
+        still(&batch.moves_a, |pt| [&pt.rn_a, &pt.rt_a, &pt.nr_a]),
+        still(&batch.moves_b, |pt| [&pt.rn_b, &pt.rt_b, &pt.nr_b]),
+    ];
+    // What a gather at the lane's own shift would find (its values come
+    // from the same rows, its state rounds as the one just stored): the
+    // largest gain and impulses, and whether the impulses are heavy.
+    let oc = |x: i64| x ^ (x >> 63);
+    let mut gain = [&batch.ga_x, &batch.ga_y, &batch.gb_x, &batch.gb_y]
+        .iter()
+        .map(|&g| at(g).saturating_abs())
+        .max()
+        .unwrap_or(0);
+    let (mut jn, mut jt) = (0i64, 0i64);
+    for pt in used {
+        for g in [&pt.kn_a, &pt.kn_b, &pt.kt_a, &pt.kt_b] {
+            gain = gain.max(at(g).saturating_abs());
+        }
+        (jn, jt) = (jn.max(oc(at(&pt.state.jn))), jt.max(oc(at(&pt.state.jt))));
+    }
+    let limit = at(&batch.limit);
+    if jn < limit >> 1 && jt < limit >> 2 {
+        return;
+    }
+    let wider = k
+        .saturating_add(impulse_shift(jn, jt, gain))
+        .min(MAX_IMPULSE_SHIFT);
+    if wider > k
+        && !matches!(
+            gather_lane(batch, lane, (first, rows), wider, still),
+            LaneFit::Out
+        )
+    {
+        batch.same_gains = batch.ga_x == batch.gb_x && batch.ga_y == batch.gb_y;
+        return;
+    }
+    gather_lane(batch, lane, (first, rows), k, still);
 }
 
 /// The solve (`BIAS`) or relax pass of a batch; returns how many lanes
@@ -1113,17 +1184,20 @@ mod tests {
                 assert!(!matches!(fit, LaneFit::Out));
             }
         };
-        run_adjusted(ops, (rows, bodies, motion, p), manifolds, pass, regather)
+        let (rows, bodies, left, _) =
+            run_adjusted(ops, (rows, bodies, motion, p), manifolds, pass, regather);
+        (rows, bodies, left)
     }
 
-    /// [`run`], the batch changed by `adjust` after its gather.
+    /// [`run`], the batch changed by `adjust` after its gather; also the
+    /// lanes' impulse shifts after the pass.
     fn run_adjusted<O: Ops>(
         ops: O,
         (rows, bodies, motion, p): (&[SoftContact], &[SolverBody], &[Motion], &SoftContactParams),
         manifolds: [(u32, u32); LANES],
         pass: Option<bool>,
         adjust: impl FnOnce(&mut NarrowBatch, &[SoftContact]),
-    ) -> (Vec<SoftContact>, Vec<SolverBody>, usize) {
+    ) -> (Vec<SoftContact>, Vec<SolverBody>, usize, [i32; LANES]) {
         let (mut rows, mut bodies) = (rows.to_vec(), bodies.to_vec());
         let mut batch = NarrowBatch::default();
         gather_narrow(&mut batch, manifolds, &rows, &bodies);
@@ -1140,7 +1214,7 @@ mod tests {
             }
         };
         put_narrow(&batch, &mut rows, 0);
-        (rows, bodies, left)
+        (rows, bodies, left, batch.impulse_shift)
     }
 
     /// Scene-like parameters: `1/h` of a 240 Hz sub-step, no slop, a
@@ -1282,7 +1356,8 @@ mod tests {
         }
         for pass in [None, Some(true), Some(false)] {
             let input = (rows.as_slice(), bodies.as_slice(), &motion[..], &p);
-            let (n_rows, n_bodies, left) = run(Portable, input, manifolds, pass);
+            let (n_rows, n_bodies, left, shifts) =
+                run_adjusted(Portable, input, manifolds, pass, |_, _| {});
             assert_eq!(left, LANES);
             let (mut e_rows, mut e_bodies) = (rows.clone(), bodies.clone());
             for r in &mut e_rows {
@@ -1290,16 +1365,18 @@ mod tests {
                 r.jt = impulse_real(impulse_bits(r.jt, 0), 0);
                 r.max_jn = impulse_real(impulse_bits(r.max_jn, 0), 0);
             }
-            for &(start, end) in &manifolds {
+            // The exact kernel's result on the grid each lane holds after
+            // the pass (a coarser one where its impulses outgrew Q8.24).
+            for (&(start, end), &k) in manifolds.iter().zip(&shifts) {
                 let m = &mut e_rows[start as usize..end as usize];
                 on_store(m, &mut InPlace(&mut e_bodies), |m, copy| match pass {
                     None => warm_start_manifold(m, copy),
                     Some(bias) => solve_manifold(m, copy, &motion, &p, bias),
                 });
                 for r in m.iter_mut() {
-                    r.jn = impulse_real(impulse_bits(r.jn, 0), 0);
-                    r.jt = impulse_real(impulse_bits(r.jt, 0), 0);
-                    r.max_jn = impulse_real(impulse_bits(r.max_jn, 0), 0);
+                    r.jn = impulse_real(impulse_bits(r.jn, k), k);
+                    r.jt = impulse_real(impulse_bits(r.jt, k), k);
+                    r.max_jn = impulse_real(impulse_bits(r.max_jn, k), k);
                 }
             }
             assert_eq!(n_rows, e_rows, "{pass:?}");
@@ -1313,6 +1390,45 @@ mod tests {
     /// lane left to the exact kernel in any pass. On impulses that fit
     /// Q8.24 (10 N·s), the coarser grid moves no velocity by more than a
     /// step of the Q16.16 grid the passes read velocities on.
+    #[test]
+    fn grown_impulses_widen_the_lane_grid() {
+        let vals: Vec<i64> = (1..200i64)
+            .map(|k| k.wrapping_mul(0x9e37_79b9_7f4a_7c15_u64 as i64) >> 31)
+            .collect();
+        let (rows, manifolds, mut bodies, motion, mut p) = case(vals, [true; LANES], true, false);
+        scene_params(&mut p);
+        let mut batch = NarrowBatch::default();
+        gather_narrow(&mut batch, manifolds, &rows, &bodies);
+        assert_eq!(
+            (batch.exact, batch.impulse_shift),
+            ([false; LANES], [0; LANES])
+        );
+        let (inputs, constants) = ((rows.as_slice(), &motion[..]), uniform(&p));
+        // A solve with the bodies past the velocity window runs the exact
+        // kernel, whose impulses outgrow Q8.24's window (32 N·s).
+        let mut fast = bodies.clone();
+        for b in &mut fast {
+            b.v.x = Real::from_int(5_000);
+        }
+        let mut store = InPlace(&mut fast);
+        let left =
+            solve_narrow::<_, _, true>(Portable, &mut batch, &mut store, inputs, &p, constants);
+        assert_eq!(left, LANES);
+        // Each lane now holds the grid that holds its impulses, as a gather
+        // of those impulses would choose it.
+        let mut after = rows.clone();
+        put_narrow(&batch, &mut after, 0);
+        let mut regathered = NarrowBatch::default();
+        gather_narrow(&mut regathered, manifolds, &after, &bodies);
+        assert_eq!(batch.impulse_shift, regathered.impulse_shift);
+        assert!(batch.impulse_shift.iter().filter(|&&k| k > 0).count() >= 2);
+        // The next pass, the bodies back in the window, runs in lanes.
+        let mut store = InPlace(&mut bodies);
+        let left =
+            solve_narrow::<_, _, false>(Portable, &mut batch, &mut store, inputs, &p, constants);
+        assert_eq!(left, 0);
+    }
+
     #[test]
     fn heavy_impulses_take_a_coarser_grid() {
         let vals: Vec<i64> = (1..200i64)
@@ -1395,7 +1511,7 @@ mod tests {
                 let (_, lanes, left) = run(Portable, input, manifolds, pass);
                 assert_eq!(left, 0, "{gain} {pass:?}");
                 let all_exact = |b: &mut NarrowBatch, _: &[SoftContact]| b.exact = [true; LANES];
-                let (_, exact, left) = run_adjusted(Portable, input, manifolds, pass, all_exact);
+                let (_, exact, left, _) = run_adjusted(Portable, input, manifolds, pass, all_exact);
                 assert_eq!(left, LANES, "{gain} {pass:?}");
                 for (l, e) in lanes.iter().zip(&exact) {
                     for d in [l.v.x - e.v.x, l.v.y - e.v.y, l.w - e.w] {
