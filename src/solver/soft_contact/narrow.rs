@@ -24,11 +24,11 @@
 //! whose velocities, impulses or separations leave theirs in a pass is
 //! run again by the exact kernel from its state before that pass (as the
 //! exact wide kernels do), then gathered again on a coarser impulse grid
-//! if its impulses outgrew its own ([`widen_impulse_grid`]). The windows: body velocities below 1,024 m/s
-//! (and rad/s) at a pass's start, separations a bias reads below 64 m,
-//! and each manifold's impulses below `min(2^29, 2^59/G)` grid units, where
-//! `G` is its largest gain in grid units (for `k = 0`: `min(32, 2^11/G)`
-//! N·s, `G` in 1/kg): then a pass
+//! if its impulses outgrew its own ([`widen_impulse_grid`]). The windows:
+//! body velocities below 1,024 m/s (and rad/s) at a pass's start,
+//! separations a bias reads below 64 m, and each manifold's impulses below
+//! `min(2^29, 2^59/G)` grid units, where `G` is its largest gain in grid
+//! units (for `k = 0`: `min(32, 2^11/G)` N·s, `G` in 1/kg): then a pass
 //! changes a velocity by under `2^13` m/s in all, the 48-bit velocities
 //! stay below `2^62` and every Q16.16 read fits 32 bits.
 //!
@@ -1384,12 +1384,9 @@ mod tests {
         }
     }
 
-    /// A heavy pile's warm-start impulses (100 N·s, past Q8.24's 32 N·s)
-    /// put the manifold on a coarser impulse grid instead of the exact
-    /// kernel: the least shift that holds them at half the window, and no
-    /// lane left to the exact kernel in any pass. On impulses that fit
-    /// Q8.24 (10 N·s), the coarser grid moves no velocity by more than a
-    /// step of the Q16.16 grid the passes read velocities on.
+    /// A lane whose pass the exact kernel ran because its impulses
+    /// outgrew Q8.24 takes the shift a gather of its new impulses would
+    /// choose, and its next pass runs in lanes.
     #[test]
     fn grown_impulses_widen_the_lane_grid() {
         let vals: Vec<i64> = (1..200i64)
@@ -1429,6 +1426,12 @@ mod tests {
         assert_eq!(left, 0);
     }
 
+    /// A heavy pile's warm-start impulses (100 N·s, past Q8.24's 32 N·s)
+    /// put the manifold on a coarser impulse grid instead of the exact
+    /// kernel: the least shift that holds them at half the window, and no
+    /// lane left to the exact kernel in any pass. On impulses that fit
+    /// Q8.24 (10 N·s), the coarser grid moves no velocity by more than a
+    /// step of the Q16.16 grid the passes read velocities on.
     #[test]
     fn heavy_impulses_take_a_coarser_grid() {
         let vals: Vec<i64> = (1..200i64)
